@@ -1,0 +1,100 @@
+#include "engine/ProgressReporter.h"
+
+#include <unistd.h>
+
+#include <csignal>
+
+namespace skelseg {
+
+namespace {
+std::atomic<bool> gInterruptRequested{false};
+extern "C" void onSignal(int) { gInterruptRequested.store(true); }
+}  // namespace
+
+ProgressReporter::ProgressReporter(Display display, double timeLimitSeconds, std::FILE* stream)
+    : mDisplay(display), mStream(stream), mStart(std::chrono::steady_clock::now()), mStageStart(mStart),
+      mTimeLimit(timeLimitSeconds), mLastDraw(mStart) {
+    if (mDisplay == Display::Auto) mDisplay = ::isatty(::fileno(stream)) ? Display::Bar : Display::Lines;
+}
+
+ProgressReporter::~ProgressReporter() {
+    std::lock_guard<std::mutex> lock(mMutex);
+    clearLine();
+}
+
+void ProgressReporter::installSignalHandlers() {
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+}
+void ProgressReporter::requestInterrupt() noexcept { gInterruptRequested.store(true); }
+void ProgressReporter::clearInterruptRequest() noexcept { gInterruptRequested.store(false); }
+
+double ProgressReporter::elapsedSeconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
+}
+
+void ProgressReporter::start(const char* name) {
+    std::lock_guard<std::mutex> lock(mMutex);
+    mStage = name;
+    mStageStart = std::chrono::steady_clock::now();
+    if (mDisplay == Display::Lines) {
+        std::fprintf(mStream, "skelseg: %s (%.1f s)\n", name, elapsedSeconds());
+        std::fflush(mStream);
+    } else if (mDisplay == Display::Bar) {
+        draw(0.0, true);
+    }
+}
+
+void ProgressReporter::end() {}
+
+bool ProgressReporter::wasInterrupted(double fraction) {
+    if (gInterruptRequested.load(std::memory_order_relaxed)) return true;
+    if (mTimedOut.load(std::memory_order_relaxed)) return true;
+    if (mTimeLimit > 0.0 && elapsedSeconds() > mTimeLimit) {
+        mTimedOut.store(true);
+        return true;
+    }
+    if (mDisplay == Display::Bar && fraction >= 0.0) {
+        std::unique_lock<std::mutex> lock(mMutex, std::try_to_lock);
+        if (lock.owns_lock()) draw(fraction, false);
+    }
+    return false;
+}
+
+InterruptedError::Reason ProgressReporter::reason() const {
+    return mTimedOut.load() ? InterruptedError::Reason::TimeLimit : InterruptedError::Reason::UserInterrupt;
+}
+
+void ProgressReporter::message(const std::string& line) {
+    if (mDisplay == Display::Quiet) return;
+    std::lock_guard<std::mutex> lock(mMutex);
+    clearLine();
+    std::fprintf(mStream, "%s\n", line.c_str());
+    std::fflush(mStream);
+}
+
+void ProgressReporter::clearLine() {
+    if (!mBarVisible) return;
+    std::fprintf(mStream, "\r\033[K");
+    std::fflush(mStream);
+    mBarVisible = false;
+}
+
+void ProgressReporter::draw(double fraction, bool force) {
+    const auto now = std::chrono::steady_clock::now();
+    if (!force && now - mLastDraw < std::chrono::milliseconds(100)) return;
+    mLastDraw = now;
+    const double stageElapsed = std::chrono::duration<double>(now - mStageStart).count();
+    char eta[32] = "";
+    if (fraction > 0.02 && fraction < 1.0)
+        std::snprintf(eta, sizeof eta, ", ~%.0f s left", stageElapsed / fraction * (1.0 - fraction));
+    const int width = 30, filled = int(fraction * width + 0.5);
+    std::string bar(std::size_t(std::max(0, std::min(width, filled))), '#');
+    bar.resize(std::size_t(width), '.');
+    std::fprintf(mStream, "\r\033[K%-30s [%s] %3.0f%%  %.1f s%s", mStage.c_str(), bar.c_str(), fraction * 100.0,
+                 elapsedSeconds(), eta);
+    std::fflush(mStream);
+    mBarVisible = true;
+}
+
+}  // namespace skelseg

@@ -1,0 +1,62 @@
+// skelseg: the engine's Interrupter: progress display, time budget, Ctrl-C.
+//
+// - On a terminal: a progress bar on stderr (stage, percent, elapsed, estimate),
+//   redrawn at most ten times a second; otherwise one line per stage start;
+//   quiet: nothing.
+// - Time budget: wasInterrupted() turns true once the deadline has passed;
+//   kernels poll it every few milliseconds, so a run stops within about a
+//   second of the limit.
+// - User interrupt: installSignalHandlers() routes SIGINT/SIGTERM to a flag
+//   that wasInterrupted() reports.
+// All members are safe to call from any thread.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <mutex>
+#include <string>
+
+#include "engine/Interrupter.h"
+
+namespace skelseg {
+
+class ProgressReporter final : public Interrupter {
+public:
+    enum class Display { Auto, Bar, Lines, Quiet };
+    /// timeLimitSeconds <= 0: no limit.
+    explicit ProgressReporter(Display display = Display::Auto, double timeLimitSeconds = 0.0,
+                              std::FILE* stream = stderr);
+    ~ProgressReporter() override;
+
+    void start(const char* name) override;
+    void end() override;
+    bool wasInterrupted(double fraction = -1.0) override;
+    InterruptedError::Reason reason() const override;
+
+    /// Prints a one-line message (warnings), keeping the bar intact.
+    void message(const std::string& line);
+    double elapsedSeconds() const;
+
+    /// SIGINT and SIGTERM set a process-wide flag that every reporter sees.
+    static void installSignalHandlers();
+    /// For tests: raise the flag as a signal would.
+    static void requestInterrupt() noexcept;
+    static void clearInterruptRequest() noexcept;
+
+private:
+    void draw(double fraction, bool force);
+    void clearLine();
+
+    Display mDisplay;
+    std::FILE* mStream;
+    std::chrono::steady_clock::time_point mStart, mStageStart;
+    double mTimeLimit;
+    std::atomic<bool> mTimedOut{false};
+    std::mutex mMutex;
+    std::string mStage;
+    std::chrono::steady_clock::time_point mLastDraw;
+    bool mBarVisible = false;
+};
+
+}  // namespace skelseg

@@ -1,0 +1,357 @@
+#include "engine/SegmentCommand.h"
+
+#include <tbb/flow_graph.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "engine/Version.h"
+#include "io/FaceLabels.h"
+#include "io/MeshCheck.h"
+#include "io/MeshIO.h"
+#include "io/MeshVoxelizer.h"
+#include "io/NrrdIO.h"
+#include "io/OutputDirectory.h"
+#include "io/PlyWriter.h"
+#include "io/PreviewRenderer.h"
+#include "io/SegFile.h"
+#include "io/SegmentSurfaces.h"
+#include "io/VdbIO.h"
+#include "io/VolumeReader.h"
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace skelseg {
+
+const std::vector<std::string>& segmentOutputNames() {
+    static const std::vector<std::string> names = {"labels.nrrd", "labels.vdb",  "skeleton.ply", "cuts.ply",
+                                                   "segments.ply", "preview.png", "report.json", "segmentation.seg"};
+    return names;
+}
+
+std::uint64_t defaultMemoryLimit() {
+    const long pages = ::sysconf(_SC_PHYS_PAGES), pageSize = ::sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || pageSize <= 0) return std::uint64_t(8) << 30;
+    return std::uint64_t(pages) * std::uint64_t(pageSize) / 4 * 3;
+}
+
+bool isMeshPath(const fs::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".off" || ext == ".obj" || ext == ".stl" || ext == ".ply";
+}
+
+namespace {
+
+std::string formatBytes(std::uint64_t bytes) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.2f GB", double(bytes) / 1e9);
+    return buffer;
+}
+
+std::array<double, 3> voxelToWorld(const VolumeGeometry& g, const std::array<int, 3>& v) {
+    return g.indexToWorld(v[0], v[1], v[2]);
+}
+
+json toJson(const std::array<double, 3>& p) { return json::array({p[0], p[1], p[2]}); }
+json toJson(const std::array<int, 3>& p) { return json::array({p[0], p[1], p[2]}); }
+/// JSON has no infinity: handle loops report null for rho_C.
+json areaJson(double value) { return std::isfinite(value) ? json(value) : json(nullptr); }
+
+}  // namespace
+
+void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& progress) {
+    const auto wallStart = std::chrono::steady_clock::now();
+    const double cpuStart = processCpuSeconds();
+    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    const std::uint64_t memoryLimit = options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit();
+
+    // Refuse to clobber earlier results before doing any work.
+    OutputDirectory out(options.outdir, options.force, segmentOutputNames());
+    StageTimer timer;
+    const bool meshInput = isMeshPath(options.input);
+
+    std::optional<TriangleMesh> mesh;
+    MeshDiagnostics meshDiagnostics{};
+    MaskVolume mask;
+    SegmentationResult result;
+    std::vector<std::string> warnings;
+    std::vector<std::uint32_t> faceLabels;
+    std::uint64_t estimatedMemory = 0;
+    auto warn = [&](const std::string& w) {
+        warnings.push_back(w);
+        progress.message("skelseg: warning: " + w);
+    };
+
+    // Each stage is a continue_node; writers depend on the segmentation and
+    // run concurrently. Exceptions cancel the graph and surface from
+    // wait_for_all().
+    tbb::flow::graph graph;
+    using Node = tbb::flow::continue_node<tbb::flow::continue_msg>;
+    using Msg = tbb::flow::continue_msg;
+
+    Node read(graph, [&](Msg) {
+        InterrupterScope scope(progress, "reading input");
+        if (meshInput) {
+            {
+                auto t = timer.stage("read mesh", false);
+                checkReadableFile(options.input);
+                mesh = readMesh(options.input);
+            }
+            meshDiagnostics = checkMesh(*mesh);
+            for (const auto& w : meshWarnings(meshDiagnostics, options.input.string())) warn(w);
+            VoxelizeOptions vo;
+            vo.resolution = options.resolution;
+            const VoxelGrid grid = voxelGridFor(*mesh, vo);
+            estimatedMemory = estimateSegmentationMemory(grid.dims, grid.dims.voxelCount() / 4, threads) +
+                              grid.dims.voxelCount() * 8;  // level set + dense copy while voxelising
+            if (estimatedMemory > memoryLimit)
+                throw MemoryLimitError(options.input.string() + ": needs about " + formatBytes(estimatedMemory) +
+                                       " at resolution " + std::to_string(options.resolution) + ", over the limit of " +
+                                       formatBytes(memoryLimit) + " (--max-memory)");
+            auto t = timer.stage("voxelise", true);
+            mask = voxelizeMesh(*mesh, vo, progress);
+        } else {
+            auto t = timer.stage("read volume", false);
+            VolumeReadOptions ro;
+            ro.gridName = options.gridName;
+            mask = readVolume(options.input, ro);
+        }
+        std::uint64_t objectVoxels = 0;
+        for (std::uint8_t v : mask.values()) objectVoxels += v != 0;
+        estimatedMemory = std::max(estimatedMemory, estimateSegmentationMemory(mask.dims(), objectVoxels, threads));
+        if (estimatedMemory > memoryLimit)
+            throw MemoryLimitError(options.input.string() + ": needs about " + formatBytes(estimatedMemory) +
+                                   ", over the limit of " + formatBytes(memoryLimit) + " (--max-memory)");
+    });
+    Node segment(graph, [&](Msg) {
+        result = segmentVolume(mask, options.parameters, progress, &timer);
+        for (const auto& w : result.warnings) warn(w);
+        if (meshInput) {
+            auto t = timer.stage("face labels", true);
+            InterrupterScope scope(progress, "face labels");
+            faceLabels = labelFaces(*mesh, result.labels, {}, progress);
+        }
+    });
+
+    const VolumeGeometry* geometry = nullptr;
+    std::vector<std::vector<std::array<double, 3>>> cutLoops;
+    std::vector<SkeletonPointRecord> skeletonPoints;
+    std::vector<std::array<std::uint32_t, 2>> skeletonEdges;
+    Node gather(graph, [&](Msg) {
+        geometry = &result.labels.geometry;
+        for (const auto& object : result.objects) {
+            const std::uint32_t base = std::uint32_t(skeletonPoints.size());
+            for (const auto& v : object.skeleton) {
+                SkeletonPointRecord r;
+                r.position = voxelToWorld(*geometry, v.voxel);
+                r.rhoS = v.rhoS;
+                r.rhoC = std::isfinite(v.rhoC) ? float(v.rhoC) : float(object.boundaryArea);
+                r.sigma = v.sigma;
+                r.junction = v.junction;
+                r.critical = v.critical;
+                skeletonPoints.push_back(r);
+            }
+            for (const auto& e : object.skeletonEdges) skeletonEdges.push_back({e[0] + base, e[1] + base});
+            for (const auto& loop : object.cutLoops) {
+                std::vector<std::array<double, 3>> world;
+                for (const auto& v : loop) world.push_back(voxelToWorld(*geometry, v));
+                cutLoops.push_back(std::move(world));
+            }
+        }
+    });
+    Node writeNrrd(graph, [&](Msg) {
+        auto t = timer.stage("write labels.nrrd", false);
+        writeNrrdLabels(out.stagingPath("labels.nrrd"), result.labels);
+    });
+    Node writeVdb(graph, [&](Msg) {
+        if (!options.writeVdb) return;
+        auto t = timer.stage("write labels.vdb", false);
+        writeVdbLabels(out.stagingPath("labels.vdb"), result.labels);
+    });
+    Node writeSkeleton(graph, [&](Msg) {
+        auto t = timer.stage("write skeleton.ply, cuts.ply", false);
+        writeSkeletonPly(out.stagingPath("skeleton.ply"), skeletonPoints, skeletonEdges);
+        writeCutsPly(out.stagingPath("cuts.ply"), cutLoops);
+    });
+    Node writeSurfaces(graph, [&](Msg) {
+        auto t = timer.stage("segment surfaces and preview", true);
+        InterrupterScope scope(progress, "segment surfaces and preview");
+        PreviewScene scene;
+        if (meshInput) {
+            std::vector<std::uint32_t> triangleLabels(mesh->triangles.size());
+            for (std::size_t i = 0; i < triangleLabels.size(); ++i)
+                triangleLabels[i] = faceLabels[mesh->triangleFace[i]];
+            writeColouredMeshPly(out.stagingPath("segments.ply"), mesh->vertices, mesh->triangles, triangleLabels);
+            writeSeg(out.stagingPath("segmentation.seg"), faceLabels);
+            scene.vertices = mesh->vertices;
+            scene.triangles = mesh->triangles;
+            scene.triangleLabels.resize(triangleLabels.size());
+            for (std::size_t i = 0; i < triangleLabels.size(); ++i) scene.triangleLabels[i] = triangleLabels[i] + 1;
+        } else {
+            LabelledSurface surface = extractSegmentSurfaces(result.labels, progress);
+            std::vector<std::uint32_t> zeroBased(surface.triangleLabels.size());
+            for (std::size_t i = 0; i < zeroBased.size(); ++i) zeroBased[i] = surface.triangleLabels[i] - 1;
+            writeColouredMeshPly(out.stagingPath("segments.ply"), surface.vertices, surface.triangles, zeroBased);
+            scene.vertices = std::move(surface.vertices);
+            scene.triangles = std::move(surface.triangles);
+            scene.triangleLabels = std::move(surface.triangleLabels);
+        }
+        if (!options.writePreview) return;
+        for (const auto& p : skeletonPoints) scene.skeletonPoints.push_back(p.position);
+        scene.skeletonEdges = skeletonEdges;
+        scene.cutLoops = cutLoops;
+        scene.title = options.input.filename().string() + "   parts: " + std::to_string(result.segments.size()) +
+                      "   tau: " + options.parameters.tau.toString() +
+                      (options.parameters.mode == CutMode::Junctions ? "   mode: junctions (RT07)" : "");
+        PreviewOptions po;
+        po.upAxis = meshInput ? 1 : 2;
+        renderPreviewPng(out.stagingPath("preview.png"), scene, po);
+    });
+
+    tbb::flow::make_edge(read, segment);
+    tbb::flow::make_edge(segment, gather);
+    tbb::flow::make_edge(gather, writeNrrd);
+    tbb::flow::make_edge(gather, writeVdb);
+    tbb::flow::make_edge(gather, writeSkeleton);
+    tbb::flow::make_edge(gather, writeSurfaces);
+    read.try_put(Msg());
+    graph.wait_for_all();
+    throwIfInterrupted(progress);
+
+    // The report comes last: it holds the timings of everything above.
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+    json report;
+    report["status"] = "ok";
+    report["skelseg_version"] = versionString();
+    report["input"] = {{"file", options.input.string()}, {"kind", meshInput ? "mesh" : "volume"}};
+    if (meshInput) {
+        report["input"]["faces"] = mesh->faceCount;
+        report["input"]["vertices"] = mesh->vertices.size();
+        report["input"]["resolution"] = options.resolution;
+        report["input"]["mesh_closed"] = meshDiagnostics.closed;
+        report["input"]["mesh_pieces"] = meshDiagnostics.pieces;
+        report["input"]["mesh_boundary_edges"] = meshDiagnostics.boundaryEdges;
+        report["input"]["mesh_degenerate_faces"] = meshDiagnostics.degenerateFaces;
+    }
+    const Dims d = result.labels.dims();
+    report["grid"] = {{"size", {d.x, d.y, d.z}},
+                      {"voxel_size", result.labels.geometry.voxelSize()},
+                      {"origin", toJson(result.labels.geometry.origin)}};
+    report["parameters"] = {{"tau", options.parameters.tau.toString()},
+                            {"sigma_min", options.parameters.sigmaMin},
+                            {"body_ratio", options.parameters.bodyRatio},
+                            {"mode", options.parameters.mode == CutMode::Junctions ? "junctions" : "junction-rule"},
+                            {"threads", threads},
+                            {"region_radius", options.parameters.regionRadius},
+                            {"bridge_gap", options.parameters.bridgeGap},
+                            {"consecutive_levels", options.parameters.consecutiveLevels}};
+    json counts = {{"object_voxels", 0}, {"boundary_voxels", 0}, {"candidates", 0}, {"curve_skeleton_points", 0},
+                   {"skeleton_points", 0}, {"junction_voxels", 0}};
+    json work = {{"objects_voxels_examined", 0}, {"candidates_searched", 0}, {"dijkstra_searches", 0},
+                 {"heap_pops", 0}, {"nodes_settled", 0}, {"path_cache_hits", 0}, {"rim_tests", 0},
+                 {"component_growth_steps", 0}, {"sigma_evaluations", 0}, {"sigma_searches", 0}};
+    json objects = json::array(), junctions = json::array(), critical = json::array();
+    for (std::size_t o = 0; o < result.objects.size(); ++o) {
+        const ObjectSegmentation& obj = result.objects[o];
+        auto add = [](json& j, const char* key, std::uint64_t v) { j[key] = j[key].get<std::uint64_t>() + v; };
+        add(counts, "object_voxels", obj.voxelCount);
+        add(counts, "boundary_voxels", obj.boundaryArea);
+        add(counts, "candidates", obj.candidateStats.candidates);
+        add(counts, "curve_skeleton_points", obj.curveSkeletonPoints);
+        add(counts, "skeleton_points", obj.simplifiedSkeletonPoints);
+        add(counts, "junction_voxels", obj.junctionVoxels);
+        add(work, "objects_voxels_examined", obj.candidateStats.objectVoxels);
+        add(work, "candidates_searched", obj.candidateStats.candidates);
+        add(work, "dijkstra_searches", obj.measureStats.search.searches);
+        add(work, "heap_pops", obj.measureStats.search.heapPops + obj.measureStats.sigmaSearch.heapPops);
+        add(work, "nodes_settled", obj.measureStats.search.nodesSettled + obj.measureStats.sigmaSearch.nodesSettled);
+        add(work, "path_cache_hits", obj.measureStats.pathCacheHits);
+        add(work, "rim_tests", obj.measureStats.rimTests);
+        add(work, "component_growth_steps", obj.measureStats.componentGrowthSteps);
+        add(work, "sigma_evaluations", obj.measureStats.sigmaEvaluations);
+        add(work, "sigma_searches", obj.measureStats.sigmaSearch.searches);
+        objects.push_back({{"index", o},
+                           {"voxels", obj.voxelCount},
+                           {"boundary_voxels", obj.boundaryArea},
+                           {"boundary_components", obj.boundaryComponents},
+                           {"bbox_min", toJson(obj.bboxMin)},
+                           {"bbox_max", toJson(obj.bboxMax)},
+                           {"tau_area", obj.tauArea},
+                           {"noise_area", obj.noiseArea},
+                           {"candidates", obj.candidateStats.candidates},
+                           {"curve_skeleton_points", obj.curveSkeletonPoints},
+                           {"skeleton_points", obj.simplifiedSkeletonPoints},
+                           {"junction_voxels", obj.junctionVoxels},
+                           {"handle_points", obj.handlePoints},
+                           {"skeleton_bridges", obj.skeletonBridges},
+                           {"cuts", obj.cutLoops.size()},
+                           {"segments", obj.labels}});
+        for (const auto& j : obj.junctions)
+            junctions.push_back({{"object", o},
+                                 {"voxel", toJson(j.voxel)},
+                                 {"position", toJson(voxelToWorld(result.labels.geometry, j.voxel))},
+                                 {"branches", j.branches},
+                                 {"cuts", j.cuts},
+                                 {"rho_s", j.rhoS},
+                                 {"core_voxels", j.coreVoxels}});
+        for (const auto& c : obj.criticalPoints)
+            critical.push_back({{"object", o},
+                                {"voxel", toJson(c.voxel)},
+                                {"position", toJson(voxelToWorld(result.labels.geometry, c.voxel))},
+                                {"junction", c.junction},
+                                {"sigma", c.sigma},
+                                {"rho_s", c.rhoS},
+                                {"rho_c", areaJson(c.rhoC)},
+                                {"body_similarity", c.similarity},
+                                {"is_cut", c.isCut}});
+    }
+    report["counts"] = counts;
+    report["work"] = work;
+    report["objects"] = objects;
+    report["junctions"] = junctions;
+    report["critical_points"] = critical;
+    json segments = json::array();
+    for (const auto& s : result.segments)
+        segments.push_back({{"id", s.label}, {"object", s.object}, {"voxels", s.voxelCount},
+                            {"boundary_area", s.boundaryArea}});
+    report["segments"] = segments;
+    report["segment_count"] = result.segments.size();
+    if (meshInput) {
+        std::uint32_t faceSegments = 0;
+        for (std::uint32_t l : faceLabels) faceSegments = std::max(faceSegments, l + 1);
+        report["face_segments"] = faceSegments;
+    }
+    json stages = json::array();
+    double serialWall = 0.0, stageWall = 0.0;
+    for (const auto& s : timer.timings()) {
+        stages.push_back({{"name", s.name}, {"parallel", s.parallel}, {"wall_seconds", s.wallSeconds},
+                          {"cpu_seconds", s.cpuSeconds}, {"calls", s.calls}});
+        stageWall += s.wallSeconds;
+        if (!s.parallel) serialWall += s.wallSeconds;
+    }
+    report["stages"] = stages;
+    report["timing"] = {{"wall_seconds", wall},
+                        {"cpu_seconds", processCpuSeconds() - cpuStart},
+                        {"serial_stage_seconds", serialWall},
+                        {"serial_share", wall > 0 ? serialWall / wall : 0.0}};
+    report["memory"] = {{"peak_resident_bytes", peakResidentBytes()},
+                        {"estimated_bytes", estimatedMemory},
+                        {"limit_bytes", memoryLimit}};
+    report["warnings"] = warnings;
+    writeFileAtomically(out.stagingPath("report.json"), report.dump(2) + "\n");
+    throwIfInterrupted(progress);
+    out.commit();
+}
+
+}  // namespace skelseg

@@ -1,0 +1,125 @@
+// skelseg: the whole method on one binary volume.
+//
+// segmentVolume() finds the objects (26-connected components) of a mask and
+// segments each on its own, in a crop padded by one background voxel (so an
+// object touching the grid border sees background beyond it), then gives
+// every segment of every object one global label 1..K by decreasing boundary
+// area (ties: object order, then segment order). The per-object pipeline:
+//   feature transform -> boundary graph -> candidates -> path sets, rims,
+//   rho_C, sigma (parallel) -> skeleton graph -> cut placement -> labelling.
+// Each stage polls the interrupter and is timed in the StageTimer.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/Interrupter.h"
+#include "engine/StageTimer.h"
+#include "kernels/CutPlacement.h"
+#include "kernels/SkeletonCandidates.h"
+#include "kernels/SkeletonMeasures.h"
+#include "kernels/Volume.h"
+
+namespace skelseg {
+
+/// tau, as an area in voxels or as a percentage of the object's boundary area.
+struct TauSpec {
+    double value = 3.0;
+    bool percent = true;
+    /// Parses "250" (voxels) or "2.5%" (of the boundary area). Throws UsageError.
+    static TauSpec parse(const std::string& text);
+    std::string toString() const;
+    double areaFor(std::uint64_t boundaryArea) const { return percent ? value * 0.01 * double(boundaryArea) : value; }
+};
+
+struct SegmentationParameters {
+    TauSpec tau;
+    double sigmaMin = 0.8;
+    double bodyRatio = 0.6;
+    CutMode mode = CutMode::JunctionRule;
+    bool threaded = true;
+    /// Components below this never make a rim count: max(noiseAreaMin,
+    /// noiseAreaFraction * boundary area), and at most tau.
+    double noiseAreaMin = 10.0;
+    double noiseAreaFraction = 0.002;
+    int regionRadius = 3;
+    double bridgeGap = 4.0;
+    int consecutiveLevels = 3;
+    /// Objects with fewer voxels are one segment without a skeleton.
+    std::uint64_t minObjectVoxels = 27;
+};
+
+struct SkeletonVertex {
+    std::array<int, 3> voxel{};  // in the input grid (may be -1 or dims for border-touching objects)
+    float rhoS = 0.0f;
+    double rhoC = 0.0;           // +inf for handle loops
+    float sigma = -1.0f;
+    bool junction = false;
+    bool critical = false;
+};
+
+struct JunctionInfo {
+    std::array<int, 3> voxel{};
+    std::uint32_t branches = 0;
+    std::uint32_t cuts = 0;
+    float rhoS = 0.0f;
+    std::uint32_t coreVoxels = 0;
+};
+
+struct CriticalPointInfo {
+    std::array<int, 3> voxel{};
+    std::uint32_t junction = 0;
+    float sigma = 0.0f;
+    float rhoS = 0.0f;
+    double rhoC = 0.0;
+    float similarity = 0.0f;
+    bool isCut = false;
+};
+
+struct ObjectSegmentation {
+    std::uint64_t voxelCount = 0;
+    std::uint64_t boundaryArea = 0;
+    std::uint64_t boundaryComponents = 0;
+    std::array<int, 3> bboxMin{}, bboxMax{};
+    double tauArea = 0.0;
+    double noiseArea = 0.0;
+    CandidateStats candidateStats;
+    SkeletonMeasureStats measureStats;
+    std::uint64_t curveSkeletonPoints = 0;       // |C|
+    std::uint64_t simplifiedSkeletonPoints = 0;  // |C_tau|
+    std::uint64_t junctionVoxels = 0;            // |J_tau|
+    std::uint64_t handlePoints = 0;
+    std::uint32_t skeletonBridges = 0;
+    std::vector<SkeletonVertex> skeleton;
+    std::vector<std::array<std::uint32_t, 2>> skeletonEdges;
+    std::vector<JunctionInfo> junctions;
+    std::vector<CriticalPointInfo> criticalPoints;
+    /// Cut loops as ordered voxel polylines (closed where a second arc was found).
+    std::vector<std::vector<std::array<int, 3>>> cutLoops;
+    std::vector<std::uint16_t> labels;  // global labels of this object's segments
+};
+
+struct SegmentInfo {
+    std::uint16_t label = 0;
+    std::uint32_t object = 0;
+    std::uint64_t voxelCount = 0;
+    std::uint64_t boundaryArea = 0;
+};
+
+struct SegmentationResult {
+    LabelVolume labels;  // same grid and geometry as the input
+    std::vector<ObjectSegmentation> objects;
+    std::vector<SegmentInfo> segments;  // by label
+    std::vector<std::string> warnings;
+};
+
+/// Rough peak memory of segmentVolume() on a grid of `dims` with
+/// `objectVoxels` object voxels, bytes (for --max-memory checks).
+std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels, int threads);
+
+SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParameters& parameters,
+                                 Interrupter& interrupter = nullInterrupter(), StageTimer* timer = nullptr);
+
+}  // namespace skelseg

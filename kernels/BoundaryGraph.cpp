@@ -1,0 +1,156 @@
+#include "kernels/BoundaryGraph.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <numeric>
+
+namespace skelseg {
+
+namespace {
+
+template <typename Body>
+void forSlices(bool threaded, int count, const Body& body) {
+    if (threaded)
+        tbb::parallel_for(tbb::blocked_range<int>(0, count), [&](const tbb::blocked_range<int>& r) {
+            for (int z = r.begin(); z < r.end(); ++z) body(z);
+        });
+    else
+        for (int z = 0; z < count; ++z) body(z);
+}
+
+bool isObject(const MaskVolume& mask, int x, int y, int z) {
+    return mask.contains(x, y, z) && mask(x, y, z) != 0;
+}
+
+bool isBoundary(const MaskVolume& mask, int x, int y, int z) {
+    if (!mask(x, y, z)) return false;
+    return !isObject(mask, x - 1, y, z) || !isObject(mask, x + 1, y, z) || !isObject(mask, x, y - 1, z) ||
+           !isObject(mask, x, y + 1, z) || !isObject(mask, x, y, z - 1) || !isObject(mask, x, y, z + 1);
+}
+
+}  // namespace
+
+MaskVolume boundaryVoxels(const MaskVolume& mask, const BoundaryGraphOptions& options) {
+    const Dims d = mask.dims();
+    MaskVolume boundary(d, 0);
+    boundary.geometry = mask.geometry;
+    forSlices(options.threaded, d.z, [&](int z) {
+        for (int y = 0; y < d.y; ++y)
+            for (int x = 0; x < d.x; ++x) boundary(x, y, z) = isBoundary(mask, x, y, z) ? 1 : 0;
+    });
+    return boundary;
+}
+
+BoundaryGraph buildBoundaryGraph(const MaskVolume& mask, const BoundaryGraphOptions& options,
+                                 Interrupter& interrupter) {
+    InterrupterScope scope(interrupter, "boundary graph");
+    const Dims d = mask.dims();
+    BoundaryGraph graph;
+    graph.dims = d;
+
+    // Count boundary voxels per slice, then number them in linear order.
+    std::vector<std::uint32_t> perSlice(std::size_t(d.z) + 1, 0);
+    const MaskVolume boundary = boundaryVoxels(mask, options);
+    throwIfInterrupted(interrupter, 0.2);
+    forSlices(options.threaded, d.z, [&](int z) {
+        std::uint32_t count = 0;
+        const std::uint8_t* b = boundary.data() + std::size_t(z) * std::size_t(d.x) * std::size_t(d.y);
+        for (std::size_t i = 0, n = std::size_t(d.x) * std::size_t(d.y); i < n; ++i) count += b[i];
+        perSlice[std::size_t(z) + 1] = count;
+    });
+    std::partial_sum(perSlice.begin(), perSlice.end(), perSlice.begin());
+    const std::uint32_t nodes = perSlice.back();
+    graph.voxel.resize(nodes);
+    graph.coord.resize(nodes);
+    graph.nodeOfVoxel.assign(mask.size(), kNoNode);
+    forSlices(options.threaded, d.z, [&](int z) {
+        std::uint32_t id = perSlice[std::size_t(z)];
+        for (int y = 0; y < d.y; ++y)
+            for (int x = 0; x < d.x; ++x) {
+                const std::size_t v = mask.index(x, y, z);
+                if (!boundary[v]) continue;
+                graph.voxel[id] = std::uint32_t(v);
+                graph.coord[id] = Coord{x, y, z};
+                graph.nodeOfVoxel[v] = id++;
+            }
+    });
+    throwIfInterrupted(interrupter, 0.4);
+
+    // 26-neighbourhood in a fixed order: the CSR order is part of the
+    // deterministic tie-breaking of every search.
+    struct Step {
+        int dx, dy, dz;
+        float length;
+    };
+    std::vector<Step> steps;
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int k = (dx != 0) + (dy != 0) + (dz != 0);
+                if (k) steps.push_back({dx, dy, dz, std::sqrt(float(k))});
+            }
+
+    std::vector<std::uint32_t> degree(std::size_t(nodes) + 1, 0);
+    auto forNodes = [&](const auto& body) {
+        if (options.threaded)
+            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nodes, 1024),
+                              [&](const tbb::blocked_range<std::uint32_t>& r) {
+                                  for (std::uint32_t n = r.begin(); n < r.end(); ++n) body(n);
+                              });
+        else
+            for (std::uint32_t n = 0; n < nodes; ++n) body(n);
+    };
+    auto neighbourNode = [&](std::uint32_t n, const Step& s) -> std::uint32_t {
+        const Coord c = graph.coord[n];
+        const int x = c.x + s.dx, y = c.y + s.dy, z = c.z + s.dz;
+        if (!mask.contains(x, y, z)) return kNoNode;
+        return graph.nodeOfVoxel[mask.index(x, y, z)];
+    };
+    forNodes([&](std::uint32_t n) {
+        std::uint32_t k = 0;
+        for (const Step& s : steps) k += neighbourNode(n, s) != kNoNode;
+        degree[std::size_t(n) + 1] = k;
+    });
+    std::partial_sum(degree.begin(), degree.end(), degree.begin());
+    graph.offset = std::move(degree);
+    graph.neighbour.resize(graph.offset.back());
+    graph.weight.resize(graph.offset.back());
+    forNodes([&](std::uint32_t n) {
+        std::uint32_t e = graph.offset[n];
+        for (const Step& s : steps) {
+            const std::uint32_t m = neighbourNode(n, s);
+            if (m == kNoNode) continue;
+            graph.neighbour[e] = m;
+            graph.weight[e] = s.length;
+            ++e;
+        }
+    });
+    throwIfInterrupted(interrupter, 0.8);
+
+    // Connected components (serial BFS: linear and small next to the rest).
+    graph.component.assign(nodes, kNoNode);
+    std::vector<std::uint32_t> queue;
+    queue.reserve(nodes);
+    for (std::uint32_t seed = 0; seed < nodes; ++seed) {
+        if (graph.component[seed] != kNoNode) continue;
+        const std::uint32_t label = std::uint32_t(graph.componentSize.size());
+        queue.clear();
+        queue.push_back(seed);
+        graph.component[seed] = label;
+        for (std::size_t head = 0; head < queue.size(); ++head) {
+            const std::uint32_t n = queue[head];
+            for (std::uint32_t e = graph.offset[n]; e < graph.offset[n + 1]; ++e) {
+                const std::uint32_t m = graph.neighbour[e];
+                if (graph.component[m] == kNoNode) {
+                    graph.component[m] = label;
+                    queue.push_back(m);
+                }
+            }
+        }
+        graph.componentSize.push_back(std::uint32_t(queue.size()));
+    }
+    return graph;
+}
+
+}  // namespace skelseg

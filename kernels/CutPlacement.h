@@ -1,0 +1,65 @@
+// skelseg: placing the part cuts (ALGORITHM.md section 8, with the choices
+// of section 14; the RT07 baseline of section 10).
+//
+// For every junction, walk out along each branch leaving its region. A
+// "point" of the 2-3 voxel thick skeleton is one BFS level from the region;
+// its sigma is the best sigma on that level. The candidate is the best point
+// of the first level that starts a run of `consecutiveLevels` levels with
+// sigma >= sigmaMin (a single high level in a corner fan is not enough).
+// Candidates whose circumference rho_S is similar to the junction's (body
+// test) lie on the body and are dropped; when more than two are similar, only
+// the one carrying the most surface (largest exact rho_C) is dropped, ties
+// broken by voxel index. The loops Gamma(q) of the rest are the cuts.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "kernels/SkeletonGraph.h"
+#include "kernels/SkeletonMeasures.h"
+
+namespace skelseg {
+
+enum class CutMode {
+    JunctionRule,  // section 8 (default)
+    Junctions,     // RT07: the junctions' own path sets are the cuts
+};
+
+struct CutOptions {
+    double sigmaMin = 0.8;
+    double bodyRatio = 0.6;
+    int consecutiveLevels = 3;
+    CutMode mode = CutMode::JunctionRule;
+};
+
+/// One candidate found on a branch (a "critical point").
+struct CutCandidate {
+    std::uint32_t junction = 0;
+    std::uint32_t node = 0;       // skeleton graph node
+    std::uint32_t level = 0;      // BFS level from the junction region
+    float sigma = 0.0f;
+    float similarity = 0.0f;
+    double exactRhoC = -1.0;      // filled where the tie rule needed it
+    bool onBody = false;
+    bool isCut = false;
+};
+
+struct JunctionReport {
+    std::uint32_t branches = 0;
+    std::uint32_t cuts = 0;
+};
+
+struct CutPlan {
+    std::vector<CutCandidate> candidates;
+    std::vector<JunctionReport> junctions;
+    /// Skeleton graph nodes whose Gamma is a cut, deduplicated, ascending.
+    std::vector<std::uint32_t> cutNodes;
+};
+
+/// exactRhoC(pointIndex) returns the exact rho_C of a SkeletonPoint (only
+/// called for the "more than two qualify" rule).
+CutPlan placeCuts(const SkeletonGraph& graph, const std::vector<SkeletonPoint>& points, const CutOptions& options,
+                  const std::function<double(std::uint32_t)>& exactRhoC);
+
+}  // namespace skelseg

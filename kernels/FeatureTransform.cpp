@@ -1,0 +1,180 @@
+#include "kernels/FeatureTransform.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <limits>
+#include <vector>
+
+namespace skelseg {
+
+namespace {
+
+constexpr std::int64_t kInfiniteCost = std::numeric_limits<std::int64_t>::max() / 4;
+
+/// Lower envelope of the parabolas cost[i] + (j - i)^2 over one line of n
+/// samples; writes for every j the i that minimises it (or -1 if every cost is
+/// infinite). Scratch vectors are passed in to avoid allocation per line.
+void nearestAlongLine(const std::int64_t* cost, int n, int* nearest, std::vector<int>& apex,
+                      std::vector<double>& boundary) {
+    apex.resize(std::size_t(n));
+    boundary.resize(std::size_t(n) + 1);
+    int k = -1;
+    for (int q = 0; q < n; ++q) {
+        if (cost[q] >= kInfiniteCost) continue;
+        const double fq = double(cost[q]) + double(q) * double(q);
+        while (k >= 0) {
+            const int v = apex[std::size_t(k)];
+            const double fv = double(cost[v]) + double(v) * double(v);
+            const double s = (fq - fv) / (2.0 * double(q - v));
+            if (s <= boundary[std::size_t(k)]) {
+                --k;
+            } else {
+                apex[std::size_t(++k)] = q;
+                boundary[std::size_t(k)] = s;
+                boundary[std::size_t(k) + 1] = std::numeric_limits<double>::infinity();
+                goto placed;
+            }
+        }
+        k = 0;
+        apex[0] = q;
+        boundary[0] = -std::numeric_limits<double>::infinity();
+        boundary[1] = std::numeric_limits<double>::infinity();
+    placed:;
+    }
+    if (k < 0) {
+        for (int j = 0; j < n; ++j) nearest[j] = -1;
+        return;
+    }
+    int segment = 0;
+    for (int j = 0; j < n; ++j) {
+        while (boundary[std::size_t(segment) + 1] < double(j)) ++segment;
+        nearest[j] = apex[std::size_t(segment)];
+    }
+}
+
+struct LineScratch {
+    std::vector<std::int64_t> cost;
+    std::vector<int> nearest, apex;
+    std::vector<double> boundary;
+    std::vector<std::uint32_t> features;
+};
+
+template <typename Body>
+void forRange(bool threaded, int count, int grain, const Body& body) {
+    if (threaded) {
+        tbb::parallel_for(tbb::blocked_range<int>(0, count, std::size_t(grain)),
+                          [&](const tbb::blocked_range<int>& r) { body(r.begin(), r.end()); });
+    } else {
+        body(0, count);
+    }
+}
+
+}  // namespace
+
+Volume<std::uint32_t> featureTransform(const MaskVolume& sites, const FeatureTransformOptions& options,
+                                       Interrupter& interrupter) {
+    InterrupterScope scope(interrupter, "feature transform");
+    const Dims dims = sites.dims();
+    const int nx = dims.x, ny = dims.y, nz = dims.z;
+    const std::size_t sliceSize = std::size_t(nx) * std::size_t(ny);
+    Volume<std::uint32_t> ft(dims, kNoFeature);
+    ft.geometry = sites.geometry;
+    std::uint32_t* feature = ft.data();
+    std::atomic<bool> stop{false};
+
+    // Pass 1, along x: nearest site in the same row (two sweeps).
+    forRange(options.threaded, nz, 1, [&](int z0, int z1) {
+        for (int z = z0; z < z1; ++z) {
+            if (stop.load(std::memory_order_relaxed)) return;
+            if (interrupter.wasInterrupted(double(z) / (3.0 * nz))) {
+                stop = true;
+                return;
+            }
+            for (int y = 0; y < ny; ++y) {
+                const std::size_t row = std::size_t(z) * sliceSize + std::size_t(y) * std::size_t(nx);
+                const std::uint8_t* s = sites.data() + row;
+                std::uint32_t* f = feature + row;
+                int last = -1;
+                for (int x = 0; x < nx; ++x) {
+                    if (s[x]) last = x;
+                    if (last >= 0) f[x] = std::uint32_t(row + std::size_t(last));
+                }
+                last = -1;
+                for (int x = nx - 1; x >= 0; --x) {
+                    if (s[x]) last = x;
+                    if (last < 0) continue;
+                    // Strictly nearer on the right only: ties keep the left site.
+                    if (f[x] == kNoFeature || (last - x) < (x - int(f[x] - row)))
+                        f[x] = std::uint32_t(row + std::size_t(last));
+                }
+            }
+        }
+    });
+    throwIfInterrupted(interrupter);
+
+    // Passes 2 and 3 along y and z: per line, cost(i) = squared distance from
+    // the line's sample i to its current feature in the other dimensions.
+    // Lines of one slab are gathered into a tile whose rows are contiguous in
+    // memory so the strided axis is read once.
+    auto pass = [&](int axis) {
+        const int lineLength = axis == 1 ? ny : nz;
+        const int outer = axis == 1 ? nz : ny;  // one slab per outer index
+        tbb::enumerable_thread_specific<LineScratch> scratchPerThread;
+        forRange(options.threaded, outer, 1, [&](int o0, int o1) {
+            LineScratch& scratch = scratchPerThread.local();
+            scratch.cost.resize(std::size_t(lineLength));
+            scratch.nearest.resize(std::size_t(lineLength));
+            scratch.features.resize(std::size_t(lineLength) * std::size_t(nx));
+            for (int o = o0; o < o1; ++o) {
+                if (stop.load(std::memory_order_relaxed)) return;
+                if (interrupter.wasInterrupted((double(axis) + double(o) / outer) / 3.0)) {
+                    stop = true;
+                    return;
+                }
+                // Gather the slab: features[i * nx + x] for line position i.
+                auto voxelIndex = [&](int i, int x) -> std::size_t {
+                    return axis == 1 ? std::size_t(o) * sliceSize + std::size_t(i) * std::size_t(nx) + std::size_t(x)
+                                     : std::size_t(i) * sliceSize + std::size_t(o) * std::size_t(nx) + std::size_t(x);
+                };
+                for (int i = 0; i < lineLength; ++i) {
+                    const std::uint32_t* src = feature + voxelIndex(i, 0);
+                    std::copy(src, src + nx, scratch.features.begin() + std::ptrdiff_t(i) * nx);
+                }
+                for (int x = 0; x < nx; ++x) {
+                    for (int i = 0; i < lineLength; ++i) {
+                        const std::uint32_t f = scratch.features[std::size_t(i) * std::size_t(nx) + std::size_t(x)];
+                        if (f == kNoFeature) {
+                            scratch.cost[std::size_t(i)] = kInfiniteCost;
+                            continue;
+                        }
+                        const std::int64_t fx = std::int64_t(f % std::uint32_t(nx));
+                        const std::int64_t dx = fx - x;
+                        std::int64_t c = dx * dx;
+                        if (axis == 2) {
+                            const std::int64_t fy = std::int64_t((f / std::uint32_t(nx)) % std::uint32_t(ny));
+                            const std::int64_t dy = fy - o;
+                            c += dy * dy;
+                        }
+                        scratch.cost[std::size_t(i)] = c;
+                    }
+                    nearestAlongLine(scratch.cost.data(), lineLength, scratch.nearest.data(), scratch.apex,
+                                     scratch.boundary);
+                    for (int j = 0; j < lineLength; ++j) {
+                        const int i = scratch.nearest[std::size_t(j)];
+                        feature[voxelIndex(j, x)] =
+                            i < 0 ? kNoFeature : scratch.features[std::size_t(i) * std::size_t(nx) + std::size_t(x)];
+                    }
+                }
+            }
+        });
+        throwIfInterrupted(interrupter);
+    };
+    pass(1);
+    pass(2);
+    return ft;
+}
+
+}  // namespace skelseg

@@ -1,0 +1,66 @@
+#include "kernels/RimCount.h"
+
+namespace skelseg {
+
+RimCounter::RimCounter(const BoundaryGraph& graph)
+    : mGraph(graph),
+      mPathSet(graph.nodeCount()),
+      mDilated(graph.nodeCount()),
+      mRim(graph.nodeCount()),
+      mPieceOf(graph.nodeCount(), kNoNode) {}
+
+const RimPieces& RimCounter::countRims(const std::vector<std::uint32_t>& pathSet) {
+    mPathSet.nextGeneration();
+    mDilated.nextGeneration();
+    mRim.nextGeneration();
+    mPieceOf.clear();
+    RimPieces& r = mResult;
+    r.dilated.clear();
+    r.rimNodes.clear();
+    r.pieceOfRimNode.clear();
+    r.pieceCount = 0;
+    const auto& offset = mGraph.offset;
+    const auto& neighbour = mGraph.neighbour;
+
+    for (std::uint32_t n : pathSet)
+        if (mPathSet.insert(n) && mDilated.insert(n)) r.dilated.push_back(n);
+    const std::size_t coreCount = r.dilated.size();
+    for (std::size_t i = 0; i < coreCount; ++i) {
+        const std::uint32_t n = r.dilated[i];
+        for (std::uint32_t e = offset[n]; e < offset[n + 1]; ++e)
+            if (mDilated.insert(neighbour[e])) r.dilated.push_back(neighbour[e]);
+    }
+    for (std::uint32_t n : r.dilated)
+        for (std::uint32_t e = offset[n]; e < offset[n + 1]; ++e) {
+            const std::uint32_t m = neighbour[e];
+            if (!mDilated.isMarked(m) && mRim.insert(m)) r.rimNodes.push_back(m);
+        }
+    // Pieces: BFS over rim nodes along graph edges (26-adjacency).
+    for (std::uint32_t seed : r.rimNodes) {
+        if (mPieceOf.contains(seed)) continue;
+        const std::uint32_t piece = r.pieceCount++;
+        mQueue.clear();
+        mQueue.push_back(seed);
+        mPieceOf.set(seed, piece);
+        for (std::size_t head = 0; head < mQueue.size(); ++head) {
+            const std::uint32_t n = mQueue[head];
+            for (std::uint32_t e = offset[n]; e < offset[n + 1]; ++e) {
+                const std::uint32_t m = neighbour[e];
+                if (mRim.isMarked(m) && !mPieceOf.contains(m)) {
+                    mPieceOf.set(m, piece);
+                    mQueue.push_back(m);
+                }
+            }
+        }
+    }
+    r.pieceOfRimNode.resize(r.rimNodes.size());
+    for (std::size_t i = 0; i < r.rimNodes.size(); ++i) r.pieceOfRimNode[i] = mPieceOf.get(r.rimNodes[i]);
+    return r;
+}
+
+std::uint32_t rimCount(const BoundaryGraph& graph, const std::vector<std::uint32_t>& pathSet) {
+    RimCounter counter(graph);
+    return counter.countRims(pathSet).pieceCount;
+}
+
+}  // namespace skelseg

@@ -1,0 +1,184 @@
+#include "kernels/SkeletonGraph.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <unordered_map>
+
+namespace skelseg {
+
+namespace {
+
+struct UnionFind {
+    std::vector<std::uint32_t> parent;
+    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+    std::uint32_t find(std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    }
+    void unite(std::uint32_t a, std::uint32_t b) {
+        a = find(a), b = find(b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+};
+
+/// Connected components of the nodes with include(n), following `adjacency`;
+/// numbered by smallest node. Returns the count; label kNoJunction elsewhere.
+template <typename Include>
+std::uint32_t labelComponents(const SkeletonGraph& g, const Include& include, std::vector<std::uint32_t>& label) {
+    label.assign(g.nodeCount(), kNoJunction);
+    std::uint32_t count = 0;
+    std::vector<std::uint32_t> queue;
+    for (std::uint32_t seed = 0; seed < g.nodeCount(); ++seed) {
+        if (!include(seed) || label[seed] != kNoJunction) continue;
+        queue.assign(1, seed);
+        label[seed] = count;
+        for (std::size_t h = 0; h < queue.size(); ++h)
+            for (std::uint32_t e = g.offset[queue[h]]; e < g.offset[queue[h] + 1]; ++e) {
+                const std::uint32_t m = g.neighbour[e];
+                if (include(m) && label[m] == kNoJunction) label[m] = count, queue.push_back(m);
+            }
+        ++count;
+    }
+    return count;
+}
+
+void buildAdjacency(SkeletonGraph& g) {
+    std::vector<std::vector<std::uint32_t>> lists(g.nodeCount());
+    for (const auto& e : g.edges) lists[e[0]].push_back(e[1]), lists[e[1]].push_back(e[0]);
+    g.offset.assign(std::size_t(g.nodeCount()) + 1, 0);
+    g.neighbour.clear();
+    for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
+        std::sort(lists[n].begin(), lists[n].end());
+        g.neighbour.insert(g.neighbour.end(), lists[n].begin(), lists[n].end());
+        g.offset[std::size_t(n) + 1] = std::uint32_t(g.neighbour.size());
+    }
+}
+
+}  // namespace
+
+SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const Dims& dims,
+                                 const SkeletonGraphOptions& options) {
+    SkeletonGraph g;
+    std::unordered_map<std::uint32_t, std::uint32_t> nodeOfVoxel;
+    const std::uint32_t nx = std::uint32_t(dims.x), ny = std::uint32_t(dims.y);
+    for (std::uint32_t i = 0; i < points.size(); ++i) {
+        if (!(points[i].rhoC >= options.tau)) continue;
+        const std::uint32_t v = points[i].voxel;
+        nodeOfVoxel.emplace(v, g.nodeCount());
+        g.point.push_back(i);
+        g.coord.push_back(Coord{int(v % nx), int((v / nx) % ny), int(v / (nx * ny))});
+    }
+    auto lookup = [&](int x, int y, int z) -> std::uint32_t {
+        if (x < 0 || y < 0 || z < 0 || x >= dims.x || y >= dims.y || z >= dims.z) return kNoJunction;
+        auto it = nodeOfVoxel.find(std::uint32_t(x) + nx * (std::uint32_t(y) + ny * std::uint32_t(z)));
+        return it == nodeOfVoxel.end() ? kNoJunction : it->second;
+    };
+    // 26-adjacency edges (each once, i < j).
+    for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
+        const Coord c = g.coord[n];
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    if (!dx && !dy && !dz) continue;
+                    const std::uint32_t m = lookup(c.x + dx, c.y + dy, c.z + dz);
+                    if (m != kNoJunction && m > n) g.edges.push_back({n, m});
+                }
+    }
+    buildAdjacency(g);
+
+    // Bridges between different connected parts closer than bridgeGap.
+    std::vector<std::uint32_t> part;
+    const std::uint32_t parts = labelComponents(g, [](std::uint32_t) { return true; }, part);
+    if (parts > 1 && options.bridgeGap >= 1.0) {
+        const int r = int(std::floor(options.bridgeGap));
+        const double gap2 = options.bridgeGap * options.bridgeGap;
+        // Closest pair per pair of parts; std::map keeps the order deterministic.
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::tuple<double, std::uint32_t, std::uint32_t>> best;
+        for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
+            const Coord c = g.coord[n];
+            for (int dz = -r; dz <= r; ++dz)
+                for (int dy = -r; dy <= r; ++dy)
+                    for (int dx = -r; dx <= r; ++dx) {
+                        const double d2 = double(dx * dx + dy * dy + dz * dz);
+                        if (d2 > gap2) continue;
+                        const std::uint32_t m = lookup(c.x + dx, c.y + dy, c.z + dz);
+                        if (m == kNoJunction || part[m] <= part[n]) continue;
+                        const auto key = std::make_pair(part[n], part[m]);
+                        const auto candidate = std::make_tuple(d2, n, m);
+                        auto it = best.find(key);
+                        if (it == best.end() || candidate < it->second) best[key] = candidate;
+                    }
+        }
+        // Join parts with the shortest bridges first (a spanning forest), so
+        // that a piece is not tied to everything within reach.
+        std::vector<std::tuple<double, std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>> order;
+        for (const auto& [key, value] : best)
+            order.emplace_back(std::get<0>(value), std::get<1>(value), std::get<2>(value), key.first, key.second);
+        std::sort(order.begin(), order.end());
+        UnionFind joined(parts);
+        for (const auto& [d2, n, m, pa, pb] : order) {
+            if (joined.find(pa) == joined.find(pb)) continue;
+            joined.unite(pa, pb);
+            g.edges.push_back({std::min(n, m), std::max(n, m)});
+            ++g.bridgeCount;
+        }
+        if (g.bridgeCount) buildAdjacency(g);
+    }
+
+    // Junction clusters and their regions.
+    auto isCore = [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; };
+    std::vector<std::uint32_t> cluster;
+    const std::uint32_t clusters = labelComponents(g, isCore, cluster);
+    std::vector<std::uint32_t> owner(g.nodeCount(), kNoJunction);  // cluster whose region took the node first
+    UnionFind merged(clusters);
+    {
+        // Multi-source BFS from all cores at once, `regionRadius` steps.
+        std::vector<std::uint32_t> depth(g.nodeCount(), kNoJunction), queue;
+        for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
+            if (cluster[n] != kNoJunction) depth[n] = 0, owner[n] = cluster[n], queue.push_back(n);
+        for (std::size_t h = 0; h < queue.size(); ++h) {
+            const std::uint32_t n = queue[h];
+            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
+                const std::uint32_t m = g.neighbour[e];
+                if (owner[m] != kNoJunction) {
+                    merged.unite(owner[m], owner[n]);  // regions touch
+                    continue;
+                }
+                if (int(depth[n]) >= options.regionRadius) continue;
+                depth[m] = depth[n] + 1;
+                owner[m] = owner[n];
+                queue.push_back(m);
+            }
+        }
+    }
+    g.junctionOf.assign(g.nodeCount(), kNoJunction);
+    std::vector<std::uint32_t> junctionOfRoot(clusters, kNoJunction);
+    for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
+        if (owner[n] == kNoJunction) continue;
+        const std::uint32_t root = merged.find(owner[n]);
+        if (junctionOfRoot[root] == kNoJunction) {
+            junctionOfRoot[root] = std::uint32_t(g.junctions.size());
+            g.junctions.emplace_back();
+        }
+        const std::uint32_t j = junctionOfRoot[root];
+        g.junctionOf[n] = j;
+        g.junctions[j].region.push_back(n);
+        if (cluster[n] != kNoJunction) g.junctions[j].core.push_back(n);
+    }
+    for (SkeletonJunction& j : g.junctions) {
+        std::vector<std::pair<float, std::uint32_t>> byRho;
+        for (std::uint32_t n : j.core) byRho.emplace_back(points[g.point[n]].rhoS, n);
+        std::sort(byRho.begin(), byRho.end());
+        if (byRho.empty()) continue;
+        const auto& mid = byRho[byRho.size() / 2];
+        j.rhoS = byRho.size() % 2 ? mid.first : 0.5f * (byRho[byRho.size() / 2 - 1].first + mid.first);
+        j.representative = mid.second;
+    }
+
+    g.pieceCount = labelComponents(g, [&](std::uint32_t n) { return g.junctionOf[n] == kNoJunction; }, g.pieceOf);
+    return g;
+}
+
+}  // namespace skelseg

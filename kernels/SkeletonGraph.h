@@ -1,0 +1,61 @@
+// skelseg: the simplified skeleton as a graph of junctions and branches
+// (ALGORITHM.md section 6, with the choices of section 14).
+//
+// Nodes are the points of C_tau (rho_C >= tau) with 26-adjacency. The
+// skeleton is 2-3 voxels thick and junction voxels (J_tau, three or more
+// robust rims) come in clusters, so junctions are contracted into regions:
+// a region is a 26-connected cluster of J_tau voxels plus the C_tau voxels
+// within `regionRadius` steps of it; clusters whose regions touch are one
+// junction. Branches are the 26-connected pieces of C_tau outside the
+// regions. Noise can break the skeleton into pieces; gaps of up to `bridgeGap`
+// voxels between different connected parts of C_tau are bridged by one edge
+// (the closest voxel pair), which the walks and branch pieces then follow.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "kernels/SkeletonMeasures.h"
+#include "kernels/Volume.h"
+
+namespace skelseg {
+
+constexpr std::uint32_t kNoJunction = 0xFFFFFFFFu;
+
+struct SkeletonJunction {
+    std::vector<std::uint32_t> core;    // graph nodes in J_tau
+    std::vector<std::uint32_t> region;  // core plus the C_tau nodes around it
+    float rhoS = 0.0f;                  // median rho_S over the core
+    std::uint32_t representative = 0;   // core node used for reports and RT07 cuts
+};
+
+struct SkeletonGraph {
+    /// Index into the SkeletonPoint list of each node (C_tau), voxel order.
+    std::vector<std::uint32_t> point;
+    std::vector<Coord> coord;
+    /// CSR adjacency (26-adjacency plus bridges).
+    std::vector<std::uint32_t> offset, neighbour;
+    /// Undirected edges (i < j), for output.
+    std::vector<std::array<std::uint32_t, 2>> edges;
+    std::uint32_t bridgeCount = 0;
+    std::vector<SkeletonJunction> junctions;
+    /// Junction whose region holds each node, or kNoJunction.
+    std::vector<std::uint32_t> junctionOf;
+    /// Branch piece of each node outside regions (kNoJunction inside regions).
+    std::vector<std::uint32_t> pieceOf;
+    std::uint32_t pieceCount = 0;
+
+    std::uint32_t nodeCount() const noexcept { return std::uint32_t(point.size()); }
+};
+
+struct SkeletonGraphOptions {
+    double tau = 0.0;
+    int regionRadius = 3;
+    double bridgeGap = 4.0;
+};
+
+SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const Dims& dims,
+                                 const SkeletonGraphOptions& options);
+
+}  // namespace skelseg

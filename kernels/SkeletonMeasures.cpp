@@ -1,0 +1,185 @@
+#include "kernels/SkeletonMeasures.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <memory>
+
+#include "kernels/ComponentGrowth.h"
+#include "kernels/Geodesicness.h"
+#include "kernels/RimCount.h"
+
+namespace skelseg {
+
+namespace {
+
+/// Everything one thread needs; built lazily, once per thread.
+struct Workspace {
+    explicit Workspace(const BoundaryGraph& graph)
+        : search(graph), sigmaSearch(graph), rims(graph), grower(graph), geodesicness(graph), inSet(graph.nodeCount()) {}
+    GeodesicSearch search, sigmaSearch;
+    PathCache cache;
+    RimCounter rims;
+    ComponentGrower grower;
+    GeodesicnessEvaluator geodesicness;
+    GenerationMarks inSet;
+    std::vector<std::uint32_t> gamma;
+    std::uint64_t rimTests = 0, growthSteps = 0, sigmaEvaluations = 0, points = 0;
+};
+
+/// Gamma(p) into ws.gamma via the cache; returns rho_S and the pair.
+float collectPathSet(Workspace& ws, const SkeletonCandidate& c, std::uint32_t& a, std::uint32_t& b) {
+    ws.gamma.clear();
+    ws.inSet.nextGeneration();
+    float rhoS = -1.0f;
+    a = b = kNoNode;
+    for (std::uint32_t i = 0; i < c.featureCount; ++i)
+        for (std::uint32_t j = i + 1; j < c.featureCount; ++j) {
+            const PathCache::Entry& e = ws.cache.path(ws.search, c.feature[i], c.feature[j]);
+            if (e.length == kUnreachable) continue;  // different surface pieces (cavity): no path
+            if (e.length > rhoS) rhoS = e.length, a = c.feature[i], b = c.feature[j];
+            const std::uint32_t* nodes = ws.cache.nodes(e);
+            for (std::uint32_t k = 0; k < e.count; ++k)
+                if (ws.inSet.insert(nodes[k])) ws.gamma.push_back(nodes[k]);
+        }
+    return rhoS;
+}
+
+/// The measures of one candidate. Returns true when p is in C.
+bool measure(Workspace& ws, const SkeletonCandidate& c, std::uint32_t candidateIndex,
+             const SkeletonMeasureOptions& options, bool exact, SkeletonPoint& out) {
+    std::uint32_t a, b;
+    const float rhoS = collectPathSet(ws, c, a, b);
+    if (rhoS <= 0.0f) return false;
+    ++ws.rimTests;
+    const RimPieces& pieces = ws.rims.countRims(ws.gamma);
+    if (pieces.pieceCount < 2) return false;
+
+    const std::uint64_t noise = std::uint64_t(std::ceil(std::max(1.0, options.noiseArea)));
+    const std::uint64_t tauArea = std::uint64_t(std::ceil(std::max(0.0, options.tau)));
+    const std::uint64_t cap = exact ? ComponentGrower::kExactArea : std::max(noise, tauArea);
+    const ComponentAreas& areas = ws.grower.grow(ws.rims, cap);
+    ws.growthSteps += areas.growthSteps;
+
+    std::uint32_t rims = 0, robust = 0;
+    std::vector<std::uint8_t> componentCounts(areas.componentCount, 0);
+    std::uint32_t distinct = 0;
+    for (std::uint32_t piece = 0; piece < pieces.pieceCount; ++piece) {
+        const std::uint32_t comp = areas.componentOfPiece[piece];
+        const std::uint64_t area = areas.area[comp];
+        if (area < noise) continue;
+        ++rims;
+        if (area >= tauArea) ++robust;
+        if (!componentCounts[comp]) ++distinct, componentCounts[comp] = 1;
+    }
+    if (rims < 2) return false;
+
+    out.voxel = c.voxel;
+    out.candidate = candidateIndex;
+    out.rhoS = rhoS;
+    out.featureA = a;
+    out.featureB = b;
+    out.rims = std::uint8_t(std::min<std::uint32_t>(rims, 255));
+    out.robustRims = std::uint8_t(std::min<std::uint32_t>(robust, 255));
+    out.isHandle = distinct < rims;
+    out.rhoC = out.isHandle ? std::numeric_limits<double>::infinity() : double(areas.rhoC);
+    out.rhoCExact = out.isHandle || areas.rhoCExact;
+    out.sigma = -1.0f;
+    if (out.rhoC >= options.tau) {
+        ++ws.sigmaEvaluations;
+        out.sigma = ws.geodesicness.evaluate(ws.rims, a, b, ws.sigmaSearch).sigma;
+    }
+    ++ws.points;
+    return true;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> pathSet(const BoundaryGraph& graph, const SkeletonCandidate& candidate,
+                                   GeodesicSearch& search, float* rhoS, std::uint32_t* a, std::uint32_t* b) {
+    std::vector<std::uint32_t> nodes, path;
+    float best = -1.0f;
+    std::uint32_t bestA = kNoNode, bestB = kNoNode;
+    (void)graph;
+    for (std::uint32_t i = 0; i < candidate.featureCount; ++i)
+        for (std::uint32_t j = i + 1; j < candidate.featureCount; ++j) {
+            const std::uint32_t u = candidate.feature[i], v = candidate.feature[j];
+            const float length = search.shortestPath(std::min(u, v), std::max(u, v), &path);
+            if (length == kUnreachable) continue;
+            if (length > best) best = length, bestA = u, bestB = v;
+            nodes.insert(nodes.end(), path.begin(), path.end());
+        }
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    if (rhoS) *rhoS = best;
+    if (a) *a = bestA;
+    if (b) *b = bestB;
+    return nodes;
+}
+
+bool measurePoint(const BoundaryGraph& graph, const SkeletonCandidate& candidate, const SkeletonMeasureOptions& options,
+                  SkeletonPoint& out) {
+    Workspace ws(graph);
+    return measure(ws, candidate, 0, options, true, out);
+}
+
+std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph, const std::vector<SkeletonCandidate>& candidates,
+                                           const SkeletonMeasureOptions& options, SkeletonMeasureStats* stats,
+                                           Interrupter& interrupter) {
+    InterrupterScope scope(interrupter, "path sets and rims");
+    const std::size_t n = candidates.size();
+    std::vector<SkeletonPoint> slots(n);
+    std::vector<std::uint8_t> isPoint(n, 0);
+    tbb::enumerable_thread_specific<std::unique_ptr<Workspace>> workspaces;
+    std::atomic<bool> stop{false};
+    std::atomic<std::size_t> done{0};
+
+    auto range = [&](std::size_t begin, std::size_t end) {
+        auto& slot = workspaces.local();
+        if (!slot) slot = std::make_unique<Workspace>(graph);
+        Workspace& ws = *slot;
+        for (std::size_t i = begin; i < end; ++i) {
+            if ((i & 63) == 0) {
+                if (stop.load(std::memory_order_relaxed)) return;
+                if (interrupter.wasInterrupted(double(done.load(std::memory_order_relaxed)) / double(std::max<std::size_t>(n, 1)))) {
+                    stop = true;
+                    return;
+                }
+            }
+            isPoint[i] = measure(ws, candidates[i], std::uint32_t(i), options, options.exactRhoC, slots[i]) ? 1 : 0;
+        }
+        done += end - begin;
+    };
+    if (options.threaded)
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64),
+                          [&](const tbb::blocked_range<std::size_t>& r) { range(r.begin(), r.end()); });
+    else
+        range(0, n);
+    throwIfInterrupted(interrupter);
+
+    std::vector<SkeletonPoint> points;
+    for (std::size_t i = 0; i < n; ++i)
+        if (isPoint[i]) points.push_back(slots[i]);
+    if (stats) {
+        SkeletonMeasureStats s;
+        for (const auto& slot : workspaces) {
+            if (!slot) continue;
+            s.search += slot->search.counters;
+            s.sigmaSearch += slot->sigmaSearch.counters;
+            s.pathCacheHits += slot->cache.hits;
+            s.pathCacheMisses += slot->cache.misses;
+            s.rimTests += slot->rimTests;
+            s.componentGrowthSteps += slot->growthSteps;
+            s.sigmaEvaluations += slot->sigmaEvaluations;
+        }
+        s.skeletonPoints = points.size();
+        *stats = s;
+    }
+    return points;
+}
+
+}  // namespace skelseg

@@ -1,0 +1,87 @@
+// skelseg: path sets, the curve-skeleton test and the importance measures,
+// per candidate voxel (ALGORITHM.md sections 3 to 7).
+//
+// For every candidate p (in parallel, one workspace per thread):
+//   Gamma(p)  union of shortest boundary paths between all pairs of Fbar(p)
+//   rho_S(p)  longest of those paths; (a, b) the pair realising it
+//   rims      pieces of the rim of Gamma'(p)                  (RimCount.h)
+//   areas     components behind the rims, rho_C               (ComponentGrowth.h)
+//   sigma     geodesicness, for points of C_tau only           (Geodesicness.h)
+// A rim counts when the component it bounds has at least `noiseArea` nodes:
+// bundles of nearly parallel paths enclose holes of 1 to 10 voxels that are
+// not loops (ALGORITHM.md section 13). p is in C when two or more rims count.
+// A rim is robust when its component reaches tau; p is a junction (J_tau) with
+// three or more robust rims. When fewer distinct components than counting
+// rims exist, Gamma(p) holds a loop around a handle (genus > 0): such points
+// get rho_C = infinity (isHandle) so that tunnels keep their loop skeleton.
+//
+// Results depend only on the input, never on the thread count: each path is a
+// function of its feature pair (PathSearch.h), and results are written per
+// candidate and compacted in candidate order.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "engine/Interrupter.h"
+#include "kernels/BoundaryGraph.h"
+#include "kernels/PathSearch.h"
+#include "kernels/SkeletonCandidates.h"
+
+namespace skelseg {
+
+/// A point of the (unsimplified) curve skeleton C with its measures.
+struct SkeletonPoint {
+    std::uint32_t voxel = 0;        // linear voxel index
+    std::uint32_t candidate = 0;    // index into the candidate list
+    float rhoS = 0.0f;              // longest feature-pair geodesic
+    double rhoC = 0.0;              // area cut off by the loop; +inf for handle loops
+    bool rhoCExact = true;          // false: rhoC is a lower bound (>= tau, see ComponentGrowth.h)
+    bool isHandle = false;
+    std::uint8_t rims = 0;          // rims whose component >= noiseArea
+    std::uint8_t robustRims = 0;    // rims whose component >= tau
+    float sigma = -1.0f;            // geodesicness; -1 where not computed (rho_C < tau)
+    std::uint32_t featureA = kNoNode, featureB = kNoNode;  // pair realising rho_S
+};
+
+struct SkeletonMeasureOptions {
+    /// Simplification threshold in boundary-node (voxel-area) units.
+    double tau = 0.0;
+    /// Components smaller than this do not make a rim count (see above).
+    double noiseArea = 10.0;
+    /// Compute rho_C exactly for every point (slower); otherwise growth stops
+    /// once the comparison with tau is decided.
+    bool exactRhoC = false;
+    bool threaded = true;
+};
+
+struct SkeletonMeasureStats {
+    SearchCounters search;          // pair searches
+    std::uint64_t pathCacheHits = 0;
+    std::uint64_t pathCacheMisses = 0;
+    std::uint64_t rimTests = 0;
+    std::uint64_t componentGrowthSteps = 0;
+    std::uint64_t sigmaEvaluations = 0;
+    SearchCounters sigmaSearch;     // searches made by sigma evaluation
+    std::uint64_t skeletonPoints = 0;
+};
+
+/// Measures every candidate; returns the points of C in candidate order.
+std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph, const std::vector<SkeletonCandidate>& candidates,
+                                           const SkeletonMeasureOptions& options, SkeletonMeasureStats* stats = nullptr,
+                                           Interrupter& interrupter = nullInterrupter());
+
+/// Gamma(p) of one candidate: the union of its pair paths (sorted, unique).
+/// Also returns rho_S and the pair realising it through the pointers.
+std::vector<std::uint32_t> pathSet(const BoundaryGraph& graph, const SkeletonCandidate& candidate,
+                                   GeodesicSearch& search, float* rhoS = nullptr, std::uint32_t* a = nullptr,
+                                   std::uint32_t* b = nullptr);
+
+/// Full measures of one candidate with exact rho_C (used for the few cut
+/// candidates where rho_C must be compared exactly). Returns false when the
+/// candidate is not a point of C.
+bool measurePoint(const BoundaryGraph& graph, const SkeletonCandidate& candidate, const SkeletonMeasureOptions& options,
+                  SkeletonPoint& out);
+
+}  // namespace skelseg

@@ -1,0 +1,145 @@
+#include "kernels/SurfaceLabelling.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "kernels/FeatureTransform.h"
+
+namespace skelseg {
+
+SurfaceSegments labelSurface(const BoundaryGraph& graph, const std::vector<std::vector<std::uint32_t>>& cutLoops,
+                             double minSegmentArea) {
+    const std::uint32_t n = graph.nodeCount();
+    constexpr std::uint32_t kCut = 0xFFFFFFFEu;
+    std::vector<std::uint32_t> label(n, kNoNode);
+    for (const auto& loop : cutLoops)
+        for (std::uint32_t v : loop) {
+            label[v] = kCut;
+            for (std::uint32_t e = graph.offset[v]; e < graph.offset[v + 1]; ++e) label[graph.neighbour[e]] = kCut;
+        }
+    // Components of the rest.
+    std::uint32_t count = 0;
+    std::vector<std::uint32_t> queue;
+    for (std::uint32_t seed = 0; seed < n; ++seed) {
+        if (label[seed] != kNoNode) continue;
+        queue.assign(1, seed);
+        label[seed] = count;
+        for (std::size_t h = 0; h < queue.size(); ++h)
+            for (std::uint32_t e = graph.offset[queue[h]]; e < graph.offset[queue[h] + 1]; ++e) {
+                const std::uint32_t m = graph.neighbour[e];
+                if (label[m] == kNoNode) label[m] = count, queue.push_back(m);
+            }
+        ++count;
+    }
+    // Cut nodes: breadth-first from the labelled nodes, seeded in node order.
+    queue.clear();
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (label[v] < kCut) queue.push_back(v);
+    for (std::size_t h = 0; h < queue.size(); ++h)
+        for (std::uint32_t e = graph.offset[queue[h]]; e < graph.offset[queue[h] + 1]; ++e) {
+            const std::uint32_t m = graph.neighbour[e];
+            if (label[m] == kCut) label[m] = label[queue[h]], queue.push_back(m);
+        }
+    // A surface piece made only of cut nodes (cannot really happen on a
+    // closed surface, but never leave a node unlabelled).
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (label[v] == kCut) label[v] = count++;
+
+    std::vector<std::uint64_t> area(count, 0);
+    for (std::uint32_t v = 0; v < n; ++v) ++area[label[v]];
+
+    std::vector<std::uint32_t> parent(count);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    // Cavities: segments on a graph component other than the largest one,
+    // where that component holds no other segment, join the largest segment.
+    if (graph.componentSize.size() > 1) {
+        const std::uint32_t outer = std::uint32_t(
+            std::max_element(graph.componentSize.begin(), graph.componentSize.end()) - graph.componentSize.begin());
+        std::uint32_t largest = 0;
+        for (std::uint32_t s = 1; s < count; ++s)
+            if (area[s] > area[largest]) largest = s;
+        for (std::uint32_t v = 0; v < n; ++v)
+            if (graph.component[v] != outer && find(label[v]) != find(largest)) {
+                const std::uint32_t s = find(label[v]);
+                parent[s] = find(largest);
+                area[find(largest)] += area[s];
+            }
+    }
+    // Merge small segments into their largest neighbour, smallest first.
+    for (;;) {
+        std::uint32_t smallest = kNoNode;
+        for (std::uint32_t s = 0; s < count; ++s)
+            if (find(s) == s && double(area[s]) < minSegmentArea && (smallest == kNoNode || area[s] < area[smallest]))
+                smallest = s;
+        if (smallest == kNoNode) break;
+        std::uint32_t target = kNoNode;
+        for (std::uint32_t v = 0; v < n; ++v) {
+            if (find(label[v]) != smallest) continue;
+            for (std::uint32_t e = graph.offset[v]; e < graph.offset[v + 1]; ++e) {
+                const std::uint32_t other = find(label[graph.neighbour[e]]);
+                if (other != smallest && (target == kNoNode || area[other] > area[target] ||
+                                          (area[other] == area[target] && other < target)))
+                    target = other;
+            }
+        }
+        if (target == kNoNode) {
+            area[smallest] = std::uint64_t(minSegmentArea) + 1;  // isolated: keep it
+            continue;
+        }
+        parent[smallest] = target;
+        area[target] += area[smallest];
+    }
+
+    // Final ids by decreasing area, ties by smallest node.
+    std::vector<std::uint32_t> firstNode(count, kNoNode);
+    for (std::uint32_t v = 0; v < n; ++v) {
+        const std::uint32_t s = find(label[v]);
+        if (firstNode[s] == kNoNode) firstNode[s] = v;
+    }
+    std::vector<std::uint32_t> roots;
+    for (std::uint32_t s = 0; s < count; ++s)
+        if (find(s) == s && firstNode[s] != kNoNode) roots.push_back(s);
+    std::vector<std::uint64_t> finalArea(count, 0);
+    for (std::uint32_t v = 0; v < n; ++v) ++finalArea[find(label[v])];
+    std::sort(roots.begin(), roots.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return finalArea[a] != finalArea[b] ? finalArea[a] > finalArea[b] : firstNode[a] < firstNode[b];
+    });
+    std::vector<std::uint32_t> id(count, kNoNode);
+    SurfaceSegments out;
+    for (std::uint32_t r : roots) {
+        id[r] = out.segmentCount++;
+        out.area.push_back(finalArea[r]);
+    }
+    out.nodeLabel.resize(n);
+    for (std::uint32_t v = 0; v < n; ++v) out.nodeLabel[v] = id[find(label[v])];
+    return out;
+}
+
+void labelInterior(const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform, const BoundaryGraph& graph,
+                   const SurfaceSegments& segments, const std::vector<std::uint16_t>& labelOfSegment,
+                   Volume<std::uint16_t>& out, bool threaded) {
+    const std::size_t n = mask.size();
+    auto body = [&](std::size_t begin, std::size_t end) {
+        for (std::size_t v = begin; v < end; ++v) {
+            if (!mask[v]) continue;
+            const std::uint32_t f = featureTransform[v];
+            const std::uint32_t node = f == kNoFeature ? kNoNode : graph.nodeOfVoxel[f];
+            if (node == kNoNode) continue;
+            out[v] = labelOfSegment[segments.nodeLabel[node]];
+        }
+    };
+    if (threaded)
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16),
+                          [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+    else
+        body(0, n);
+}
+
+}  // namespace skelseg
