@@ -66,7 +66,7 @@ InterruptedError::Reason ProgressReporter::reason() const {
 }
 
 void ProgressReporter::message(const std::string& line) {
-    if (mDisplay == Display::Quiet) return;
+    // Also when quiet: --quiet silences progress, not warnings.
     std::lock_guard<std::mutex> lock(mMutex);
     clearLine();
     std::fprintf(mStream, "%s\n", line.c_str());

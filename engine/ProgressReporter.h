@@ -2,7 +2,7 @@
 //
 // - On a terminal: a progress bar on stderr (stage, percent, elapsed, estimate),
 //   redrawn at most ten times a second; otherwise one line per stage start;
-//   quiet: nothing.
+//   quiet: no progress. message() lines (warnings) are printed in every mode.
 // - Time budget: wasInterrupted() turns true once the deadline has passed;
 //   kernels poll it every few milliseconds, so a run stops within about a
 //   second of the limit.
@@ -34,7 +34,8 @@ public:
     bool wasInterrupted(double fraction = -1.0) override;
     InterruptedError::Reason reason() const override;
 
-    /// Prints a one-line message (warnings), keeping the bar intact.
+    /// Prints a one-line message (warnings), keeping the bar intact; also
+    /// when the display is Quiet.
     void message(const std::string& line);
     double elapsedSeconds() const;
 

@@ -53,8 +53,12 @@ bool isMeshPath(const fs::path& path) {
 namespace {
 
 std::string formatBytes(std::uint64_t bytes) {
+    // A unit that shows the number: "--max-memory 1M" must not read "0.00 GB".
     char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%.2f GB", double(bytes) / 1e9);
+    if (bytes >= 1000000000) std::snprintf(buffer, sizeof buffer, "%.2f GB", double(bytes) / 1e9);
+    else if (bytes >= 1000000) std::snprintf(buffer, sizeof buffer, "%.2f MB", double(bytes) / 1e6);
+    else if (bytes >= 1000) std::snprintf(buffer, sizeof buffer, "%.2f KB", double(bytes) / 1e3);
+    else std::snprintf(buffer, sizeof buffer, "%llu bytes", static_cast<unsigned long long>(bytes));
     return buffer;
 }
 
@@ -76,6 +80,24 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     const std::uint64_t memoryLimit = options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit();
 
+    // Never replace the input: with --force, an input stored in OUTDIR under
+    // an output name (a labels.nrrd fed back in) would be overwritten.
+    for (const auto& name : segmentOutputNames()) {
+        std::error_code ec;
+        if (fs::equivalent(options.input, options.outdir / name, ec))
+            throw UsageError(options.input.string() + ": the input is " + name +
+                             " in the output directory and would be overwritten; choose another output directory");
+    }
+    // Readers load the whole file: a file larger than the memory limit is
+    // refused before anything is read (the finer estimates follow below).
+    {
+        std::error_code ec;
+        const auto fileSize = fs::is_regular_file(options.input, ec) ? fs::file_size(options.input, ec) : 0;
+        if (!ec && fileSize > memoryLimit)
+            throw MemoryLimitError(options.input.string() + ": reading the file needs at least " +
+                                   formatBytes(fileSize) + ", over the limit of " + formatBytes(memoryLimit) +
+                                   " (--max-memory)");
+    }
     // Refuse to clobber earlier results before doing any work.
     OutputDirectory out(options.outdir, options.force, segmentOutputNames());
     StageTimer timer;

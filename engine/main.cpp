@@ -7,6 +7,7 @@
 // Exit codes: 0 ok, 1 internal error, 2 bad input or usage, 3 time limit or
 // interrupted, 4 over the memory limit. Errors are one line on stderr.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <iostream>
 #include <string>
 
@@ -69,7 +70,7 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     segment->add_option("--max-memory", maxMemoryText, "Refuse runs estimated to need more (e.g. 4G; default 75% of RAM)");
     segment->add_flag("--force", seg.force, "Replace results of an earlier run in the output directory");
-    segment->add_flag("--quiet,-q", quiet, "No progress output");
+    segment->add_flag("--quiet,-q", quiet, "No progress output (warnings and errors are still printed)");
     segment->add_flag("!--no-preview", seg.writePreview, "Skip preview.png");
 
     // generate
@@ -100,8 +101,12 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? 0 : 2;
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+        // One line, like every other error (CLI11's default adds a second).
+        std::string problem = e.what();
+        std::replace(problem.begin(), problem.end(), '\n', ' ');
+        std::cerr << "skelseg: error: " << problem << " (run skelseg --help)\n";
+        return 2;
     }
 
     try {

@@ -13,6 +13,7 @@
 
 #include "engine/Error.h"
 #include "io/OutputDirectory.h"
+#include "io/VolumeReader.h"
 
 namespace skelseg {
 
@@ -801,20 +802,6 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
     return builder.finish();
 }
 
-std::string readWholeFile(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path.string(), std::string("cannot open: ") + std::strerror(errno));
-    std::string bytes;
-    in.seekg(0, std::ios::end);
-    const std::streamoff length = in.tellg();
-    if (length < 0) throw InputError(path.string(), "cannot read (not a regular file?)");
-    bytes.resize(std::size_t(length));
-    in.seekg(0, std::ios::beg);
-    in.read(bytes.data(), length);
-    if (!in) throw InputError(path.string(), "read error");
-    return bytes;
-}
-
 void appendNumber(std::string& out, double value) {
     char buffer[32];
     const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);  // shortest exact form
@@ -863,7 +850,9 @@ TriangleMesh readMeshFromMemory(const std::string& name, MeshFormat format, cons
 
 TriangleMesh readMesh(const std::filesystem::path& path) {
     const MeshFormat format = meshFormatFromPath(path);
-    const std::string bytes = readWholeFile(path);
+    // readFileBytes refuses directories, FIFOs and devices before opening them
+    // (opening a FIFO would block, a directory "reads" as garbage).
+    const std::string bytes = readFileBytes(path);
     return readMeshFromMemory(path.string(), format, reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
 }
 

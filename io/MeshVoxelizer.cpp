@@ -116,8 +116,10 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, I
     return mask;
 }
 
+/// The shell method (see the header). surfaceVoxels: how many voxels of the
+/// result lie in the half-voxel surface layer.
 MaskVolume shellVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, double holeClosing,
-                             Interrupter& interrupter) {
+                             Interrupter& interrupter, std::size_t& surfaceVoxels) {
     VdbInterrupter vdbInterrupter(interrupter);
     const MeshAdapter adapter(mesh, grid.geometry);
     const double shellWidth = holeClosing + kSurfaceLayer;
@@ -200,10 +202,14 @@ MaskVolume shellVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, do
 
     MaskVolume mask(grid.dims, 0);
     mask.geometry = grid.geometry;
+    surfaceVoxels = 0;
     for (int z = 0; z < grid.dims.z; ++z)
         for (int y = 0; y < grid.dims.y; ++y)
-            for (int x = 0; x < grid.dims.x; ++x)
-                mask(x, y, z) = state[at(x + pad, y + pad, z + pad)] == kOutside ? 0 : 1;
+            for (int x = 0; x < grid.dims.x; ++x) {
+                const std::uint8_t s = state[at(x + pad, y + pad, z + pad)];
+                mask(x, y, z) = s == kOutside ? 0 : 1;
+                surfaceVoxels += s == kSurface;
+            }
     return mask;
 }
 
@@ -271,7 +277,15 @@ MaskVolume voxelizeMesh(const TriangleMesh& mesh, const VoxelizeOptions& options
             // (nothing comes out inside): fall back to the shell method.
             if (std::find(mask.values().begin(), mask.values().end(), std::uint8_t(1)) != mask.values().end()) return;
         }
-        mask = shellVoxelization(mesh, grid, options.holeClosing, interrupter);
+        // A hole wider than the closing lets the flood fill in, and leaves
+        // little more than the surface layer: retry with twice the closing
+        // (up to 16 voxels) while the result is that hollow.
+        for (double closing = options.holeClosing;; closing = std::min(16.0, std::max(1.0, 2.0 * closing))) {
+            std::size_t surfaceVoxels = 0;
+            mask = shellVoxelization(mesh, grid, closing, interrupter, surfaceVoxels);
+            const auto solid = std::size_t(std::count(mask.values().begin(), mask.values().end(), std::uint8_t(1)));
+            if (solid > 2 * surfaceVoxels || closing >= 16.0) break;
+        }
     });
     throwIfInterrupted(interrupter, 1.0);
     return mask;

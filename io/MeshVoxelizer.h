@@ -21,7 +21,9 @@
 //    surface layer). Everything not outside is solid. Holes narrower than
 //    about 2 * holeClosing voxels are bridged; the solid keeps the outer
 //    half-voxel layer, so it is a few percent larger than for a closed mesh.
-//    A single open sheet becomes a one- or two-voxel-thick plate.
+//    When a wider hole lets the outside in (the solid is then hardly more
+//    than the surface layer), holeClosing is doubled, up to 16 voxels, and
+//    the pass repeated. A single open sheet becomes a thin plate.
 // Degenerate faces are harmless (OpenVDB ignores their area). Several pieces
 // are voxelised together; overlapping closed pieces give their union.
 #pragma once

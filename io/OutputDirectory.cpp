@@ -35,11 +35,32 @@ OutputDirectory::OutputDirectory(const fs::path& outdir, bool force,
                 throw UsageError(outdir.string() + ": holds results of an earlier run (" + name +
                                  "); use --force to replace them");
     }
+    // Remember which directories this run creates: a run that fails removes
+    // them again (if still empty), so bad input leaves no trace.
+    for (fs::path p = outdir; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+        mCreated.push_back(p);
+        if (p == p.parent_path()) break;
+    }
     fs::create_directories(outdir, ec);
-    if (ec) throw OutputError(outdir.string() + ": cannot create directory: " + ec.message());
+    if (ec) {
+        removeCreatedDirectories();
+        throw OutputError(outdir.string() + ": cannot create directory: " + ec.message());
+    }
     mStaging = outdir / (".skelseg-staging-" + uniqueSuffix());
     fs::create_directory(mStaging, ec);
-    if (ec) throw OutputError(mStaging.string() + ": cannot create directory: " + ec.message());
+    if (ec) {
+        const std::string problem = ec.message();
+        mStaging.clear();
+        removeCreatedDirectories();
+        throw OutputError(outdir.string() + ": cannot create a staging directory in it: " + problem);
+    }
+}
+
+void OutputDirectory::removeCreatedDirectories() noexcept {
+    std::error_code ec;
+    // Deepest first; fs::remove() only removes empty directories.
+    for (const auto& directory : mCreated) fs::remove(directory, ec);
+    mCreated.clear();
 }
 
 OutputDirectory::~OutputDirectory() { discard(); }
@@ -66,6 +87,7 @@ void OutputDirectory::discard() noexcept {
     std::error_code ec;
     if (!mStaging.empty()) fs::remove_all(mStaging, ec);
     mStaged.clear();
+    if (!mCommitted) removeCreatedDirectories();
 }
 
 void writeFileAtomically(const fs::path& path, const std::string& bytes) {

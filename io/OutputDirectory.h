@@ -3,7 +3,8 @@
 // OutputDirectory stages every output file of a run in a hidden directory
 // inside OUTDIR and moves them into place only in commit(). A run that is
 // interrupted, times out or fails leaves OUTDIR as it was: the destructor
-// removes the staging directory unless commit() succeeded. Each final name is
+// removes the staging directory unless commit() succeeded, and OUTDIR itself
+// if the run created it. Each final name is
 // replaced by rename(2), which is atomic on one file system, so a reader never
 // sees a half-written file under a final name.
 #pragma once
@@ -29,7 +30,8 @@ public:
     std::filesystem::path stagingPath(const std::string& name);
     /// Moves every staged file to OUTDIR/name. Throws OutputError on failure.
     void commit();
-    /// Drops everything staged (also done by the destructor if not committed).
+    /// Drops everything staged (also done by the destructor if not committed),
+    /// and removes OUTDIR again if this object created it and it is empty.
     void discard() noexcept;
 
     const std::filesystem::path& directory() const noexcept { return mDirectory; }
@@ -37,7 +39,10 @@ public:
 private:
     std::filesystem::path mDirectory, mStaging;
     std::vector<std::string> mStaged;
+    std::vector<std::filesystem::path> mCreated;  // directories the constructor created, deepest first
     bool mCommitted = false;
+
+    void removeCreatedDirectories() noexcept;
 };
 
 /// Writes `bytes` to `path` through a temporary file in the same directory and

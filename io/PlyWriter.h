@@ -4,7 +4,7 @@
 // coordinates (the input's frame), which MeshLab, CloudCompare, ParaView and
 // Blender read; the element and property names are listed in docs/outputs.md.
 // Binary rather than ascii because a 400^3 run gives ~10^6 faces and ascii
-// would be ~5x larger and slower to load, with no viewer reading ascii only.
+// would be ~5x larger and slower to load; every common viewer reads binary.
 //
 // Every writer builds the whole file in memory and writes it through
 // writeFileAtomically() (temporary name in the same directory + rename), so a

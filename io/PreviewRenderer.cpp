@@ -706,8 +706,8 @@ Image renderPreview(const PreviewScene& scene, const PreviewOptions& options) {
     const PreparedScene prepared = prepare(scene, options.threaded);
     const std::array<View, 3> views = makeViews(options.upAxis, prepared.extent);
 
-    // Sizes follow the width: text scale 2 at the default 1536 pixels.
-    const int textScale = std::max(1, int(std::lround(options.width / 768.0)));
+    // Sizes follow the width; text never below scale 2 (scale 1 is hard to read).
+    const int textScale = std::max(2, int(std::lround(options.width / 768.0)));
     const double lineScale = std::max(0.75, options.width / 1536.0);
     const int barHeight = std::min(options.height / 3, 10 * textScale + 12 * textScale / 2 + 6);
     const int captionSpace = 12 * textScale;

@@ -12,6 +12,7 @@
 
 #include "engine/Error.h"
 #include "io/OutputDirectory.h"
+#include "io/VolumeReader.h"
 
 namespace skelseg {
 
@@ -134,10 +135,8 @@ std::vector<std::int64_t> readSegFromMemory(const std::string& name, const std::
 }
 
 std::vector<std::int64_t> readSeg(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path.string(), std::string("cannot open: ") + std::strerror(errno));
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw InputError(path.string(), "read error");
+    // readFileBytes refuses directories, FIFOs and devices before opening them.
+    const std::string bytes = readFileBytes(path);
     return readSegFromMemory(path.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
 }
 

@@ -1,12 +1,17 @@
 #include "kernels/PathSearch.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <queue>
 
 namespace skelseg {
 
-GeodesicSearch::GeodesicSearch(const BoundaryGraph& graph)
+GeodesicSearch::GeodesicSearch(const BoundaryGraph& graph, const Landmarks* landmarks)
     : mGraph(graph),
+      mLandmarks(landmarks && landmarks->count ? landmarks : nullptr),
       mSeen(graph.nodeCount(), 0),
       mSettled(graph.nodeCount(), 0),
       mDistance(graph.nodeCount(), 0.0f),
@@ -22,9 +27,56 @@ void GeodesicSearch::nextGeneration() {
 
 float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to, std::vector<std::uint32_t>* path) {
     const BoundaryGraph& g = mGraph;
-    return search(
-        from, to, [&](std::uint32_t n) { return g.euclidean(n, to); }, [](std::uint32_t) { return true; },
-        path);
+    auto all = [](std::uint32_t) { return true; };
+    if (!mLandmarks) return search(from, to, [&](std::uint32_t n) { return g.euclidean(n, to); }, all, path);
+    constexpr std::uint32_t kMax = 16;
+    const std::uint32_t k = std::min(mLandmarks->count, kMax);
+    float target[kMax];
+    const float* dist = mLandmarks->distance.data();
+    for (std::uint32_t i = 0; i < k; ++i) target[i] = dist[std::size_t(to) * mLandmarks->count + i];
+    auto heuristic = [&](std::uint32_t n) {
+        float h = g.euclidean(n, to);
+        const float* dn = dist + std::size_t(n) * mLandmarks->count;
+        for (std::uint32_t i = 0; i < k; ++i) {
+            const float bound = std::fabs(dn[i] - target[i]);
+            // Nodes in another component than a landmark see infinity; the
+            // difference is then meaningless (inf - inf) or unbounded.
+            if (bound > h && bound != kUnreachable && dn[i] != kUnreachable) h = bound;
+        }
+        return h;
+    };
+    return search(from, to, heuristic, all, path);
+}
+
+Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
+    Landmarks result;
+    const std::uint32_t n = graph.nodeCount();
+    if (n == 0) return result;
+    static const int directions[14][3] = {{1, 0, 0},  {-1, 0, 0},  {0, 1, 0},  {0, -1, 0},  {0, 0, 1},
+                                          {0, 0, -1}, {1, 1, 1},   {1, 1, -1}, {1, -1, 1},  {1, -1, -1},
+                                          {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
+    for (const auto& d : directions) {
+        std::uint32_t best = 0;
+        long bestDot = std::numeric_limits<long>::min();
+        for (std::uint32_t v = 0; v < n; ++v) {
+            const Coord c = graph.coord[v];
+            const long dot = long(c.x) * d[0] + long(c.y) * d[1] + long(c.z) * d[2];
+            if (dot > bestDot) bestDot = dot, best = v;
+        }
+        if (std::find(result.node.begin(), result.node.end(), best) == result.node.end()) result.node.push_back(best);
+    }
+    result.count = std::uint32_t(result.node.size());
+    result.distance.assign(std::size_t(n) * result.count, kUnreachable);
+    GeodesicSearch plain(graph);
+    auto one = [&](std::uint32_t k) {
+        const std::vector<float> d = plain.distancesFrom(result.node[k]);
+        for (std::uint32_t v = 0; v < n; ++v) result.distance[std::size_t(v) * result.count + k] = d[v];
+    };
+    if (threaded)
+        tbb::parallel_for(std::uint32_t(0), result.count, one);
+    else
+        for (std::uint32_t k = 0; k < result.count; ++k) one(k);
+    return result;
 }
 
 std::vector<float> GeodesicSearch::distancesFrom(std::uint32_t source) const {

@@ -37,9 +37,28 @@ struct SearchCounters {
     }
 };
 
+/// Landmark distances for the ALT lower bound (A*, Landmarks, Triangle
+/// inequality): for any landmark L, |d(L,t) - d(L,n)| <= d(n,t). On a surface
+/// the Euclidean bound is loose for paths that wrap around an edge (the
+/// medial surface of a flat part: top-to-bottom paths around the rim), which
+/// is where most search work goes; landmarks at the extremes of the shape
+/// tighten exactly those bounds.
+struct Landmarks {
+    std::uint32_t count = 0;
+    std::vector<std::uint32_t> node;
+    /// distance[n * count + k]: geodesic distance from landmark k to node n
+    /// (infinity in other components). Interleaved per node: one cache line.
+    std::vector<float> distance;
+};
+
+/// Landmarks at the boundary nodes that are extreme along 14 directions (the
+/// axes and the diagonals; ties by lowest id), distances by full Dijkstra,
+/// one landmark per task. Deterministic for any thread count.
+Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded = true);
+
 class GeodesicSearch {
 public:
-    explicit GeodesicSearch(const BoundaryGraph& graph);
+    explicit GeodesicSearch(const BoundaryGraph& graph, const Landmarks* landmarks = nullptr);
 
     /// Length of a shortest path from `from` to `to` (A*), or kUnreachable.
     /// If `path` is given it receives the nodes from `from` to `to` inclusive.
@@ -68,6 +87,7 @@ private:
     void nextGeneration();
 
     const BoundaryGraph& mGraph;
+    const Landmarks* mLandmarks;
     std::vector<std::uint32_t> mSeen, mSettled;  // generation stamps
     std::vector<float> mDistance;
     std::vector<std::uint32_t> mParent;

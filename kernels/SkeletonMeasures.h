@@ -53,6 +53,9 @@ struct SkeletonMeasureOptions {
     /// Compute rho_C exactly for every point (slower); otherwise growth stops
     /// once the comparison with tau is decided.
     bool exactRhoC = false;
+    /// A* with landmark lower bounds (PathSearch.h); results are the same
+    /// shortest paths up to ties, the work is less on thick and flat parts.
+    bool useLandmarks = true;
     bool threaded = true;
 };
 

@@ -268,20 +268,14 @@ TEST(PreviewRenderer, AutomaticOrientationPutsTheLongestSideUp) {
     EXPECT_THROW(renderPreview(scene, bad), Error);
 }
 
-TEST(PreviewRenderer, LegendDigitsAreComplete) {
-    // Regression: the glyph "8" needs 9 font quads; a short vertex buffer
-    // used to drop its left strokes. Its ink must be a superset of "3"'s.
-    PreviewScene eight, three;
-    eight.title = "8";
-    three.title = "3";
-    const Image a = renderPreview(eight), b = renderPreview(three);
-    const std::size_t inkEight = countDark(a, 0, 0, 200, 40), inkThree = countDark(b, 0, 0, 200, 40);
-    EXPECT_GT(inkEight, inkThree);
-    for (int y = 0; y < 40; ++y)
-        for (int x = 0; x < 200; ++x) {
-            const std::size_t i = (std::size_t(y) * 1536 + std::size_t(x)) * 3;
-            if (b.rgb[i] < 100) EXPECT_LT(a.rgb[i], 100) << x << "," << y;
-        }
+TEST(PreviewRenderer, TextGlyphsAreComplete) {
+    // Regression: the glyph "8" needs 9 font quads; a vertex buffer sized by
+    // stb_easy_font's average use per character dropped its left strokes.
+    // Its ink is 14 font cells (3 bars of 2, 4 strokes of 2), 2x2 pixels each
+    // at the default width's text scale of 2.
+    PreviewScene scene;
+    scene.title = "8";
+    EXPECT_EQ(countDark(renderPreview(scene), 0, 0, 200, 40), 14u * 4u);
 }
 
 TEST(PreviewRenderer, NonAsciiTitleAndManyLabelsAreSafe) {

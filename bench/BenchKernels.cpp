@@ -1,0 +1,228 @@
+// skelseg kernel benchmarks: one benchmark per kernel, on the synthetic
+// shapes of BenchShapes.h at 64, 128 (and for the linear-time kernels 192)
+// voxels. All kernels run serially (threaded = false): the numbers are work
+// per core, comparable across machines with different core counts; the
+// end-to-end benchmarks (BenchEndToEnd.cpp) also measure the threaded engine.
+//
+// Work counters (state.counters) are per iteration, so a change in the
+// amount of work shows up separately from a change in speed.
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <set>
+
+#include "bench/BenchShapes.h"
+#include "kernels/ComponentGrowth.h"
+#include "kernels/Geodesicness.h"
+#include "kernels/RimCount.h"
+
+namespace skelseg::bench {
+namespace {
+
+const std::vector<int> kLinearSizes = {64, 128, 192};  // kernels linear in the voxels
+const std::vector<int> kSizes = {64, 128};             // the search-bound kernels
+
+/// Fixed number of samples so that per-iteration work grows with the shape
+/// size only through the kernel itself.
+constexpr std::size_t kPairSample = 2000;
+constexpr std::size_t kPathSetSample = 400;
+constexpr std::size_t kSigmaSample = 200;
+
+/// Path sets of a candidate sample (setup for the rim, growth and sigma
+/// benchmarks), with the pair realising rho_S.
+struct PathSetSample {
+    std::vector<std::vector<std::uint32_t>> sets;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> realising;
+};
+
+PathSetSample samplePathSets(const ShapeInput& in, const std::vector<const SkeletonCandidate*>& candidates) {
+    PathSetSample sample;
+    GeodesicSearch search(in.graph);
+    for (const SkeletonCandidate* c : candidates) {
+        std::uint32_t a = kNoNode, b = kNoNode;
+        sample.sets.push_back(pathSet(in.graph, *c, search, nullptr, &a, &b));
+        sample.realising.emplace_back(a, b);
+    }
+    return sample;
+}
+
+void featureTransformBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    for (auto _ : state) {
+        Volume<std::uint32_t> ft = featureTransform(in.sites, {false});
+        benchmark::DoNotOptimize(ft.data());
+    }
+    state.counters["voxels"] = double(in.sites.size());
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(in.sites.size()));
+}
+
+void boundaryGraphBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    for (auto _ : state) {
+        BoundaryGraph graph = buildBoundaryGraph(in.mask, {false});
+        benchmark::DoNotOptimize(graph.neighbour.data());
+    }
+    state.counters["nodes"] = double(in.graph.nodeCount());
+    state.counters["edges"] = double(in.graph.edgeCount());
+}
+
+void skeletonCandidatesBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    CandidateOptions options;
+    options.threaded = false;
+    CandidateStats stats;
+    for (auto _ : state) {
+        std::vector<SkeletonCandidate> candidates =
+            selectSkeletonCandidates(in.mask, in.featureTransform, in.graph, options, &stats);
+        benchmark::DoNotOptimize(candidates.data());
+    }
+    state.counters["objectVoxels"] = double(stats.objectVoxels);
+    state.counters["withThreeFeatures"] = double(stats.withThreeFeatures);
+    state.counters["candidates"] = double(stats.candidates);
+}
+
+void geodesicSearchBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    // A fixed list of distinct feature pairs, in candidate order.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    {
+        std::set<std::pair<std::uint32_t, std::uint32_t>> seen;
+        for (const SkeletonCandidate* c : in.candidateSample(kPairSample)) {
+            for (std::uint32_t i = 0; i < c->featureCount && pairs.size() < kPairSample; ++i)
+                for (std::uint32_t j = i + 1; j < c->featureCount && pairs.size() < kPairSample; ++j)
+                    if (seen.insert({c->feature[i], c->feature[j]}).second) pairs.emplace_back(c->feature[i], c->feature[j]);
+        }
+    }
+    GeodesicSearch search(in.graph);
+    double total = 0.0;
+    for (auto _ : state) {
+        for (const auto& [a, b] : pairs) total += double(search.shortestPath(a, b));
+        benchmark::DoNotOptimize(total);
+    }
+    state.counters["pairs"] = double(pairs.size());
+    state.counters["searches"] = perIteration(double(search.counters.searches));
+    state.counters["heapPops"] = perIteration(double(search.counters.heapPops));
+    state.counters["nodesSettled"] = perIteration(double(search.counters.nodesSettled));
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(pairs.size()));
+}
+
+void rimCountBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    const PathSetSample sample = samplePathSets(in, in.candidateSample(kPathSetSample));
+    RimCounter rims(in.graph);
+    std::uint64_t pieces = 0, pathNodes = 0;
+    for (const auto& set : sample.sets) pathNodes += set.size();
+    for (auto _ : state) {
+        for (const auto& set : sample.sets) pieces += rims.countRims(set).pieceCount;
+        benchmark::DoNotOptimize(pieces);
+    }
+    state.counters["pathSets"] = double(sample.sets.size());
+    state.counters["pathNodes"] = double(pathNodes);
+    state.counters["rimPieces"] = perIteration(double(pieces));
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(sample.sets.size()));
+}
+
+/// Rim test + component growth on the path sets that hold a loop, with the
+/// engine's cap (max(noise area, tau)); the rim test alone is BM_RimCount.
+void componentGrowthBench(benchmark::State& state, const std::string& shape) {
+    ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    const PathSetSample all = samplePathSets(in, in.candidateSample(kPathSetSample));
+    std::vector<const std::vector<std::uint32_t>*> loops;
+    {
+        RimCounter rims(in.graph);
+        for (const auto& set : all.sets)
+            if (rims.countRims(set).pieceCount >= 2) loops.push_back(&set);
+    }
+    RimCounter rims(in.graph);
+    ComponentGrower grower(in.graph);
+    const std::uint64_t cap = std::uint64_t(std::ceil(std::max(in.noiseArea, in.tau)));
+    std::uint64_t steps = 0, rhoC = 0;
+    for (auto _ : state) {
+        for (const auto* set : loops) {
+            rims.countRims(*set);
+            const ComponentAreas& areas = grower.grow(rims, cap);
+            steps += areas.growthSteps;
+            rhoC += areas.rhoC;
+        }
+        benchmark::DoNotOptimize(rhoC);
+    }
+    state.counters["loops"] = double(loops.size());
+    state.counters["growthSteps"] = perIteration(double(steps));
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(loops.size()));
+}
+
+/// Rim test + sigma on a sample of the simplified skeleton's points.
+void geodesicnessBench(benchmark::State& state, const std::string& shape) {
+    ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    std::vector<const SkeletonPoint*> points;
+    for (const SkeletonPoint& p : in.skeletonPoints())
+        if (p.rhoC >= in.tau) points.push_back(&p);
+    const std::size_t stride = std::max<std::size_t>(1, points.size() / kSigmaSample);
+    std::vector<const SkeletonCandidate*> candidates;
+    std::vector<const SkeletonPoint*> sampled;
+    for (std::size_t i = stride / 2; i < points.size() && sampled.size() < kSigmaSample; i += stride) {
+        sampled.push_back(points[i]);
+        candidates.push_back(&in.candidates[points[i]->candidate]);
+    }
+    const PathSetSample sample = samplePathSets(in, candidates);
+    RimCounter rims(in.graph);
+    GeodesicnessEvaluator evaluator(in.graph);
+    GeodesicSearch search(in.graph);
+    double sigmaSum = 0.0;
+    for (auto _ : state) {
+        for (std::size_t i = 0; i < sampled.size(); ++i) {
+            rims.countRims(sample.sets[i]);
+            sigmaSum += evaluator.evaluate(rims, sampled[i]->featureA, sampled[i]->featureB, search).sigma;
+        }
+        benchmark::DoNotOptimize(sigmaSum);
+    }
+    state.counters["points"] = double(sampled.size());
+    state.counters["searches"] = perIteration(double(search.counters.searches));
+    state.counters["heapPops"] = perIteration(double(search.counters.heapPops));
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(sampled.size()));
+}
+
+/// Path sets, rims, rho_C and sigma for every candidate (the dominant stage).
+void measureSkeletonBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    const SkeletonMeasureOptions options = in.measureOptions();
+    SkeletonMeasureStats total;
+    std::uint64_t hits = 0, misses = 0, rimTests = 0, growth = 0, sigmas = 0, points = 0;
+    for (auto _ : state) {
+        SkeletonMeasureStats stats;
+        std::vector<SkeletonPoint> result = measureSkeleton(in.graph, in.candidates, options, &stats);
+        benchmark::DoNotOptimize(result.data());
+        total.search += stats.search;
+        total.sigmaSearch += stats.sigmaSearch;
+        hits += stats.pathCacheHits, misses += stats.pathCacheMisses, rimTests += stats.rimTests;
+        growth += stats.componentGrowthSteps, sigmas += stats.sigmaEvaluations, points += stats.skeletonPoints;
+    }
+    state.counters["candidates"] = double(in.candidates.size());
+    state.counters["pairSearches"] = perIteration(double(total.search.searches));
+    state.counters["heapPops"] = perIteration(double(total.search.heapPops));
+    state.counters["cacheHits"] = perIteration(double(hits));
+    state.counters["cacheMisses"] = perIteration(double(misses));
+    state.counters["rimTests"] = perIteration(double(rimTests));
+    state.counters["growthSteps"] = perIteration(double(growth));
+    state.counters["sigmaEvaluations"] = perIteration(double(sigmas));
+    state.counters["sigmaHeapPops"] = perIteration(double(total.sigmaSearch.heapPops));
+    state.counters["skeletonPoints"] = perIteration(double(points));
+}
+
+[[maybe_unused]] const bool kRegistered = [] {
+    registerForShapes("FeatureTransform", kLinearSizes, featureTransformBench);
+    registerForShapes("BoundaryGraph", kLinearSizes, boundaryGraphBench);
+    registerForShapes("SkeletonCandidates", kLinearSizes, skeletonCandidatesBench);
+    registerForShapes("GeodesicSearch", kSizes, geodesicSearchBench);
+    registerForShapes("RimCount", kSizes, rimCountBench);
+    registerForShapes("ComponentGrowth", kSizes, componentGrowthBench);
+    registerForShapes("Geodesicness", kSizes, geodesicnessBench);
+    registerForShapes("MeasureSkeleton", kSizes, measureSkeletonBench);
+    return true;
+}();
+
+}  // namespace
+}  // namespace skelseg::bench
+
+BENCHMARK_MAIN();

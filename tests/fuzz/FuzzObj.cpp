@@ -1,0 +1,9 @@
+// libFuzzer target: the OBJ reader (io/MeshIO.h). Seeds:
+// tests/fuzz/corpus/obj/.
+#include "io/MeshIO.h"
+#include "tests/fuzz/FuzzMesh.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    skelseg::fuzz::readMeshChecked(skelseg::MeshFormat::Obj, data, size);
+    return 0;
+}

@@ -1,0 +1,174 @@
+// Helpers shared by the kernel unit tests: small hand-made volumes, node
+// look-ups on the boundary graph and brute-force references.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <queue>
+#include <random>
+#include <vector>
+
+#include "kernels/BoundaryGraph.h"
+#include "kernels/PathSearch.h"
+#include "kernels/SkeletonMeasures.h"
+#include "kernels/Volume.h"
+
+namespace skelseg::test {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A voxelised ball: voxel centres within `radius` of `centre`.
+inline MaskVolume ballMask(Dims dims, std::array<double, 3> centre, double radius) {
+    MaskVolume mask(dims, 0);
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x) {
+                const double dx = x - centre[0], dy = y - centre[1], dz = z - centre[2];
+                mask(x, y, z) = dx * dx + dy * dy + dz * dz <= radius * radius ? 1 : 0;
+            }
+    return mask;
+}
+
+/// A solid axis-aligned box [lo, hi] (inclusive) set to 1 in `mask`.
+inline void fillBox(MaskVolume& mask, std::array<int, 3> lo, std::array<int, 3> hi) {
+    for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+            for (int x = lo[0]; x <= hi[0]; ++x) mask(x, y, z) = 1;
+}
+
+/// Uniform random mask with P(object) = density.
+inline MaskVolume randomMask(Dims dims, double density, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::bernoulli_distribution coin(density);
+    MaskVolume mask(dims, 0);
+    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = coin(rng) ? 1 : 0;
+    return mask;
+}
+
+/// A random smooth blob: a union of `count` random balls in a cube of side n.
+inline MaskVolume randomBlob(int n, int count, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> pos(0.3 * n, 0.7 * n), rad(0.15 * n, 0.3 * n);
+    MaskVolume mask(Dims{n, n, n}, 0);
+    for (int b = 0; b < count; ++b) {
+        const double cx = pos(rng), cy = pos(rng), cz = pos(rng), r = rad(rng);
+        for (int z = 0; z < n; ++z)
+            for (int y = 0; y < n; ++y)
+                for (int x = 0; x < n; ++x) {
+                    const double dx = x - cx, dy = y - cy, dz = z - cz;
+                    if (dx * dx + dy * dy + dz * dz <= r * r) mask(x, y, z) = 1;
+                }
+    }
+    return mask;
+}
+
+/// The boundary node nearest (Euclidean) to a point given in voxel units.
+inline std::uint32_t nearestNode(const BoundaryGraph& graph, std::array<double, 3> p) {
+    std::uint32_t best = kNoNode;
+    double bestD = 1e300;
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n) {
+        const Coord c = graph.coord[n];
+        const double dx = c.x - p[0], dy = c.y - p[1], dz = c.z - p[2];
+        const double d = dx * dx + dy * dy + dz * dz;
+        if (d < bestD) bestD = d, best = n;
+    }
+    return best;
+}
+
+/// The boundary node nearest to centre + radius * (unit vector at latitude,
+/// longitude given in degrees; latitude measured from the xy plane).
+inline std::uint32_t nodeOnSphere(const BoundaryGraph& graph, std::array<double, 3> centre, double radius,
+                                  double latitudeDeg, double longitudeDeg) {
+    const double lat = latitudeDeg * kPi / 180.0, lon = longitudeDeg * kPi / 180.0;
+    return nearestNode(graph, {centre[0] + radius * std::cos(lat) * std::cos(lon),
+                               centre[1] + radius * std::cos(lat) * std::sin(lon), centre[2] + radius * std::sin(lat)});
+}
+
+/// Union (in order of first appearance, no duplicates) of shortest paths
+/// between consecutive entries of `waypoints` (closed: last -> first too).
+inline std::vector<std::uint32_t> pathThrough(GeodesicSearch& search, const std::vector<std::uint32_t>& waypoints,
+                                              bool closed) {
+    std::vector<std::uint32_t> set, path;
+    const std::size_t legs = closed ? waypoints.size() : waypoints.size() - 1;
+    for (std::size_t i = 0; i < legs; ++i) {
+        const float length = search.shortestPath(waypoints[i], waypoints[(i + 1) % waypoints.size()], &path);
+        EXPECT_NE(length, kUnreachable);
+        for (std::uint32_t n : path)
+            if (std::find(set.begin(), set.end(), n) == set.end()) set.push_back(n);
+    }
+    return set;
+}
+
+/// Connected components of the graph nodes with allowed(n), by BFS; label
+/// kNoNode elsewhere. Returns the component sizes.
+inline std::vector<std::uint64_t> floodFill(const BoundaryGraph& graph, const std::function<bool(std::uint32_t)>& allowed,
+                                            std::vector<std::uint32_t>& label) {
+    label.assign(graph.nodeCount(), kNoNode);
+    std::vector<std::uint64_t> sizes;
+    std::vector<std::uint32_t> queue;
+    for (std::uint32_t seed = 0; seed < graph.nodeCount(); ++seed) {
+        if (!allowed(seed) || label[seed] != kNoNode) continue;
+        const std::uint32_t id = std::uint32_t(sizes.size());
+        queue.assign(1, seed);
+        label[seed] = id;
+        for (std::size_t h = 0; h < queue.size(); ++h)
+            for (std::uint32_t e = graph.offset[queue[h]]; e < graph.offset[queue[h] + 1]; ++e) {
+                const std::uint32_t m = graph.neighbour[e];
+                if (allowed(m) && label[m] == kNoNode) label[m] = id, queue.push_back(m);
+            }
+        sizes.push_back(queue.size());
+    }
+    return sizes;
+}
+
+/// Dijkstra on the subgraph of nodes with allowed(n) (reference for tests).
+inline std::vector<double> restrictedDistances(const BoundaryGraph& graph, std::uint32_t source,
+                                               const std::function<bool(std::uint32_t)>& allowed) {
+    std::vector<double> dist(graph.nodeCount(), std::numeric_limits<double>::infinity());
+    if (!allowed(source)) return dist;
+    using Item = std::pair<double, std::uint32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    dist[source] = 0.0;
+    heap.push({0.0, source});
+    while (!heap.empty()) {
+        const auto [d, n] = heap.top();
+        heap.pop();
+        if (d > dist[n]) continue;
+        for (std::uint32_t e = graph.offset[n]; e < graph.offset[n + 1]; ++e) {
+            const std::uint32_t m = graph.neighbour[e];
+            if (!allowed(m)) continue;
+            const double dm = d + double(graph.weight[e]);
+            if (dm < dist[m]) dist[m] = dm, heap.push({dm, m});
+        }
+    }
+    return dist;
+}
+
+/// True if a and b are joined by an edge of the graph.
+inline bool hasEdge(const BoundaryGraph& graph, std::uint32_t a, std::uint32_t b) {
+    for (std::uint32_t e = graph.offset[a]; e < graph.offset[a + 1]; ++e)
+        if (graph.neighbour[e] == b) return true;
+    return false;
+}
+
+/// Field-by-field equality of two skeleton points.
+inline void expectSamePoint(const SkeletonPoint& a, const SkeletonPoint& b) {
+    EXPECT_EQ(a.voxel, b.voxel);
+    EXPECT_EQ(a.candidate, b.candidate);
+    EXPECT_EQ(a.rhoS, b.rhoS);
+    EXPECT_EQ(a.rhoC, b.rhoC);
+    EXPECT_EQ(a.rhoCExact, b.rhoCExact);
+    EXPECT_EQ(a.isHandle, b.isHandle);
+    EXPECT_EQ(a.rims, b.rims);
+    EXPECT_EQ(a.robustRims, b.robustRims);
+    EXPECT_EQ(a.sigma, b.sigma);
+    EXPECT_EQ(a.featureA, b.featureA);
+    EXPECT_EQ(a.featureB, b.featureB);
+}
+
+}  // namespace skelseg::test

@@ -1,0 +1,232 @@
+#include "kernels/CutPlacement.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <memory>
+
+#include "tests/kernels/SkeletonTestPoints.h"
+
+namespace skelseg {
+namespace {
+
+using test::SkeletonPointSet;
+
+/// A Y junction: centre (rho_S 20) and three 15-voxel arms. With
+/// regionRadius 3 the first three voxels of each arm are in the junction
+/// region, so BFS level L of an arm is its voxel L + 2 (0-based).
+struct Junction {
+    SkeletonPointSet set{Dims{45, 45, 4}};
+    std::uint32_t centre;
+    std::vector<std::uint32_t> arms[3];
+    Junction() {
+        centre = set.add({22, 22, 1}, 20.0f, 5000.0, 3);
+        arms[0] = set.chain({23, 22, 1}, {1, 0, 0}, 15);
+        arms[1] = set.chain({21, 23, 1}, {-1, 1, 0}, 15);
+        arms[2] = set.chain({21, 21, 1}, {-1, -1, 0}, 15);
+    }
+    /// sigma per BFS level (levels[0] is level 1, at most 12 levels); the
+    /// region's voxels and levels past the list get sigma 0.
+    void setSigma(int arm, const std::vector<float>& levels) {
+        for (std::size_t i = 0; i < arms[arm].size(); ++i) set.point(arms[arm][i]).sigma = 0.0f;
+        for (std::size_t l = 0; l < levels.size(); ++l) set.point(arms[arm][l + 3]).sigma = levels[l];
+    }
+    void setRhoS(int arm, float rhoS) {
+        for (std::uint32_t v : arms[arm]) set.point(v).rhoS = rhoS;
+    }
+    std::uint32_t armVoxelAtLevel(int arm, std::uint32_t level) const { return arms[arm][level + 2]; }
+};
+
+struct Result {
+    std::vector<SkeletonPoint> points;
+    SkeletonGraph graph;
+    CutPlan plan;
+    std::map<std::uint32_t, const CutCandidate*> byVoxel;  // candidate per voxel
+    std::vector<std::uint32_t> cutVoxels;
+    int callbackCalls = 0;
+};
+
+/// Runs graph building and cut placement; `rhoCOfVoxel` answers the exact
+/// rho_C callback.
+std::unique_ptr<Result> place(const Junction& junction, const CutOptions& options = {},
+                              const std::map<std::uint32_t, double>& rhoCOfVoxel = {}) {
+    auto r = std::make_unique<Result>();
+    r->points = junction.set.points();
+    r->graph = buildSkeletonGraph(r->points, junction.set.dims(), {});
+    Result* raw = r.get();
+    r->plan = placeCuts(r->graph, r->points, options, [raw, &rhoCOfVoxel](std::uint32_t pointIndex) {
+        ++raw->callbackCalls;
+        auto it = rhoCOfVoxel.find(raw->points[pointIndex].voxel);
+        return it == rhoCOfVoxel.end() ? 0.0 : it->second;
+    });
+    for (const CutCandidate& c : r->plan.candidates) r->byVoxel[r->points[r->graph.point[c.node]].voxel] = &c;
+    for (std::uint32_t n : r->plan.cutNodes) r->cutVoxels.push_back(r->points[r->graph.point[n]].voxel);
+    std::sort(r->cutVoxels.begin(), r->cutVoxels.end());
+    return r;
+}
+
+TEST(CutPlacement, CandidateIsTheFirstLevelOfAThreeLevelRun) {
+    Junction j;
+    // Arm 0: isolated highs, then a run of three starting at level 4, which
+    // starts exactly at sigmaMin.
+    j.setSigma(0, {0.3f, 0.9f, 0.5f, 0.8f, 0.85f, 0.95f, 0.9f, 0.9f});
+    // Arm 1: never three consecutive levels >= 0.8.
+    j.setSigma(1, {0.95f, 0.2f, 0.9f, 0.9f, 0.1f, 0.85f, 0.79f, 0.99f, 0.5f, 0.9f, 0.9f, 0.2f});
+    // Arm 2: high right from level 1.
+    j.setSigma(2, {0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f});
+    for (int arm = 0; arm < 3; ++arm) j.setRhoS(arm, 5.0f);  // all limbs (similarity 0.25)
+    const auto r = place(j);
+    ASSERT_EQ(r->graph.junctions.size(), 1u);
+    ASSERT_EQ(r->plan.junctions.size(), 1u);
+    EXPECT_EQ(r->plan.junctions[0].branches, 3u);
+    ASSERT_EQ(r->plan.candidates.size(), 2u);
+
+    const std::uint32_t q0 = j.armVoxelAtLevel(0, 4), q2 = j.armVoxelAtLevel(2, 1);
+    ASSERT_TRUE(r->byVoxel.count(q0)) << "arm 0: candidate not at level 4";
+    ASSERT_TRUE(r->byVoxel.count(q2)) << "arm 2: candidate not at level 1";
+    EXPECT_EQ(r->byVoxel.at(q0)->level, 4u);
+    EXPECT_FLOAT_EQ(r->byVoxel.at(q0)->sigma, 0.8f);
+    EXPECT_EQ(r->byVoxel.at(q2)->level, 1u);
+    for (const auto& [voxel, c] : r->byVoxel) {
+        EXPECT_EQ(c->junction, 0u);
+        EXPECT_NEAR(c->similarity, 0.25f, 1e-6f);
+        EXPECT_FALSE(c->onBody);
+        EXPECT_TRUE(c->isCut);
+    }
+    EXPECT_EQ(r->cutVoxels, (std::vector<std::uint32_t>{std::min(q0, q2), std::max(q0, q2)}));
+    EXPECT_EQ(r->plan.junctions[0].cuts, 2u);
+    EXPECT_EQ(r->callbackCalls, 0);
+}
+
+TEST(CutPlacement, SingleHighLevelDoesNotCount) {
+    Junction j;
+    for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.1f, 0.95f, 0.1f, 0.2f, 0.99f, 0.3f, 0.9f, 0.9f, 0.4f});
+    const auto r = place(j);
+    EXPECT_TRUE(r->plan.candidates.empty());
+    EXPECT_TRUE(r->plan.cutNodes.empty());
+    EXPECT_EQ(r->plan.junctions[0].branches, 3u);
+
+    // With consecutiveLevels = 1 a single level is enough: level 2.
+    CutOptions one;
+    one.consecutiveLevels = 1;
+    j.setRhoS(0, 5.0f);
+    const auto r1 = place(j, one);
+    ASSERT_TRUE(r1->byVoxel.count(j.armVoxelAtLevel(0, 2)));
+    EXPECT_EQ(r1->byVoxel.at(j.armVoxelAtLevel(0, 2))->level, 2u);
+}
+
+TEST(CutPlacement, ShortBranchYieldsNoCandidate) {
+    // Only two levels outside the region: a run of three cannot fit.
+    SkeletonPointSet set(Dims{30, 30, 3});
+    set.add({10, 10, 1}, 20.0f, 5000.0, 3);
+    auto longArm = set.chain({11, 10, 1}, {1, 0, 0}, 12, 5.0f);
+    auto shortArm = set.chain({9, 11, 1}, {-1, 1, 0}, 5, 5.0f);
+    auto otherArm = set.chain({9, 9, 1}, {-1, -1, 0}, 8, 5.0f);
+    for (auto* arm : {&longArm, &shortArm, &otherArm})
+        for (std::uint32_t v : *arm) set.point(v).sigma = 0.95f;
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    const CutPlan plan = placeCuts(g, points, {}, [](std::uint32_t) { return 0.0; });
+    ASSERT_EQ(plan.junctions.size(), 1u);
+    EXPECT_EQ(plan.junctions[0].branches, 3u);
+    EXPECT_EQ(plan.candidates.size(), 2u);
+    for (const CutCandidate& c : plan.candidates) EXPECT_NE(points[g.point[c.node]].voxel, shortArm[3]);
+}
+
+TEST(CutPlacement, BestSigmaPerLevelOnAThickBranch) {
+    Junction j;
+    for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.1f});
+    // Arm 0 gets a parallel twin one voxel above: both voxels of a level are
+    // one "point"; the twin carries the high sigma from level 2 on.
+    std::vector<std::uint32_t> twin = j.set.chain({23, 22, 2}, {1, 0, 0}, 15, 10.0f, 1000.0);
+    for (std::size_t i = 0; i < twin.size(); ++i) j.set.point(twin[i]).sigma = i >= 4 ? 0.92f : 0.1f;
+    for (std::uint32_t v : j.arms[0]) j.set.point(v).sigma = 0.5f;
+    j.setRhoS(0, 4.0f);
+    for (std::uint32_t v : twin) j.set.point(v).rhoS = 4.0f;
+    const auto r = place(j);
+    ASSERT_EQ(r->plan.candidates.size(), 1u);
+    const CutCandidate& c = r->plan.candidates[0];
+    EXPECT_EQ(c.level, 2u);
+    EXPECT_EQ(r->points[r->graph.point[c.node]].voxel, twin[4]);
+    EXPECT_FLOAT_EQ(c.sigma, 0.92f);
+}
+
+TEST(CutPlacement, BodyCandidatesAreDropped) {
+    Junction j;
+    for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f, 0.9f});
+    // Arms 0 and 1 continue the body (similarity 0.95 and 0.65 >= bodyRatio),
+    // arm 2 is a limb (similarity 0.4).
+    j.setRhoS(0, 19.0f);
+    j.setRhoS(1, 27.0f);
+    j.setRhoS(2, 8.0f);
+    const auto r = place(j);
+    ASSERT_EQ(r->plan.candidates.size(), 3u);
+    const CutCandidate* c0 = r->byVoxel.at(j.armVoxelAtLevel(0, 1));
+    const CutCandidate* c1 = r->byVoxel.at(j.armVoxelAtLevel(1, 1));
+    const CutCandidate* c2 = r->byVoxel.at(j.armVoxelAtLevel(2, 1));
+    EXPECT_NEAR(c0->similarity, 0.95f, 1e-5f);
+    EXPECT_NEAR(c1->similarity, 0.65f, 1e-5f);
+    EXPECT_NEAR(c2->similarity, 0.4f, 1e-5f);
+    EXPECT_TRUE(c0->onBody);
+    EXPECT_TRUE(c1->onBody);
+    EXPECT_FALSE(c2->onBody);
+    EXPECT_EQ(r->cutVoxels, std::vector<std::uint32_t>{j.armVoxelAtLevel(2, 1)});
+    EXPECT_EQ(r->plan.junctions[0].cuts, 1u);
+    EXPECT_EQ(r->callbackCalls, 0) << "two body candidates need no tie rule";
+}
+
+TEST(CutPlacement, MoreThanTwoSimilarDropsOnlyTheLargestRhoC) {
+    Junction j;
+    for (int arm = 0; arm < 3; ++arm) {
+        j.setSigma(arm, {0.9f, 0.9f, 0.9f, 0.9f});
+        j.setRhoS(arm, 20.0f + float(arm));
+    }
+    const std::uint32_t q[3] = {j.armVoxelAtLevel(0, 1), j.armVoxelAtLevel(1, 1), j.armVoxelAtLevel(2, 1)};
+    const auto r = place(j, {}, {{q[0], 300.0}, {q[1], 900.0}, {q[2], 600.0}});
+    ASSERT_EQ(r->plan.candidates.size(), 3u);
+    EXPECT_EQ(r->callbackCalls, 3);
+    EXPECT_EQ(r->byVoxel.at(q[1])->exactRhoC, 900.0);
+    EXPECT_EQ(r->byVoxel.at(q[0])->exactRhoC, 300.0);
+    EXPECT_TRUE(r->byVoxel.at(q[1])->onBody);
+    EXPECT_FALSE(r->byVoxel.at(q[0])->onBody);
+    EXPECT_FALSE(r->byVoxel.at(q[2])->onBody);
+    EXPECT_EQ(r->cutVoxels, (std::vector<std::uint32_t>{std::min(q[0], q[2]), std::max(q[0], q[2])}));
+    EXPECT_EQ(r->plan.junctions[0].cuts, 2u);
+}
+
+TEST(CutPlacement, EqualRhoCTieKeepsLowestVoxelOnBody) {
+    Junction j;
+    for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f});
+    const std::uint32_t q[3] = {j.armVoxelAtLevel(0, 1), j.armVoxelAtLevel(1, 1), j.armVoxelAtLevel(2, 1)};
+    const auto r = place(j, {}, {{q[0], 500.0}, {q[1], 500.0}, {q[2], 500.0}});
+    const std::uint32_t lowest = *std::min_element(q, q + 3);
+    ASSERT_EQ(r->plan.candidates.size(), 3u);
+    for (std::uint32_t v : q) EXPECT_EQ(r->byVoxel.at(v)->onBody, v == lowest) << "voxel " << v;
+    EXPECT_EQ(r->cutVoxels.size(), 2u);
+}
+
+TEST(CutPlacement, JunctionModeCutsAtTheJunction) {
+    Junction j;
+    for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f});
+    CutOptions options;
+    options.mode = CutMode::Junctions;
+    const auto r = place(j, options);
+    EXPECT_TRUE(r->plan.candidates.empty());
+    EXPECT_EQ(r->cutVoxels, std::vector<std::uint32_t>{j.centre});
+    EXPECT_EQ(r->plan.junctions[0].cuts, 1u);
+    EXPECT_EQ(r->plan.junctions[0].branches, 3u);
+}
+
+TEST(CutPlacement, NoJunctionNoCut) {
+    SkeletonPointSet set(Dims{20, 5, 3});
+    for (std::uint32_t v : set.chain({2, 2, 1}, {1, 0, 0}, 15)) set.point(v).sigma = 0.95f;
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    const CutPlan plan = placeCuts(g, points, {}, [](std::uint32_t) { return 0.0; });
+    EXPECT_TRUE(plan.junctions.empty());
+    EXPECT_TRUE(plan.cutNodes.empty());
+}
+
+}  // namespace
+}  // namespace skelseg

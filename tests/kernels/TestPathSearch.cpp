@@ -1,0 +1,257 @@
+#include "kernels/PathSearch.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "tests/kernels/KernelTestSupport.h"
+
+namespace skelseg {
+namespace {
+
+/// Lengths agree when they differ by float rounding only (A* and Dijkstra
+/// may sum equally long paths in a different order).
+void expectSameLength(double expected, double actual, const char* what) {
+    EXPECT_NEAR(actual, expected, 1e-5 * std::max(1.0, expected)) << what;
+}
+
+/// The path is a chain of graph edges from `from` to `to` whose weights sum
+/// to `length`.
+void expectValidPath(const BoundaryGraph& graph, const std::vector<std::uint32_t>& path, std::uint32_t from,
+                     std::uint32_t to, float length) {
+    ASSERT_FALSE(path.empty());
+    EXPECT_EQ(path.front(), from);
+    EXPECT_EQ(path.back(), to);
+    float sum = 0.0f;
+    for (std::size_t i = 1; i < path.size(); ++i) {
+        float w = -1.0f;
+        for (std::uint32_t e = graph.offset[path[i - 1]]; e < graph.offset[path[i - 1] + 1]; ++e)
+            if (graph.neighbour[e] == path[i]) w = graph.weight[e];
+        ASSERT_GE(w, 0.0f) << "step " << i << " of the path is not an edge";
+        sum += w;
+    }
+    EXPECT_FLOAT_EQ(sum, length);
+}
+
+class PathSearchOnBlob : public ::testing::Test {
+protected:
+    void SetUp() override {
+        mask = test::randomBlob(14, 3, 5);
+        graph = buildBoundaryGraph(mask, {false});
+    }
+    MaskVolume mask;
+    BoundaryGraph graph;
+};
+
+TEST_F(PathSearchOnBlob, AStarEqualsDijkstraForAllPairs) {
+    ASSERT_GT(graph.nodeCount(), 200u);
+    ASSERT_EQ(graph.componentSize.size(), 1u);
+    GeodesicSearch search(graph);
+    std::vector<std::uint32_t> path;
+    std::size_t checked = 0;
+    for (std::uint32_t a = 0; a < graph.nodeCount(); ++a) {
+        const std::vector<float> reference = search.distancesFrom(a);
+        for (std::uint32_t b = a; b < graph.nodeCount(); ++b) {
+            const float length = search.shortestPath(a, b, &path);
+            if (std::fabs(double(length) - double(reference[b])) > 1e-5 * std::max(1.0, double(reference[b]))) {
+                FAIL() << "A* " << length << " != Dijkstra " << reference[b] << " for " << a << " -> " << b;
+            }
+            // Every 7th pair: also the path and the symmetric length.
+            if ((a + b) % 7 == 0) {
+                expectValidPath(graph, path, a, b, length);
+                const float back = search.shortestPath(b, a);
+                expectSameLength(length, back, "d(a,b) != d(b,a)");
+            }
+            ++checked;
+        }
+    }
+    EXPECT_EQ(checked, std::size_t(graph.nodeCount()) * (graph.nodeCount() + 1) / 2);
+}
+
+TEST_F(PathSearchOnBlob, DijkstraReferenceIsSane) {
+    // The reference itself: 0 at the source, symmetric, triangle inequality
+    // along edges, and at least the Euclidean distance.
+    GeodesicSearch search(graph);
+    const std::vector<float> d0 = search.distancesFrom(0);
+    EXPECT_EQ(d0[0], 0.0f);
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n) {
+        EXPECT_GE(d0[n] + 1e-4f, graph.euclidean(0, n));
+        for (std::uint32_t e = graph.offset[n]; e < graph.offset[n + 1]; ++e)
+            EXPECT_LE(d0[graph.neighbour[e]], d0[n] + graph.weight[e] + 1e-4f);
+    }
+    const std::uint32_t far = std::uint32_t(std::max_element(d0.begin(), d0.end()) - d0.begin());
+    expectSameLength(d0[far], search.distancesFrom(far)[0], "Dijkstra not symmetric");
+}
+
+TEST_F(PathSearchOnBlob, SamePathForSameQueryAndCounters) {
+    GeodesicSearch search(graph);
+    std::vector<std::uint32_t> first, second;
+    const std::uint32_t a = 3, b = graph.nodeCount() - 5;
+    const float l1 = search.shortestPath(a, b, &first);
+    search.shortestPath(b, a);  // other searches in between must not matter
+    const float l2 = search.shortestPath(a, b, &second);
+    EXPECT_EQ(l1, l2);
+    EXPECT_EQ(first, second);
+    EXPECT_EQ(search.counters.searches, 3u);
+    EXPECT_GE(search.counters.heapPops, search.counters.nodesSettled);
+    EXPECT_GE(search.counters.nodesSettled, 3u * std::uint64_t(first.size()) - 3u);
+    // A second workspace finds the identical path (a function of the graph).
+    GeodesicSearch other(graph);
+    std::vector<std::uint32_t> third;
+    other.shortestPath(a, b, &third);
+    EXPECT_EQ(first, third);
+}
+
+TEST_F(PathSearchOnBlob, TrivialQuery) {
+    GeodesicSearch search(graph);
+    std::vector<std::uint32_t> path = {1, 2, 3};
+    EXPECT_EQ(search.shortestPath(7, 7, &path), 0.0f);
+    EXPECT_EQ(path, std::vector<std::uint32_t>{7});
+    // A neighbour: one edge, whatever its length (no path is shorter than
+    // the Euclidean distance, which the edge weight is).
+    const std::uint32_t m = graph.neighbour[graph.offset[7]];
+    EXPECT_FLOAT_EQ(search.shortestPath(7, m, &path), graph.weight[graph.offset[7]]);
+    EXPECT_EQ(path, (std::vector<std::uint32_t>{7, m}));
+}
+
+TEST(PathSearch, UnreachableAcrossComponents) {
+    MaskVolume mask(Dims{20, 8, 8}, 0);
+    test::fillBox(mask, {1, 1, 1}, {5, 6, 6});
+    test::fillBox(mask, {10, 1, 1}, {15, 6, 6});
+    const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
+    ASSERT_EQ(graph.componentSize.size(), 2u);
+    GeodesicSearch search(graph);
+    const std::uint32_t a = graph.nodeOfVoxel[mask.index(1, 1, 1)], b = graph.nodeOfVoxel[mask.index(15, 6, 6)];
+    std::vector<std::uint32_t> path = {42};
+    EXPECT_EQ(search.shortestPath(a, b, &path), kUnreachable);
+    EXPECT_TRUE(path.empty());
+    EXPECT_EQ(search.distancesFrom(a)[b], kUnreachable);
+    // The search is still usable afterwards.
+    const std::uint32_t c = graph.nodeOfVoxel[mask.index(5, 6, 6)];
+    EXPECT_GT(search.shortestPath(a, c), 0.0f);
+}
+
+TEST(PathSearch, KnownLengthOnABoxFace) {
+    // Straight along an edge of a box: 7 unit steps; diagonal across a face:
+    // 6 sqrt2 steps (no path is shorter than the Euclidean distance).
+    MaskVolume mask(Dims{14, 14, 14}, 0);
+    test::fillBox(mask, {2, 2, 2}, {11, 11, 11});
+    const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
+    GeodesicSearch search(graph);
+    auto node = [&](int x, int y, int z) { return graph.nodeOfVoxel[mask.index(x, y, z)]; };
+    EXPECT_FLOAT_EQ(search.shortestPath(node(3, 2, 5), node(10, 2, 5)), 7.0f);
+    EXPECT_NEAR(search.shortestPath(node(3, 3, 2), node(9, 9, 2)), 6.0 * std::sqrt(2.0), 1e-5);
+    // Around an edge of the box, from the z=2 face to the x=2 face: longer
+    // than the Euclidean distance; check against Dijkstra.
+    const std::uint32_t a = node(6, 6, 2), b = node(2, 6, 6);
+    const float around = search.shortestPath(a, b);
+    expectSameLength(search.distancesFrom(a)[b], around, "around an edge");
+    EXPECT_GT(around, graph.euclidean(a, b) + 0.5f);
+}
+
+TEST_F(PathSearchOnBlob, ShortestPathWithinRespectsAllowedSet) {
+    GeodesicSearch search(graph);
+    // Allowed: a band of slabs. Also a checker-like restriction that forces
+    // detours. Compare with a restricted Dijkstra.
+    const std::vector<std::function<bool(std::uint32_t)>> restrictions = {
+        [&](std::uint32_t n) { return graph.coord[n].z <= 8; },
+        [&](std::uint32_t n) { return graph.coord[n].x + graph.coord[n].y != 13; },
+        [&](std::uint32_t n) { return (n % 5) != 0; },
+    };
+    std::mt19937 rng(9);
+    std::uniform_int_distribution<std::uint32_t> pick(0, graph.nodeCount() - 1);
+    std::vector<std::uint32_t> path;
+    for (const auto& allowed : restrictions) {
+        int finite = 0, longer = 0;
+        for (int trial = 0; trial < 40; ++trial) {
+            const std::uint32_t a = pick(rng), b = pick(rng);
+            const std::vector<double> reference = test::restrictedDistances(graph, a, allowed);
+            const float length = search.shortestPathWithin(a, b, allowed, &path);
+            if (!allowed(a) || !allowed(b) || reference[b] == std::numeric_limits<double>::infinity()) {
+                EXPECT_EQ(length, kUnreachable);
+                EXPECT_TRUE(path.empty());
+                continue;
+            }
+            ++finite;
+            expectSameLength(reference[b], length, "restricted A* != restricted Dijkstra");
+            expectValidPath(graph, path, a, b, length);
+            for (std::uint32_t n : path) EXPECT_TRUE(allowed(n)) << "path leaves the allowed set";
+            longer += length > search.shortestPath(a, b) + 1e-3f;
+        }
+        EXPECT_GT(finite, 10);
+        (void)longer;
+    }
+}
+
+TEST(PathSearch, ShortestPathWithinTakesTheDetour) {
+    // On a box, forbid a wall across the top face: the path must go around.
+    MaskVolume mask(Dims{16, 16, 8}, 0);
+    test::fillBox(mask, {1, 1, 1}, {14, 14, 6});
+    const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
+    GeodesicSearch search(graph);
+    auto node = [&](int x, int y, int z) { return graph.nodeOfVoxel[mask.index(x, y, z)]; };
+    const std::uint32_t a = node(4, 7, 6), b = node(11, 7, 6);
+    auto allowed = [&](std::uint32_t n) {
+        const Coord c = graph.coord[n];
+        return !(c.x == 7 && c.y >= 2 && c.y <= 13) && c.z == 6;  // top face only, wall at x = 7
+    };
+    std::vector<std::uint32_t> path;
+    const float free = search.shortestPath(a, b);
+    const float within = search.shortestPathWithin(a, b, allowed, &path);
+    EXPECT_FLOAT_EQ(free, 7.0f);
+    EXPECT_GT(within, free + 4.0f);
+    const std::vector<double> reference = test::restrictedDistances(graph, a, allowed);
+    expectSameLength(reference[b], within, "detour length");
+    for (std::uint32_t n : path) EXPECT_TRUE(allowed(n));
+    // An end outside the allowed set gives no path.
+    EXPECT_EQ(search.shortestPathWithin(node(4, 7, 1), b, allowed, &path), kUnreachable);
+}
+
+TEST_F(PathSearchOnBlob, PathCacheMatchesUncachedAndHitsOnRepeats) {
+    GeodesicSearch search(graph), plain(graph);
+    PathCache cache;
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<std::uint32_t> pick(0, graph.nodeCount() - 1);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    for (int i = 0; i < 60; ++i) pairs.emplace_back(pick(rng), pick(rng));
+    std::vector<std::uint32_t> path;
+    for (const auto& [a, b] : pairs) {
+        const PathCache::Entry& e = cache.path(search, a, b);
+        const float reference = plain.shortestPath(std::min(a, b), std::max(a, b), &path);
+        EXPECT_EQ(e.length, reference);
+        ASSERT_EQ(e.count, path.size());
+        EXPECT_TRUE(std::equal(path.begin(), path.end(), cache.nodes(e)));
+    }
+    const std::uint64_t misses = cache.misses, searches = search.counters.searches;
+    EXPECT_EQ(cache.hits + cache.misses, pairs.size());
+    // Repeats, in either argument order: all hits, no new search.
+    for (const auto& [a, b] : pairs) {
+        const PathCache::Entry& e1 = cache.path(search, a, b);
+        const float l1 = e1.length;
+        const PathCache::Entry& e2 = cache.path(search, b, a);
+        EXPECT_EQ(l1, e2.length);
+        expectSameLength(search.distancesFrom(a)[b], l1, "cached length");
+    }
+    EXPECT_EQ(cache.misses, misses);
+    EXPECT_EQ(search.counters.searches, searches);
+    EXPECT_GE(cache.hits, 2 * pairs.size());
+}
+
+TEST_F(PathSearchOnBlob, PathCacheStaysCorrectWhenItOverflows) {
+    // A tiny pool forces clears; results must not change.
+    GeodesicSearch search(graph), plain(graph);
+    PathCache cache(16);
+    std::vector<std::uint32_t> path;
+    for (std::uint32_t i = 0; i < 50; ++i) {
+        const std::uint32_t a = (i * 37) % graph.nodeCount(), b = (i * 101 + 13) % graph.nodeCount();
+        const PathCache::Entry& e = cache.path(search, a, b);
+        const float reference = plain.shortestPath(std::min(a, b), std::max(a, b), &path);
+        EXPECT_EQ(e.length, reference);
+        ASSERT_EQ(e.count, path.size());
+        EXPECT_TRUE(std::equal(path.begin(), path.end(), cache.nodes(e)));
+    }
+}
+
+}  // namespace
+}  // namespace skelseg

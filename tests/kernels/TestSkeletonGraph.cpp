@@ -1,0 +1,195 @@
+#include "kernels/SkeletonGraph.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <set>
+
+#include "tests/kernels/SkeletonTestPoints.h"
+
+namespace skelseg {
+namespace {
+
+using test::SkeletonPointSet;
+
+/// Graph node of a voxel (or kNoJunction).
+std::uint32_t nodeOf(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points, std::uint32_t voxel) {
+    for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
+        if (points[g.point[n]].voxel == voxel) return n;
+    return kNoJunction;
+}
+
+/// A Y: a centre voxel with three 12-voxel arms in the z = 1 plane.
+struct YShape {
+    SkeletonPointSet set{Dims{41, 41, 3}};
+    std::uint32_t centre;
+    std::vector<std::uint32_t> arms[3];
+    YShape() {
+        centre = set.add({20, 20, 1}, 20.0f, 1000.0, 3);
+        arms[0] = set.chain({21, 20, 1}, {1, 0, 0}, 12);
+        arms[1] = set.chain({19, 21, 1}, {-1, 1, 0}, 12);
+        arms[2] = set.chain({19, 19, 1}, {-1, -1, 0}, 12);
+    }
+};
+
+TEST(SkeletonGraph, YGivesOneJunctionWithThreeBranches) {
+    YShape y;
+    const std::vector<SkeletonPoint> points = y.set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, y.set.dims(), {});
+    ASSERT_EQ(g.nodeCount(), 37u);
+    EXPECT_EQ(g.edges.size(), 36u);  // a tree: the chains and the centre
+    EXPECT_EQ(g.bridgeCount, 0u);
+    ASSERT_EQ(g.junctions.size(), 1u);
+    const SkeletonJunction& j = g.junctions[0];
+    const std::uint32_t centre = nodeOf(g, points, y.centre);
+    EXPECT_EQ(j.core, std::vector<std::uint32_t>{centre});
+    EXPECT_EQ(j.representative, centre);
+    EXPECT_EQ(j.rhoS, 20.0f);
+    // Region: the centre and the first regionRadius (3) voxels of each arm.
+    EXPECT_EQ(j.region.size(), 10u);
+    for (const auto& arm : y.arms)
+        for (std::size_t i = 0; i < arm.size(); ++i)
+            EXPECT_EQ(g.junctionOf[nodeOf(g, points, arm[i])], i < 3 ? 0u : kNoJunction) << "arm voxel " << i;
+    // Three branch pieces of 9 voxels each, one per arm.
+    ASSERT_EQ(g.pieceCount, 3u);
+    std::set<std::uint32_t> pieces;
+    for (const auto& arm : y.arms) {
+        const std::uint32_t piece = g.pieceOf[nodeOf(g, points, arm[5])];
+        ASSERT_NE(piece, kNoJunction);
+        pieces.insert(piece);
+        for (std::size_t i = 3; i < arm.size(); ++i) EXPECT_EQ(g.pieceOf[nodeOf(g, points, arm[i])], piece);
+    }
+    EXPECT_EQ(pieces.size(), 3u);
+    // CSR and edge list agree; adjacency is symmetric.
+    EXPECT_EQ(g.neighbour.size(), 2 * g.edges.size());
+    for (const auto& e : g.edges) {
+        EXPECT_LT(e[0], e[1]);
+        auto has = [&](std::uint32_t a, std::uint32_t b) {
+            return std::find(g.neighbour.begin() + g.offset[a], g.neighbour.begin() + g.offset[a + 1], b) !=
+                   g.neighbour.begin() + g.offset[a + 1];
+        };
+        EXPECT_TRUE(has(e[0], e[1]));
+        EXPECT_TRUE(has(e[1], e[0]));
+    }
+}
+
+TEST(SkeletonGraph, WithoutRobustCentreThereIsNoJunction) {
+    YShape y;
+    y.set.point(y.centre).robustRims = 2;
+    const SkeletonGraph g = buildSkeletonGraph(y.set.points(), y.set.dims(), {});
+    EXPECT_TRUE(g.junctions.empty());
+    EXPECT_EQ(g.pieceCount, 1u);
+}
+
+TEST(SkeletonGraph, JunctionClusterIsOneJunctionWithMedianRhoS) {
+    YShape y;
+    // Two more junction voxels next to the centre: one cluster of three.
+    y.set.point(y.arms[0][0]).robustRims = 3;
+    y.set.point(y.arms[0][0]).rhoS = 26.0f;
+    y.set.add({20, 21, 1}, 14.0f, 1000.0, 4);  // touches the centre and arm 1
+    const std::vector<SkeletonPoint> points = y.set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, y.set.dims(), {});
+    ASSERT_EQ(g.junctions.size(), 1u);
+    EXPECT_EQ(g.junctions[0].core.size(), 3u);
+    EXPECT_EQ(g.junctions[0].rhoS, 20.0f);  // median of 14, 20, 26
+    EXPECT_EQ(g.junctions[0].representative, nodeOf(g, points, y.centre));
+    EXPECT_EQ(g.pieceCount, 3u);
+
+    // Even count: the mean of the two middle values.
+    y.set.point(y.set.voxelIndex({20, 21, 1})).robustRims = 2;
+    const SkeletonGraph g2 = buildSkeletonGraph(y.set.points(), y.set.dims(), {});
+    ASSERT_EQ(g2.junctions.size(), 1u);
+    EXPECT_EQ(g2.junctions[0].core.size(), 2u);
+    EXPECT_EQ(g2.junctions[0].rhoS, 23.0f);
+}
+
+TEST(SkeletonGraph, JunctionRegionsThatTouchMerge) {
+    // Junction voxels on one chain `distance` apart: with regionRadius 3 the
+    // regions touch (and merge) up to distance 7, not at 8.
+    for (int distance : {7, 8}) {
+        SkeletonPointSet set(Dims{40, 5, 3});
+        const auto chain = set.chain({5, 2, 1}, {1, 0, 0}, 25);
+        set.point(chain[5]).robustRims = 3;
+        set.point(chain[5 + std::size_t(distance)]).robustRims = 3;
+        const SkeletonGraph g = buildSkeletonGraph(set.points(), set.dims(), {});
+        EXPECT_EQ(g.junctions.size(), distance == 7 ? 1u : 2u) << "distance " << distance;
+        // Pieces: the two ends, plus the voxel between two separate regions.
+        EXPECT_EQ(g.pieceCount, distance == 7 ? 2u : 3u) << "distance " << distance;
+    }
+}
+
+/// Two chains along x at y = 5, the second starting `gap` empty voxels after
+/// the first ends.
+SkeletonPointSet twoChains(int gap, std::uint32_t& endA, std::uint32_t& startB) {
+    SkeletonPointSet set(Dims{40, 11, 3});
+    endA = set.chain({2, 5, 1}, {1, 0, 0}, 10).back();  // x = 2..11
+    startB = set.chain({12 + gap, 5, 1}, {1, 0, 0}, 10).front();
+    return set;
+}
+
+TEST(SkeletonGraph, SmallGapIsBridged) {
+    std::uint32_t endA = 0, startB = 0;
+    const SkeletonPointSet set = twoChains(3, endA, startB);
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    EXPECT_EQ(g.bridgeCount, 1u);
+    EXPECT_EQ(g.edges.size(), 9u + 9u + 1u);
+    // The bridge joins the closest pair: the facing chain ends.
+    const std::uint32_t a = nodeOf(g, points, endA), b = nodeOf(g, points, startB);
+    EXPECT_NE(std::find(g.edges.begin(), g.edges.end(), std::array<std::uint32_t, 2>{std::min(a, b), std::max(a, b)}),
+              g.edges.end());
+    EXPECT_EQ(g.pieceCount, 1u);  // walks follow the bridge
+}
+
+TEST(SkeletonGraph, LargeGapIsNotBridged) {
+    for (int gap : {5, 6}) {
+        std::uint32_t endA = 0, startB = 0;
+        const SkeletonPointSet set = twoChains(gap, endA, startB);
+        const SkeletonGraph g = buildSkeletonGraph(set.points(), set.dims(), {});
+        EXPECT_EQ(g.bridgeCount, 0u) << "gap " << gap;
+        EXPECT_EQ(g.edges.size(), 18u);
+        EXPECT_EQ(g.pieceCount, 2u);
+    }
+    // bridgeGap below 1 turns bridging off.
+    std::uint32_t endA = 0, startB = 0;
+    const SkeletonPointSet set = twoChains(3, endA, startB);
+    SkeletonGraphOptions options;
+    options.bridgeGap = 0.0;
+    EXPECT_EQ(buildSkeletonGraph(set.points(), set.dims(), options).bridgeCount, 0u);
+}
+
+TEST(SkeletonGraph, OneBridgePerPairOfParts) {
+    // Two parallel chains 3 voxels apart: many pairs within reach, one bridge.
+    SkeletonPointSet set(Dims{30, 12, 3});
+    set.chain({2, 3, 1}, {1, 0, 0}, 20);
+    set.chain({2, 7, 1}, {1, 0, 0}, 20);
+    // A third part within reach of both: joined once (spanning forest).
+    set.chain({24, 5, 1}, {1, 0, 0}, 4);
+    const SkeletonGraph g = buildSkeletonGraph(set.points(), set.dims(), {});
+    EXPECT_EQ(g.bridgeCount, 2u);
+    EXPECT_EQ(g.pieceCount, 1u);
+}
+
+TEST(SkeletonGraph, PointsBelowTauAreLeftOut) {
+    SkeletonPointSet set(Dims{20, 5, 3});
+    set.chain({2, 2, 1}, {1, 0, 0}, 5, 10.0f, 100.0);
+    set.chain({7, 2, 1}, {1, 0, 0}, 5, 10.0f, 40.0);  // below tau
+    set.add({12, 2, 1}, 10.0f, std::numeric_limits<double>::infinity());  // handle loop: kept
+    SkeletonGraphOptions options;
+    options.tau = 50.0;
+    options.bridgeGap = 0.0;
+    const SkeletonGraph g = buildSkeletonGraph(set.points(), set.dims(), options);
+    EXPECT_EQ(g.nodeCount(), 6u);
+    EXPECT_EQ(g.pieceCount, 2u);
+    for (std::uint32_t n = 0; n < g.nodeCount(); ++n) EXPECT_GE(set.points()[g.point[n]].rhoC, 50.0);
+}
+
+TEST(SkeletonGraph, EmptyInput) {
+    const SkeletonGraph g = buildSkeletonGraph({}, Dims{4, 4, 4}, {});
+    EXPECT_EQ(g.nodeCount(), 0u);
+    EXPECT_TRUE(g.junctions.empty());
+    EXPECT_EQ(g.pieceCount, 0u);
+}
+
+}  // namespace
+}  // namespace skelseg

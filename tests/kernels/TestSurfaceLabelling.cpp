@@ -1,0 +1,187 @@
+#include "kernels/SurfaceLabelling.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "io/SyntheticShapes.h"
+#include "kernels/FeatureTransform.h"
+#include "tests/kernels/KernelTestSupport.h"
+
+namespace skelseg {
+namespace {
+
+/// A capsule along x and cut loops made of the boundary nodes of one x
+/// slice (a closed ring around the capsule).
+class LabellingOnCapsule : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        mask = new MaskVolume(rasterise(makeShape("capsule"), {56, 2}));
+        graph = new BoundaryGraph(buildBoundaryGraph(*mask, {false}));
+        xMin = xMax = graph->coord[0].x;
+        for (const Coord& c : graph->coord) xMin = std::min(xMin, c.x), xMax = std::max(xMax, c.x);
+    }
+    static void TearDownTestSuite() {
+        delete graph;
+        delete mask;
+        graph = nullptr, mask = nullptr;
+    }
+    static std::vector<std::uint32_t> ring(int x) {
+        std::vector<std::uint32_t> nodes;
+        for (std::uint32_t n = 0; n < graph->nodeCount(); ++n)
+            if (graph->coord[n].x == x) nodes.push_back(n);
+        return nodes;
+    }
+    /// x at a fraction of the capsule's length.
+    static int at(double fraction) { return xMin + int(std::lround(fraction * (xMax - xMin))); }
+    /// A boundary node of slice x.
+    static std::uint32_t nodeAt(int x) { return ring(x).front(); }
+
+    /// Every label is in range, the areas are the label counts in decreasing
+    /// order, and every segment is connected.
+    static void expectWellFormed(const SurfaceSegments& s) {
+        ASSERT_EQ(s.nodeLabel.size(), graph->nodeCount());
+        ASSERT_EQ(s.area.size(), s.segmentCount);
+        std::vector<std::uint64_t> count(s.segmentCount, 0);
+        for (std::uint32_t label : s.nodeLabel) {
+            ASSERT_LT(label, s.segmentCount);
+            ++count[label];
+        }
+        EXPECT_EQ(count, s.area);
+        EXPECT_TRUE(std::is_sorted(s.area.begin(), s.area.end(), std::greater<>())) << "ids not by decreasing area";
+        for (std::uint32_t label = 0; label < s.segmentCount; ++label) {
+            std::vector<std::uint32_t> components;
+            const auto sizes =
+                test::floodFill(*graph, [&](std::uint32_t n) { return s.nodeLabel[n] == label; }, components);
+            EXPECT_EQ(sizes.size(), 1u) << "segment " << label << " is not connected";
+        }
+    }
+
+    static MaskVolume* mask;
+    static BoundaryGraph* graph;
+    static int xMin, xMax;
+};
+MaskVolume* LabellingOnCapsule::mask = nullptr;
+BoundaryGraph* LabellingOnCapsule::graph = nullptr;
+int LabellingOnCapsule::xMin = 0;
+int LabellingOnCapsule::xMax = 0;
+
+TEST_F(LabellingOnCapsule, NoCutIsOneSegment) {
+    const SurfaceSegments s = labelSurface(*graph, {}, 0.0);
+    ASSERT_EQ(s.segmentCount, 1u);
+    EXPECT_EQ(s.area[0], graph->nodeCount());
+    expectWellFormed(s);
+}
+
+TEST_F(LabellingOnCapsule, TwoCutsGiveThreeSegmentsByDecreasingArea) {
+    // Cuts at 30% and 85% of the length: middle > left > right.
+    const int x1 = at(0.30), x2 = at(0.85);
+    const SurfaceSegments s = labelSurface(*graph, {ring(x1), ring(x2)}, 0.0);
+    ASSERT_EQ(s.segmentCount, 3u);
+    expectWellFormed(s);
+    const std::uint32_t left = s.nodeLabel[nodeAt(xMin)], middle = s.nodeLabel[nodeAt(at(0.55))],
+                        right = s.nodeLabel[nodeAt(xMax)];
+    EXPECT_EQ(middle, 0u);
+    EXPECT_EQ(left, 1u);
+    EXPECT_EQ(right, 2u);
+    // Every node away from the cuts has the label of its side.
+    for (std::uint32_t n = 0; n < graph->nodeCount(); ++n) {
+        const int x = graph->coord[n].x;
+        if (x < x1 - 1) EXPECT_EQ(s.nodeLabel[n], left);
+        if (x > x1 + 1 && x < x2 - 1) EXPECT_EQ(s.nodeLabel[n], middle);
+        if (x > x2 + 1) EXPECT_EQ(s.nodeLabel[n], right);
+    }
+    // The cut band (ring dilated by one step) is shared out to the sides.
+    std::uint64_t leftOfCut = 0;
+    for (std::uint32_t n = 0; n < graph->nodeCount(); ++n) leftOfCut += graph->coord[n].x < x1 - 1;
+    EXPECT_GT(s.area[left], leftOfCut);
+    // Deterministic.
+    const SurfaceSegments again = labelSurface(*graph, {ring(x1), ring(x2)}, 0.0);
+    EXPECT_EQ(again.nodeLabel, s.nodeLabel);
+}
+
+TEST_F(LabellingOnCapsule, SmallSegmentMergesIntoItsNeighbour) {
+    // A cut 3 voxels from the right tip leaves a small cap.
+    const int x1 = at(0.30), x2 = xMax - 3;
+    const SurfaceSegments unmerged = labelSurface(*graph, {ring(x1), ring(x2)}, 0.0);
+    ASSERT_EQ(unmerged.segmentCount, 3u);
+    const std::uint64_t tip = unmerged.area[unmerged.nodeLabel[nodeAt(xMax)]];
+    ASSERT_LT(tip, unmerged.area[1]);
+    const SurfaceSegments merged = labelSurface(*graph, {ring(x1), ring(x2)}, double(tip) + 1.0);
+    ASSERT_EQ(merged.segmentCount, 2u);
+    expectWellFormed(merged);
+    EXPECT_EQ(merged.nodeLabel[nodeAt(xMax)], merged.nodeLabel[nodeAt(at(0.6))]);
+    EXPECT_NE(merged.nodeLabel[nodeAt(xMin)], merged.nodeLabel[nodeAt(at(0.6))]);
+    EXPECT_EQ(merged.area[0], unmerged.area[0] + tip);
+}
+
+TEST_F(LabellingOnCapsule, SmallBandMergesIntoItsLargestNeighbour) {
+    // A narrow band between two close cuts touches the left piece and the
+    // (larger) middle piece: it must join the middle one.
+    const int x1 = at(0.15), x2 = x1 + 8, x3 = at(0.8);
+    const SurfaceSegments unmerged = labelSurface(*graph, {ring(x1), ring(x2), ring(x3)}, 0.0);
+    ASSERT_EQ(unmerged.segmentCount, 4u);
+    const std::uint32_t band = unmerged.nodeLabel[nodeAt(x1 + 4)];
+    const std::uint32_t left = unmerged.nodeLabel[nodeAt(xMin)], middle = unmerged.nodeLabel[nodeAt(at(0.6))],
+                        right = unmerged.nodeLabel[nodeAt(xMax)];
+    ASSERT_LT(unmerged.area[band], unmerged.area[left]);
+    ASSERT_LT(unmerged.area[band], unmerged.area[right]);
+    ASSERT_GT(unmerged.area[middle], unmerged.area[left]);
+    const double threshold = double(unmerged.area[band]) + 1.0;
+    const SurfaceSegments merged = labelSurface(*graph, {ring(x1), ring(x2), ring(x3)}, threshold);
+    ASSERT_EQ(merged.segmentCount, 3u);
+    expectWellFormed(merged);
+    EXPECT_EQ(merged.nodeLabel[nodeAt(x1 + 4)], merged.nodeLabel[nodeAt(at(0.6))]);
+    EXPECT_NE(merged.nodeLabel[nodeAt(x1 + 4)], merged.nodeLabel[nodeAt(xMin)]);
+}
+
+TEST_F(LabellingOnCapsule, InteriorTakesTheLabelOfItsFeatureVoxel) {
+    const int x1 = at(0.30), x2 = at(0.85);
+    const SurfaceSegments s = labelSurface(*graph, {ring(x1), ring(x2)}, 0.0);
+    const MaskVolume sites = boundaryVoxels(*mask, {false});
+    const Volume<std::uint32_t> ft = featureTransform(sites, {false});
+    const std::vector<std::uint16_t> labelOf = {7, 8, 9};
+    Volume<std::uint16_t> serial(mask->dims(), 0), parallel(mask->dims(), 0);
+    labelInterior(*mask, ft, *graph, s, labelOf, serial, false);
+    labelInterior(*mask, ft, *graph, s, labelOf, parallel, true);
+    EXPECT_EQ(serial.values(), parallel.values());
+    for (std::size_t v = 0; v < mask->size(); ++v) {
+        if (!(*mask)[v]) {
+            ASSERT_EQ(serial[v], 0u);
+            continue;
+        }
+        ASSERT_EQ(serial[v], labelOf[s.nodeLabel[graph->nodeOfVoxel[ft[v]]]]);
+    }
+    // The axis voxel near the left end is in the left segment (label 8).
+    const Dims d = mask->dims();
+    EXPECT_EQ(serial(xMin + 3, d.y / 2, d.z / 2), 8u);
+    EXPECT_EQ(serial(at(0.55), d.y / 2, d.z / 2), 7u);
+}
+
+TEST(SurfaceLabelling, CavitySurfaceJoinsTheLargestSegment) {
+    MaskVolume mask = test::ballMask(Dims{25, 25, 25}, {12, 12, 12}, 11.0);
+    const MaskVolume hole = test::ballMask(Dims{25, 25, 25}, {12, 12, 12}, 4.0);
+    for (std::size_t i = 0; i < mask.size(); ++i)
+        if (hole[i]) mask[i] = 0;
+    const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
+    ASSERT_EQ(graph.componentSize.size(), 2u);
+    const SurfaceSegments s = labelSurface(graph, {}, 0.0);
+    ASSERT_EQ(s.segmentCount, 1u);
+    EXPECT_EQ(s.area[0], graph.nodeCount());
+
+    // With a cut on the outer surface the cavity joins the larger side.
+    std::vector<std::uint32_t> equator;
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
+        if (graph.coord[n].z == 16 && graph.component[n] == 0) equator.push_back(n);
+    const SurfaceSegments cut = labelSurface(graph, {equator}, 0.0);
+    ASSERT_EQ(cut.segmentCount, 2u);
+    const std::uint32_t inner = graph.nodeOfVoxel[mask.index(12, 12, 17)];  // on the cavity wall
+    ASSERT_NE(inner, kNoNode);
+    ASSERT_EQ(graph.component[inner], 1u);
+    EXPECT_EQ(cut.nodeLabel[inner], 0u);
+    EXPECT_EQ(cut.nodeLabel[graph.nodeOfVoxel[mask.index(12, 12, 1)]], 0u);  // south pole: the larger side
+    EXPECT_EQ(cut.nodeLabel[graph.nodeOfVoxel[mask.index(12, 12, 23)]], 1u);
+}
+
+}  // namespace
+}  // namespace skelseg
