@@ -38,7 +38,7 @@ struct PathSetSample {
 
 PathSetSample samplePathSets(const ShapeInput& in, const std::vector<const SkeletonCandidate*>& candidates) {
     PathSetSample sample;
-    GeodesicSearch search(in.graph);
+    GeodesicSearch search(in.graph, &in.landmarks);
     for (const SkeletonCandidate* c : candidates) {
         std::uint32_t a = kNoNode, b = kNoNode;
         sample.sets.push_back(pathSet(in.graph, *c, search, nullptr, &a, &b));
@@ -82,7 +82,19 @@ void skeletonCandidatesBench(benchmark::State& state, const std::string& shape) 
     state.counters["candidates"] = double(stats.candidates);
 }
 
-void geodesicSearchBench(benchmark::State& state, const std::string& shape) {
+void landmarksBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    for (auto _ : state) {
+        Landmarks landmarks = computeLandmarks(in.graph, false);
+        benchmark::DoNotOptimize(landmarks.distance.data());
+    }
+    state.counters["landmarks"] = double(in.landmarks.count);
+    state.counters["nodes"] = double(in.graph.nodeCount());
+}
+
+/// A* on a fixed list of distinct feature pairs; `useLandmarks` as the engine
+/// (true) or with the Euclidean bound alone (false).
+void geodesicSearchBench(benchmark::State& state, const std::string& shape, bool useLandmarks) {
     const ShapeInput& in = shapeInput(shape, int(state.range(0)));
     // A fixed list of distinct feature pairs, in candidate order.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
@@ -94,7 +106,7 @@ void geodesicSearchBench(benchmark::State& state, const std::string& shape) {
                     if (seen.insert({c->feature[i], c->feature[j]}).second) pairs.emplace_back(c->feature[i], c->feature[j]);
         }
     }
-    GeodesicSearch search(in.graph);
+    GeodesicSearch search(in.graph, useLandmarks ? &in.landmarks : nullptr);
     double total = 0.0;
     for (auto _ : state) {
         for (const auto& [a, b] : pairs) total += double(search.shortestPath(a, b));
@@ -168,7 +180,7 @@ void geodesicnessBench(benchmark::State& state, const std::string& shape) {
     const PathSetSample sample = samplePathSets(in, candidates);
     RimCounter rims(in.graph);
     GeodesicnessEvaluator evaluator(in.graph);
-    GeodesicSearch search(in.graph);
+    GeodesicSearch search(in.graph, &in.landmarks);
     double sigmaSum = 0.0;
     for (auto _ : state) {
         for (std::size_t i = 0; i < sampled.size(); ++i) {
@@ -214,7 +226,13 @@ void measureSkeletonBench(benchmark::State& state, const std::string& shape) {
     registerForShapes("FeatureTransform", kLinearSizes, featureTransformBench);
     registerForShapes("BoundaryGraph", kLinearSizes, boundaryGraphBench);
     registerForShapes("SkeletonCandidates", kLinearSizes, skeletonCandidatesBench);
-    registerForShapes("GeodesicSearch", kSizes, geodesicSearchBench);
+    registerForShapes("Landmarks", kSizes, landmarksBench);
+    registerForShapes("GeodesicSearch", kSizes, [](benchmark::State& state, const std::string& shape) {
+        geodesicSearchBench(state, shape, true);
+    });
+    registerForShapes("GeodesicSearchEuclidean", kSizes, [](benchmark::State& state, const std::string& shape) {
+        geodesicSearchBench(state, shape, false);
+    });
     registerForShapes("RimCount", kSizes, rimCountBench);
     registerForShapes("ComponentGrowth", kSizes, componentGrowthBench);
     registerForShapes("Geodesicness", kSizes, geodesicnessBench);

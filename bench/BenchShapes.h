@@ -51,6 +51,7 @@ struct ShapeInput {
     Volume<std::uint32_t> featureTransform;
     BoundaryGraph graph;
     std::vector<SkeletonCandidate> candidates;
+    Landmarks landmarks;  // A* lower bounds, as the engine computes them
     double tau = 0.0, noiseArea = 0.0;
 
     /// Options the engine would pass to measureSkeleton (serial).
@@ -59,6 +60,7 @@ struct ShapeInput {
         o.tau = tau;
         o.noiseArea = noiseArea;
         o.threaded = false;
+        o.landmarks = &landmarks;
         return o;
     }
 
@@ -102,6 +104,7 @@ inline ShapeInput& shapeInput(const std::string& shape, int size) {
         CandidateOptions options;
         options.threaded = false;
         in.candidates = selectSkeletonCandidates(in.mask, in.featureTransform, in.graph, options);
+        in.landmarks = computeLandmarks(in.graph, false);
         in.tau = tauFor(in.graph.nodeCount());
         in.noiseArea = noiseAreaFor(in.graph.nodeCount());
     }

@@ -211,7 +211,13 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
                 candidates = selectSkeletonCandidates(crop, ft, graph, options, &out.candidateStats, interrupter);
             }
             std::vector<SkeletonPoint> points;
+            Landmarks landmarks;
+            {
+                auto t = timer.stage("landmarks", true);
+                landmarks = computeLandmarks(graph, p.threaded);
+            }
             SkeletonMeasureOptions measureOptions;
+            measureOptions.landmarks = &landmarks;
             measureOptions.tau = out.tauArea;
             measureOptions.noiseArea = out.noiseArea;
             measureOptions.threaded = p.threaded;
@@ -246,7 +252,7 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
                     o.exactRhoC = true;
                     return measurePoint(graph, candidates[points[pointIndex].candidate], o, exact) ? exact.rhoC : 0.0;
                 });
-                GeodesicSearch search(graph);
+                GeodesicSearch search(graph, &landmarks);
                 RimCounter rims(graph);
                 for (std::uint32_t node : plan.cutNodes) {
                     const SkeletonPoint& sp = points[skeleton.point[node]];

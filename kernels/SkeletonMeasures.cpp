@@ -123,7 +123,7 @@ std::vector<std::uint32_t> pathSet(const BoundaryGraph& graph, const SkeletonCan
 
 bool measurePoint(const BoundaryGraph& graph, const SkeletonCandidate& candidate, const SkeletonMeasureOptions& options,
                   SkeletonPoint& out) {
-    Workspace ws(graph, nullptr);
+    Workspace ws(graph, options.landmarks);
     return measure(ws, candidate, 0, options, true, out);
 }
 
@@ -137,11 +137,10 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph, const std
     tbb::enumerable_thread_specific<std::unique_ptr<Workspace>> workspaces;
     std::atomic<bool> stop{false};
     std::atomic<std::size_t> done{0};
-    const Landmarks landmarks = options.useLandmarks ? computeLandmarks(graph, options.threaded) : Landmarks{};
 
     auto range = [&](std::size_t begin, std::size_t end) {
         auto& slot = workspaces.local();
-        if (!slot) slot = std::make_unique<Workspace>(graph, &landmarks);
+        if (!slot) slot = std::make_unique<Workspace>(graph, options.landmarks);
         Workspace& ws = *slot;
         for (std::size_t i = begin; i < end; ++i) {
             if ((i & 63) == 0) {

@@ -53,9 +53,11 @@ struct SkeletonMeasureOptions {
     /// Compute rho_C exactly for every point (slower); otherwise growth stops
     /// once the comparison with tau is decided.
     bool exactRhoC = false;
-    /// A* with landmark lower bounds (PathSearch.h); results are the same
-    /// shortest paths up to ties, the work is less on thick and flat parts.
-    bool useLandmarks = true;
+    /// Landmarks for A* (PathSearch.h), or null for the Euclidean bound only.
+    /// They change which of several equally short paths is found, so every
+    /// search of one run (measures, cut loops, exact re-measures) must use
+    /// the same landmarks: pass the same pointer to pathSet().
+    const Landmarks* landmarks = nullptr;
     bool threaded = true;
 };
 

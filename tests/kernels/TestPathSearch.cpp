@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <random>
+#include <set>
 
 #include "tests/kernels/KernelTestSupport.h"
 
@@ -206,6 +207,69 @@ TEST(PathSearch, ShortestPathWithinTakesTheDetour) {
     for (std::uint32_t n : path) EXPECT_TRUE(allowed(n));
     // An end outside the allowed set gives no path.
     EXPECT_EQ(search.shortestPathWithin(node(4, 7, 1), b, allowed, &path), kUnreachable);
+}
+
+TEST_F(PathSearchOnBlob, LandmarkDistancesAreDijkstra) {
+    const Landmarks serial = computeLandmarks(graph, false);
+    ASSERT_GE(serial.count, 2u);
+    ASSERT_LE(serial.count, 14u);
+    ASSERT_EQ(serial.node.size(), serial.count);
+    ASSERT_EQ(serial.distance.size(), std::size_t(serial.count) * graph.nodeCount());
+    EXPECT_EQ(std::set<std::uint32_t>(serial.node.begin(), serial.node.end()).size(), serial.count);
+    GeodesicSearch search(graph);
+    for (std::uint32_t k = 0; k < serial.count; ++k) {
+        const std::vector<float> d = search.distancesFrom(serial.node[k]);
+        for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
+            ASSERT_EQ(serial.distance[std::size_t(n) * serial.count + k], d[n]);
+    }
+    // The extreme node along +x is a landmark.
+    std::uint32_t maxX = 0;
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
+        if (graph.coord[n].x > graph.coord[maxX].x) maxX = n;
+    EXPECT_NE(std::find(serial.node.begin(), serial.node.end(), maxX), serial.node.end());
+    const Landmarks parallel = computeLandmarks(graph, true);
+    EXPECT_EQ(parallel.node, serial.node);
+    EXPECT_EQ(parallel.distance, serial.distance);
+}
+
+TEST_F(PathSearchOnBlob, AStarWithLandmarksEqualsDijkstra) {
+    const Landmarks landmarks = computeLandmarks(graph, false);
+    GeodesicSearch alt(graph, &landmarks), plain(graph);
+    std::vector<std::uint32_t> path;
+    for (std::uint32_t a = 0; a < graph.nodeCount(); a += 3) {
+        const std::vector<float> reference = alt.distancesFrom(a);
+        for (std::uint32_t b = 0; b < graph.nodeCount(); ++b) {
+            const float length = alt.shortestPath(a, b, &path);
+            if (std::fabs(double(length) - double(reference[b])) > 1e-5 * std::max(1.0, double(reference[b])))
+                FAIL() << "A* with landmarks " << length << " != Dijkstra " << reference[b] << " for " << a << " -> " << b;
+            if ((a + b) % 11 == 0) expectValidPath(graph, path, a, b, length);
+            plain.shortestPath(a, b);
+        }
+    }
+    // The landmark bound is at least the Euclidean one, so the search settles
+    // no more nodes than plain A* (up to ties).
+    EXPECT_LE(double(alt.counters.nodesSettled), 1.02 * double(plain.counters.nodesSettled));
+}
+
+TEST(PathSearch, LandmarksOnTwoComponents) {
+    MaskVolume mask(Dims{24, 10, 10}, 0);
+    test::fillBox(mask, {1, 1, 1}, {8, 8, 8});
+    test::fillBox(mask, {12, 2, 2}, {21, 7, 7});
+    const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
+    ASSERT_EQ(graph.componentSize.size(), 2u);
+    const Landmarks landmarks = computeLandmarks(graph, false);
+    GeodesicSearch alt(graph, &landmarks);
+    auto node = [&](int x, int y, int z) { return graph.nodeOfVoxel[mask.index(x, y, z)]; };
+    // Within each component: exact; across: unreachable.
+    for (const auto& [a, b] : std::vector<std::pair<std::uint32_t, std::uint32_t>>{
+             {node(1, 1, 1), node(8, 8, 8)}, {node(12, 2, 2), node(21, 7, 7)}, {node(4, 1, 4), node(4, 8, 4)},
+             {node(12, 4, 2), node(21, 4, 7)}}) {
+        EXPECT_NEAR(alt.shortestPath(a, b), alt.distancesFrom(a)[b], 1e-4);
+    }
+    EXPECT_EQ(alt.shortestPath(node(1, 1, 1), node(21, 7, 7)), kUnreachable);
+    // An empty graph has no landmarks.
+    const BoundaryGraph empty = buildBoundaryGraph(MaskVolume(Dims{3, 3, 3}, 0));
+    EXPECT_EQ(computeLandmarks(empty, false).count, 0u);
 }
 
 TEST_F(PathSearchOnBlob, PathCacheMatchesUncachedAndHitsOnRepeats) {

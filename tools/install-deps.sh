@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs skelseg's build and test dependencies from Debian's packages.
+# Idempotent and quick when everything is already there.
+set -euo pipefail
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libtbb-dev libopenvdb-dev libboost-iostreams-dev zlib1g-dev libeigen3-dev
+  libgtest-dev libbenchmark-dev libbenchmark-tools
+  libcli11-dev nlohmann-json3-dev libfmt-dev libstb-dev
+  clang libclang-rt-14-dev
+  python3-numpy python3-scipy python3-matplotlib
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+echo "install-deps: installing ${missing[*]}"
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
