@@ -221,7 +221,11 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
             scene.triangleLabels.resize(triangleLabels.size());
             for (std::size_t i = 0; i < triangleLabels.size(); ++i) scene.triangleLabels[i] = triangleLabels[i] + 1;
         } else {
-            LabelledSurface surface = extractSegmentSurfaces(result.labels, progress);
+            // A few smoothing passes take the voxel terraces off the picture
+            // and the meshes; the surfaces stay within a voxel of the labels.
+            SegmentSurfaceOptions so;
+            so.smoothingIterations = 10;
+            LabelledSurface surface = extractSegmentSurfaces(result.labels, so, progress);
             std::vector<std::uint32_t> zeroBased(surface.triangleLabels.size());
             for (std::size_t i = 0; i < zeroBased.size(); ++i) zeroBased[i] = surface.triangleLabels[i] - 1;
             writeColouredMeshPly(out.stagingPath("segments.ply"), surface.vertices, surface.triangles, zeroBased);
@@ -236,8 +240,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         scene.title = options.input.filename().string() + "   parts: " + std::to_string(result.segments.size()) +
                       "   tau: " + options.parameters.tau.toString() +
                       (options.parameters.mode == CutMode::Junctions ? "   mode: junctions (RT07)" : "");
-        PreviewOptions po;
-        po.upAxis = meshInput ? 1 : 2;
+        PreviewOptions po;  // default: the longest side of the shape points up
         renderPreviewPng(out.stagingPath("preview.png"), scene, po);
     });
 

@@ -197,13 +197,17 @@ TEST(CutPlacement, MoreThanTwoSimilarDropsOnlyTheLargestRhoC) {
 
 TEST(CutPlacement, EqualRhoCTieKeepsLowestVoxelOnBody) {
     Junction j;
-    for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f});
+    for (int arm = 0; arm < 3; ++arm) {
+        j.setSigma(arm, {0.9f, 0.9f, 0.9f});
+        j.setRhoS(arm, 18.0f);  // all three on the body
+    }
     const std::uint32_t q[3] = {j.armVoxelAtLevel(0, 1), j.armVoxelAtLevel(1, 1), j.armVoxelAtLevel(2, 1)};
     const auto r = place(j, {}, {{q[0], 500.0}, {q[1], 500.0}, {q[2], 500.0}});
     const std::uint32_t lowest = *std::min_element(q, q + 3);
     ASSERT_EQ(r->plan.candidates.size(), 3u);
     for (std::uint32_t v : q) EXPECT_EQ(r->byVoxel.at(v)->onBody, v == lowest) << "voxel " << v;
     EXPECT_EQ(r->cutVoxels.size(), 2u);
+    EXPECT_EQ(r->callbackCalls, 3);
 }
 
 TEST(CutPlacement, JunctionModeCutsAtTheJunction) {
