@@ -101,23 +101,51 @@ std::vector<float> GeodesicSearch::distancesFrom(std::uint32_t source) const {
     return dist;
 }
 
+void PathCache::clearTable() {
+    if (mTable.empty()) mTable.resize(1u << 12);
+    for (Slot& slot : mTable) slot.key = 0;
+    mUsed = 0;
+}
+
+void PathCache::growTable() {
+    std::vector<Slot> old(mTable.size() * 2, Slot{0, Entry{}});
+    old.swap(mTable);
+    const std::size_t mask = mTable.size() - 1;
+    for (const Slot& slot : old) {
+        if (!slot.key) continue;
+        std::size_t i = std::size_t((slot.key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+        while (mTable[i].key) i = (i + 1) & mask;
+        mTable[i] = slot;
+    }
+}
+
 const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a, std::uint32_t b) {
     if (a > b) std::swap(a, b);
     const std::uint64_t key = (std::uint64_t(a) << 32) | b;
-    auto it = mEntries.find(key);
-    if (it != mEntries.end()) {
-        ++hits;
-        return it->second;
+    if (mTable.empty()) clearTable();
+    std::size_t mask = mTable.size() - 1;
+    std::size_t i = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+    while (mTable[i].key) {
+        if (mTable[i].key == key) {
+            ++hits;
+            return mTable[i].entry;
+        }
+        i = (i + 1) & mask;
     }
     ++misses;
     const float length = search.shortestPath(a, b, &mScratch);
     if (mPool.size() + mScratch.size() > mMaxNodes) {
         mPool.clear();
-        mEntries.clear();
+        clearTable();
     }
-    Entry entry{length, std::uint32_t(mPool.size()), std::uint32_t(mScratch.size())};
+    if (2 * (mUsed + 1) > mTable.size()) growTable();
+    mask = mTable.size() - 1;
+    i = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+    while (mTable[i].key) i = (i + 1) & mask;
+    mTable[i] = Slot{key, Entry{length, std::uint32_t(mPool.size()), std::uint32_t(mScratch.size())}};
+    ++mUsed;
     mPool.insert(mPool.end(), mScratch.begin(), mScratch.end());
-    return mEntries.emplace(key, entry).first->second;
+    return mTable[i].entry;
 }
 
 }  // namespace skelseg

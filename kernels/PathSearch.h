@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
-#include <unordered_map>
 #include <vector>
 
 #include "kernels/BoundaryGraph.h"
@@ -114,8 +113,18 @@ public:
     std::uint64_t hits = 0, misses = 0;
 
 private:
+    /// Open addressing with linear probing: the std::unordered_map it
+    /// replaced cost a cache miss per node walk and an allocation per entry.
+    struct Slot {
+        std::uint64_t key;  // 0 = empty (a pair key always has b > a >= 0, so key > 0)
+        Entry entry;
+    };
+    void clearTable();
+    void growTable();
+
     std::size_t mMaxNodes;
-    std::unordered_map<std::uint64_t, Entry> mEntries;
+    std::vector<Slot> mTable;
+    std::size_t mUsed = 0;
     std::vector<std::uint32_t> mPool;
     std::vector<std::uint32_t> mScratch;
 };

@@ -1,18 +1,19 @@
 #include "kernels/RimCount.h"
 
+#include <algorithm>
+
 namespace skelseg {
 
 RimCounter::RimCounter(const BoundaryGraph& graph)
     : mGraph(graph),
-      mPathSet(graph.nodeCount()),
-      mDilated(graph.nodeCount()),
-      mRim(graph.nodeCount()),
+      mState(graph.nodeCount(), 0),
       mPieceOf(graph.nodeCount(), kNoNode) {}
 
 const RimPieces& RimCounter::countRims(const std::vector<std::uint32_t>& pathSet) {
-    mPathSet.nextGeneration();
-    mDilated.nextGeneration();
-    mRim.nextGeneration();
+    if (++mGeneration >= (1u << 29)) {  // stamps are 29 bits: really clear once in a while
+        std::fill(mState.begin(), mState.end(), 0u);
+        mGeneration = 1;
+    }
     mPieceOf.clear();
     RimPieces& r = mResult;
     r.dilated.clear();
@@ -23,17 +24,17 @@ const RimPieces& RimCounter::countRims(const std::vector<std::uint32_t>& pathSet
     const auto& neighbour = mGraph.neighbour;
 
     for (std::uint32_t n : pathSet)
-        if (mPathSet.insert(n) && mDilated.insert(n)) r.dilated.push_back(n);
+        if (setFlag(n, kPathSet) && setFlag(n, kDilated)) r.dilated.push_back(n);
     const std::size_t coreCount = r.dilated.size();
     for (std::size_t i = 0; i < coreCount; ++i) {
         const std::uint32_t n = r.dilated[i];
         for (std::uint32_t e = offset[n]; e < offset[n + 1]; ++e)
-            if (mDilated.insert(neighbour[e])) r.dilated.push_back(neighbour[e]);
+            if (setFlag(neighbour[e], kDilated)) r.dilated.push_back(neighbour[e]);
     }
     for (std::uint32_t n : r.dilated)
         for (std::uint32_t e = offset[n]; e < offset[n + 1]; ++e) {
             const std::uint32_t m = neighbour[e];
-            if (!mDilated.isMarked(m) && mRim.insert(m)) r.rimNodes.push_back(m);
+            if (!(flags(m) & kDilated) && setFlag(m, kRim)) r.rimNodes.push_back(m);
         }
     // Pieces: BFS over rim nodes along graph edges (26-adjacency).
     for (std::uint32_t seed : r.rimNodes) {
@@ -46,7 +47,7 @@ const RimPieces& RimCounter::countRims(const std::vector<std::uint32_t>& pathSet
             const std::uint32_t n = mQueue[head];
             for (std::uint32_t e = offset[n]; e < offset[n + 1]; ++e) {
                 const std::uint32_t m = neighbour[e];
-                if (mRim.isMarked(m) && !mPieceOf.contains(m)) {
+                if ((flags(m) & kRim) && !mPieceOf.contains(m)) {
                     mPieceOf.set(m, piece);
                     mQueue.push_back(m);
                 }

@@ -675,9 +675,9 @@ TEST(Outputs, InputIsNeverModified) {
     const auto timeBefore = fs::last_write_time(input);
     const auto permissionsBefore = fs::status(input).permissions();
     // Output beside the input, a refused second run, a forced third one.
-    EXPECT_EQ(runSegment(input, dir).exitCode, 0);
-    EXPECT_EQ(runSegment(input, dir).exitCode, 2);
-    EXPECT_EQ(runSegment(input, dir, {"--force"}).exitCode, 0);
+    EXPECT_EQ(runSegment(input, dir.path()).exitCode, 0);
+    EXPECT_EQ(runSegment(input, dir.path()).exitCode, 2);
+    EXPECT_EQ(runSegment(input, dir.path(), {"--force"}).exitCode, 0);
     EXPECT_EQ(fileBytes(input), bytesBefore);
     EXPECT_EQ(fs::last_write_time(input), timeBefore);
     EXPECT_EQ(fs::status(input).permissions(), permissionsBefore);
