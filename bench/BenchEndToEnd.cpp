@@ -17,8 +17,10 @@ namespace {
 std::string counterName(const std::string& stage) {
     std::string out = "stage_";
     for (char c : stage) {
-        if (std::isalnum(static_cast<unsigned char>(c))) out += c;
-        else if (out.back() != '_') out += '_';
+        if (std::isalnum(static_cast<unsigned char>(c)))
+            out += c;
+        else if (out.back() != '_')
+            out += '_';
     }
     while (out.back() == '_') out.pop_back();
     return out;
@@ -45,19 +47,21 @@ void segmentVolumeBench(benchmark::State& state, const std::string& shape, bool 
     state.counters["segments"] = double(segments);
     state.counters["cuts"] = double(cuts);
     state.counters["skeletonPoints"] = double(skeletonPoints);
-    state.counters["objectVoxels"] = double(std::count_if(in.mask.values().begin(), in.mask.values().end(),
-                                                          [](std::uint8_t v) { return v != 0; }));
+    state.counters["objectVoxels"] = double(std::count_if(
+        in.mask.values().begin(), in.mask.values().end(), [](std::uint8_t v) { return v != 0; }));
     for (const StageTiming& s : stages) state.counters[counterName(s.name)] = s.wallSeconds;
 }
 
 [[maybe_unused]] const bool kRegistered = [] {
     const std::vector<int> sizes = {64, 128};
-    registerForShapes("SegmentVolume", sizes, [](benchmark::State& state, const std::string& shape) {
-        segmentVolumeBench(state, shape, false);
-    });
-    registerForShapes("SegmentVolumeThreaded", sizes, [](benchmark::State& state, const std::string& shape) {
-        segmentVolumeBench(state, shape, true);
-    });
+    registerForShapes("SegmentVolume", sizes,
+                      [](benchmark::State& state, const std::string& shape) {
+                          segmentVolumeBench(state, shape, false);
+                      });
+    registerForShapes("SegmentVolumeThreaded", sizes,
+                      [](benchmark::State& state, const std::string& shape) {
+                          segmentVolumeBench(state, shape, true);
+                      });
     return true;
 }();
 

@@ -36,7 +36,8 @@ struct PathSetSample {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> realising;
 };
 
-PathSetSample samplePathSets(const ShapeInput& in, const std::vector<const SkeletonCandidate*>& candidates) {
+PathSetSample samplePathSets(const ShapeInput& in,
+                             const std::vector<const SkeletonCandidate*>& candidates) {
     PathSetSample sample;
     GeodesicSearch search(in.graph, &in.landmarks);
     for (const SkeletonCandidate* c : candidates) {
@@ -44,6 +45,28 @@ PathSetSample samplePathSets(const ShapeInput& in, const std::vector<const Skele
         sample.sets.push_back(pathSet(in.graph, *c, search, nullptr, &a, &b));
         sample.realising.emplace_back(a, b);
     }
+    return sample;
+}
+
+/// An evenly spaced sample of the points of C (of C_tau if `simplified`)
+/// with their path sets: the inputs of component growth and sigma.
+struct PointSample {
+    std::vector<const SkeletonPoint*> points;
+    PathSetSample pathSets;
+};
+
+PointSample samplePoints(ShapeInput& in, std::size_t count, bool simplified) {
+    std::vector<const SkeletonPoint*> all;
+    for (const SkeletonPoint& p : in.skeletonPoints())
+        if (!simplified || p.rhoC >= in.tau) all.push_back(&p);
+    PointSample sample;
+    std::vector<const SkeletonCandidate*> candidates;
+    const std::size_t stride = std::max<std::size_t>(1, all.size() / count);
+    for (std::size_t i = stride / 2; i < all.size() && sample.points.size() < count; i += stride) {
+        sample.points.push_back(all[i]);
+        candidates.push_back(&in.candidates[all[i]->candidate]);
+    }
+    sample.pathSets = samplePathSets(in, candidates);
     return sample;
 }
 
@@ -96,14 +119,16 @@ void landmarksBench(benchmark::State& state, const std::string& shape) {
 /// (true) or with the Euclidean bound alone (false).
 void geodesicSearchBench(benchmark::State& state, const std::string& shape, bool useLandmarks) {
     const ShapeInput& in = shapeInput(shape, int(state.range(0)));
-    // A fixed list of distinct feature pairs, in candidate order.
+    // A fixed list of distinct feature pairs spread over the whole shape: the
+    // two farthest-apart features (first and last by node id) of each
+    // candidate of an evenly spaced sample.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
     {
         std::set<std::pair<std::uint32_t, std::uint32_t>> seen;
         for (const SkeletonCandidate* c : in.candidateSample(kPairSample)) {
-            for (std::uint32_t i = 0; i < c->featureCount && pairs.size() < kPairSample; ++i)
-                for (std::uint32_t j = i + 1; j < c->featureCount && pairs.size() < kPairSample; ++j)
-                    if (seen.insert({c->feature[i], c->feature[j]}).second) pairs.emplace_back(c->feature[i], c->feature[j]);
+            const std::pair<std::uint32_t, std::uint32_t> pair{c->feature[0],
+                                                               c->feature[c->featureCount - 1u]};
+            if (seen.insert(pair).second) pairs.push_back(pair);
         }
     }
     GeodesicSearch search(in.graph, useLandmarks ? &in.landmarks : nullptr);
@@ -135,17 +160,14 @@ void rimCountBench(benchmark::State& state, const std::string& shape) {
     state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(sample.sets.size()));
 }
 
-/// Rim test + component growth on the path sets that hold a loop, with the
-/// engine's cap (max(noise area, tau)); the rim test alone is BM_RimCount.
+/// Rim test + component growth on a sample of the points of C (path sets
+/// that hold a loop), with the engine's cap (max(noise area, tau)); the rim
+/// test alone is BM_RimCount.
 void componentGrowthBench(benchmark::State& state, const std::string& shape) {
     ShapeInput& in = shapeInput(shape, int(state.range(0)));
-    const PathSetSample all = samplePathSets(in, in.candidateSample(kPathSetSample));
+    const PointSample sample = samplePoints(in, kPathSetSample, false);
     std::vector<const std::vector<std::uint32_t>*> loops;
-    {
-        RimCounter rims(in.graph);
-        for (const auto& set : all.sets)
-            if (rims.countRims(set).pieceCount >= 2) loops.push_back(&set);
-    }
+    for (const auto& set : sample.pathSets.sets) loops.push_back(&set);
     RimCounter rims(in.graph);
     ComponentGrower grower(in.graph);
     const std::uint64_t cap = std::uint64_t(std::ceil(std::max(in.noiseArea, in.tau)));
@@ -167,17 +189,9 @@ void componentGrowthBench(benchmark::State& state, const std::string& shape) {
 /// Rim test + sigma on a sample of the simplified skeleton's points.
 void geodesicnessBench(benchmark::State& state, const std::string& shape) {
     ShapeInput& in = shapeInput(shape, int(state.range(0)));
-    std::vector<const SkeletonPoint*> points;
-    for (const SkeletonPoint& p : in.skeletonPoints())
-        if (p.rhoC >= in.tau) points.push_back(&p);
-    const std::size_t stride = std::max<std::size_t>(1, points.size() / kSigmaSample);
-    std::vector<const SkeletonCandidate*> candidates;
-    std::vector<const SkeletonPoint*> sampled;
-    for (std::size_t i = stride / 2; i < points.size() && sampled.size() < kSigmaSample; i += stride) {
-        sampled.push_back(points[i]);
-        candidates.push_back(&in.candidates[points[i]->candidate]);
-    }
-    const PathSetSample sample = samplePathSets(in, candidates);
+    const PointSample points = samplePoints(in, kSigmaSample, true);
+    const PathSetSample& sample = points.pathSets;
+    const std::vector<const SkeletonPoint*>& sampled = points.points;
     RimCounter rims(in.graph);
     GeodesicnessEvaluator evaluator(in.graph);
     GeodesicSearch search(in.graph, &in.landmarks);
@@ -185,7 +199,8 @@ void geodesicnessBench(benchmark::State& state, const std::string& shape) {
     for (auto _ : state) {
         for (std::size_t i = 0; i < sampled.size(); ++i) {
             rims.countRims(sample.sets[i]);
-            sigmaSum += evaluator.evaluate(rims, sampled[i]->featureA, sampled[i]->featureB, search).sigma;
+            sigmaSum +=
+                evaluator.evaluate(rims, sampled[i]->featureA, sampled[i]->featureB, search).sigma;
         }
         benchmark::DoNotOptimize(sigmaSum);
     }
@@ -203,12 +218,14 @@ void measureSkeletonBench(benchmark::State& state, const std::string& shape) {
     std::uint64_t hits = 0, misses = 0, rimTests = 0, growth = 0, sigmas = 0, points = 0;
     for (auto _ : state) {
         SkeletonMeasureStats stats;
-        std::vector<SkeletonPoint> result = measureSkeleton(in.graph, in.candidates, options, &stats);
+        std::vector<SkeletonPoint> result =
+            measureSkeleton(in.graph, in.candidates, options, &stats);
         benchmark::DoNotOptimize(result.data());
         total.search += stats.search;
         total.sigmaSearch += stats.sigmaSearch;
         hits += stats.pathCacheHits, misses += stats.pathCacheMisses, rimTests += stats.rimTests;
-        growth += stats.componentGrowthSteps, sigmas += stats.sigmaEvaluations, points += stats.skeletonPoints;
+        growth += stats.componentGrowthSteps, sigmas += stats.sigmaEvaluations,
+            points += stats.skeletonPoints;
     }
     state.counters["candidates"] = double(in.candidates.size());
     state.counters["pairSearches"] = perIteration(double(total.search.searches));
@@ -227,12 +244,14 @@ void measureSkeletonBench(benchmark::State& state, const std::string& shape) {
     registerForShapes("BoundaryGraph", kLinearSizes, boundaryGraphBench);
     registerForShapes("SkeletonCandidates", kLinearSizes, skeletonCandidatesBench);
     registerForShapes("Landmarks", kSizes, landmarksBench);
-    registerForShapes("GeodesicSearch", kSizes, [](benchmark::State& state, const std::string& shape) {
-        geodesicSearchBench(state, shape, true);
-    });
-    registerForShapes("GeodesicSearchEuclidean", kSizes, [](benchmark::State& state, const std::string& shape) {
-        geodesicSearchBench(state, shape, false);
-    });
+    registerForShapes("GeodesicSearch", kSizes,
+                      [](benchmark::State& state, const std::string& shape) {
+                          geodesicSearchBench(state, shape, true);
+                      });
+    registerForShapes("GeodesicSearchEuclidean", kSizes,
+                      [](benchmark::State& state, const std::string& shape) {
+                          geodesicSearchBench(state, shape, false);
+                      });
     registerForShapes("RimCount", kSizes, rimCountBench);
     registerForShapes("ComponentGrowth", kSizes, componentGrowthBench);
     registerForShapes("Geodesicness", kSizes, geodesicnessBench);

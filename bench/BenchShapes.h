@@ -37,9 +37,12 @@ inline const std::vector<std::string>& benchShapes() {
 }
 
 /// tau and the noise area the engine would use (3% of the boundary area).
-inline double tauFor(std::uint64_t boundaryArea) { return 0.03 * double(boundaryArea); }
+inline double tauFor(std::uint64_t boundaryArea) {
+    return 0.03 * double(boundaryArea);
+}
 inline double noiseAreaFor(std::uint64_t boundaryArea) {
-    return std::min(std::max(10.0, 0.002 * double(boundaryArea)), std::max(tauFor(boundaryArea), 1.0));
+    return std::min(std::max(10.0, 0.002 * double(boundaryArea)),
+                    std::max(tauFor(boundaryArea), 1.0));
 }
 
 /// The inputs of one shape at one size. Stages are computed on first use.
@@ -47,7 +50,7 @@ struct ShapeInput {
     std::string shape;
     int size = 0;
     MaskVolume mask;
-    MaskVolume sites;                     // boundary voxels
+    MaskVolume sites;  // boundary voxels
     Volume<std::uint32_t> featureTransform;
     BoundaryGraph graph;
     std::vector<SkeletonCandidate> candidates;
@@ -117,8 +120,9 @@ inline ShapeInput& shapeInput(const std::string& shape, int size) {
 inline void registerForShapes(const std::string& kernel, const std::vector<int>& sizes,
                               std::function<void(benchmark::State&, const std::string&)> body) {
     for (const std::string& shape : benchShapes()) {
-        auto* b = benchmark::RegisterBenchmark(("BM_" + kernel + "/" + shape).c_str(),
-                                               [body, shape](benchmark::State& state) { body(state, shape); });
+        auto* b = benchmark::RegisterBenchmark(
+            ("BM_" + kernel + "/" + shape).c_str(),
+            [body, shape](benchmark::State& state) { body(state, shape); });
         for (int size : sizes) b->Arg(size);
         b->Unit(benchmark::kMillisecond);
     }

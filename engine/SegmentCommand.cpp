@@ -93,7 +93,8 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     {
         std::error_code ec;
         const auto fileSize = fs::is_regular_file(options.input, ec) ? fs::file_size(options.input, ec) : 0;
-        if (!ec && fileSize > memoryLimit)
+        // (Files over kMaxInputFileBytes are bad input whatever the memory: the reader refuses them.)
+        if (!ec && fileSize > memoryLimit && fileSize <= kMaxInputFileBytes)
             throw MemoryLimitError(options.input.string() + ": reading the file needs at least " +
                                    formatBytes(fileSize) + ", over the limit of " + formatBytes(memoryLimit) +
                                    " (--max-memory)");
@@ -131,10 +132,19 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
                 mesh = readMesh(options.input);
             }
             meshDiagnostics = checkMesh(*mesh);
-            for (const auto& w : meshWarnings(meshDiagnostics, options.input.string())) warn(w);
             VoxelizeOptions vo;
             vo.resolution = options.resolution;
-            const VoxelGrid grid = voxelGridFor(*mesh, vo);
+            // The voxeliser's refusals (a grid over the cap, a mesh collapsed
+            // to a point) do not know the file: name it, as every error must.
+            const auto nameTheFile = [&](const UsageError& error) {
+                return UsageError(options.input.string() + ": " + error.what());
+            };
+            VoxelGrid grid;
+            try {
+                grid = voxelGridFor(*mesh, vo);
+            } catch (const UsageError& error) {
+                throw nameTheFile(error);
+            }
             estimatedMemory = estimateSegmentationMemory(grid.dims, grid.dims.voxelCount() / 4, threads) +
                               grid.dims.voxelCount() * 8;  // level set + dense copy while voxelising
             if (estimatedMemory > memoryLimit)
@@ -142,7 +152,13 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
                                        " at resolution " + std::to_string(options.resolution) + ", over the limit of " +
                                        formatBytes(memoryLimit) + " (--max-memory)");
             auto t = timer.stage("voxelise", true);
-            mask = voxelizeMesh(*mesh, vo, progress);
+            try {
+                mask = voxelizeMesh(*mesh, vo, progress);
+            } catch (const UsageError& error) {
+                throw nameTheFile(error);
+            }
+            // Warned only now: a mesh that is refused costs one line, the error.
+            for (const auto& w : meshWarnings(meshDiagnostics, options.input.string())) warn(w);
         } else {
             auto t = timer.stage("read volume", false);
             VolumeReadOptions ro;

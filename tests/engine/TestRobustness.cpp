@@ -3,8 +3,7 @@
 // errors, interrupted runs and existing results behave as documented in
 // docs/robustness.md. The parsers themselves are unit-tested in tests/io and
 // fuzzed in tests/fuzz; here the built `skelseg` runs as a child process.
-// OpenVDB inputs: TestRobustnessVdb.cpp. Degenerate shapes:
-// TestRobustnessShapes.cpp and SlowRobustness.cpp.
+// OpenVDB inputs: TestRobustnessVdb.cpp. Degenerate shapes: SlowRobustness.cpp.
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -240,13 +239,13 @@ std::vector<BadCase> meshCases() {
         bytes("off_counts_negative", "negative.off", "OFF\n-4 4 0\n0 0 0\n", ""),
         bytes("off_no_faces", "nofaces.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n", "no faces"),
         bytes("off_truncated_vertices", "cutv.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n3 0 1 2\n3 0 1 2\n3 0 1 2\n", ""),
-        bytes("off_truncated_faces", "cutf.off", kTetraOff.substr(0, kTetraOff.size() - 16), "file ends after"),
+        bytes("off_truncated_faces", "cutf.off", kTetraOff.substr(0, kTetraOff.size() - 16), "only 40 bytes follow"),
         bytes("off_bad_coordinate", "coord.off", "OFF\n3 1 0\n0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n", "bad coordinate"),
         bytes("off_nan_coordinate", "nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", "non-finite"),
         bytes("off_inf_coordinate", "inf.off", "OFF\n3 1 0\n0 0 0\n1 0 -inf\n0 1 0\n3 0 1 2\n", "non-finite"),
         bytes("off_index_out_of_range", "range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", "references vertex 3"),
         bytes("off_index_negative", "negindex.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n", "references vertex"),
-        bytes("off_face_two_vertices", "twov.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n", "at least 3"),
+        bytes("off_face_two_vertices", "twov.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n# padding, so that the counts fit\n", "at least 3"),
         bytes("off_face_count_lies", "lies.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n5 0 1 2\n", "lists 3 of its 5"),
         bytes("off_face_count_huge", "fhuge.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n", ""),
         // OBJ
@@ -305,7 +304,7 @@ std::vector<BadCase> meshCases() {
               "references vertex 9"),
         bytes("ply_ascii_truncated", "cut.ply", kPlyHeader + kPlyBody.substr(0, 30), ""),
         bytes("ply_ascii_bad_value", "badval.ply", kPlyHeader + "0 0 0\n1 0 0\n0 one 0\n0 0 1\n3 0 2 1\n", "bad"),
-        bytes("ply_binary_truncated", "cutbin.ply", plyBinary, "file ends inside"),
+        bytes("ply_binary_truncated", "cutbin.ply", plyBinary, "claims 4 items"),
     };
 }
 
@@ -478,7 +477,7 @@ INSTANTIATE_TEST_SUITE_P(
                                 "unknown unit"},
                       UsageCase{"max_memory_zero", {"segment", "{input}", "-o", "{out}", "--max-memory", "0"},
                                 "--max-memory"},
-                      UsageCase{"grid_name_for_nrrd", {"segment", "{input}", "-o", "{out}", "--grid", "density"},
+                      UsageCase{"grid_name_for_nrrd", {"segment", "{input}", "-o", "{out}", "--quiet", "--grid", "density"},
                                 "grid name applies only to OpenVDB"},
                       UsageCase{"generate_unknown_shape", {"generate", "teapot", "-o", "{out}.nrrd"}, "teapot"},
                       UsageCase{"generate_bad_extension", {"generate", "sphere", "-o", "{out}.png"}, ".nrrd or .binvox"}),
@@ -537,14 +536,57 @@ TEST(Limits, FileLargerThanMaxMemoryIsRefusedBeforeReading) {
     EXPECT_TRUE(leftNothing(dir / "out"));
 }
 
+TEST(Limits, HugeFileOverMaxMemoryIsRefusedWithoutReadingIt) {
+    TempDir dir;
+    const fs::path input = dir / "sparse.nrrd";
+    writeBytes(input, "NRRD0004\n");
+    fs::resize_file(input, std::uintmax_t(3) << 30);  // 3 GiB, sparse: no disk used
+    const CliResult result = runSegment(input, dir / "out", {"--max-memory", "1G"});
+    EXPECT_TRUE(failsWithOneLine(result, 4, input.string(), "--max-memory"));
+    EXPECT_LT(result.seconds, 20.0);
+    EXPECT_TRUE(leftNothing(dir / "out"));
+}
+
+TEST(Limits, FileOverTheInputCapIsBadInputWhateverTheMemory) {
+    TempDir dir;
+    for (const char* name : {"sparse.nrrd", "sparse.off"}) {
+        const fs::path input = dir / name;
+        writeBytes(input, "NRRD0004\n");
+        fs::resize_file(input, (std::uintmax_t(16) << 30) + 1);  // one byte over 16 GiB, sparse
+        const CliResult result = runSegment(input, dir / "out");
+        EXPECT_TRUE(failsWithOneLine(result, 2, input.string(), "over the limit of 16 GiB"));
+        EXPECT_LT(result.seconds, 20.0);
+        EXPECT_TRUE(leftNothing(dir / "out"));
+    }
+}
+
 TEST(Limits, MaxMemoryIsCheckedBeforeVoxelisingAMesh) {
     TempDir dir;
     const fs::path input = dir / "tetra.off";
     writeBytes(input, kTetraOff);
-    // At --resolution 2048 the grid alone would need gigabytes: refused at once.
-    const CliResult result = runSegment(input, dir / "out", {"--resolution", "2048", "--max-memory", "1M"});
+    // At --resolution 1024 the grid alone would need gigabytes: refused at once.
+    const CliResult result = runSegment(input, dir / "out", {"--resolution", "1024", "--max-memory", "1M"});
     EXPECT_TRUE(failsWithOneLine(result, 4, input.string(), "--max-memory"));
     EXPECT_LT(result.seconds, 20.0);
+    EXPECT_TRUE(leftNothing(dir / "out"));
+}
+
+TEST(Limits, MeshGridOverTheVoxelCapIsRefusedNamingTheFile) {
+    TempDir dir;
+    const fs::path input = dir / "tetra.off";
+    writeBytes(input, kTetraOff);
+    // 2048 voxels along the longest side of a cube-like mesh: over kMaxVoxels.
+    const CliResult result = runSegment(input, dir / "out", {"--resolution", "2048"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, input.string(), "over the limit of 4294967280 voxels"));
+    EXPECT_TRUE(leftNothing(dir / "out"));
+}
+
+TEST(Limits, MeshCollapsedToAPointIsRefusedNamingTheFile) {
+    TempDir dir;
+    const fs::path input = dir / "point.off";
+    writeBytes(input, "OFF\n3 1 0\n1 1 1\n1 1 1\n1 1 1\n3 0 1 2\n");
+    const CliResult result = runSegment(input, dir / "out");
+    EXPECT_TRUE(failsWithOneLine(result, 2, input.string(), "one point"));
     EXPECT_TRUE(leftNothing(dir / "out"));
 }
 

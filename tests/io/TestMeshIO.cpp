@@ -234,6 +234,7 @@ TEST(MeshIO, MalformedInputThrowsInputErrorNamingTheFile) {
         {MeshFormat::Off, "OFF\n99999999999999999999 1 0\n", "expected vertex, face and edge counts"},
         {MeshFormat::Off, "OFF\n3 0 0\n" + v3, "no faces"},
         {MeshFormat::Off, "OFF\n3 1 0\n" + v3Long + "2 0 1\n", "face 0 has 2 vertices"},
+        {MeshFormat::Off, "OFF\n4 4 0\n" + v3 + "0 0 1\n3 0 1 2\n", "header says 4 vertices and 4 faces but only 32 bytes follow"},
         {MeshFormat::Off, "OFF\n3 1 0\n" + v3 + "4 0 1 2\n", "lists 3 of its 4 vertex indices"},
         {MeshFormat::Off, "OFF\n3 1 0\n0 0 nan\n1 0 0\n0 1 0\n3 0 1 2\n", "vertex 0 has a non-finite coordinate"},
         {MeshFormat::Off, "OFF\n3 1 0\n0 0 1x\n1 0 0\n0 1 0\n3 0 1 2\n", "bad coordinate"},

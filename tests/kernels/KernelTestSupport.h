@@ -82,21 +82,24 @@ inline std::uint32_t nearestNode(const BoundaryGraph& graph, std::array<double, 
 
 /// The boundary node nearest to centre + radius * (unit vector at latitude,
 /// longitude given in degrees; latitude measured from the xy plane).
-inline std::uint32_t nodeOnSphere(const BoundaryGraph& graph, std::array<double, 3> centre, double radius,
-                                  double latitudeDeg, double longitudeDeg) {
+inline std::uint32_t nodeOnSphere(const BoundaryGraph& graph, std::array<double, 3> centre,
+                                  double radius, double latitudeDeg, double longitudeDeg) {
     const double lat = latitudeDeg * kPi / 180.0, lon = longitudeDeg * kPi / 180.0;
     return nearestNode(graph, {centre[0] + radius * std::cos(lat) * std::cos(lon),
-                               centre[1] + radius * std::cos(lat) * std::sin(lon), centre[2] + radius * std::sin(lat)});
+                               centre[1] + radius * std::cos(lat) * std::sin(lon),
+                               centre[2] + radius * std::sin(lat)});
 }
 
 /// Union (in order of first appearance, no duplicates) of shortest paths
 /// between consecutive entries of `waypoints` (closed: last -> first too).
-inline std::vector<std::uint32_t> pathThrough(GeodesicSearch& search, const std::vector<std::uint32_t>& waypoints,
+inline std::vector<std::uint32_t> pathThrough(GeodesicSearch& search,
+                                              const std::vector<std::uint32_t>& waypoints,
                                               bool closed) {
     std::vector<std::uint32_t> set, path;
     const std::size_t legs = closed ? waypoints.size() : waypoints.size() - 1;
     for (std::size_t i = 0; i < legs; ++i) {
-        const float length = search.shortestPath(waypoints[i], waypoints[(i + 1) % waypoints.size()], &path);
+        const float length =
+            search.shortestPath(waypoints[i], waypoints[(i + 1) % waypoints.size()], &path);
         EXPECT_NE(length, kUnreachable);
         for (std::uint32_t n : path)
             if (std::find(set.begin(), set.end(), n) == set.end()) set.push_back(n);
@@ -106,7 +109,8 @@ inline std::vector<std::uint32_t> pathThrough(GeodesicSearch& search, const std:
 
 /// Connected components of the graph nodes with allowed(n), by BFS; label
 /// kNoNode elsewhere. Returns the component sizes.
-inline std::vector<std::uint64_t> floodFill(const BoundaryGraph& graph, const std::function<bool(std::uint32_t)>& allowed,
+inline std::vector<std::uint64_t> floodFill(const BoundaryGraph& graph,
+                                            const std::function<bool(std::uint32_t)>& allowed,
                                             std::vector<std::uint32_t>& label) {
     label.assign(graph.nodeCount(), kNoNode);
     std::vector<std::uint64_t> sizes;

@@ -23,8 +23,8 @@ public:
     const Dims& dims() const { return mDims; }
 
     /// Adds (or overwrites) a point; returns its voxel index.
-    std::uint32_t add(std::array<int, 3> p, float rhoS = 10.0f, double rhoC = 1000.0, std::uint8_t robustRims = 2,
-                      float sigma = 0.5f) {
+    std::uint32_t add(std::array<int, 3> p, float rhoS = 10.0f, double rhoC = 1000.0,
+                      std::uint8_t robustRims = 2, float sigma = 0.5f) {
         const std::uint32_t v = voxelIndex(p);
         SkeletonPoint& s = mPoints[v];
         s.voxel = v;
@@ -37,16 +37,20 @@ public:
     }
     /// A straight chain of `length` voxels from `start` in steps of `step`
     /// (26-connected when each step is in {-1,0,1}^3); returns the voxels.
-    std::vector<std::uint32_t> chain(std::array<int, 3> start, std::array<int, 3> step, int length, float rhoS = 10.0f,
-                                     double rhoC = 1000.0) {
+    std::vector<std::uint32_t> chain(std::array<int, 3> start, std::array<int, 3> step, int length,
+                                     float rhoS = 10.0f, double rhoC = 1000.0) {
         std::vector<std::uint32_t> voxels;
         for (int i = 0; i < length; ++i)
-            voxels.push_back(add({start[0] + i * step[0], start[1] + i * step[1], start[2] + i * step[2]}, rhoS, rhoC));
+            voxels.push_back(
+                add({start[0] + i * step[0], start[1] + i * step[1], start[2] + i * step[2]}, rhoS,
+                    rhoC));
         return voxels;
     }
     SkeletonPoint& point(std::uint32_t voxel) { return mPoints.at(voxel); }
     std::uint32_t voxelIndex(std::array<int, 3> p) const {
-        return std::uint32_t(p[0]) + std::uint32_t(mDims.x) * (std::uint32_t(p[1]) + std::uint32_t(mDims.y) * std::uint32_t(p[2]));
+        return std::uint32_t(p[0]) +
+               std::uint32_t(mDims.x) *
+                   (std::uint32_t(p[1]) + std::uint32_t(mDims.y) * std::uint32_t(p[2]));
     }
 
     /// The list in voxel order, with `candidate` set to the list position.

@@ -41,7 +41,8 @@ void expectGraphMatchesReference(const MaskVolume& mask, const BoundaryGraph& gr
     for (int z = 0; z < d.z; ++z)
         for (int y = 0; y < d.y; ++y)
             for (int x = 0; x < d.x; ++x)
-                if (isBoundaryReference(mask, x, y, z)) expected.push_back(std::uint32_t(mask.index(x, y, z)));
+                if (isBoundaryReference(mask, x, y, z))
+                    expected.push_back(std::uint32_t(mask.index(x, y, z)));
     ASSERT_EQ(graph.voxel, expected);
     for (std::uint32_t n = 0; n < graph.nodeCount(); ++n) {
         const Coord c = graph.coord[n];
@@ -59,7 +60,8 @@ void expectGraphMatchesReference(const MaskVolume& mask, const BoundaryGraph& gr
             const std::uint32_t m = graph.neighbour[e];
             ASSERT_LT(m, graph.nodeCount());
             ASSERT_NE(m, n) << "self loop";
-            ASSERT_TRUE(edges.emplace(std::make_pair(n, m), graph.weight[e]).second) << "duplicate edge";
+            ASSERT_TRUE(edges.emplace(std::make_pair(n, m), graph.weight[e]).second)
+                << "duplicate edge";
         }
     std::size_t expectedEdges = 0;
     for (std::uint32_t n = 0; n < graph.nodeCount(); ++n) {
@@ -135,8 +137,8 @@ TEST(BoundaryGraph, DiagonalOnlyBackgroundIsNotBoundary) {
 
 TEST(BoundaryGraph, TwoDisjointBlobsGiveTwoComponents) {
     MaskVolume mask(Dims{24, 12, 10}, 0);
-    test::fillBox(mask, {1, 1, 1}, {6, 8, 7});     // 6x8x7: 336 - 4*6*5 = 216 boundary voxels
-    test::fillBox(mask, {10, 2, 2}, {21, 6, 6});   // 12x5x5: 300 - 10*3*3 = 210 boundary voxels
+    test::fillBox(mask, {1, 1, 1}, {6, 8, 7});    // 6x8x7: 336 - 4*6*5 = 216 boundary voxels
+    test::fillBox(mask, {10, 2, 2}, {21, 6, 6});  // 12x5x5: 300 - 10*3*3 = 210 boundary voxels
     const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
     ASSERT_EQ(graph.componentSize.size(), 2u);
     // Numbered by smallest node id: node 0 lies in the first box (lowest z, y).

@@ -16,11 +16,12 @@ constexpr double kRadius = 12.5;
 
 /// Brute-force reference: flood fill of the surface minus Gamma'. Checks the
 /// grower's areas, the piece -> component map and rho_C.
-void expectMatchesFloodFill(const BoundaryGraph& graph, const RimCounter& rims, const ComponentAreas& areas) {
+void expectMatchesFloodFill(const BoundaryGraph& graph, const RimCounter& rims,
+                            const ComponentAreas& areas) {
     const RimPieces& pieces = rims.result();
     std::vector<std::uint32_t> label;
-    const std::vector<std::uint64_t> sizes =
-        test::floodFill(graph, [&](std::uint32_t n) { return !rims.isInDilated(n); }, label);
+    const std::vector<std::uint64_t> sizes = test::floodFill(
+        graph, [&](std::uint32_t n) { return !rims.isInDilated(n); }, label);
     ASSERT_EQ(areas.componentCount, sizes.size());
     ASSERT_EQ(areas.componentOfPiece.size(), pieces.pieceCount);
     // Pieces map to the same component exactly when their rim nodes lie in
@@ -64,8 +65,9 @@ protected:
     /// a northern cap smaller than the rest for latitude > 0.
     std::vector<std::uint32_t> loopAt(double latitude) const {
         GeodesicSearch search(*graph);
-        return test::pathThrough(search, {at(latitude, 0), at(latitude, 90), at(latitude, 180), at(latitude, 270)},
-                                 true);
+        return test::pathThrough(
+            search, {at(latitude, 0), at(latitude, 90), at(latitude, 180), at(latitude, 270)},
+            true);
     }
     static MaskVolume* mask;
     static BoundaryGraph* graph;
@@ -110,7 +112,8 @@ TEST_F(GrowthOnSphere, RhoCGrowsAsTheLoopMovesTowardTheMiddle) {
 TEST_F(GrowthOnSphere, ThetaGivesThreeComponents) {
     GeodesicSearch search(*graph);
     std::vector<std::uint32_t> theta = loopAt(0.0);
-    for (std::uint32_t n : test::pathThrough(search, {at(0, 0), at(90, 0), at(0, 180)}, false)) theta.push_back(n);
+    for (std::uint32_t n : test::pathThrough(search, {at(0, 0), at(90, 0), at(0, 180)}, false))
+        theta.push_back(n);
     RimCounter rims(*graph);
     ASSERT_EQ(rims.countRims(theta).pieceCount, 3u);
     ComponentGrower grower(*graph);
@@ -153,7 +156,8 @@ TEST_F(GrowthOnSphere, CapGivesALowerBound) {
 TEST_F(GrowthOnSphere, OpenPathHasOneComponent) {
     GeodesicSearch search(*graph);
     RimCounter rims(*graph);
-    ASSERT_EQ(rims.countRims(test::pathThrough(search, {at(0, 0), at(30, 90)}, false)).pieceCount, 1u);
+    ASSERT_EQ(rims.countRims(test::pathThrough(search, {at(0, 0), at(30, 90)}, false)).pieceCount,
+              1u);
     ComponentGrower grower(*graph);
     const ComponentAreas& areas = grower.grow(rims, ComponentGrower::kExactArea);
     ASSERT_EQ(areas.componentCount, 1u);
@@ -183,7 +187,8 @@ TEST(ComponentGrowth, MeridianLoopOnTorusGivesTwoRimsOneComponent) {
     std::vector<std::uint32_t> waypoints;
     for (double theta : {0.0, 90.0, 180.0, 270.0}) {
         const double t = theta * test::kPi / 180.0;
-        waypoints.push_back(test::nearestNode(graph, {17.5 + 11.0 + 5.0 * std::cos(t), 17.5, 7.5 + 5.0 * std::sin(t)}));
+        waypoints.push_back(test::nearestNode(
+            graph, {17.5 + 11.0 + 5.0 * std::cos(t), 17.5, 7.5 + 5.0 * std::sin(t)}));
     }
     GeodesicSearch search(graph);
     const std::vector<std::uint32_t> loop = test::pathThrough(search, waypoints, true);
@@ -210,9 +215,12 @@ TEST(ComponentGrowth, CavityIsNotPartOfTheSurfaceArea) {
     ASSERT_EQ(graph.componentSize.size(), 2u);
     const std::uint64_t outer = graph.componentSize[0];
     GeodesicSearch search(graph);
-    auto at = [&](double lat, double lon) { return test::nodeOnSphere(graph, kCentre, kRadius, lat, lon); };
+    auto at = [&](double lat, double lon) {
+        return test::nodeOnSphere(graph, kCentre, kRadius, lat, lon);
+    };
     RimCounter rims(graph);
-    ASSERT_EQ(rims.countRims(test::pathThrough(search, {at(30, 0), at(30, 90), at(30, 180), at(30, 270)}, true))
+    ASSERT_EQ(rims.countRims(test::pathThrough(
+                                 search, {at(30, 0), at(30, 90), at(30, 180), at(30, 270)}, true))
                   .pieceCount,
               2u);
     ComponentGrower grower(graph);

@@ -30,12 +30,15 @@ struct Junction {
     /// region's voxels and levels past the list get sigma 0.
     void setSigma(int arm, const std::vector<float>& levels) {
         for (std::size_t i = 0; i < arms[arm].size(); ++i) set.point(arms[arm][i]).sigma = 0.0f;
-        for (std::size_t l = 0; l < levels.size(); ++l) set.point(arms[arm][l + 3]).sigma = levels[l];
+        for (std::size_t l = 0; l < levels.size(); ++l)
+            set.point(arms[arm][l + 3]).sigma = levels[l];
     }
     void setRhoS(int arm, float rhoS) {
         for (std::uint32_t v : arms[arm]) set.point(v).rhoS = rhoS;
     }
-    std::uint32_t armVoxelAtLevel(int arm, std::uint32_t level) const { return arms[arm][level + 2]; }
+    std::uint32_t armVoxelAtLevel(int arm, std::uint32_t level) const {
+        return arms[arm][level + 2];
+    }
 };
 
 struct Result {
@@ -55,13 +58,16 @@ std::unique_ptr<Result> place(const Junction& junction, const CutOptions& option
     r->points = junction.set.points();
     r->graph = buildSkeletonGraph(r->points, junction.set.dims(), {});
     Result* raw = r.get();
-    r->plan = placeCuts(r->graph, r->points, options, [raw, &rhoCOfVoxel](std::uint32_t pointIndex) {
-        ++raw->callbackCalls;
-        auto it = rhoCOfVoxel.find(raw->points[pointIndex].voxel);
-        return it == rhoCOfVoxel.end() ? 0.0 : it->second;
-    });
-    for (const CutCandidate& c : r->plan.candidates) r->byVoxel[r->points[r->graph.point[c.node]].voxel] = &c;
-    for (std::uint32_t n : r->plan.cutNodes) r->cutVoxels.push_back(r->points[r->graph.point[n]].voxel);
+    r->plan =
+        placeCuts(r->graph, r->points, options, [raw, &rhoCOfVoxel](std::uint32_t pointIndex) {
+            ++raw->callbackCalls;
+            auto it = rhoCOfVoxel.find(raw->points[pointIndex].voxel);
+            return it == rhoCOfVoxel.end() ? 0.0 : it->second;
+        });
+    for (const CutCandidate& c : r->plan.candidates)
+        r->byVoxel[r->points[r->graph.point[c.node]].voxel] = &c;
+    for (std::uint32_t n : r->plan.cutNodes)
+        r->cutVoxels.push_back(r->points[r->graph.point[n]].voxel);
     std::sort(r->cutVoxels.begin(), r->cutVoxels.end());
     return r;
 }
@@ -101,7 +107,8 @@ TEST(CutPlacement, CandidateIsTheFirstLevelOfAThreeLevelRun) {
 
 TEST(CutPlacement, SingleHighLevelDoesNotCount) {
     Junction j;
-    for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.1f, 0.95f, 0.1f, 0.2f, 0.99f, 0.3f, 0.9f, 0.9f, 0.4f});
+    for (int arm = 0; arm < 3; ++arm)
+        j.setSigma(arm, {0.1f, 0.95f, 0.1f, 0.2f, 0.99f, 0.3f, 0.9f, 0.9f, 0.4f});
     const auto r = place(j);
     EXPECT_TRUE(r->plan.candidates.empty());
     EXPECT_TRUE(r->plan.cutNodes.empty());
@@ -131,7 +138,8 @@ TEST(CutPlacement, ShortBranchYieldsNoCandidate) {
     ASSERT_EQ(plan.junctions.size(), 1u);
     EXPECT_EQ(plan.junctions[0].branches, 3u);
     EXPECT_EQ(plan.candidates.size(), 2u);
-    for (const CutCandidate& c : plan.candidates) EXPECT_NE(points[g.point[c.node]].voxel, shortArm[3]);
+    for (const CutCandidate& c : plan.candidates)
+        EXPECT_NE(points[g.point[c.node]].voxel, shortArm[3]);
 }
 
 TEST(CutPlacement, BestSigmaPerLevelOnAThickBranch) {
@@ -140,7 +148,8 @@ TEST(CutPlacement, BestSigmaPerLevelOnAThickBranch) {
     // Arm 0 gets a parallel twin one voxel above: both voxels of a level are
     // one "point"; the twin carries the high sigma from level 2 on.
     std::vector<std::uint32_t> twin = j.set.chain({23, 22, 2}, {1, 0, 0}, 15, 10.0f, 1000.0);
-    for (std::size_t i = 0; i < twin.size(); ++i) j.set.point(twin[i]).sigma = i >= 4 ? 0.92f : 0.1f;
+    for (std::size_t i = 0; i < twin.size(); ++i)
+        j.set.point(twin[i]).sigma = i >= 4 ? 0.92f : 0.1f;
     for (std::uint32_t v : j.arms[0]) j.set.point(v).sigma = 0.5f;
     j.setRhoS(0, 4.0f);
     for (std::uint32_t v : twin) j.set.point(v).rhoS = 4.0f;
@@ -182,7 +191,8 @@ TEST(CutPlacement, MoreThanTwoSimilarDropsOnlyTheLargestRhoC) {
         j.setSigma(arm, {0.9f, 0.9f, 0.9f, 0.9f});
         j.setRhoS(arm, 20.0f + float(arm));
     }
-    const std::uint32_t q[3] = {j.armVoxelAtLevel(0, 1), j.armVoxelAtLevel(1, 1), j.armVoxelAtLevel(2, 1)};
+    const std::uint32_t q[3] = {j.armVoxelAtLevel(0, 1), j.armVoxelAtLevel(1, 1),
+                                j.armVoxelAtLevel(2, 1)};
     const auto r = place(j, {}, {{q[0], 300.0}, {q[1], 900.0}, {q[2], 600.0}});
     ASSERT_EQ(r->plan.candidates.size(), 3u);
     EXPECT_EQ(r->callbackCalls, 3);
@@ -191,7 +201,8 @@ TEST(CutPlacement, MoreThanTwoSimilarDropsOnlyTheLargestRhoC) {
     EXPECT_TRUE(r->byVoxel.at(q[1])->onBody);
     EXPECT_FALSE(r->byVoxel.at(q[0])->onBody);
     EXPECT_FALSE(r->byVoxel.at(q[2])->onBody);
-    EXPECT_EQ(r->cutVoxels, (std::vector<std::uint32_t>{std::min(q[0], q[2]), std::max(q[0], q[2])}));
+    EXPECT_EQ(r->cutVoxels,
+              (std::vector<std::uint32_t>{std::min(q[0], q[2]), std::max(q[0], q[2])}));
     EXPECT_EQ(r->plan.junctions[0].cuts, 2u);
 }
 
@@ -201,7 +212,8 @@ TEST(CutPlacement, EqualRhoCTieKeepsLowestVoxelOnBody) {
         j.setSigma(arm, {0.9f, 0.9f, 0.9f});
         j.setRhoS(arm, 18.0f);  // all three on the body
     }
-    const std::uint32_t q[3] = {j.armVoxelAtLevel(0, 1), j.armVoxelAtLevel(1, 1), j.armVoxelAtLevel(2, 1)};
+    const std::uint32_t q[3] = {j.armVoxelAtLevel(0, 1), j.armVoxelAtLevel(1, 1),
+                                j.armVoxelAtLevel(2, 1)};
     const auto r = place(j, {}, {{q[0], 500.0}, {q[1], 500.0}, {q[2], 500.0}});
     const std::uint32_t lowest = *std::min_element(q, q + 3);
     ASSERT_EQ(r->plan.candidates.size(), 3u);

@@ -23,7 +23,8 @@ std::vector<std::int64_t> bruteForceSquaredDistance(const MaskVolume& sites) {
     std::vector<std::int64_t> out(sites.size(), -1);
     for (std::size_t i = 0; i < sites.size(); ++i) {
         std::int64_t best = std::numeric_limits<std::int64_t>::max();
-        for (std::uint32_t s : siteList) best = std::min(best, squaredDistance(d, std::uint32_t(i), s));
+        for (std::uint32_t s : siteList)
+            best = std::min(best, squaredDistance(d, std::uint32_t(i), s));
         if (!siteList.empty()) out[i] = best;
     }
     return out;
@@ -45,7 +46,9 @@ void expectExact(const MaskVolume& sites, const Volume<std::uint32_t>& ft) {
             squaredDistance(sites.dims(), std::uint32_t(i), f) != reference[i]) {
             if (wrong < 5)
                 ADD_FAILURE() << "voxel " << i << ": feature " << f << " at squared distance "
-                              << (f < sites.size() ? squaredDistance(sites.dims(), std::uint32_t(i), f) : -1)
+                              << (f < sites.size()
+                                      ? squaredDistance(sites.dims(), std::uint32_t(i), f)
+                                      : -1)
                               << ", nearest site at " << reference[i];
             ++wrong;
         }
@@ -75,8 +78,9 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(RandomCase{{17, 23, 11}, 0.01, 1}, RandomCase{{17, 23, 11}, 0.3, 2},
                       RandomCase{{17, 23, 11}, 0.9, 3}, RandomCase{{23, 11, 17}, 0.003, 4},
                       RandomCase{{11, 17, 23}, 0.05, 5}, RandomCase{{31, 5, 9}, 0.02, 6},
-                      RandomCase{{1, 1, 40}, 0.1, 7}, RandomCase{{40, 1, 1}, 0.1, 8}, RandomCase{{1, 29, 13}, 0.02, 9},
-                      RandomCase{{12, 12, 12}, 0.0015, 10}, RandomCase{{9, 30, 2}, 0.5, 11}));
+                      RandomCase{{1, 1, 40}, 0.1, 7}, RandomCase{{40, 1, 1}, 0.1, 8},
+                      RandomCase{{1, 29, 13}, 0.02, 9}, RandomCase{{12, 12, 12}, 0.0015, 10},
+                      RandomCase{{9, 30, 2}, 0.5, 11}));
 
 TEST(FeatureTransform, NoSiteGivesNoFeatureEverywhere) {
     const MaskVolume sites(Dims{17, 23, 11}, 0);
@@ -130,8 +134,10 @@ TEST(FeatureTransform, SerialEqualsParallelOnLargerVolume) {
         if (sites[i]) siteList.push_back(std::uint32_t(i));
     for (std::size_t i = 0; i < sites.size(); i += 97) {
         std::int64_t best = std::numeric_limits<std::int64_t>::max();
-        for (std::uint32_t s : siteList) best = std::min(best, squaredDistance(sites.dims(), std::uint32_t(i), s));
-        ASSERT_EQ(squaredDistance(sites.dims(), std::uint32_t(i), serial[i]), best) << "voxel " << i;
+        for (std::uint32_t s : siteList)
+            best = std::min(best, squaredDistance(sites.dims(), std::uint32_t(i), s));
+        ASSERT_EQ(squaredDistance(sites.dims(), std::uint32_t(i), serial[i]), best)
+            << "voxel " << i;
     }
 }
 

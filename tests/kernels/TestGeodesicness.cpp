@@ -28,8 +28,9 @@ protected:
     /// with a, b the points at longitudes 0 and 180.
     GeodesicnessResult loopSigma(double latitude) const {
         GeodesicSearch search(*graph);
-        const auto loop =
-            test::pathThrough(search, {at(latitude, 0), at(latitude, 90), at(latitude, 180), at(latitude, 270)}, true);
+        const auto loop = test::pathThrough(
+            search, {at(latitude, 0), at(latitude, 90), at(latitude, 180), at(latitude, 270)},
+            true);
         RimCounter rims(*graph);
         EXPECT_EQ(rims.countRims(loop).pieceCount, 2u);
         GeodesicnessEvaluator evaluator(*graph);
@@ -54,7 +55,8 @@ TEST_F(GeodesicnessOnSphere, GreatCircleIsAGeodesic) {
     const Coord c = graph->coord[r.midpointC], d = graph->coord[r.midpointD];
     EXPECT_NEAR(std::fabs(double(c.y) - kCentre[1]), kRadius, 3.0);
     EXPECT_NEAR(std::fabs(double(d.y) - kCentre[1]), kRadius, 3.0);
-    EXPECT_LT((double(c.y) - kCentre[1]) * (double(d.y) - kCentre[1]), 0.0) << "c and d on the same side";
+    EXPECT_LT((double(c.y) - kCentre[1]) * (double(d.y) - kCentre[1]), 0.0)
+        << "c and d on the same side";
 }
 
 TEST_F(GeodesicnessOnSphere, LoopWithKinksIsLessGeodesic) {
@@ -101,7 +103,8 @@ TEST(Geodesicness, RingAroundACylinderIsAGeodesic) {
     std::vector<std::uint32_t> ring;
     for (double angle : {0.0, 90.0, 180.0, 270.0}) {
         const double t = angle * test::kPi / 180.0;
-        ring.push_back(test::nearestNode(graph, {20.0, 9.0 + 7.0 * std::cos(t), 9.0 + 7.0 * std::sin(t)}));
+        ring.push_back(
+            test::nearestNode(graph, {20.0, 9.0 + 7.0 * std::cos(t), 9.0 + 7.0 * std::sin(t)}));
     }
     GeodesicSearch search(graph);
     RimCounter rims(graph);
@@ -117,7 +120,8 @@ TEST(Geodesicness, RingAroundACylinderIsAGeodesic) {
     for (double angle : {0.0, 90.0, 180.0, 270.0}) {
         const double t = angle * test::kPi / 180.0;
         const double x = (angle == 0.0 || angle == 180.0) ? 14.0 : 26.0;
-        zigzag.push_back(test::nearestNode(graph, {x, 9.0 + 7.0 * std::cos(t), 9.0 + 7.0 * std::sin(t)}));
+        zigzag.push_back(
+            test::nearestNode(graph, {x, 9.0 + 7.0 * std::cos(t), 9.0 + 7.0 * std::sin(t)}));
     }
     ASSERT_EQ(rims.countRims(test::pathThrough(search, zigzag, true)).pieceCount, 2u);
     const GeodesicnessResult slanted = evaluator.evaluate(rims, zigzag[0], zigzag[2], search);

@@ -19,8 +19,8 @@ void expectSameLength(double expected, double actual, const char* what) {
 
 /// The path is a chain of graph edges from `from` to `to` whose weights sum
 /// to `length`.
-void expectValidPath(const BoundaryGraph& graph, const std::vector<std::uint32_t>& path, std::uint32_t from,
-                     std::uint32_t to, float length) {
+void expectValidPath(const BoundaryGraph& graph, const std::vector<std::uint32_t>& path,
+                     std::uint32_t from, std::uint32_t to, float length) {
     ASSERT_FALSE(path.empty());
     EXPECT_EQ(path.front(), from);
     EXPECT_EQ(path.back(), to);
@@ -55,8 +55,10 @@ TEST_F(PathSearchOnBlob, AStarEqualsDijkstraForAllPairs) {
         const std::vector<float> reference = search.distancesFrom(a);
         for (std::uint32_t b = a; b < graph.nodeCount(); ++b) {
             const float length = search.shortestPath(a, b, &path);
-            if (std::fabs(double(length) - double(reference[b])) > 1e-5 * std::max(1.0, double(reference[b]))) {
-                FAIL() << "A* " << length << " != Dijkstra " << reference[b] << " for " << a << " -> " << b;
+            if (std::fabs(double(length) - double(reference[b])) >
+                1e-5 * std::max(1.0, double(reference[b]))) {
+                FAIL() << "A* " << length << " != Dijkstra " << reference[b] << " for " << a
+                       << " -> " << b;
             }
             // Every 7th pair: also the path and the symmetric length.
             if ((a + b) % 7 == 0) {
@@ -123,7 +125,8 @@ TEST(PathSearch, UnreachableAcrossComponents) {
     const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
     ASSERT_EQ(graph.componentSize.size(), 2u);
     GeodesicSearch search(graph);
-    const std::uint32_t a = graph.nodeOfVoxel[mask.index(1, 1, 1)], b = graph.nodeOfVoxel[mask.index(15, 6, 6)];
+    const std::uint32_t a = graph.nodeOfVoxel[mask.index(1, 1, 1)],
+                        b = graph.nodeOfVoxel[mask.index(15, 6, 6)];
     std::vector<std::uint32_t> path = {42};
     EXPECT_EQ(search.shortestPath(a, b, &path), kUnreachable);
     EXPECT_TRUE(path.empty());
@@ -169,7 +172,8 @@ TEST_F(PathSearchOnBlob, ShortestPathWithinRespectsAllowedSet) {
             const std::uint32_t a = pick(rng), b = pick(rng);
             const std::vector<double> reference = test::restrictedDistances(graph, a, allowed);
             const float length = search.shortestPathWithin(a, b, allowed, &path);
-            if (!allowed(a) || !allowed(b) || reference[b] == std::numeric_limits<double>::infinity()) {
+            if (!allowed(a) || !allowed(b) ||
+                reference[b] == std::numeric_limits<double>::infinity()) {
                 EXPECT_EQ(length, kUnreachable);
                 EXPECT_TRUE(path.empty());
                 continue;
@@ -240,8 +244,10 @@ TEST_F(PathSearchOnBlob, AStarWithLandmarksEqualsDijkstra) {
         const std::vector<float> reference = alt.distancesFrom(a);
         for (std::uint32_t b = 0; b < graph.nodeCount(); ++b) {
             const float length = alt.shortestPath(a, b, &path);
-            if (std::fabs(double(length) - double(reference[b])) > 1e-5 * std::max(1.0, double(reference[b])))
-                FAIL() << "A* with landmarks " << length << " != Dijkstra " << reference[b] << " for " << a << " -> " << b;
+            if (std::fabs(double(length) - double(reference[b])) >
+                1e-5 * std::max(1.0, double(reference[b])))
+                FAIL() << "A* with landmarks " << length << " != Dijkstra " << reference[b]
+                       << " for " << a << " -> " << b;
             if ((a + b) % 11 == 0) expectValidPath(graph, path, a, b, length);
             plain.shortestPath(a, b);
         }
@@ -261,9 +267,11 @@ TEST(PathSearch, LandmarksOnTwoComponents) {
     GeodesicSearch alt(graph, &landmarks);
     auto node = [&](int x, int y, int z) { return graph.nodeOfVoxel[mask.index(x, y, z)]; };
     // Within each component: exact; across: unreachable.
-    for (const auto& [a, b] : std::vector<std::pair<std::uint32_t, std::uint32_t>>{
-             {node(1, 1, 1), node(8, 8, 8)}, {node(12, 2, 2), node(21, 7, 7)}, {node(4, 1, 4), node(4, 8, 4)},
-             {node(12, 4, 2), node(21, 4, 7)}}) {
+    for (const auto& [a, b] :
+         std::vector<std::pair<std::uint32_t, std::uint32_t>>{{node(1, 1, 1), node(8, 8, 8)},
+                                                              {node(12, 2, 2), node(21, 7, 7)},
+                                                              {node(4, 1, 4), node(4, 8, 4)},
+                                                              {node(12, 4, 2), node(21, 4, 7)}}) {
         EXPECT_NEAR(alt.shortestPath(a, b), alt.distancesFrom(a)[b], 1e-4);
     }
     EXPECT_EQ(alt.shortestPath(node(1, 1, 1), node(21, 7, 7)), kUnreachable);
@@ -308,7 +316,8 @@ TEST_F(PathSearchOnBlob, PathCacheStaysCorrectWhenItOverflows) {
     PathCache cache(16);
     std::vector<std::uint32_t> path;
     for (std::uint32_t i = 0; i < 50; ++i) {
-        const std::uint32_t a = (i * 37) % graph.nodeCount(), b = (i * 101 + 13) % graph.nodeCount();
+        const std::uint32_t a = (i * 37) % graph.nodeCount(),
+                            b = (i * 101 + 13) % graph.nodeCount();
         const PathCache::Entry& e = cache.path(search, a, b);
         const float reference = plain.shortestPath(std::min(a, b), std::max(a, b), &path);
         EXPECT_EQ(e.length, reference);

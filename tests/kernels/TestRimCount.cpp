@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <random>
 #include <set>
 
 #include "tests/kernels/KernelTestSupport.h"
@@ -40,12 +41,14 @@ MaskVolume* RimsOnSphere::mask = nullptr;
 BoundaryGraph* RimsOnSphere::graph = nullptr;
 
 /// Structural checks of a RimPieces result against its definition.
-void expectConsistent(const BoundaryGraph& graph, const std::vector<std::uint32_t>& pathSet, const RimCounter& counter) {
+void expectConsistent(const BoundaryGraph& graph, const std::vector<std::uint32_t>& pathSet,
+                      const RimCounter& counter) {
     const RimPieces& r = counter.result();
     // Gamma' = Gamma plus its graph neighbours, each once.
     std::set<std::uint32_t> expectedDilated(pathSet.begin(), pathSet.end());
     for (std::uint32_t n : pathSet)
-        for (std::uint32_t e = graph.offset[n]; e < graph.offset[n + 1]; ++e) expectedDilated.insert(graph.neighbour[e]);
+        for (std::uint32_t e = graph.offset[n]; e < graph.offset[n + 1]; ++e)
+            expectedDilated.insert(graph.neighbour[e]);
     const std::set<std::uint32_t> dilated(r.dilated.begin(), r.dilated.end());
     EXPECT_EQ(dilated.size(), r.dilated.size()) << "duplicates in Gamma'";
     EXPECT_EQ(dilated, expectedDilated);
@@ -64,14 +67,17 @@ void expectConsistent(const BoundaryGraph& graph, const std::vector<std::uint32_
     for (std::uint32_t p : r.pieceOfRimNode) EXPECT_LT(p, r.pieceCount);
     // Pieces: 26-connected (graph edges) within a piece, no edge across pieces.
     std::map<std::uint32_t, std::uint32_t> pieceOf;
-    for (std::size_t i = 0; i < r.rimNodes.size(); ++i) pieceOf[r.rimNodes[i]] = r.pieceOfRimNode[i];
+    for (std::size_t i = 0; i < r.rimNodes.size(); ++i)
+        pieceOf[r.rimNodes[i]] = r.pieceOfRimNode[i];
     for (const auto& [n, p] : pieceOf)
         for (std::uint32_t e = graph.offset[n]; e < graph.offset[n + 1]; ++e) {
             auto it = pieceOf.find(graph.neighbour[e]);
-            if (it != pieceOf.end()) EXPECT_EQ(it->second, p) << "adjacent rim nodes in different pieces";
+            if (it != pieceOf.end())
+                EXPECT_EQ(it->second, p) << "adjacent rim nodes in different pieces";
         }
     std::vector<std::uint32_t> label;
-    const auto sizes = test::floodFill(graph, [&](std::uint32_t n) { return pieceOf.count(n) > 0; }, label);
+    const auto sizes = test::floodFill(
+        graph, [&](std::uint32_t n) { return pieceOf.count(n) > 0; }, label);
     EXPECT_EQ(sizes.size(), r.pieceCount);
 }
 
@@ -119,13 +125,36 @@ TEST_F(RimsOnSphere, ThetaHasThreeRims) {
     std::vector<std::uint32_t> theta = equatorLoop(search);
     // Across the northern hemisphere, from one loop point over the pole to
     // the opposite loop point.
-    for (std::uint32_t n : test::pathThrough(search, {at(0, 0), at(90, 0), at(0, 180)}, false)) theta.push_back(n);
+    for (std::uint32_t n : test::pathThrough(search, {at(0, 0), at(90, 0), at(0, 180)}, false))
+        theta.push_back(n);
     RimCounter counter(*graph);
     EXPECT_EQ(counter.countRims(theta).pieceCount, 3u);
     expectConsistent(*graph, theta, counter);
     // Add a path across the southern hemisphere too: four rims.
-    for (std::uint32_t n : test::pathThrough(search, {at(0, 90), at(-90, 0), at(0, 270)}, false)) theta.push_back(n);
+    for (std::uint32_t n : test::pathThrough(search, {at(0, 90), at(-90, 0), at(0, 270)}, false))
+        theta.push_back(n);
     EXPECT_EQ(counter.countRims(theta).pieceCount, 4u);
+}
+
+TEST_F(RimsOnSphere, RandomLoopsHaveTwoRimsAndPathsOne) {
+    // Loops through three points spread around the sphere at random
+    // latitudes: the rims of such geodesic loops are often connected only
+    // through corner (sqrt 3) steps, which 26-adjacency must follow.
+    GeodesicSearch search(*graph);
+    RimCounter counter(*graph);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> latitude(-50.0, 50.0), longitude(0.0, 120.0);
+    for (int trial = 0; trial < 60; ++trial) {
+        const double start = longitude(rng);
+        const std::vector<std::uint32_t> points = {at(latitude(rng), start),
+                                                   at(latitude(rng), start + 120.0),
+                                                   at(latitude(rng), start + 240.0)};
+        const auto loop = test::pathThrough(search, points, true);
+        EXPECT_EQ(counter.countRims(loop).pieceCount, 2u) << "loop " << trial;
+        if (trial % 10 == 0) expectConsistent(*graph, loop, counter);
+        EXPECT_EQ(counter.countRims(test::pathThrough(search, points, false)).pieceCount, 1u)
+            << "path " << trial;
+    }
 }
 
 TEST_F(RimsOnSphere, TrivialSets) {

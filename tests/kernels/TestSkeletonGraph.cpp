@@ -13,7 +13,8 @@ namespace {
 using test::SkeletonPointSet;
 
 /// Graph node of a voxel (or kNoJunction).
-std::uint32_t nodeOf(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points, std::uint32_t voxel) {
+std::uint32_t nodeOf(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                     std::uint32_t voxel) {
     for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
         if (points[g.point[n]].voxel == voxel) return n;
     return kNoJunction;
@@ -49,7 +50,8 @@ TEST(SkeletonGraph, YGivesOneJunctionWithThreeBranches) {
     EXPECT_EQ(j.region.size(), 10u);
     for (const auto& arm : y.arms)
         for (std::size_t i = 0; i < arm.size(); ++i)
-            EXPECT_EQ(g.junctionOf[nodeOf(g, points, arm[i])], i < 3 ? 0u : kNoJunction) << "arm voxel " << i;
+            EXPECT_EQ(g.junctionOf[nodeOf(g, points, arm[i])], i < 3 ? 0u : kNoJunction)
+                << "arm voxel " << i;
     // Three branch pieces of 9 voxels each, one per arm.
     ASSERT_EQ(g.pieceCount, 3u);
     std::set<std::uint32_t> pieces;
@@ -57,7 +59,8 @@ TEST(SkeletonGraph, YGivesOneJunctionWithThreeBranches) {
         const std::uint32_t piece = g.pieceOf[nodeOf(g, points, arm[5])];
         ASSERT_NE(piece, kNoJunction);
         pieces.insert(piece);
-        for (std::size_t i = 3; i < arm.size(); ++i) EXPECT_EQ(g.pieceOf[nodeOf(g, points, arm[i])], piece);
+        for (std::size_t i = 3; i < arm.size(); ++i)
+            EXPECT_EQ(g.pieceOf[nodeOf(g, points, arm[i])], piece);
     }
     EXPECT_EQ(pieces.size(), 3u);
     // CSR and edge list agree; adjacency is symmetric.
@@ -65,8 +68,9 @@ TEST(SkeletonGraph, YGivesOneJunctionWithThreeBranches) {
     for (const auto& e : g.edges) {
         EXPECT_LT(e[0], e[1]);
         auto has = [&](std::uint32_t a, std::uint32_t b) {
-            return std::find(g.neighbour.begin() + g.offset[a], g.neighbour.begin() + g.offset[a + 1], b) !=
-                   g.neighbour.begin() + g.offset[a + 1];
+            return std::find(g.neighbour.begin() + g.offset[a],
+                             g.neighbour.begin() + g.offset[a + 1],
+                             b) != g.neighbour.begin() + g.offset[a + 1];
         };
         EXPECT_TRUE(has(e[0], e[1]));
         EXPECT_TRUE(has(e[1], e[0]));
@@ -136,7 +140,8 @@ TEST(SkeletonGraph, SmallGapIsBridged) {
     EXPECT_EQ(g.edges.size(), 9u + 9u + 1u);
     // The bridge joins the closest pair: the facing chain ends.
     const std::uint32_t a = nodeOf(g, points, endA), b = nodeOf(g, points, startB);
-    EXPECT_NE(std::find(g.edges.begin(), g.edges.end(), std::array<std::uint32_t, 2>{std::min(a, b), std::max(a, b)}),
+    EXPECT_NE(std::find(g.edges.begin(), g.edges.end(),
+                        std::array<std::uint32_t, 2>{std::min(a, b), std::max(a, b)}),
               g.edges.end());
     EXPECT_EQ(g.pieceCount, 1u);  // walks follow the bridge
 }
@@ -173,7 +178,7 @@ TEST(SkeletonGraph, OneBridgePerPairOfParts) {
 TEST(SkeletonGraph, PointsBelowTauAreLeftOut) {
     SkeletonPointSet set(Dims{20, 5, 3});
     set.chain({2, 2, 1}, {1, 0, 0}, 5, 10.0f, 100.0);
-    set.chain({7, 2, 1}, {1, 0, 0}, 5, 10.0f, 40.0);  // below tau
+    set.chain({7, 2, 1}, {1, 0, 0}, 5, 10.0f, 40.0);                      // below tau
     set.add({12, 2, 1}, 10.0f, std::numeric_limits<double>::infinity());  // handle loop: kept
     SkeletonGraphOptions options;
     options.tau = 50.0;
@@ -181,7 +186,8 @@ TEST(SkeletonGraph, PointsBelowTauAreLeftOut) {
     const SkeletonGraph g = buildSkeletonGraph(set.points(), set.dims(), options);
     EXPECT_EQ(g.nodeCount(), 6u);
     EXPECT_EQ(g.pieceCount, 2u);
-    for (std::uint32_t n = 0; n < g.nodeCount(); ++n) EXPECT_GE(set.points()[g.point[n]].rhoC, 50.0);
+    for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
+        EXPECT_GE(set.points()[g.point[n]].rhoC, 50.0);
 }
 
 TEST(SkeletonGraph, EmptyInput) {

@@ -33,10 +33,12 @@ struct Prepared {
     }
     Coord coord(std::uint32_t voxel) const {
         const Dims d = mask.dims();
-        return Coord{int(voxel % std::uint32_t(d.x)), int((voxel / std::uint32_t(d.x)) % std::uint32_t(d.y)),
+        return Coord{int(voxel % std::uint32_t(d.x)),
+                     int((voxel / std::uint32_t(d.x)) % std::uint32_t(d.y)),
                      int(voxel / (std::uint32_t(d.x) * std::uint32_t(d.y)))};
     }
-    SkeletonMeasureOptions options(double tauFraction, bool exact = false, bool threaded = false) const {
+    SkeletonMeasureOptions options(double tauFraction, bool exact = false,
+                                   bool threaded = false) const {
         SkeletonMeasureOptions o;
         o.tau = tauFraction * double(graph.nodeCount());
         o.noiseArea = 10.0;
@@ -57,7 +59,8 @@ const Prepared& prepared(const std::string& shape, int size) {
 
 TEST(SkeletonMeasures, RhoCGrowsFromTheCapsuleTipsToItsMiddle) {
     const Prepared& p = prepared("capsule", 80);  // axis along x
-    const std::vector<SkeletonPoint> points = measureSkeleton(p.graph, p.candidates, p.options(0.0, true));
+    const std::vector<SkeletonPoint> points =
+        measureSkeleton(p.graph, p.candidates, p.options(0.0, true));
     // Largest rho_C per x along the axis.
     std::map<int, double> rhoCAtX;
     for (const SkeletonPoint& s : points) {
@@ -90,7 +93,8 @@ TEST(SkeletonMeasures, RhoCGrowsFromTheCapsuleTipsToItsMiddle) {
 
 TEST(SkeletonMeasures, SigmaIsHighInTheMiddleOfACylinder) {
     const Prepared& p = prepared("cylinder", 80);
-    const std::vector<SkeletonPoint> points = measureSkeleton(p.graph, p.candidates, p.options(0.03));
+    const std::vector<SkeletonPoint> points =
+        measureSkeleton(p.graph, p.candidates, p.options(0.03));
     int xMin = p.mask.dims().x, xMax = 0;
     for (std::uint32_t n = 0; n < p.graph.nodeCount(); ++n)
         xMin = std::min(xMin, p.graph.coord[n].x), xMax = std::max(xMax, p.graph.coord[n].x);
@@ -115,11 +119,13 @@ TEST(SkeletonMeasures, SigmaIsLowNextToTheTJunction) {
     // (radius 0.07) starting inside it at y = 0.1. Limb skeleton points next
     // to the body have kinked loops; further out the loops are straight.
     const Prepared& p = prepared("t-body", 96);
-    const std::vector<SkeletonPoint> points = measureSkeleton(p.graph, p.candidates, p.options(0.03));
+    const std::vector<SkeletonPoint> points =
+        measureSkeleton(p.graph, p.candidates, p.options(0.03));
     const double voxel = p.mask.geometry.voxelSize();
     const auto& origin = p.mask.geometry.origin;
     auto world = [&](const Coord& c) {
-        return std::array<double, 3>{origin[0] + c.x * voxel, origin[1] + c.y * voxel, origin[2] + c.z * voxel};
+        return std::array<double, 3>{origin[0] + c.x * voxel, origin[1] + c.y * voxel,
+                                     origin[2] + c.z * voxel};
     };
     float nearMin = 2.0f, farMax = -1.0f;
     int near = 0, far = 0;
@@ -127,15 +133,18 @@ TEST(SkeletonMeasures, SigmaIsLowNextToTheTJunction) {
         if (s.sigma < 0.0f) continue;  // below tau: no sigma
         const auto w = world(p.coord(s.voxel));
         if (std::fabs(w[0]) > 0.04 || std::fabs(w[2]) > 0.04) continue;  // not on the limb's axis
-        if (w[1] > 0.03 && w[1] < 0.2) ++near, nearMin = std::min(nearMin, s.sigma);  // inside the body, by the junction
-        if (w[1] > 0.45 && w[1] < 0.7) ++far, farMax = std::max(farMax, s.sigma);     // well inside the limb
+        if (w[1] > 0.03 && w[1] < 0.2)
+            ++near, nearMin = std::min(nearMin, s.sigma);  // inside the body, by the junction
+        if (w[1] > 0.45 && w[1] < 0.7)
+            ++far, farMax = std::max(farMax, s.sigma);  // well inside the limb
     }
     ASSERT_GT(near, 3);
     ASSERT_GT(far, 3);
     // The cylinder's value (same resolution class) for comparison.
     const Prepared& cylinder = prepared("cylinder", 80);
     float cylinderSigma = 0.0f;
-    for (const SkeletonPoint& s : measureSkeleton(cylinder.graph, cylinder.candidates, cylinder.options(0.03)))
+    for (const SkeletonPoint& s :
+         measureSkeleton(cylinder.graph, cylinder.candidates, cylinder.options(0.03)))
         cylinderSigma = std::max(cylinderSigma, s.sigma);
     EXPECT_LT(nearMin, 0.8f);
     EXPECT_GE(cylinderSigma - nearMin, 0.15f);
@@ -153,7 +162,8 @@ TEST(SkeletonMeasures, SerialEqualsParallel) {
             measureSkeleton(p.graph, p.candidates, p.options(0.03, false, true), &parallelStats);
         ASSERT_GT(serial.size(), 20u);
         ASSERT_EQ(serial.size(), parallel.size());
-        for (std::size_t i = 0; i < serial.size(); ++i) test::expectSamePoint(serial[i], parallel[i]);
+        for (std::size_t i = 0; i < serial.size(); ++i)
+            test::expectSamePoint(serial[i], parallel[i]);
         EXPECT_EQ(serialStats.skeletonPoints, serial.size());
         EXPECT_EQ(parallelStats.skeletonPoints, parallel.size());
         EXPECT_EQ(serialStats.rimTests, parallelStats.rimTests);
@@ -167,7 +177,8 @@ TEST(SkeletonMeasures, CappedRhoCDecidesTauLikeExact) {
     // The growth cap changes only rho_C's value above tau (a lower bound),
     // never which points are in C, their rims, or the tau decision.
     const Prepared& p = prepared("figure", 64);
-    const SkeletonMeasureOptions cappedOptions = p.options(0.03), exactOptions = p.options(0.03, true);
+    const SkeletonMeasureOptions cappedOptions = p.options(0.03),
+                                 exactOptions = p.options(0.03, true);
     const std::vector<SkeletonPoint> capped = measureSkeleton(p.graph, p.candidates, cappedOptions);
     const std::vector<SkeletonPoint> exact = measureSkeleton(p.graph, p.candidates, exactOptions);
     ASSERT_EQ(capped.size(), exact.size());
@@ -213,9 +224,11 @@ TEST(SkeletonMeasures, PointsAreConsistent) {
         // rho_S is realised by the reported feature pair.
         ASSERT_NE(s.featureA, kNoNode);
         ASSERT_NE(s.featureB, kNoNode);
-        EXPECT_NEAR(search.shortestPath(s.featureA, s.featureB), s.rhoS, 1e-4 * std::max(1.0f, s.rhoS));
+        EXPECT_NEAR(search.shortestPath(s.featureA, s.featureB), s.rhoS,
+                    1e-4 * std::max(1.0f, s.rhoS));
         float rhoS = 0.0f;
-        const std::vector<std::uint32_t> gamma = pathSet(p.graph, p.candidates[s.candidate], search, &rhoS);
+        const std::vector<std::uint32_t> gamma =
+            pathSet(p.graph, p.candidates[s.candidate], search, &rhoS);
         EXPECT_NEAR(rhoS, s.rhoS, 1e-4 * std::max(1.0f, s.rhoS));
         EXPECT_TRUE(std::is_sorted(gamma.begin(), gamma.end()));
     }
@@ -224,7 +237,8 @@ TEST(SkeletonMeasures, PointsAreConsistent) {
 TEST(SkeletonMeasures, TubeOfATorusIsAHandle) {
     // A torus: loops around the tube have two rims bounding one component.
     const Prepared& p = prepared("torus", 56);
-    const std::vector<SkeletonPoint> points = measureSkeleton(p.graph, p.candidates, p.options(0.03, true));
+    const std::vector<SkeletonPoint> points =
+        measureSkeleton(p.graph, p.candidates, p.options(0.03, true));
     int handles = 0;
     for (const SkeletonPoint& s : points)
         if (s.isHandle) {
@@ -260,7 +274,8 @@ TEST_P(MeasurePointAgreement, MeasurePointEqualsMeasureSkeletonWithExactRhoC) {
 
 INSTANTIATE_TEST_SUITE_P(Landmarks, MeasurePointAgreement, ::testing::Values(false, true),
                          [](const ::testing::TestParamInfo<bool>& info) {
-                             return info.param ? std::string("WithLandmarks") : std::string("WithoutLandmarks");
+                             return info.param ? std::string("WithLandmarks")
+                                               : std::string("WithoutLandmarks");
                          });
 
 }  // namespace

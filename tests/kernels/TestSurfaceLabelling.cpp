@@ -48,11 +48,12 @@ protected:
             ++count[label];
         }
         EXPECT_EQ(count, s.area);
-        EXPECT_TRUE(std::is_sorted(s.area.begin(), s.area.end(), std::greater<>())) << "ids not by decreasing area";
+        EXPECT_TRUE(std::is_sorted(s.area.begin(), s.area.end(), std::greater<>()))
+            << "ids not by decreasing area";
         for (std::uint32_t label = 0; label < s.segmentCount; ++label) {
             std::vector<std::uint32_t> components;
-            const auto sizes =
-                test::floodFill(*graph, [&](std::uint32_t n) { return s.nodeLabel[n] == label; }, components);
+            const auto sizes = test::floodFill(
+                *graph, [&](std::uint32_t n) { return s.nodeLabel[n] == label; }, components);
             EXPECT_EQ(sizes.size(), 1u) << "segment " << label << " is not connected";
         }
     }
@@ -122,7 +123,8 @@ TEST_F(LabellingOnCapsule, SmallBandMergesIntoItsLargestNeighbour) {
     const SurfaceSegments unmerged = labelSurface(*graph, {ring(x1), ring(x2), ring(x3)}, 0.0);
     ASSERT_EQ(unmerged.segmentCount, 4u);
     const std::uint32_t band = unmerged.nodeLabel[nodeAt(x1 + 4)];
-    const std::uint32_t left = unmerged.nodeLabel[nodeAt(xMin)], middle = unmerged.nodeLabel[nodeAt(at(0.6))],
+    const std::uint32_t left = unmerged.nodeLabel[nodeAt(xMin)],
+                        middle = unmerged.nodeLabel[nodeAt(at(0.6))],
                         right = unmerged.nodeLabel[nodeAt(xMax)];
     ASSERT_LT(unmerged.area[band], unmerged.area[left]);
     ASSERT_LT(unmerged.area[band], unmerged.area[right]);
@@ -158,6 +160,51 @@ TEST_F(LabellingOnCapsule, InteriorTakesTheLabelOfItsFeatureVoxel) {
     EXPECT_EQ(serial(at(0.55), d.y / 2, d.z / 2), 7u);
 }
 
+TEST(SurfaceLabelling, GeodesicLoopSeparatesTheSphere) {
+    // A loop of shortest paths takes diagonal steps: 26-connected regions on
+    // either side touch through them unless the loop is dilated.
+    const std::array<double, 3> centre{15.0, 15.0, 15.0};
+    const MaskVolume mask = test::ballMask(Dims{31, 31, 31}, centre, 12.5);
+    const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
+    GeodesicSearch search(graph);
+    std::vector<std::uint32_t> points;
+    for (double longitude : {10.0, 100.0, 190.0, 280.0})
+        points.push_back(test::nodeOnSphere(graph, centre, 12.5, 35.0, longitude));
+    const std::vector<std::uint32_t> loop = test::pathThrough(search, points, true);
+    const SurfaceSegments s = labelSurface(graph, {loop}, 0.0);
+    ASSERT_EQ(s.segmentCount, 2u);
+    const std::uint32_t north = test::nodeOnSphere(graph, centre, 12.5, 90.0, 0.0);
+    const std::uint32_t south = test::nodeOnSphere(graph, centre, 12.5, -90.0, 0.0);
+    EXPECT_EQ(s.nodeLabel[north], 1u);  // the cap is the smaller side
+    EXPECT_EQ(s.nodeLabel[south], 0u);
+    EXPECT_GT(s.area[0], 2 * s.area[1]);
+    EXPECT_EQ(s.area[0] + s.area[1], graph.nodeCount());
+}
+
+TEST(SurfaceLabelling, DiagonalCutSeparatesABox) {
+    // The plane x + y = 25 meets the top and bottom faces of a box in
+    // diagonal staircases: the nodes on either side of such a staircase are
+    // 26-neighbours, so only the dilated cut separates the two halves.
+    MaskVolume mask(Dims{26, 26, 26}, 0);
+    test::fillBox(mask, {3, 3, 3}, {22, 22, 22});
+    const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
+    std::vector<std::uint32_t> cut;
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
+        if (graph.coord[n].x + graph.coord[n].y == 25) cut.push_back(n);
+    const SurfaceSegments s = labelSurface(graph, {cut}, 0.0);
+    ASSERT_EQ(s.segmentCount, 2u);
+    const std::uint32_t low = graph.nodeOfVoxel[mask.index(3, 3, 12)],
+                        high = graph.nodeOfVoxel[mask.index(22, 22, 12)];
+    EXPECT_NE(s.nodeLabel[low], s.nodeLabel[high]);
+    // Symmetric halves: equal areas up to the shared-out cut band.
+    EXPECT_LT(double(s.area[0]) - double(s.area[1]), 0.2 * double(graph.nodeCount()));
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n) {
+        const int sum = graph.coord[n].x + graph.coord[n].y;
+        if (sum < 23) EXPECT_EQ(s.nodeLabel[n], s.nodeLabel[low]);
+        if (sum > 27) EXPECT_EQ(s.nodeLabel[n], s.nodeLabel[high]);
+    }
+}
+
 TEST(SurfaceLabelling, CavitySurfaceJoinsTheLargestSegment) {
     MaskVolume mask = test::ballMask(Dims{25, 25, 25}, {12, 12, 12}, 11.0);
     const MaskVolume hole = test::ballMask(Dims{25, 25, 25}, {12, 12, 12}, 4.0);
@@ -179,7 +226,8 @@ TEST(SurfaceLabelling, CavitySurfaceJoinsTheLargestSegment) {
     ASSERT_NE(inner, kNoNode);
     ASSERT_EQ(graph.component[inner], 1u);
     EXPECT_EQ(cut.nodeLabel[inner], 0u);
-    EXPECT_EQ(cut.nodeLabel[graph.nodeOfVoxel[mask.index(12, 12, 1)]], 0u);  // south pole: the larger side
+    EXPECT_EQ(cut.nodeLabel[graph.nodeOfVoxel[mask.index(12, 12, 1)]],
+              0u);  // south pole: the larger side
     EXPECT_EQ(cut.nodeLabel[graph.nodeOfVoxel[mask.index(12, 12, 23)]], 1u);
 }
 
