@@ -199,8 +199,8 @@ void geodesicnessBench(benchmark::State& state, const std::string& shape) {
     for (auto _ : state) {
         for (std::size_t i = 0; i < sampled.size(); ++i) {
             rims.countRims(sample.sets[i]);
-            sigmaSum +=
-                evaluator.evaluate(rims, sampled[i]->featureA, sampled[i]->featureB, search).sigma;
+            sigmaSum += double(
+                evaluator.evaluate(rims, sampled[i]->featureA, sampled[i]->featureB, search).sigma);
         }
         benchmark::DoNotOptimize(sigmaSum);
     }

@@ -208,6 +208,7 @@ def benchmark_model(args, skelseg, psb, out, model, category):
     if proc.returncode != 0:
         record["error"] = last_line(proc.stderr) or last_line(proc.stdout)
         record["ok"] = False
+        record["timed_out"] = proc.returncode == 3 and args.time_limit is not None
         model_out.mkdir(parents=True, exist_ok=True)
         cached.write_text(json.dumps(record, indent=2) + "\n")
         return record
@@ -303,12 +304,15 @@ def markdown_table(records, args):
              f"{fmt(s['every_face']['hamming_distance'])}"
         within = "-" if s["parts_within_2x"] is None else \
             f"{round(s['parts_within_2x'] * s['models'])}/{s['models']}"
-        lines.append(f"| {label} | {models_text} | {ri} | {hd} | {parts_text} | {within} | {fmt(s['seconds'], 1)} |")
+        seconds = fmt(s["seconds"], 1)
+        if any(r.get("timed_out") for r in recs):
+            seconds = "> " + seconds  # a timed-out model counts with its time limit
+        lines.append(f"| {label} | {models_text} | {ri} | {hd} | {parts_text} | {within} | {seconds} |")
 
     def parts_cell(recs):
         cells = []
         for r in recs:
-            found = fmt_count(r.get("parts")) if r.get("ok") else "failed"
+            found = fmt_count(r.get("parts")) if r.get("ok") else ("timeout" if r.get("timed_out") else "failed")
             cells.append(f"{found} / {fmt_count(r.get('human_median_parts'))}")
         return ", ".join(cells)
 
@@ -336,6 +340,9 @@ def markdown_table(records, args):
         "(a failed model counts as outside). Seconds: wall time of `skelseg segment` per model "
         "(voxelisation, segmentation, face labels, all outputs and the preview).",
     ]
+    if args.time_limit is not None:
+        notes.append(f"Each model had a time limit of {args.time_limit:g} s (`--time-limit`); a model that "
+                     "reached it counts as failed and is left out of our means (the baselines keep it).")
     failed = [r for r in records if not r.get("ok")]
     if failed:
         notes.append("")

@@ -121,6 +121,13 @@ void PathCache::growTable() {
 
 const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a, std::uint32_t b) {
     if (a > b) std::swap(a, b);
+    if (a == b) {  // key 0 marks empty slots; a point pair needs no search anyway
+        ++hits;
+        mScratch.assign(1, a);
+        mPool.push_back(a);
+        mSelf = Entry{0.0f, std::uint32_t(mPool.size() - 1), 1};
+        return mSelf;
+    }
     const std::uint64_t key = (std::uint64_t(a) << 32) | b;
     if (mTable.empty()) clearTable();
     std::size_t mask = mTable.size() - 1;

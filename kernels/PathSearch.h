@@ -125,6 +125,7 @@ private:
     std::size_t mMaxNodes;
     std::vector<Slot> mTable;
     std::size_t mUsed = 0;
+    Entry mSelf{};
     std::vector<std::uint32_t> mPool;
     std::vector<std::uint32_t> mScratch;
 };

@@ -14,6 +14,9 @@
 // three or more robust rims. When fewer distinct components than counting
 // rims exist, Gamma(p) holds a loop around a handle (genus > 0): such points
 // get rho_C = infinity (isHandle) so that tunnels keep their loop skeleton.
+// isHandle is exact only with exactRhoC: under the growth cap the two fronts
+// of a long handle loop usually stop at the cap before they meet; the point
+// then keeps a finite rho_C bound >= tau, so C_tau is the same either way.
 //
 // Results depend only on the input, never on the thread count: each path is a
 // function of its feature pair (PathSearch.h), and results are written per

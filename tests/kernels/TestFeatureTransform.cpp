@@ -120,7 +120,9 @@ TEST(FeatureTransform, BoundarySitesOfAShape) {
     EXPECT_EQ(serial.values(), featureTransform(sites, {true}).values());
     // Boundary voxels are their own feature.
     for (std::size_t i = 0; i < sites.size(); ++i)
-        if (sites[i]) ASSERT_EQ(serial[i], std::uint32_t(i));
+        if (sites[i]) {
+            ASSERT_EQ(serial[i], std::uint32_t(i));
+        }
 }
 
 TEST(FeatureTransform, SerialEqualsParallelOnLargerVolume) {

@@ -72,8 +72,9 @@ void expectConsistent(const BoundaryGraph& graph, const std::vector<std::uint32_
     for (const auto& [n, p] : pieceOf)
         for (std::uint32_t e = graph.offset[n]; e < graph.offset[n + 1]; ++e) {
             auto it = pieceOf.find(graph.neighbour[e]);
-            if (it != pieceOf.end())
+            if (it != pieceOf.end()) {
                 EXPECT_EQ(it->second, p) << "adjacent rim nodes in different pieces";
+            }
         }
     std::vector<std::uint32_t> label;
     const auto sizes = test::floodFill(
@@ -109,8 +110,12 @@ TEST_F(RimsOnSphere, ClosedLoopHasTwoRims) {
     const std::uint32_t north = r.pieceOfRimNode[std::size_t(northIt - r.rimNodes.begin())];
     for (std::size_t i = 0; i < r.rimNodes.size(); ++i) {
         const int z = graph->coord[r.rimNodes[i]].z;
-        if (z > 16) EXPECT_EQ(r.pieceOfRimNode[i], north);
-        if (z < 14) EXPECT_NE(r.pieceOfRimNode[i], north);
+        if (z > 16) {
+            EXPECT_EQ(r.pieceOfRimNode[i], north);
+        }
+        if (z < 14) {
+            EXPECT_NE(r.pieceOfRimNode[i], north);
+        }
     }
     // A tilted loop through three points, and one with duplicates in the set.
     const auto tilted = test::pathThrough(search, {at(30, 0), at(-30, 120), at(10, 240)}, true);

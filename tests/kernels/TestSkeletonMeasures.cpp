@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <algorithm>
 #include <limits>
 #include <map>
@@ -214,22 +216,26 @@ TEST(SkeletonMeasures, PointsAreConsistent) {
         const SkeletonPoint& s = points[i];
         ASSERT_LT(s.candidate, p.candidates.size());
         EXPECT_EQ(p.candidates[s.candidate].voxel, s.voxel);
-        if (i) EXPECT_GT(s.candidate, previous) << "not in candidate order";
+        if (i) {
+            EXPECT_GT(s.candidate, previous) << "not in candidate order";
+        }
         previous = s.candidate;
         EXPECT_GE(s.rims, 2u);
         EXPECT_LE(s.robustRims, s.rims);
         EXPECT_EQ(s.sigma >= 0.0f, s.rhoC >= options.tau) << "sigma computed exactly for C_tau";
         EXPECT_LE(s.sigma, 1.0f);
-        if (s.robustRims >= 3) EXPECT_GE(s.rhoC, options.tau);
+        if (s.robustRims >= 3) {
+            EXPECT_GE(s.rhoC, options.tau);
+        }
         // rho_S is realised by the reported feature pair.
         ASSERT_NE(s.featureA, kNoNode);
         ASSERT_NE(s.featureB, kNoNode);
         EXPECT_NEAR(search.shortestPath(s.featureA, s.featureB), s.rhoS,
-                    1e-4 * std::max(1.0f, s.rhoS));
+                    1e-4 * double(std::max(1.0f, s.rhoS)));
         float rhoS = 0.0f;
         const std::vector<std::uint32_t> gamma =
             pathSet(p.graph, p.candidates[s.candidate], search, &rhoS);
-        EXPECT_NEAR(rhoS, s.rhoS, 1e-4 * std::max(1.0f, s.rhoS));
+        EXPECT_NEAR(rhoS, s.rhoS, 1e-4 * double(std::max(1.0f, s.rhoS)));
         EXPECT_TRUE(std::is_sorted(gamma.begin(), gamma.end()));
     }
 }
@@ -246,6 +252,44 @@ TEST(SkeletonMeasures, TubeOfATorusIsAHandle) {
             EXPECT_EQ(s.rhoC, std::numeric_limits<double>::infinity());
         }
     EXPECT_GT(handles, 20);
+}
+
+TEST(SkeletonMeasures, HandleLoopsStayInCTauWithTheGrowthCap) {
+    // With the engine's growth cap the two fronts of a handle loop may stop
+    // before they meet; the point must still be kept, with the same rims.
+    const Prepared& p = prepared("torus", 56);
+    const SkeletonMeasureOptions cappedOptions = p.options(0.03),
+                                 exactOptions = p.options(0.03, true);
+    const std::vector<SkeletonPoint> capped = measureSkeleton(p.graph, p.candidates, cappedOptions);
+    const std::vector<SkeletonPoint> exact = measureSkeleton(p.graph, p.candidates, exactOptions);
+    ASSERT_EQ(capped.size(), exact.size());
+    for (std::size_t i = 0; i < capped.size(); ++i) {
+        ASSERT_EQ(capped[i].voxel, exact[i].voxel);
+        EXPECT_EQ(capped[i].rhoC >= cappedOptions.tau, exact[i].rhoC >= exactOptions.tau);
+        EXPECT_EQ(capped[i].robustRims, exact[i].robustRims);
+        EXPECT_EQ(capped[i].rims, exact[i].rims);
+    }
+}
+
+TEST(SkeletonMeasures, HandleFlagIsExactOnlyWithExactAreas) {
+    // SkeletonMeasures.h: isHandle is decided exactly with exactRhoC; with the
+    // growth cap (the engine's default) the two fronts of a handle loop stop
+    // at the cap before they meet, so the point is not flagged but keeps a
+    // rho_C bound >= tau: membership in C_tau is the same either way.
+    const Prepared& p = prepared("torus", 56);
+    const SkeletonMeasureOptions cappedOptions = p.options(0.03);
+    const std::vector<SkeletonPoint> capped = measureSkeleton(p.graph, p.candidates, cappedOptions);
+    const std::vector<SkeletonPoint> exact = measureSkeleton(p.graph, p.candidates, p.options(0.03, true));
+    ASSERT_EQ(capped.size(), exact.size());
+    int flaggedExact = 0;
+    for (std::size_t i = 0; i < capped.size(); ++i) {
+        flaggedExact += exact[i].isHandle;
+        if (exact[i].isHandle) {
+            EXPECT_TRUE(std::isinf(exact[i].rhoC));
+            EXPECT_GE(capped[i].rhoC, cappedOptions.tau) << "a handle loop must stay in C_tau under the cap";
+        }
+    }
+    EXPECT_GT(flaggedExact, 20);
 }
 
 class MeasurePointAgreement : public ::testing::TestWithParam<bool> {};
@@ -273,9 +317,9 @@ TEST_P(MeasurePointAgreement, MeasurePointEqualsMeasureSkeletonWithExactRhoC) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Landmarks, MeasurePointAgreement, ::testing::Values(false, true),
-                         [](const ::testing::TestParamInfo<bool>& info) {
-                             return info.param ? std::string("WithLandmarks")
-                                               : std::string("WithoutLandmarks");
+                         [](const ::testing::TestParamInfo<bool>& param) {
+                             return param.param ? std::string("WithLandmarks")
+                                                : std::string("WithoutLandmarks");
                          });
 
 }  // namespace

@@ -88,9 +88,15 @@ TEST_F(LabellingOnCapsule, TwoCutsGiveThreeSegmentsByDecreasingArea) {
     // Every node away from the cuts has the label of its side.
     for (std::uint32_t n = 0; n < graph->nodeCount(); ++n) {
         const int x = graph->coord[n].x;
-        if (x < x1 - 1) EXPECT_EQ(s.nodeLabel[n], left);
-        if (x > x1 + 1 && x < x2 - 1) EXPECT_EQ(s.nodeLabel[n], middle);
-        if (x > x2 + 1) EXPECT_EQ(s.nodeLabel[n], right);
+        if (x < x1 - 1) {
+            EXPECT_EQ(s.nodeLabel[n], left);
+        }
+        if (x > x1 + 1 && x < x2 - 1) {
+            EXPECT_EQ(s.nodeLabel[n], middle);
+        }
+        if (x > x2 + 1) {
+            EXPECT_EQ(s.nodeLabel[n], right);
+        }
     }
     // The cut band (ring dilated by one step) is shared out to the sides.
     std::uint64_t leftOfCut = 0;
@@ -200,8 +206,12 @@ TEST(SurfaceLabelling, DiagonalCutSeparatesABox) {
     EXPECT_LT(double(s.area[0]) - double(s.area[1]), 0.2 * double(graph.nodeCount()));
     for (std::uint32_t n = 0; n < graph.nodeCount(); ++n) {
         const int sum = graph.coord[n].x + graph.coord[n].y;
-        if (sum < 23) EXPECT_EQ(s.nodeLabel[n], s.nodeLabel[low]);
-        if (sum > 27) EXPECT_EQ(s.nodeLabel[n], s.nodeLabel[high]);
+        if (sum < 23) {
+            EXPECT_EQ(s.nodeLabel[n], s.nodeLabel[low]);
+        }
+        if (sum > 27) {
+            EXPECT_EQ(s.nodeLabel[n], s.nodeLabel[high]);
+        }
     }
 }
 
