@@ -28,11 +28,11 @@ tools/run-benchmarks.sh build-ci
 
 if [ "${SKELSEG_CI_ASAN:-1}" != "0" ]; then
   stamp "unit tests under ASan+UBSan"
-  tools/run-asan-tests.sh
+  JOBS="$jobs" tools/run-asan-tests.sh
 fi
 if [ "${SKELSEG_FUZZ_SECONDS:-30}" != "0" ]; then
   stamp "fuzzing"
-  tools/run-fuzzers.sh "${SKELSEG_FUZZ_SECONDS:-30}"
+  JOBS="$jobs" tools/run-fuzzers.sh "${SKELSEG_FUZZ_SECONDS:-30}"
 fi
 
 stamp "slow tests"
