@@ -67,7 +67,17 @@ int main(int argc, char** argv) {
         ->capture_default_str()->check(CLI::Range(8, 2048));
     segment->add_option("--grid", seg.gridName, "VDB input: name of the grid to read (default: the first)");
     segment->add_option("--time-limit", seg.timeLimitSeconds, "Stop after this many seconds (exit code 3, no output)")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                try {
+                    std::size_t used = 0;
+                    const double seconds = std::stod(text, &used);
+                    if (used == text.size() && seconds > 0 && seconds < 1e9) return {};
+                } catch (const std::exception&) {
+                }
+                return "'" + text + "' is not a positive number of seconds";
+            },
+            "SECONDS"));
     segment->add_option("--max-memory", maxMemoryText, "Refuse runs estimated to need more (e.g. 4G; default 75% of RAM)");
     segment->add_flag("--force", seg.force, "Replace results of an earlier run in the output directory");
     segment->add_flag("--quiet,-q", quiet, "No progress output (warnings and errors are still printed)");

@@ -36,7 +36,11 @@ bool isSpace(char c) noexcept { return isBlank(c) || c == '\n'; }
 /// Shortens a token for an error message (garbage input can hold anything).
 std::string quoted(std::string_view token) {
     std::string out;
-    for (char c : token.substr(0, 40)) out += (static_cast<unsigned char>(c) < 32 || c == 127) ? '?' : c;
+    // Printable ASCII only: garbage bytes must not reach the terminal.
+    for (char c : token.substr(0, 40)) {
+        const auto byte = static_cast<unsigned char>(c);
+        out += (byte < 32 || byte >= 127) ? '?' : c;
+    }
     if (token.size() > 40) out += "...";
     return "'" + out + "'";
 }
@@ -206,7 +210,7 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
         // The prefix is case-sensitive: 'N' = normals, 'n' = dimension given.
         const std::string_view prefix = keyword.substr(0, keyword.size() - 3);
         if (prefix.find('4') != std::string_view::npos || prefix.find('n') != std::string_view::npos)
-            builder.fail("OFF files with other than 3 dimensions (" + std::string(keyword) + ") are not supported");
+            builder.fail("OFF files with other than 3 dimensions (" + quoted(keyword) + ") are not supported");
         for (char c : prefix)
             if (c != 'S' && c != 'T' && c != 'C' && c != 'N')
                 builder.fail("not an OFF file (header " + quoted(keyword) + ")");
@@ -707,8 +711,8 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
                 perItem += encoding == PlyEncoding::Ascii ? 2
                                                           : plyTypeSize(property.isList ? property.countType : property.valueType);
             if (element.count > kMaxElementCount || (perItem > 0 && element.count > available / perItem))
-                builder.fail("element '" + element.name + "' claims " + std::to_string(element.count) +
-                             " items but the file has only " + std::to_string(reader.bytesLeft()) + " bytes of data");
+                builder.fail("element " + quoted(std::string_view(element.name)) + " claims " +
+                             std::to_string(element.count) + " items but the file has only " + std::to_string(reader.bytesLeft()) + " bytes of data");
             available -= perItem * element.count;
         }
     }
@@ -793,7 +797,8 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
                     }
                     const std::int64_t count = reader.readInteger(property.countType, "element");
                     if (count < 0 || std::uint64_t(count) > reader.bytesLeft())
-                        builder.fail("element '" + element.name + "' has a bad list length " + std::to_string(count));
+                        builder.fail("element " + quoted(std::string_view(element.name)) + " has a bad list length " +
+                                     std::to_string(count));
                     for (std::int64_t i = 0; i < count; ++i) reader.skip(property.valueType, "element");
                 }
         }

@@ -232,7 +232,7 @@ private:
         if (colon + 1 < line.size() && line[colon + 1] == '=') return;  // key:=value pair
         const std::string field = lowercase(trim(line.substr(0, colon)));
         const std::string value = trim(line.substr(colon + 1));
-        if (!mSeenFields.insert(field).second) fail("field '" + field + "' appears twice in the header");
+        if (!mSeenFields.insert(field).second) fail("field " + quote(field) + " appears twice in the header");
         parseField(field, value);
     }
 

@@ -111,7 +111,7 @@ std::vector<std::int64_t> parseLabels(const std::string& name, std::string_view 
         if (digits.empty() || result.ec != std::errc() || result.ptr != digits.data() + digits.size()) {
             std::string shown(line.substr(0, 40));
             for (char& c : shown)
-                if (static_cast<unsigned char>(c) < 32 || c == 127) c = '?';
+                if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) >= 127) c = '?';  // printable ASCII only
             throw InputError(name, "line " + std::to_string(lineNumber) + " is not an integer label: '" + shown +
                                        (line.size() > 40 ? "...'" : "'"));
         }

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 namespace skelseg {
 
@@ -31,9 +29,6 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
             const float s = points[g.point[n]].sigma;
             if (s > best) best = s, bestNode = n;
         }
-        if (std::getenv("SKELSEG_DEBUG_WALK"))
-            std::fprintf(stderr, "j%u piece %u level %u n=%zu best sigma %.2f rhoS %.1f\n", junction, piece, depth,
-                         level.size(), best, points[g.point[bestNode]].rhoS);
         if (best >= float(options.sigmaMin)) {
             if (runLength == 0) runStart = bestNode, runStartLevel = depth, runStartSigma = best;
             if (++runLength >= std::uint32_t(options.consecutiveLevels)) break;

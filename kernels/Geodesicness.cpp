@@ -1,8 +1,6 @@
 #include "kernels/Geodesicness.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 
 namespace skelseg {
 
@@ -119,13 +117,6 @@ GeodesicnessResult GeodesicnessEvaluator::evaluate(const RimCounter& rims, std::
             if (loop <= 0.0f) continue;
             const float direct = search.shortestPath(arcPaths[i].midpoint, arcPaths[j].midpoint);
             const float sigma = std::min(1.0f, direct / loop);
-            if (std::getenv("SKELSEG_DEBUG_SIGMA")) {
-                auto c = [&](std::uint32_t n) { return mGraph.coord[n]; };
-                std::fprintf(stderr, "a(%d,%d,%d) b(%d,%d,%d) L%zu=%.2f L%zu=%.2f c(%d,%d,%d) d(%d,%d,%d) direct %.2f arcs %zu\n",
-                    c(a).x, c(a).y, c(a).z, c(b).x, c(b).y, c(b).z, i, arcPaths[i].length, j, arcPaths[j].length,
-                    c(arcPaths[i].midpoint).x, c(arcPaths[i].midpoint).y, c(arcPaths[i].midpoint).z,
-                    c(arcPaths[j].midpoint).x, c(arcPaths[j].midpoint).y, c(arcPaths[j].midpoint).z, direct, arcs.size());
-            }
             if (sigma < best) {
                 best = sigma;
                 result.midpointC = arcPaths[i].midpoint;

@@ -4,7 +4,8 @@
 // reject its input only with skelseg::InputError, whose message must be one
 // line starting with the file name. Any other exception escapes the target
 // (libFuzzer reports it as a crash: "uncaught exception"), and so does a
-// message that breaks the one-line rule (checked with __builtin_trap()).
+// message that breaks the one-line rule or holds control characters
+// (checked with __builtin_trap()).
 #pragma once
 
 #include <cstddef>
@@ -25,7 +26,10 @@ inline const std::string& inputName() {
 inline void checkMessage(const InputError& error) {
     const std::string what = error.what();
     if (what.rfind(inputName() + ": ", 0) != 0) __builtin_trap();
-    if (what.find('\n') != std::string::npos || what.find('\r') != std::string::npos) __builtin_trap();
+    // One line, and no control characters (a file's garbage bytes must not
+    // reach the terminal: readers quote file content as printable ASCII).
+    for (char c : what)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) __builtin_trap();
     if (error.problem().empty()) __builtin_trap();
 }
 
