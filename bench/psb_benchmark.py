@@ -379,37 +379,55 @@ def downscale_picture(src, dst, width=PICTURE_WIDTH):
         return "copy"
 
 
+def worst_articulated(records):
+    """{model: why} for the articulated models with the worst RI error and the worst Hamming distance."""
+    art = [r for r in records if r["articulated"] and r.get("ok")]
+    worst = {}
+    if art:
+        for key, name in (("rand_index_error", "worst RI error"), ("hamming_distance", "worst Hamming")):
+            m = max(art, key=lambda r: r["score"][key])["model"]
+            worst[m] = worst[m] + ", " + name if m in worst else name
+    return worst
+
+
 def picture_models(records):
-    """The first model of each category, plus the worst-scoring articulated model."""
+    """The first model of each category, plus the worst-scoring articulated models."""
     chosen, seen = [], set()
     for r in sorted(records, key=lambda r: r["model"]):
         if r["category"] not in seen and r.get("preview"):
             seen.add(r["category"])
             chosen.append(r["model"])
-    art = [r for r in records if r["articulated"] and r.get("ok")]
-    if art:
-        worst = max(art, key=lambda r: r["score"]["hamming_distance"] + r["score"]["rand_index_error"])
-        if worst["model"] not in chosen and worst.get("preview"):
-            chosen.append(worst["model"])
+    by_model = {r["model"]: r for r in records}
+    for m in worst_articulated(records):
+        if m not in chosen and by_model[m].get("preview"):
+            chosen.append(m)
     return chosen
 
 
-def picture_grid(records, models, columns=3):
+def picture_grid(records, models, columns=2):
     by_model = {r["model"]: r for r in records}
+    worst = worst_articulated(records)
     cells = []
     for m in models:
         r = by_model[m]
         if r.get("ok"):
-            caption = (f"{m} {r['category']}: {fmt_count(r.get('parts'))} parts (humans "
-                       f"{fmt_count(r['human_median_parts'])}), RI {fmt(r['score']['rand_index_error'], 2)}, "
-                       f"HD {fmt(r['score']['hamming_distance'], 2)}")
+            caption = (f"<b>{m}</b> {r['category']}: {fmt_count(r.get('parts'))} parts (human median "
+                       f"{fmt_count(r['human_median_parts'])}), RI error {fmt(r['score']['rand_index_error'], 2)}, "
+                       f"Hamming {fmt(r['score']['hamming_distance'], 2)}")
         else:
-            caption = f"{m} {r['category']}: failed"
-        cells.append(f'<img src="images/psb/{m}.png" width="300" alt="model {m}"><br>{caption}')
+            caption = f"<b>{m}</b> {r['category']}: failed"
+        if m in worst:
+            caption += f" ({worst[m]} of the articulated models)"
+        cells.append(f'<img src="images/psb/{m}.png" width="480" alt="model {m}"><br>{caption}')
+    missing = [r for r in records if not r.get("preview") and r["category"] not in
+               {by_model[m]["category"] for m in models}]
     lines = ["<table>"]
     for i in range(0, len(cells), columns):
-        lines.append("<tr>" + "".join(f"<td>{c}</td>" for c in cells[i:i + columns]) + "</tr>")
+        lines.append("<tr>" + "".join(f'<td valign="top">{c}</td>' for c in cells[i:i + columns]) + "</tr>")
     lines.append("</table>")
+    if missing:
+        lines.append("")
+        lines.append("No picture (the run failed): " + ", ".join(f"{r['model']} {r['category']}" for r in missing) + ".")
     return "\n".join(lines) + "\n"
 
 

@@ -80,7 +80,9 @@ void forEachGridValue(const openvdb::FloatGrid& grid, const Dims& dims, const st
                 while (x < dims.x) {
                     const openvdb::Coord coord(x + offset[0], y + offset[1], z + offset[2]);
                     // Length of the run up to the next leaf boundary (leaves are 8 wide).
-                    const int leafEnd = ((coord.x() >> 3) + 1) << 3;
+                    // (* 8, not << 3: coordinates can be negative, and shifting a
+                    // negative value left is undefined before C++20.)
+                    const int leafEnd = ((coord.x() >> 3) + 1) * 8;
                     const int runLength = std::min(leafEnd - coord.x(), dims.x - x);
                     if (const auto* leaf = accessor.probeConstLeaf(coord)) {
                         for (int i = 0; i < runLength; ++i)

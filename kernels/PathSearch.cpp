@@ -25,7 +25,13 @@ void GeodesicSearch::nextGeneration() {
     }
 }
 
-float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to, std::vector<std::uint32_t>* path) {
+float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to, std::vector<std::uint32_t>* path,
+                                   float bound) {
+    struct BoundScope {  // the bound applies to this call only
+        float& slot;
+        BoundScope(float& s, float b) : slot(s) { slot = b; }
+        ~BoundScope() { slot = kUnreachable; }
+    } scope(mBound, bound);
     const BoundaryGraph& g = mGraph;
     auto all = [](std::uint32_t) { return true; };
     if (!mLandmarks) return search(from, to, [&](std::uint32_t n) { return g.euclidean(n, to); }, all, path);
@@ -38,10 +44,10 @@ float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to, std::ve
         float h = g.euclidean(n, to);
         const float* dn = dist + std::size_t(n) * mLandmarks->count;
         for (std::uint32_t i = 0; i < k; ++i) {
-            const float bound = std::fabs(dn[i] - target[i]);
+            const float landmarkBound = std::fabs(dn[i] - target[i]);
             // Nodes in another component than a landmark see infinity; the
             // difference is then meaningless (inf - inf) or unbounded.
-            if (bound > h && bound != kUnreachable && dn[i] != kUnreachable) h = bound;
+            if (landmarkBound > h && landmarkBound != kUnreachable && dn[i] != kUnreachable) h = landmarkBound;
         }
         return h;
     };
@@ -119,13 +125,13 @@ void PathCache::growTable() {
     }
 }
 
-const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a, std::uint32_t b) {
+const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a, std::uint32_t b, float bound) {
     if (a > b) std::swap(a, b);
     if (a == b) {  // key 0 marks empty slots; a point pair needs no search anyway
         ++hits;
         mScratch.assign(1, a);
         mPool.push_back(a);
-        mSelf = Entry{0.0f, std::uint32_t(mPool.size() - 1), 1};
+        mSelf = Entry{0.0f, std::uint32_t(mPool.size() - 1), 1, kUnreachable};
         return mSelf;
     }
     const std::uint64_t key = (std::uint64_t(a) << 32) | b;
@@ -134,13 +140,31 @@ const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a,
     std::size_t i = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
     while (mTable[i].key) {
         if (mTable[i].key == key) {
-            ++hits;
-            return mTable[i].entry;
+            Entry& e = mTable[i].entry;
+            if (e.length != kUnreachable || e.bound >= bound) {
+                ++hits;
+                return e;
+            }
+            // Known only to be longer than a smaller bound: search further.
+            ++misses;
+            const float length = search.shortestPath(a, b, &mScratch, bound);
+            if (length == kUnreachable) {
+                e.bound = bound;
+                return e;
+            }
+            if (mPool.size() + mScratch.size() > mMaxNodes) {
+                mPool.clear();
+                clearTable();
+                return path(search, a, b, bound);
+            }
+            e = Entry{length, std::uint32_t(mPool.size()), std::uint32_t(mScratch.size()), kUnreachable};
+            mPool.insert(mPool.end(), mScratch.begin(), mScratch.end());
+            return e;
         }
         i = (i + 1) & mask;
     }
     ++misses;
-    const float length = search.shortestPath(a, b, &mScratch);
+    const float length = search.shortestPath(a, b, &mScratch, bound);
     if (mPool.size() + mScratch.size() > mMaxNodes) {
         mPool.clear();
         clearTable();
@@ -149,7 +173,7 @@ const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a,
     mask = mTable.size() - 1;
     i = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
     while (mTable[i].key) i = (i + 1) & mask;
-    mTable[i] = Slot{key, Entry{length, std::uint32_t(mPool.size()), std::uint32_t(mScratch.size())}};
+    mTable[i] = Slot{key, Entry{length, std::uint32_t(mPool.size()), std::uint32_t(mScratch.size()), bound}};
     ++mUsed;
     mPool.insert(mPool.end(), mScratch.begin(), mScratch.end());
     return mTable[i].entry;

@@ -61,7 +61,11 @@ public:
 
     /// Length of a shortest path from `from` to `to` (A*), or kUnreachable.
     /// If `path` is given it receives the nodes from `from` to `to` inclusive.
-    float shortestPath(std::uint32_t from, std::uint32_t to, std::vector<std::uint32_t>* path = nullptr);
+    /// With a finite `bound` the search gives up (kUnreachable) once every
+    /// remaining path is known to be longer than `bound`; a path it does find
+    /// is the same as without the bound (same settle order, earlier stop).
+    float shortestPath(std::uint32_t from, std::uint32_t to, std::vector<std::uint32_t>* path = nullptr,
+                       float bound = kUnreachable);
 
     /// Dijkstra restricted to nodes with allowed(node) true (both ends must be
     /// allowed). Used on small node sets (a path set and its dilation).
@@ -87,6 +91,7 @@ private:
 
     const BoundaryGraph& mGraph;
     const Landmarks* mLandmarks;
+    float mBound = kUnreachable;
     std::vector<std::uint32_t> mSeen, mSettled;  // generation stamps
     std::vector<float> mDistance;
     std::vector<std::uint32_t> mParent;
@@ -100,6 +105,7 @@ public:
     struct Entry {
         float length;
         std::uint32_t begin, count;  // range in the node pool
+        float bound = kUnreachable;  // for length == kUnreachable: the bound searched up to
     };
     /// maxNodes: the pool is cleared when it would hold more path nodes.
     explicit PathCache(std::size_t maxNodes = std::size_t(1) << 22) : mMaxNodes(maxNodes) {}
@@ -107,7 +113,10 @@ public:
     /// Shortest path between a and b (searched from min(a,b) so that the
     /// result does not depend on the order of the arguments). The returned
     /// entry's nodes are valid until the next call.
-    const Entry& path(GeodesicSearch& search, std::uint32_t a, std::uint32_t b);
+    /// `bound`: see GeodesicSearch::shortestPath. A pair cached as "longer than
+    /// B" is searched again when asked with a larger bound, so the answer never
+    /// depends on which request came first.
+    const Entry& path(GeodesicSearch& search, std::uint32_t a, std::uint32_t b, float bound = kUnreachable);
     const std::uint32_t* nodes(const Entry& e) const noexcept { return mPool.data() + e.begin; }
 
     std::uint64_t hits = 0, misses = 0;
@@ -159,6 +168,7 @@ float GeodesicSearch::search(std::uint32_t from, std::uint32_t to, const Heurist
         mHeap.pop_back();
         ++counters.heapPops;
         const std::uint32_t n = top.node;
+        if (top.priority > mBound) break;  // admissible heuristic: nothing within the bound is left
         if (mSettled[n] == gen) continue;
         mSettled[n] = gen;
         ++counters.nodesSettled;

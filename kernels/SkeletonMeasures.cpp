@@ -17,6 +17,9 @@ namespace skelseg {
 
 namespace {
 
+constexpr float kSheetRatio = 20.0f;
+constexpr float kSheetMinimumBound = 32.0f;
+
 /// Everything one thread needs; built lazily, once per thread.
 struct Workspace {
     Workspace(const BoundaryGraph& graph, const Landmarks* landmarks)
@@ -37,10 +40,22 @@ float collectPathSet(Workspace& ws, const SkeletonCandidate& c, std::uint32_t& a
     ws.inSet.nextGeneration();
     float rhoS = -1.0f;
     a = b = kNoNode;
+    const BoundaryGraph& g = ws.search.graph();
+    // Sheets are not limbs: a feature pair whose geodesic is more than
+    // kSheetRatio times the widest feature gap (the chord across the part)
+    // wraps around a thin wall (a cup, a vase, a flat plate). Such a voxel is
+    // not a curve-skeleton point of a limb, and bounding the search keeps
+    // thin-walled shapes from costing a search around the whole rim per voxel.
+    float gap = 0.0f;
+    for (std::uint32_t i = 0; i < c.featureCount; ++i)
+        for (std::uint32_t j = i + 1; j < c.featureCount; ++j)
+            gap = std::max(gap, g.euclidean(c.feature[i], c.feature[j]));
+    const float bound = std::max(kSheetRatio * gap, kSheetMinimumBound);
     for (std::uint32_t i = 0; i < c.featureCount; ++i)
         for (std::uint32_t j = i + 1; j < c.featureCount; ++j) {
-            const PathCache::Entry& e = ws.cache.path(ws.search, c.feature[i], c.feature[j]);
-            if (e.length == kUnreachable) continue;  // different surface pieces (cavity): no path
+            if (g.component[c.feature[i]] != g.component[c.feature[j]]) continue;  // cavity: no path
+            const PathCache::Entry& e = ws.cache.path(ws.search, c.feature[i], c.feature[j], bound);
+            if (e.length == kUnreachable) return -1.0f;  // longer than the bound: a sheet
             if (e.length > rhoS) rhoS = e.length, a = c.feature[i], b = c.feature[j];
             const std::uint32_t* nodes = ws.cache.nodes(e);
             for (std::uint32_t k = 0; k < e.count; ++k)
