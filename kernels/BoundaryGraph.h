@@ -5,8 +5,9 @@
 // background. Edges join 26-adjacent boundary voxels, weighted by the
 // Euclidean step length (1, sqrt 2, sqrt 3). Shortest paths on this graph
 // stand in for surface geodesics. Stored as CSR with 32-bit ids; node ids are
-// assigned in increasing linear voxel order, so the graph is identical for
-// any thread count.
+// assigned brick by brick (8^3 voxel bricks in z, y, x order, voxels inside
+// a brick in z, y, x order) for memory locality, so the graph is identical
+// for any thread count.
 #pragma once
 
 #include <cmath>

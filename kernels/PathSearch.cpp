@@ -5,25 +5,93 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <queue>
+#include <cstring>
+#include <functional>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace skelseg {
 
 GeodesicSearch::GeodesicSearch(const BoundaryGraph& graph, const Landmarks* landmarks)
     : mGraph(graph),
-      mLandmarks(landmarks && landmarks->count ? landmarks : nullptr),
-      mSeen(graph.nodeCount(), 0),
-      mSettled(graph.nodeCount(), 0),
-      mDistance(graph.nodeCount(), 0.0f),
-      mParent(graph.nodeCount(), kNoNode) {}
+      mLandmarks(landmarks && landmarks->count && landmarks->hasRows() ? landmarks : nullptr),
+      mState(graph.nodeCount(), NodeState{0, 0.0f, 0.0f, kNoNode}) {}
 
 void GeodesicSearch::nextGeneration() {
-    if (++mGeneration == 0) {
-        std::fill(mSeen.begin(), mSeen.end(), 0u);
-        std::fill(mSettled.begin(), mSettled.end(), 0u);
+    if (++mGeneration >= (1u << 31)) {  // stamps hold generation << 1
+        for (NodeState& s : mState) s.stamp = 0;
         mGeneration = 1;
     }
 }
+
+namespace {
+
+/// max(h, |row[i] - target[i]|) over the kStride slots. A NaN difference
+/// (inf - inf: a landmark in another component than both nodes) is skipped,
+/// which is what _mm_max_ps(difference, h) does: it returns its second
+/// operand when either is NaN. The search only reaches nodes in the target's
+/// component, so a finite/infinite mix cannot occur.
+inline float landmarkBound(const float* row, const float* target, float h) {
+#if defined(__SSE2__)
+    const __m128 signMask = _mm_set1_ps(-0.0f);
+    __m128 best = _mm_set1_ps(h);
+    for (std::uint32_t i = 0; i < Landmarks::kStride; i += 4) {
+        const __m128 difference = _mm_andnot_ps(signMask, _mm_sub_ps(_mm_loadu_ps(row + i), _mm_loadu_ps(target + i)));
+        best = _mm_max_ps(difference, best);
+    }
+    best = _mm_max_ps(best, _mm_shuffle_ps(best, best, _MM_SHUFFLE(1, 0, 3, 2)));
+    best = _mm_max_ps(best, _mm_shuffle_ps(best, best, _MM_SHUFFLE(2, 3, 0, 1)));
+    return _mm_cvtss_f32(best);
+#else
+    for (std::uint32_t i = 0; i < Landmarks::kStride; ++i) {
+        const float difference = std::fabs(row[i] - target[i]);
+        if (difference > h) h = difference;  // false for NaN
+    }
+    return h;
+#endif
+}
+
+/// Dijkstra from `source` that lowers dist[] wherever it finds a shorter
+/// distance and stops expanding where it does not: on an all-infinite array a
+/// full single-source Dijkstra, on the distance to the nearest of several
+/// sources the new source's Voronoi cell. Heap keys as in GeodesicSearch.
+void lowerDistancesFrom(const BoundaryGraph& graph, std::uint32_t source, float* dist, std::vector<std::uint64_t>& heap) {
+    auto key = [](float d, std::uint32_t node) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &d, sizeof bits);
+        return (std::uint64_t(bits) << 32) | node;
+    };
+    const std::uint32_t* offset = graph.offset.data();
+    const std::uint32_t* neighbour = graph.neighbour.data();
+    const float* weight = graph.weight.data();
+    const auto later = std::greater<std::uint64_t>();
+    heap.clear();
+    dist[source] = 0.0f;
+    heap.push_back(key(0.0f, source));
+    while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), later);
+        const std::uint64_t top = heap.back();
+        heap.pop_back();
+        const std::uint32_t n = std::uint32_t(top);
+        const std::uint32_t bits = std::uint32_t(top >> 32);
+        float d;
+        std::memcpy(&d, &bits, sizeof d);
+        if (d > dist[n]) continue;
+        for (std::uint32_t e = offset[n], end = offset[n + 1]; e < end; ++e) {
+            const std::uint32_t m = neighbour[e];
+            const float dm = d + weight[e];
+            if (dm < dist[m]) {
+                dist[m] = dm;
+                heap.push_back(key(dm, m));
+                std::push_heap(heap.begin(), heap.end(), later);
+            }
+        }
+    }
+}
+
+}  // namespace
 
 float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to, std::vector<std::uint32_t>* path,
                                    float bound) {
@@ -35,23 +103,20 @@ float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to, std::ve
     const BoundaryGraph& g = mGraph;
     auto all = [](std::uint32_t) { return true; };
     if (!mLandmarks) return search(from, to, [&](std::uint32_t n) { return g.euclidean(n, to); }, all, path);
-    constexpr std::uint32_t kMax = 16;
-    const std::uint32_t k = std::min(mLandmarks->count, kMax);
-    float target[kMax];
-    const float* dist = mLandmarks->distance.data();
-    for (std::uint32_t i = 0; i < k; ++i) target[i] = dist[std::size_t(to) * mLandmarks->count + i];
-    auto heuristic = [&](std::uint32_t n) {
-        float h = g.euclidean(n, to);
-        const float* dn = dist + std::size_t(n) * mLandmarks->count;
-        for (std::uint32_t i = 0; i < k; ++i) {
-            const float landmarkBound = std::fabs(dn[i] - target[i]);
-            // Nodes in another component than a landmark see infinity; the
-            // difference is then meaningless (inf - inf) or unbounded.
-            if (landmarkBound > h && landmarkBound != kUnreachable && dn[i] != kUnreachable) h = landmarkBound;
-        }
-        return h;
-    };
+    alignas(64) float target[Landmarks::kStride];
+    std::memcpy(target, mLandmarks->row(to), sizeof target);
+    const Landmarks& lm = *mLandmarks;
+    auto heuristic = [&](std::uint32_t n) { return landmarkBound(lm.row(n), target, g.euclidean(n, to)); };
     return search(from, to, heuristic, all, path);
+}
+
+void Landmarks::allocateRows(std::uint32_t nodes) {
+    mRows.assign(std::size_t(nodes) * kStride + 16, 0.0f);
+    // Offset so that row 0 starts on a 64-byte boundary (vector data is only
+    // 16-byte aligned); moving the vector keeps its buffer, so the offset stays
+    // valid (a copy may lose the line alignment, hence unaligned loads).
+    const auto address = reinterpret_cast<std::uintptr_t>(mRows.data());
+    mRowsOffset = ((64 - address % 64) % 64) / sizeof(float);
 }
 
 Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
@@ -71,12 +136,35 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
         }
         if (std::find(result.node.begin(), result.node.end(), best) == result.node.end()) result.node.push_back(best);
     }
+    // Farthest-point landmarks fill the row up to Landmarks::kStride: each is
+    // the node farthest from every landmark so far. Extremes sit on the tips
+    // of a shape; the farthest points land in the middle of broad faces (a
+    // palm, a torso), which bound the long searches around a flat part (on
+    // hand.off they halved the nodes settled). Choosing them needs only the
+    // distance to the nearest landmark, which a new landmark changes only in
+    // its own Voronoi cell: a Dijkstra pruned to that cell is exact (the
+    // nearest-landmark distance is 1-Lipschitz, so the cell is closed under
+    // shortest paths from its landmark), and all the cells together cost
+    // about one full Dijkstra. Selection is serial; every full distance field
+    // is computed in parallel afterwards.
+    std::vector<float> nearest(n, kUnreachable);
+    std::vector<std::uint64_t> heap;
+    auto claimCell = [&](std::uint32_t source) { lowerDistancesFrom(graph, source, nearest.data(), heap); };
+    for (std::uint32_t landmark : result.node) claimCell(landmark);
+    while (result.node.size() < Landmarks::kStride) {
+        std::uint32_t best = 0;
+        for (std::uint32_t v = 1; v < n; ++v)
+            if (nearest[v] > nearest[best]) best = v;
+        if (nearest[best] <= 0.0f) break;  // every node is a landmark
+        result.node.push_back(best);
+        claimCell(best);
+    }
     result.count = std::uint32_t(result.node.size());
-    result.distance.assign(std::size_t(n) * result.count, kUnreachable);
+    result.allocateRows(n);
     GeodesicSearch plain(graph);
     auto one = [&](std::uint32_t k) {
         const std::vector<float> d = plain.distancesFrom(result.node[k]);
-        for (std::uint32_t v = 0; v < n; ++v) result.distance[std::size_t(v) * result.count + k] = d[v];
+        for (std::uint32_t v = 0; v < n; ++v) result.row(v)[k] = d[v];
     };
     if (threaded)
         tbb::parallel_for(std::uint32_t(0), result.count, one);
@@ -87,23 +175,8 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
 
 std::vector<float> GeodesicSearch::distancesFrom(std::uint32_t source) const {
     std::vector<float> dist(mGraph.nodeCount(), kUnreachable);
-    using Item = std::pair<float, std::uint32_t>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
-    dist[source] = 0.0f;
-    heap.push({0.0f, source});
-    while (!heap.empty()) {
-        const auto [d, n] = heap.top();
-        heap.pop();
-        if (d > dist[n]) continue;
-        for (std::uint32_t e = mGraph.offset[n]; e < mGraph.offset[n + 1]; ++e) {
-            const std::uint32_t m = mGraph.neighbour[e];
-            const float dm = d + mGraph.weight[e];
-            if (dm < dist[m]) {
-                dist[m] = dm;
-                heap.push({dm, m});
-            }
-        }
-    }
+    std::vector<std::uint64_t> heap;
+    lowerDistancesFrom(mGraph, source, dist.data(), heap);
     return dist;
 }
 

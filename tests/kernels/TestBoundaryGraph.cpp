@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -36,13 +37,18 @@ void expectGraphMatchesReference(const MaskVolume& mask, const BoundaryGraph& gr
     ASSERT_EQ(graph.neighbour.size(), graph.weight.size());
     ASSERT_EQ(graph.offset.back(), graph.neighbour.size());
 
-    // Nodes: exactly the reference boundary voxels, in increasing voxel order.
+    // Nodes: exactly the reference boundary voxels, brick by brick (8^3
+    // bricks in z, y, x order, voxels inside a brick in z, y, x order).
     std::vector<std::uint32_t> expected;
-    for (int z = 0; z < d.z; ++z)
-        for (int y = 0; y < d.y; ++y)
-            for (int x = 0; x < d.x; ++x)
-                if (isBoundaryReference(mask, x, y, z))
-                    expected.push_back(std::uint32_t(mask.index(x, y, z)));
+    constexpr int kBrick = 8;
+    for (int z0 = 0; z0 < d.z; z0 += kBrick)
+        for (int y0 = 0; y0 < d.y; y0 += kBrick)
+            for (int x0 = 0; x0 < d.x; x0 += kBrick)
+                for (int z = z0; z < std::min(d.z, z0 + kBrick); ++z)
+                    for (int y = y0; y < std::min(d.y, y0 + kBrick); ++y)
+                        for (int x = x0; x < std::min(d.x, x0 + kBrick); ++x)
+                            if (isBoundaryReference(mask, x, y, z))
+                                expected.push_back(std::uint32_t(mask.index(x, y, z)));
     ASSERT_EQ(graph.voxel, expected);
     for (std::uint32_t n = 0; n < graph.nodeCount(); ++n) {
         const Coord c = graph.coord[n];

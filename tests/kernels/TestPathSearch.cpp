@@ -216,24 +216,36 @@ TEST(PathSearch, ShortestPathWithinTakesTheDetour) {
 TEST_F(PathSearchOnBlob, LandmarkDistancesAreDijkstra) {
     const Landmarks serial = computeLandmarks(graph, false);
     ASSERT_GE(serial.count, 2u);
-    ASSERT_LE(serial.count, 14u);
+    ASSERT_LE(serial.count, Landmarks::kStride);
     ASSERT_EQ(serial.node.size(), serial.count);
-    ASSERT_EQ(serial.distance.size(), std::size_t(serial.count) * graph.nodeCount());
     EXPECT_EQ(std::set<std::uint32_t>(serial.node.begin(), serial.node.end()).size(), serial.count);
     GeodesicSearch search(graph);
     for (std::uint32_t k = 0; k < serial.count; ++k) {
         const std::vector<float> d = search.distancesFrom(serial.node[k]);
         for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
-            ASSERT_EQ(serial.distance[std::size_t(n) * serial.count + k], d[n]);
+            ASSERT_EQ(serial.distance(n, k), d[n]);
     }
     // The extreme node along +x is a landmark.
     std::uint32_t maxX = 0;
     for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
         if (graph.coord[n].x > graph.coord[maxX].x) maxX = n;
     EXPECT_NE(std::find(serial.node.begin(), serial.node.end(), maxX), serial.node.end());
+    // The row is filled with farthest-point landmarks: the last one is a node
+    // farthest from all the landmarks before it.
+    ASSERT_EQ(serial.count, std::min<std::uint32_t>(Landmarks::kStride, graph.nodeCount()));
+    auto nearestBefore = [&](std::uint32_t n, std::uint32_t k) {
+        float d = kUnreachable;
+        for (std::uint32_t j = 0; j < k; ++j) d = std::min(d, serial.distance(n, j));
+        return d;
+    };
+    const std::uint32_t last = serial.count - 1;
+    const float lastNearest = nearestBefore(serial.node[last], last);
+    EXPECT_GT(lastNearest, 0.0f);
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n) ASSERT_LE(nearestBefore(n, last), lastNearest);
     const Landmarks parallel = computeLandmarks(graph, true);
     EXPECT_EQ(parallel.node, serial.node);
-    EXPECT_EQ(parallel.distance, serial.distance);
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
+        for (std::uint32_t k = 0; k < serial.count; ++k) ASSERT_EQ(parallel.distance(n, k), serial.distance(n, k));
 }
 
 TEST_F(PathSearchOnBlob, AStarWithLandmarksEqualsDijkstra) {
