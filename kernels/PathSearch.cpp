@@ -3,10 +3,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <limits>
 #include <cstring>
-#include <functional>
+#include <limits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -53,41 +53,48 @@ inline float landmarkBound(const float* row, const float* target, float h) {
 #endif
 }
 
-/// Dijkstra from `source` that lowers dist[] wherever it finds a shorter
-/// distance and stops expanding where it does not: on an all-infinite array a
-/// full single-source Dijkstra, on the distance to the nearest of several
-/// sources the new source's Voronoi cell. Heap keys as in GeodesicSearch.
-void lowerDistancesFrom(const BoundaryGraph& graph, std::uint32_t source, float* dist, std::vector<std::uint64_t>& heap) {
-    auto key = [](float d, std::uint32_t node) {
-        std::uint32_t bits;
-        std::memcpy(&bits, &d, sizeof bits);
-        return (std::uint64_t(bits) << 32) | node;
-    };
+/// Single-source shortest paths from `source` that lower dist[] wherever
+/// they find a shorter distance and stop expanding where they do not: on an
+/// all-infinite array a full single-source search, on the distance to the
+/// nearest of several sources the new source's Voronoi cell.
+///
+/// A bucket queue (Dial's algorithm) instead of a heap: every edge weighs at
+/// least 1, so with buckets of width 1 a node can only lower nodes in later
+/// buckets, and every node of the current bucket already holds its final
+/// distance when the bucket is reached. Distances are the same floats as
+/// Dijkstra's (each is the minimum of the same sums), at a fraction of the
+/// cost. Weights are below 2, so three buckets in a ring suffice.
+using Buckets = std::array<std::vector<std::uint32_t>, 3>;
+void lowerDistancesFrom(const BoundaryGraph& graph, std::uint32_t source, float* dist, Buckets& buckets) {
     const std::uint32_t* offset = graph.offset.data();
     const std::uint32_t* neighbour = graph.neighbour.data();
     const float* weight = graph.weight.data();
-    const auto later = std::greater<std::uint64_t>();
-    heap.clear();
+    for (auto& b : buckets) b.clear();
     dist[source] = 0.0f;
-    heap.push_back(key(0.0f, source));
-    while (!heap.empty()) {
-        std::pop_heap(heap.begin(), heap.end(), later);
-        const std::uint64_t top = heap.back();
-        heap.pop_back();
-        const std::uint32_t n = std::uint32_t(top);
-        const std::uint32_t bits = std::uint32_t(top >> 32);
-        float d;
-        std::memcpy(&d, &bits, sizeof d);
-        if (d > dist[n]) continue;
-        for (std::uint32_t e = offset[n], end = offset[n + 1]; e < end; ++e) {
-            const std::uint32_t m = neighbour[e];
-            const float dm = d + weight[e];
-            if (dm < dist[m]) {
-                dist[m] = dm;
-                heap.push_back(key(dm, m));
-                std::push_heap(heap.begin(), heap.end(), later);
+    buckets[0].push_back(source);
+    std::size_t pending = 1;
+    for (std::uint32_t k = 0; pending > 0; ++k) {
+        std::vector<std::uint32_t>& bucket = buckets[k % 3];
+        for (std::size_t i = 0; i < bucket.size(); ++i) {
+            const std::uint32_t n = bucket[i];
+            const float d = dist[n];
+            if (std::uint32_t(d) != k) continue;  // lowered into an earlier bucket since
+            for (std::uint32_t e = offset[n], end = offset[n + 1]; e < end; ++e) {
+                const std::uint32_t m = neighbour[e];
+                const float dm = d + weight[e];
+                const float old = dist[m];
+                if (dm < old) {
+                    dist[m] = dm;
+                    // Already queued in the same bucket: no second entry.
+                    if (old == kUnreachable || std::uint32_t(old) != std::uint32_t(dm)) {
+                        buckets[std::uint32_t(dm) % 3].push_back(m);
+                        ++pending;
+                    }
+                }
             }
         }
+        pending -= bucket.size();
+        bucket.clear();
     }
 }
 
@@ -148,8 +155,8 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
     // about one full Dijkstra. Selection is serial; every full distance field
     // is computed in parallel afterwards.
     std::vector<float> nearest(n, kUnreachable);
-    std::vector<std::uint64_t> heap;
-    auto claimCell = [&](std::uint32_t source) { lowerDistancesFrom(graph, source, nearest.data(), heap); };
+    Buckets buckets;
+    auto claimCell = [&](std::uint32_t source) { lowerDistancesFrom(graph, source, nearest.data(), buckets); };
     for (std::uint32_t landmark : result.node) claimCell(landmark);
     while (result.node.size() < Landmarks::kStride) {
         std::uint32_t best = 0;
@@ -175,8 +182,8 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
 
 std::vector<float> GeodesicSearch::distancesFrom(std::uint32_t source) const {
     std::vector<float> dist(mGraph.nodeCount(), kUnreachable);
-    std::vector<std::uint64_t> heap;
-    lowerDistancesFrom(mGraph, source, dist.data(), heap);
+    Buckets buckets;
+    lowerDistancesFrom(mGraph, source, dist.data(), buckets);
     return dist;
 }
 

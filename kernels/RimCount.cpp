@@ -7,14 +7,13 @@ namespace skelseg {
 RimCounter::RimCounter(const BoundaryGraph& graph)
     : mGraph(graph),
       mState(graph.nodeCount(), 0),
-      mPieceOf(graph.nodeCount(), kNoNode) {}
+      mPiece(graph.nodeCount(), 0) {}
 
 const RimPieces& RimCounter::countRims(const std::vector<std::uint32_t>& pathSet) {
-    if (++mGeneration >= (1u << 29)) {  // stamps are 29 bits: really clear once in a while
+    if (++mGeneration >= (1u << (32 - kFlagBits))) {  // stamps are 28 bits: really clear once in a while
         std::fill(mState.begin(), mState.end(), 0u);
         mGeneration = 1;
     }
-    mPieceOf.clear();
     RimPieces& r = mResult;
     r.dilated.clear();
     r.rimNodes.clear();
@@ -38,24 +37,25 @@ const RimPieces& RimCounter::countRims(const std::vector<std::uint32_t>& pathSet
         }
     // Pieces: BFS over rim nodes along graph edges (26-adjacency).
     for (std::uint32_t seed : r.rimNodes) {
-        if (mPieceOf.contains(seed)) continue;
+        if (!setFlag(seed, kPieced)) continue;
         const std::uint32_t piece = r.pieceCount++;
         mQueue.clear();
         mQueue.push_back(seed);
-        mPieceOf.set(seed, piece);
+        mPiece[seed] = piece;
         for (std::size_t head = 0; head < mQueue.size(); ++head) {
             const std::uint32_t n = mQueue[head];
             for (std::uint32_t e = offset[n]; e < offset[n + 1]; ++e) {
                 const std::uint32_t m = neighbour[e];
-                if ((flags(m) & kRim) && !mPieceOf.contains(m)) {
-                    mPieceOf.set(m, piece);
+                if ((flags(m) & (kRim | kPieced)) == kRim) {
+                    setFlag(m, kPieced);
+                    mPiece[m] = piece;
                     mQueue.push_back(m);
                 }
             }
         }
     }
     r.pieceOfRimNode.resize(r.rimNodes.size());
-    for (std::size_t i = 0; i < r.rimNodes.size(); ++i) r.pieceOfRimNode[i] = mPieceOf.get(r.rimNodes[i]);
+    for (std::size_t i = 0; i < r.rimNodes.size(); ++i) r.pieceOfRimNode[i] = mPiece[r.rimNodes[i]];
     return r;
 }
 

@@ -40,17 +40,19 @@ public:
     const BoundaryGraph& graph() const noexcept { return mGraph; }
 
 private:
-    // One generation-stamped word per node holds all three memberships
-    // (stamp << 3 | flags): one memory access per neighbour instead of three.
-    enum : std::uint32_t { kPathSet = 1, kDilated = 2, kRim = 4 };
+    // One generation-stamped word per node holds all four memberships
+    // (stamp << 4 | flags): one memory access per neighbour instead of four.
+    // kPieced marks a rim node whose entry in mPiece is valid.
+    enum : std::uint32_t { kPathSet = 1, kDilated = 2, kRim = 4, kPieced = 8 };
+    static constexpr std::uint32_t kFlagBits = 4;
     std::uint32_t flags(std::uint32_t node) const noexcept {
         const std::uint32_t s = mState[node];
-        return (s >> 3) == mGeneration ? (s & 7u) : 0u;
+        return (s >> kFlagBits) == mGeneration ? (s & 15u) : 0u;
     }
     /// Sets flag f; returns true if it was not set before.
     bool setFlag(std::uint32_t node, std::uint32_t f) noexcept {
         std::uint32_t s = mState[node];
-        if ((s >> 3) != mGeneration) s = mGeneration << 3;
+        if ((s >> kFlagBits) != mGeneration) s = mGeneration << kFlagBits;
         if (s & f) return false;
         mState[node] = s | f;
         return true;
@@ -59,7 +61,7 @@ private:
     const BoundaryGraph& mGraph;
     std::vector<std::uint32_t> mState;
     std::uint32_t mGeneration = 0;
-    GenerationMap<std::uint32_t> mPieceOf;
+    std::vector<std::uint32_t> mPiece;  // valid where kPieced is set
     RimPieces mResult;
     std::vector<std::uint32_t> mQueue;
 };
