@@ -27,6 +27,7 @@ import gzip
 import json
 import os
 import shutil
+import signal
 import statistics
 import subprocess
 import sys
@@ -207,6 +208,12 @@ def benchmark_model(args, skelseg, psb, out, model, category):
     record["exit_code"] = proc.returncode
     if proc.returncode != 0:
         record["error"] = last_line(proc.stderr) or last_line(proc.stdout)
+        if proc.returncode < 0:
+            try:
+                name = signal.Signals(-proc.returncode).name
+            except ValueError:
+                name = f"signal {-proc.returncode}"
+            record["error"] = f"killed by {name}" + (f"; {record['error']}" if record["error"] else "")
         record["ok"] = False
         record["timed_out"] = proc.returncode == 3 and args.time_limit is not None
         model_out.mkdir(parents=True, exist_ok=True)
@@ -229,7 +236,14 @@ def benchmark_model(args, skelseg, psb, out, model, category):
         record["report_error"] = str(e)
 
     seg_path = model_out / "segmentation.seg"
-    labels = read_labels(seg_path)
+    try:
+        labels = read_labels(seg_path)
+    except (OSError, ValueError) as e:
+        # skelseg said it succeeded: a missing or unreadable output is a bug worth reporting.
+        record["ok"] = False
+        record["error"] = f"exit 0 but {seg_path} is unreadable: {e}"
+        cached.write_text(json.dumps(record, indent=2) + "\n")
+        return record
     record["parts"] = len(set(labels))
     record["parts_within_2x"] = within_factor_two(record["parts"], record["human_median_parts"])
 
@@ -327,7 +341,8 @@ def markdown_table(records, args):
     if other:
         row("other", [r for r in records if not r["articulated"]],
             str(len([r for r in records if not r["articulated"]])), "")
-    row("**all**", records, str(len(records)), "")
+    if art and other:
+        row("**all**", records, str(len(records)), "")
 
     notes = [
         "",

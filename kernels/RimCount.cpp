@@ -30,11 +30,15 @@ const RimPieces& RimCounter::countRims(const std::vector<std::uint32_t>& pathSet
         for (std::uint32_t e = offset[n]; e < offset[n + 1]; ++e)
             if (setFlag(neighbour[e], kDilated)) r.dilated.push_back(neighbour[e]);
     }
-    for (std::uint32_t n : r.dilated)
+    // Rim: neighbours of Gamma' outside it. Only the dilation layer can have
+    // such neighbours (every neighbour of a Gamma node is in Gamma').
+    for (std::size_t i = coreCount; i < r.dilated.size(); ++i) {
+        const std::uint32_t n = r.dilated[i];
         for (std::uint32_t e = offset[n]; e < offset[n + 1]; ++e) {
             const std::uint32_t m = neighbour[e];
             if (!(flags(m) & kDilated) && setFlag(m, kRim)) r.rimNodes.push_back(m);
         }
+    }
     // Pieces: BFS over rim nodes along graph edges (26-adjacency).
     for (std::uint32_t seed : r.rimNodes) {
         if (!setFlag(seed, kPieced)) continue;
