@@ -1,11 +1,15 @@
 #include "engine/Segmenter.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
 
 #include "kernels/BoundaryGraph.h"
+#include "kernels/ConnectedObjects.h"
 #include "kernels/FeatureTransform.h"
 #include "kernels/PathSearch.h"
 #include "kernels/RimCount.h"
@@ -38,50 +42,6 @@ std::string TauSpec::toString() const {
 }
 
 namespace {
-
-struct ObjectExtent {
-    std::uint32_t id = 0;
-    std::uint64_t voxels = 0;
-    std::array<int, 3> lo{}, hi{};
-};
-
-/// 26-connected components of the object voxels; component[v] = id + 1.
-std::vector<ObjectExtent> findObjects(const MaskVolume& mask, std::vector<std::uint32_t>& component,
-                                      Interrupter& interrupter) {
-    const Dims d = mask.dims();
-    component.assign(mask.size(), 0);
-    std::vector<ObjectExtent> objects;
-    std::vector<std::uint32_t> queue;
-    for (std::size_t seed = 0; seed < mask.size(); ++seed) {
-        if (!mask[seed] || component[seed]) continue;
-        throwIfInterrupted(interrupter, double(seed) / double(mask.size()));
-        ObjectExtent o;
-        o.id = std::uint32_t(objects.size());
-        const std::uint32_t tag = o.id + 1;
-        queue.assign(1, std::uint32_t(seed));
-        component[seed] = tag;
-        o.lo = {d.x, d.y, d.z};
-        o.hi = {-1, -1, -1};
-        for (std::size_t h = 0; h < queue.size(); ++h) {
-            const std::uint32_t v = queue[h];
-            const int x = int(v % std::uint32_t(d.x)), y = int((v / std::uint32_t(d.x)) % std::uint32_t(d.y)),
-                      z = int(v / (std::uint32_t(d.x) * std::uint32_t(d.y)));
-            o.lo = {std::min(o.lo[0], x), std::min(o.lo[1], y), std::min(o.lo[2], z)};
-            o.hi = {std::max(o.hi[0], x), std::max(o.hi[1], y), std::max(o.hi[2], z)};
-            for (int dz = -1; dz <= 1; ++dz)
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const int qx = x + dx, qy = y + dy, qz = z + dz;
-                        if (!mask.contains(qx, qy, qz)) continue;
-                        const std::size_t q = mask.index(qx, qy, qz);
-                        if (mask[q] && !component[q]) component[q] = tag, queue.push_back(std::uint32_t(q));
-                    }
-        }
-        o.voxels = queue.size();
-        objects.push_back(o);
-    }
-    return objects;
-}
 
 /// Orders a cut loop Gamma(q) into a polyline: a shortest arc a -> b inside
 /// Gamma, then the way back b -> a avoiding the first arc (falls back to the
@@ -143,9 +103,11 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
     std::vector<std::uint32_t> component;
     std::vector<ObjectExtent> objects;
     {
-        auto t = timer.stage("objects", false);
+        auto t = timer.stage("objects", true);
         InterrupterScope scope(interrupter, "objects");
-        objects = findObjects(mask, component, interrupter);
+        ConnectedObjects found = findConnectedObjects(mask, {p.threaded}, interrupter);
+        objects = std::move(found.objects);
+        component = std::move(found.component);
     }
     if (objects.empty()) result.warnings.push_back("the volume holds no object voxels: no segments");
 
@@ -172,12 +134,21 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
         const Dims cropDims{extent.hi[0] - extent.lo[0] + 3, extent.hi[1] - extent.lo[1] + 3,
                             extent.hi[2] - extent.lo[2] + 3};
         MaskVolume crop(cropDims, 0);
-        for (int z = 1; z < cropDims.z - 1; ++z)
-            for (int y = 1; y < cropDims.y - 1; ++y)
-                for (int x = 1; x < cropDims.x - 1; ++x) {
-                    const std::size_t v = mask.index(x + origin[0], y + origin[1], z + origin[2]);
-                    crop(x, y, z) = component[v] == extent.id + 1 ? 1 : 0;
-                }
+        {
+            auto t = timer.stage("objects", true);
+            auto cropPlanes = [&](int z0, int z1) {
+                for (int z = z0; z < z1; ++z)
+                    for (int y = 1; y < cropDims.y - 1; ++y) {
+                        const std::uint32_t* in = component.data() + mask.index(origin[0], y + origin[1], z + origin[2]);
+                        for (int x = 1; x < cropDims.x - 1; ++x) crop(x, y, z) = in[x] == extent.id + 1 ? 1 : 0;
+                    }
+            };
+            if (p.threaded)
+                tbb::parallel_for(tbb::blocked_range<int>(1, cropDims.z - 1),
+                                  [&](const tbb::blocked_range<int>& r) { cropPlanes(r.begin(), r.end()); });
+            else
+                cropPlanes(1, cropDims.z - 1);
+        }
         auto toGrid = [&](std::uint32_t cropVoxel) -> std::array<int, 3> {
             const std::uint32_t cx = std::uint32_t(cropDims.x), cy = std::uint32_t(cropDims.y);
             return {int(cropVoxel % cx) + origin[0], int((cropVoxel / cx) % cy) + origin[1],
