@@ -301,7 +301,8 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
                    {"skeleton_points", 0}, {"junction_voxels", 0}};
     json work = {{"objects_voxels_examined", 0}, {"candidates_searched", 0}, {"dijkstra_searches", 0},
                  {"heap_pops", 0}, {"nodes_settled", 0}, {"path_cache_hits", 0}, {"rim_tests", 0},
-                 {"component_growth_steps", 0}, {"sigma_evaluations", 0}, {"sigma_searches", 0}};
+                 {"component_growth_steps", 0}, {"sigma_evaluations", 0}, {"sigma_searches", 0},
+                 {"repeated_feature_sets", 0}};
     json objects = json::array(), junctions = json::array(), critical = json::array();
     for (std::size_t o = 0; o < result.objects.size(); ++o) {
         const ObjectSegmentation& obj = result.objects[o];
@@ -322,6 +323,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         add(work, "component_growth_steps", obj.measureStats.componentGrowthSteps);
         add(work, "sigma_evaluations", obj.measureStats.sigmaEvaluations);
         add(work, "sigma_searches", obj.measureStats.sigmaSearch.searches);
+        add(work, "repeated_feature_sets", obj.measureStats.repeatedFeatureSets);
         objects.push_back({{"index", o},
                            {"voxels", obj.voxelCount},
                            {"boundary_voxels", obj.boundaryArea},

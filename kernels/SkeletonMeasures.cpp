@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <memory>
@@ -31,8 +32,29 @@ struct Workspace {
     GeodesicnessEvaluator geodesicness;
     GenerationMarks inSet;
     std::vector<std::uint32_t> gamma;
-    std::uint64_t rimTests = 0, growthSteps = 0, sigmaEvaluations = 0, points = 0;
+    std::uint64_t rimTests = 0, growthSteps = 0, sigmaEvaluations = 0, points = 0, repeats = 0;
+
+    /// Measures by feature set. Everything measure() computes is a function
+    /// of the candidate's feature set alone, and about a quarter of all
+    /// candidates repeat the set of a nearby voxel (hand.off, armadillo.obj
+    /// at 256): those copy the answer instead of redoing path sets, rims,
+    /// areas and sigma. Direct-mapped (a new set evicts the slot's old one),
+    /// so memory stays fixed; the cache changes cost, never results.
+    struct Remembered {
+        std::uint8_t featureCount = 0;  // 0: empty slot
+        bool isPoint = false;
+        std::array<std::uint32_t, 8> feature{};
+        SkeletonPoint point;
+    };
+    static constexpr std::size_t kRememberedSlots = std::size_t(1) << 14;
+    std::vector<Remembered> remembered{kRememberedSlots};
 };
+
+std::size_t featureSetSlot(const SkeletonCandidate& c) {
+    std::uint64_t h = c.featureCount;
+    for (std::uint32_t i = 0; i < c.featureCount; ++i) h = (h ^ c.feature[i]) * 0x9E3779B97F4A7C15ull;
+    return std::size_t(h >> 40) & (Workspace::kRememberedSlots - 1);
+}
 
 /// Gamma(p) into ws.gamma via the cache; returns rho_S and the pair.
 float collectPathSet(Workspace& ws, const SkeletonCandidate& c, std::uint32_t& a, std::uint32_t& b) {
@@ -165,7 +187,24 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph, const std
                     return;
                 }
             }
-            isPoint[i] = measure(ws, candidates[i], std::uint32_t(i), options, options.exactRhoC, slots[i]) ? 1 : 0;
+            const SkeletonCandidate& c = candidates[i];
+            Workspace::Remembered& memo = ws.remembered[featureSetSlot(c)];
+            if (memo.featureCount == c.featureCount &&
+                std::equal(c.feature.begin(), c.feature.begin() + c.featureCount, memo.feature.begin())) {
+                ++ws.repeats;
+                isPoint[i] = memo.isPoint ? 1 : 0;
+                if (memo.isPoint) {
+                    slots[i] = memo.point;
+                    slots[i].voxel = c.voxel;
+                    slots[i].candidate = std::uint32_t(i);
+                }
+                continue;
+            }
+            isPoint[i] = measure(ws, c, std::uint32_t(i), options, options.exactRhoC, slots[i]) ? 1 : 0;
+            memo.featureCount = c.featureCount;
+            std::copy(c.feature.begin(), c.feature.begin() + c.featureCount, memo.feature.begin());
+            memo.isPoint = isPoint[i] != 0;
+            if (memo.isPoint) memo.point = slots[i];
         }
         done += end - begin;
     };
@@ -190,6 +229,7 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph, const std
             s.rimTests += slot->rimTests;
             s.componentGrowthSteps += slot->growthSteps;
             s.sigmaEvaluations += slot->sigmaEvaluations;
+            s.repeatedFeatureSets += slot->repeats;
         }
         s.skeletonPoints = points.size();
         *stats = s;

@@ -72,6 +72,7 @@ struct SkeletonMeasureStats {
     std::uint64_t componentGrowthSteps = 0;
     std::uint64_t sigmaEvaluations = 0;
     SearchCounters sigmaSearch;     // searches made by sigma evaluation
+    std::uint64_t repeatedFeatureSets = 0;  // candidates answered from an identical feature set
     std::uint64_t skeletonPoints = 0;
 };
 

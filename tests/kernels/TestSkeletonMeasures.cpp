@@ -168,10 +168,11 @@ TEST(SkeletonMeasures, SerialEqualsParallel) {
             test::expectSamePoint(serial[i], parallel[i]);
         EXPECT_EQ(serialStats.skeletonPoints, serial.size());
         EXPECT_EQ(parallelStats.skeletonPoints, parallel.size());
-        EXPECT_EQ(serialStats.rimTests, parallelStats.rimTests);
+        // Work counts may differ (each thread has its own path and feature-set
+        // caches); the results above may not.
         EXPECT_GT(serialStats.search.searches, 0u);
-        EXPECT_EQ(serialStats.pathCacheHits + serialStats.pathCacheMisses,
-                  parallelStats.pathCacheHits + parallelStats.pathCacheMisses);
+        EXPECT_GT(serialStats.repeatedFeatureSets, 0u);
+        EXPECT_LE(serialStats.rimTests + serialStats.repeatedFeatureSets, p.candidates.size());
     }
 }
 
