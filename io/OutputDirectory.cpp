@@ -66,11 +66,15 @@ void OutputDirectory::removeCreatedDirectories() noexcept {
 OutputDirectory::~OutputDirectory() { discard(); }
 
 fs::path OutputDirectory::stagingPath(const std::string& name) {
+    // Writers run concurrently in the output flow graph; an unguarded
+    // push_back here crashed one run in 45 (PSB model 143).
+    const std::lock_guard<std::mutex> lock(mStagedMutex);
     if (std::find(mStaged.begin(), mStaged.end(), name) == mStaged.end()) mStaged.push_back(name);
     return mStaging / name;
 }
 
 void OutputDirectory::commit() {
+    const std::lock_guard<std::mutex> lock(mStagedMutex);
     std::error_code ec;
     for (const auto& name : mStaged) {
         const fs::path from = mStaging / name;
@@ -86,7 +90,10 @@ void OutputDirectory::commit() {
 void OutputDirectory::discard() noexcept {
     std::error_code ec;
     if (!mStaging.empty()) fs::remove_all(mStaging, ec);
-    mStaged.clear();
+    {
+        const std::lock_guard<std::mutex> lock(mStagedMutex);
+        mStaged.clear();
+    }
     if (!mCommitted) removeCreatedDirectories();
 }
 

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <filesystem>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@ public:
     OutputDirectory& operator=(const OutputDirectory&) = delete;
 
     /// Where to write output `name` (a plain file name) before commit().
+    /// Thread-safe: the writers of one run call it concurrently.
     std::filesystem::path stagingPath(const std::string& name);
     /// Moves every staged file to OUTDIR/name. Throws OutputError on failure.
     void commit();
@@ -38,6 +40,7 @@ public:
 
 private:
     std::filesystem::path mDirectory, mStaging;
+    std::mutex mStagedMutex;  // guards mStaged
     std::vector<std::string> mStaged;
     std::vector<std::filesystem::path> mCreated;  // directories the constructor created, deepest first
     bool mCommitted = false;
