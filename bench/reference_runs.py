@@ -1,0 +1,85 @@
+#!/usr/bin/python3
+"""The reference runs of issue 4: end-to-end wall time, CPU time, peak memory
+and serial share of `skelseg segment` on armadillo.obj and hand.off at
+resolutions 256 and 400, repeated and summarised by the median.
+
+Usage: bench/reference_runs.py [--skelseg build/skelseg] [--data ../shared/data]
+                               [--resolutions 256,400] [--repeat 3] [--threads N]
+                               [--out out/reference]
+Prints a Markdown table (one row per model and resolution) and writes
+OUT/reference.json with every run. Machines are shared and noisy: compare
+medians, and read the load average printed with the table.
+"""
+import argparse, json, os, statistics, subprocess, sys, time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+TARGETS = {256: 5.0, 400: 20.0}  # seconds of wall time (issue 4)
+MEMORY_TARGET_GB = 2.0
+
+
+def run_once(skelseg, mesh, resolution, threads, out):
+    if out.exists():
+        subprocess.run(["rm", "-rf", str(out)], check=True)
+    cmd = [str(skelseg), "segment", str(mesh), "-o", str(out), "--resolution", str(resolution), "-q"]
+    if threads:
+        cmd += ["--threads", str(threads)]
+    start = time.monotonic()
+    proc = subprocess.run(["/usr/bin/time", "-f", "%M"] + cmd, capture_output=True, text=True)
+    wall = time.monotonic() - start
+    if proc.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}): {proc.stderr.strip()[-300:]}")
+    peak_kb = int(proc.stderr.strip().splitlines()[-1])
+    report = json.loads((out / "report.json").read_text())
+    return {
+        "wall": wall,
+        "cpu": report["timing"]["cpu_seconds"],
+        "serial_share": report["timing"]["serial_share"],
+        "peak_gb": peak_kb / 1024 / 1024,
+        "segments": report["segment_count"],
+        "stages": {s["name"]: s["wall_seconds"] for s in report["stages"]},
+    }
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--skelseg", default=str(REPO / "build" / "skelseg"))
+    ap.add_argument("--data", default=str(REPO.parent / "shared" / "data"))
+    ap.add_argument("--resolutions", default="256,400")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--threads", type=int, default=0, help="passed as --threads (default: all cores)")
+    ap.add_argument("--out", default=str(REPO / "out" / "reference"))
+    args = ap.parse_args()
+    shapes = Path(args.data) / "shapes"
+    meshes = [shapes / "armadillo.obj", shapes / "hand.off"]
+    if not all(m.is_file() for m in meshes):
+        print(f"reference_runs: {shapes} lacks armadillo.obj or hand.off; skipping.")
+        return 0
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    resolutions = [int(r) for r in args.resolutions.split(",")]
+    rows, record = [], []
+    load_before = os.getloadavg()[0]
+    for mesh in meshes:
+        for resolution in resolutions:
+            runs = [run_once(args.skelseg, mesh, resolution, args.threads, out / f"{mesh.stem}-{resolution}")
+                    for _ in range(args.repeat)]
+            med = {k: statistics.median(r[k] for r in runs) for k in ("wall", "cpu", "serial_share", "peak_gb")}
+            record.append({"mesh": mesh.name, "resolution": resolution, "runs": runs, "median": med})
+            target = TARGETS.get(resolution)
+            verdict = "" if target is None else ("met" if med["wall"] <= target else f"not met ({med['wall'] / target:.1f}x)")
+            rows.append(f"| {mesh.name} | {resolution} | {med['wall']:.2f} | "
+                        f"{min(r['wall'] for r in runs):.2f} to {max(r['wall'] for r in runs):.2f} | {med['cpu']:.2f} | "
+                        f"{med['serial_share'] * 100:.1f}% | {med['peak_gb']:.2f} | {runs[0]['segments']} | "
+                        f"{'<= %g s: %s' % (target, verdict) if target else ''} |")
+    (out / "reference.json").write_text(json.dumps(record, indent=2) + "\n")
+    print(f"{args.repeat} runs each, {os.cpu_count()} vCPUs, 1-minute load average {load_before:.2f} before "
+          f"and {os.getloadavg()[0]:.2f} after (our own runs add about 2); medians.\n")
+    print("| model | resolution | wall s (median) | wall s (range) | CPU s | serial share | peak GB | segments | target |")
+    print("| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | --- |")
+    print("\n".join(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
