@@ -4,13 +4,18 @@
 #   unit   kernels, readers/writers, scoring          (label unit)
 #   scene  generated shapes end to end                (label scene)
 #   bench  every benchmark at its smallest size, compared with the baseline
-#   asan   unit tests under AddressSanitizer + UBSan   (SKELSEG_CI_ASAN=0 skips)
-#   fuzz   each parser under libFuzzer for a bounded time (SKELSEG_FUZZ_SECONDS, default 30; 0 skips)
+#   asan   unit tests under AddressSanitizer + UBSan, built with clang (SKELSEG_CI_ASAN=0 skips)
+#   fuzz   each parser under libFuzzer for a bounded time, JOBS targets at a time
+#          (SKELSEG_FUZZ_SECONDS per target, default 60; 0 skips)
 #   slow   robustness on real data and degenerate shapes (label slow)
+# The fuzz targets are built in the background while the sanitizer build runs
+# (both are CPU-bound; together they keep the cores busy); its log is
+# build-ci/fuzz-build.log.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
 jobs="${SKELSEG_JOBS:-2}"
+fuzz_seconds="${SKELSEG_FUZZ_SECONDS:-60}"
 start=$(date +%s)
 stamp() { echo "== $1 ($(( $(date +%s) - start )) s)"; }
 
@@ -27,12 +32,30 @@ stamp "benchmarks (smallest size) vs baseline"
 tools/run-benchmarks.sh build-ci
 
 if [ "${SKELSEG_CI_ASAN:-1}" != "0" ]; then
+  stamp "build (ASan+UBSan, clang)"
+  fuzz_build=""
+  if [ "$fuzz_seconds" != "0" ]; then
+    JOBS=1 tools/run-fuzzers.sh --build-only > build-ci/fuzz-build.log 2>&1 &
+    fuzz_build=$!
+  fi
+  if ! CXX=clang++ JOBS="$jobs" tools/run-asan-tests.sh --build-only; then
+    [ -z "$fuzz_build" ] || wait "$fuzz_build" || true
+    exit 1
+  fi
+  if [ -n "$fuzz_build" ]; then
+    stamp "waiting for the fuzz build"
+    if ! wait "$fuzz_build"; then
+      cat build-ci/fuzz-build.log
+      echo "test.sh: fuzz build failed" >&2
+      exit 1
+    fi
+  fi
   stamp "unit tests under ASan+UBSan"
   JOBS="$jobs" tools/run-asan-tests.sh
 fi
-if [ "${SKELSEG_FUZZ_SECONDS:-30}" != "0" ]; then
+if [ "$fuzz_seconds" != "0" ]; then
   stamp "fuzzing"
-  JOBS="$jobs" tools/run-fuzzers.sh "${SKELSEG_FUZZ_SECONDS:-30}"
+  JOBS="$jobs" tools/run-fuzzers.sh "$fuzz_seconds"
 fi
 
 stamp "slow tests"
