@@ -139,8 +139,11 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
             auto cropPlanes = [&](int z0, int z1) {
                 for (int z = z0; z < z1; ++z)
                     for (int y = 1; y < cropDims.y - 1; ++y) {
-                        const std::uint32_t* in = component.data() + mask.index(origin[0], y + origin[1], z + origin[2]);
-                        for (int x = 1; x < cropDims.x - 1; ++x) crop(x, y, z) = in[x] == extent.id + 1 ? 1 : 0;
+                        // Row start at the first object column (x = 1 in the crop): origin[0] itself
+                        // may be -1, and forming a pointer before the array is undefined.
+                        const std::uint32_t* in =
+                            component.data() + mask.index(origin[0] + 1, y + origin[1], z + origin[2]);
+                        for (int x = 1; x < cropDims.x - 1; ++x) crop(x, y, z) = in[x - 1] == extent.id + 1 ? 1 : 0;
                     }
             };
             if (p.threaded)
