@@ -134,6 +134,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
             meshDiagnostics = checkMesh(*mesh);
             VoxelizeOptions vo;
             vo.resolution = options.resolution;
+            vo.meshIsClosed = meshDiagnostics.closed;
             // The voxeliser's refusals (a grid over the cap, a mesh collapsed
             // to a point) do not know the file: name it, as every error must.
             const auto nameTheFile = [&](const UsageError& error) {

@@ -265,7 +265,7 @@ MaskVolume voxelizeMesh(const TriangleMesh& mesh, const VoxelizeOptions& options
     const VoxelGrid grid = voxelGridFor(mesh, options);
     InterrupterScope scope(interrupter, "voxelize");
     openvdb::initialize();
-    const bool closed = checkMesh(mesh).closed;
+    const bool closed = options.meshIsClosed ? *options.meshIsClosed : checkMesh(mesh).closed;
     throwIfInterrupted(interrupter, 0.0);
 
     MaskVolume mask;

@@ -29,6 +29,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 
 #include "engine/Interrupter.h"
 #include "io/MeshIO.h"
@@ -48,6 +49,10 @@ struct VoxelizeOptions {
     /// false: every phase runs on the calling thread (OpenVDB's mesh
     /// conversion has no serial switch, so it runs in a one-thread TBB arena).
     bool threaded = true;
+    /// Whether the mesh is closed (checkMesh().closed), when the caller has
+    /// already checked it; unset: voxelizeMesh() checks (a full edge count,
+    /// so a caller that runs checkMesh() for its warnings passes the answer).
+    std::optional<bool> meshIsClosed;
 };
 
 /// Size and placement of the grid voxelizeMesh() makes, without voxelising.

@@ -223,5 +223,22 @@ TEST(MeshVoxelizer, RejectsBadOptionsAndHonoursInterrupts) {
     EXPECT_EQ(stop.ends.load(), 1);
 }
 
+TEST(MeshVoxelizer, KnownClosednessSelectsTheMethodWithoutRechecking) {
+    // A caller that has run checkMesh() passes its answer: the same answer
+    // gives the same mask; a closed mesh declared open goes through the shell
+    // method instead (fatter by the closing, so the masks differ).
+    const TriangleMesh sphere = icosphere(3, 1.0, {0, 0, 0});
+    VoxelizeOptions options;
+    options.resolution = 40;
+    const MaskVolume unset = voxelizeMesh(sphere, options);
+    options.meshIsClosed = true;
+    const MaskVolume declaredClosed = voxelizeMesh(sphere, options);
+    EXPECT_TRUE(unset.values() == declaredClosed.values());
+    options.meshIsClosed = false;
+    const MaskVolume declaredOpen = voxelizeMesh(sphere, options);
+    EXPECT_FALSE(unset.values() == declaredOpen.values());
+    EXPECT_GE(solidCount(declaredOpen), solidCount(unset));
+}
+
 }  // namespace
 }  // namespace skelseg
