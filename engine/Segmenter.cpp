@@ -83,12 +83,11 @@ std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectV
     // Input mask (1) + labels (2) + object ids (4) per grid voxel; per object
     // crop at most the grid: mask (1) + feature transform (4) + node map (4).
     std::uint64_t bytes = voxels * (1 + 2 + 4) + voxels * (1 + 4 + 4);
-    // Boundary graph ~ a sixth of the object voxels at most, ~140 bytes each
-    // with CSR and 32 landmark distances, plus the landmark slots beyond 32,
-    // plus per-thread workspaces; candidates ~ 40 bytes per object voxel.
+    // Boundary graph ~ a sixth of the object voxels at most: ~12 bytes each
+    // of CSR and the node's landmark row, plus per-thread workspaces;
+    // candidates ~ 40 bytes per object voxel.
     const std::uint64_t boundary = std::min<std::uint64_t>(objectVoxels, objectVoxels / 6 + 4096);
-    bytes += boundary * (140 + 4 * (std::uint64_t(Landmarks::kStride) - 32)) +
-             boundary * 40 * std::uint64_t(std::max(threads, 1));
+    bytes += boundary * (12 + sizeof(float) * Landmarks::kStride) + boundary * 40 * std::uint64_t(std::max(threads, 1));
     bytes += objectVoxels / 4 * 48;
     return bytes;
 }

@@ -49,7 +49,7 @@ struct Landmarks {
     /// On elephant.obj at 256, 48 landmarks settled 48% fewer nodes than 32
     /// (path-set stage 25% faster), 64 only 13% fewer than 48 and slower
     /// overall (longer selection, four cache lines); the thick-bodied shapes
-    /// gain most, hand.off and armadillo.obj at 400 gain 7% and 3%.
+    /// gain most, hand.off and armadillo.obj at 400 about 7% and 2% (one run each).
     static constexpr std::uint32_t kStride = 48;
 
     std::uint32_t count = 0;

@@ -6,19 +6,12 @@
 #include <map>
 
 #include "engine/Segmenter.h"
+#include "tests/engine/RobustnessHelpers.h"
 
 using namespace skelseg;
+using skelseg::test::makeMask;
 
 namespace {
-
-template <class Inside>
-MaskVolume maskOf(Dims dims, Inside inside) {
-    MaskVolume mask(dims, 0);
-    for (int z = 0; z < dims.z; ++z)
-        for (int y = 0; y < dims.y; ++y)
-            for (int x = 0; x < dims.x; ++x) mask(x, y, z) = inside(x, y, z) ? 1 : 0;
-    return mask;
-}
 
 /// Every object voxel carries a listed label, background none, and the
 /// segments' voxel counts are those of the label volume.
@@ -53,7 +46,7 @@ SegmentationResult segmentWith(const MaskVolume& mask, bool threaded) {
 TEST(Segmenter, TubeThroughOppositeGridFacesIsLabelledCompletely) {
     // A tube from x = 0 to x = max, lying on the y = 0 face: its crop starts at
     // (-1, -1, z0 - 1).
-    const MaskVolume mask = maskOf(Dims{36, 14, 14}, [](int, int y, int z) {
+    const MaskVolume mask = makeMask(Dims{36, 14, 14}, [](int, int y, int z) {
         const double dy = y - 3.0, dz = z - 7.0;
         return dy * dy + dz * dz <= 16.0;
     });
@@ -66,7 +59,7 @@ TEST(Segmenter, TubeThroughOppositeGridFacesIsLabelledCompletely) {
 }
 
 TEST(Segmenter, BoxFillingTheGridSerialAndParallelAgree) {
-    const MaskVolume mask = maskOf(Dims{10, 9, 8}, [](int, int, int) { return true; });
+    const MaskVolume mask = makeMask(Dims{10, 9, 8}, [](int, int, int) { return true; });
     const SegmentationResult parallel = segmentWith(mask, true);
     const SegmentationResult serial = segmentWith(mask, false);
     expectLabelsCoverTheObject(mask, parallel);
@@ -80,7 +73,7 @@ TEST(Segmenter, ObjectsInOppositeCornersKeepTheirVoxels) {
     // Two boxes, each in a corner of the grid (touching three faces), plus a
     // single voxel in a third corner.
     const Dims dims{20, 16, 12};
-    const MaskVolume mask = maskOf(dims, [](int x, int y, int z) {
+    const MaskVolume mask = makeMask(dims, [](int x, int y, int z) {
         return (x <= 5 && y <= 5 && z <= 5) || (x >= 12 && y >= 9 && z >= 6) || (x == 19 && y == 0 && z == 0);
     });
     const SegmentationResult result = segmentWith(mask, true);
