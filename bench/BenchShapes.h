@@ -19,13 +19,13 @@
 #include <utility>
 #include <vector>
 
-#include "io/SyntheticShapes.h"
+#include "io/shapes/SyntheticShapes.h"
 #include "kernels/BoundaryGraph.h"
 #include "kernels/FeatureTransform.h"
 #include "kernels/PathSearch.h"
 #include "kernels/SkeletonCandidates.h"
 #include "kernels/SkeletonMeasures.h"
-#include "kernels/Volume.h"
+#include "kernels/base/Volume.h"
 
 namespace skelseg::bench {
 

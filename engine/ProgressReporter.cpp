@@ -8,13 +8,20 @@ namespace skelseg {
 
 namespace {
 std::atomic<bool> gInterruptRequested{false};
-extern "C" void onSignal(int) { gInterruptRequested.store(true); }
+extern "C" void onSignal(int) {
+    gInterruptRequested.store(true);
+}
 }  // namespace
 
 ProgressReporter::ProgressReporter(Display display, double timeLimitSeconds, std::FILE* stream)
-    : mDisplay(display), mStream(stream), mStart(std::chrono::steady_clock::now()), mStageStart(mStart),
-      mTimeLimit(timeLimitSeconds), mLastDraw(mStart) {
-    if (mDisplay == Display::Auto) mDisplay = ::isatty(::fileno(stream)) ? Display::Bar : Display::Lines;
+    : mDisplay(display),
+      mStream(stream),
+      mStart(std::chrono::steady_clock::now()),
+      mStageStart(mStart),
+      mTimeLimit(timeLimitSeconds),
+      mLastDraw(mStart) {
+    if (mDisplay == Display::Auto)
+        mDisplay = ::isatty(::fileno(stream)) ? Display::Bar : Display::Lines;
 }
 
 ProgressReporter::~ProgressReporter() {
@@ -26,8 +33,12 @@ void ProgressReporter::installSignalHandlers() {
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
 }
-void ProgressReporter::requestInterrupt() noexcept { gInterruptRequested.store(true); }
-void ProgressReporter::clearInterruptRequest() noexcept { gInterruptRequested.store(false); }
+void ProgressReporter::requestInterrupt() noexcept {
+    gInterruptRequested.store(true);
+}
+void ProgressReporter::clearInterruptRequest() noexcept {
+    gInterruptRequested.store(false);
+}
 
 double ProgressReporter::elapsedSeconds() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
@@ -62,7 +73,8 @@ bool ProgressReporter::wasInterrupted(double fraction) {
 }
 
 InterruptedError::Reason ProgressReporter::reason() const {
-    return mTimedOut.load() ? InterruptedError::Reason::TimeLimit : InterruptedError::Reason::UserInterrupt;
+    return mTimedOut.load() ? InterruptedError::Reason::TimeLimit
+                            : InterruptedError::Reason::UserInterrupt;
 }
 
 void ProgressReporter::message(const std::string& line) {
@@ -87,12 +99,13 @@ void ProgressReporter::draw(double fraction, bool force) {
     const double stageElapsed = std::chrono::duration<double>(now - mStageStart).count();
     char eta[32] = "";
     if (fraction > 0.02 && fraction < 1.0)
-        std::snprintf(eta, sizeof eta, ", ~%.0f s left", stageElapsed / fraction * (1.0 - fraction));
+        std::snprintf(eta, sizeof eta, ", ~%.0f s left",
+                      stageElapsed / fraction * (1.0 - fraction));
     const int width = 30, filled = int(fraction * width + 0.5);
     std::string bar(std::size_t(std::max(0, std::min(width, filled))), '#');
     bar.resize(std::size_t(width), '.');
-    std::fprintf(mStream, "\r\033[K%-30s [%s] %3.0f%%  %.1f s%s", mStage.c_str(), bar.c_str(), fraction * 100.0,
-                 elapsedSeconds(), eta);
+    std::fprintf(mStream, "\r\033[K%-30s [%s] %3.0f%%  %.1f s%s", mStage.c_str(), bar.c_str(),
+                 fraction * 100.0, elapsedSeconds(), eta);
     std::fflush(mStream);
     mBarVisible = true;
 }

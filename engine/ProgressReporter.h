@@ -17,7 +17,7 @@
 #include <mutex>
 #include <string>
 
-#include "engine/Interrupter.h"
+#include "kernels/base/Interrupter.h"
 
 namespace skelseg {
 

@@ -4,10 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/Error.h"
 #include "engine/SegmentationScore.h"
-#include "io/MeshIO.h"
-#include "io/SegFile.h"
+#include "io/mesh/MeshIO.h"
+#include "io/mesh/SegFile.h"
+#include "kernels/base/Error.h"
 
 namespace skelseg {
 
@@ -16,7 +16,8 @@ namespace {
 std::vector<std::int64_t> readSegFor(const std::filesystem::path& path, std::size_t faceCount) {
     std::vector<std::int64_t> labels = readSeg(path);
     if (labels.size() != faceCount)
-        throw InputError(path.string(), "has " + std::to_string(labels.size()) + " labels but the mesh has " +
+        throw InputError(path.string(), "has " + std::to_string(labels.size()) +
+                                            " labels but the mesh has " +
                                             std::to_string(faceCount) + " faces");
     return labels;
 }
@@ -30,15 +31,18 @@ nlohmann::json scoreJson(const PartitionScore& score) {
 
 }  // namespace
 
-int runScoreCommand(const std::filesystem::path& meshPath, const std::filesystem::path& candidatePath,
-                    const std::vector<std::filesystem::path>& humanPaths, bool json, std::ostream& out) {
+int runScoreCommand(const std::filesystem::path& meshPath,
+                    const std::filesystem::path& candidatePath,
+                    const std::vector<std::filesystem::path>& humanPaths, bool json,
+                    std::ostream& out) {
     if (humanPaths.empty()) throw UsageError("score: give at least one human segmentation file");
     const TriangleMesh mesh = readMesh(meshPath);
     const std::vector<double> areas = faceAreas(mesh);
     const std::vector<std::int64_t> candidate = readSegFor(candidatePath, mesh.faceCount);
     std::vector<std::vector<std::int64_t>> humans;
     for (const auto& path : humanPaths) humans.push_back(readSegFor(path, mesh.faceCount));
-    const ScoreSummary summary = scoreAgainstHumans(candidate, humans, &areas, ScoreWeighting::Benchmark);
+    const ScoreSummary summary =
+        scoreAgainstHumans(candidate, humans, &areas, ScoreWeighting::Benchmark);
 
     if (json) {
         nlohmann::json document;
@@ -58,18 +62,21 @@ int runScoreCommand(const std::filesystem::path& meshPath, const std::filesystem
         return 0;
     }
 
-    out << fmt::format("{} ({} faces) scored against {} human segmentation(s)\n", candidatePath.string(),
-                       mesh.faceCount, humanPaths.size());
-    out << "Rand Index error over faces; Hamming distance weighted by face area (as the Princeton benchmark)\n";
-    out << fmt::format("{:<40} {:>10} {:>10} {:>10} {:>10}\n", "human", "rand_err", "hamming", "missing", "false_al");
+    out << fmt::format("{} ({} faces) scored against {} human segmentation(s)\n",
+                       candidatePath.string(), mesh.faceCount, humanPaths.size());
+    out << "Rand Index error over faces; Hamming distance weighted by face area (as the Princeton "
+           "benchmark)\n";
+    out << fmt::format("{:<40} {:>10} {:>10} {:>10} {:>10}\n", "human", "rand_err", "hamming",
+                       "missing", "false_al");
     for (std::size_t h = 0; h < humanPaths.size(); ++h) {
         const PartitionScore& s = summary.perHuman[h];
-        out << fmt::format("{:<40} {:>10.4f} {:>10.4f} {:>10.4f} {:>10.4f}\n", humanPaths[h].filename().string(),
-                           s.randIndexError, s.hammingDistance, s.missingRate, s.falseAlarmRate);
+        out << fmt::format("{:<40} {:>10.4f} {:>10.4f} {:>10.4f} {:>10.4f}\n",
+                           humanPaths[h].filename().string(), s.randIndexError, s.hammingDistance,
+                           s.missingRate, s.falseAlarmRate);
     }
     const PartitionScore& m = summary.mean;
-    out << fmt::format("{:<40} {:>10.4f} {:>10.4f} {:>10.4f} {:>10.4f}\n", "mean", m.randIndexError, m.hammingDistance,
-                       m.missingRate, m.falseAlarmRate);
+    out << fmt::format("{:<40} {:>10.4f} {:>10.4f} {:>10.4f} {:>10.4f}\n", "mean", m.randIndexError,
+                       m.hammingDistance, m.missingRate, m.falseAlarmRate);
     return 0;
 }
 

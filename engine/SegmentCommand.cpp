@@ -14,18 +14,18 @@
 #include <optional>
 
 #include "engine/Version.h"
-#include "io/FaceLabels.h"
-#include "io/MeshCheck.h"
-#include "io/MeshIO.h"
-#include "io/MeshVoxelizer.h"
-#include "io/NrrdIO.h"
-#include "io/OutputDirectory.h"
-#include "io/PlyWriter.h"
-#include "io/PreviewRenderer.h"
-#include "io/SegFile.h"
-#include "io/SegmentSurfaces.h"
-#include "io/VdbIO.h"
-#include "io/VolumeReader.h"
+#include "io/files/OutputDirectory.h"
+#include "io/mesh/FaceLabels.h"
+#include "io/mesh/MeshCheck.h"
+#include "io/mesh/MeshIO.h"
+#include "io/mesh/MeshVoxelizer.h"
+#include "io/mesh/SegFile.h"
+#include "io/render/PlyWriter.h"
+#include "io/render/PreviewRenderer.h"
+#include "io/render/SegmentSurfaces.h"
+#include "io/volume/NrrdIO.h"
+#include "io/volume/VdbIO.h"
+#include "io/volume/VolumeReader.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -33,8 +33,9 @@ using json = nlohmann::json;
 namespace skelseg {
 
 const std::vector<std::string>& segmentOutputNames() {
-    static const std::vector<std::string> names = {"labels.nrrd", "labels.vdb",  "skeleton.ply", "cuts.ply",
-                                                   "segments.ply", "preview.png", "report.json", "segmentation.seg"};
+    static const std::vector<std::string> names = {"labels.nrrd", "labels.vdb",      "skeleton.ply",
+                                                   "cuts.ply",    "segments.ply",    "preview.png",
+                                                   "report.json", "segmentation.seg"};
     return names;
 }
 
@@ -46,7 +47,8 @@ std::uint64_t defaultMemoryLimit() {
 
 bool isMeshPath(const fs::path& path) {
     std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
     return ext == ".off" || ext == ".obj" || ext == ".stl" || ext == ".ply";
 }
 
@@ -55,10 +57,14 @@ namespace {
 std::string formatBytes(std::uint64_t bytes) {
     // A unit that shows the number: "--max-memory 1M" must not read "0.00 GB".
     char buffer[64];
-    if (bytes >= 1000000000) std::snprintf(buffer, sizeof buffer, "%.2f GB", double(bytes) / 1e9);
-    else if (bytes >= 1000000) std::snprintf(buffer, sizeof buffer, "%.2f MB", double(bytes) / 1e6);
-    else if (bytes >= 1000) std::snprintf(buffer, sizeof buffer, "%.2f KB", double(bytes) / 1e3);
-    else std::snprintf(buffer, sizeof buffer, "%llu bytes", static_cast<unsigned long long>(bytes));
+    if (bytes >= 1000000000)
+        std::snprintf(buffer, sizeof buffer, "%.2f GB", double(bytes) / 1e9);
+    else if (bytes >= 1000000)
+        std::snprintf(buffer, sizeof buffer, "%.2f MB", double(bytes) / 1e6);
+    else if (bytes >= 1000)
+        std::snprintf(buffer, sizeof buffer, "%.2f KB", double(bytes) / 1e3);
+    else
+        std::snprintf(buffer, sizeof buffer, "%llu bytes", static_cast<unsigned long long>(bytes));
     return buffer;
 }
 
@@ -66,10 +72,16 @@ std::array<double, 3> voxelToWorld(const VolumeGeometry& g, const std::array<int
     return g.indexToWorld(v[0], v[1], v[2]);
 }
 
-json toJson(const std::array<double, 3>& p) { return json::array({p[0], p[1], p[2]}); }
-json toJson(const std::array<int, 3>& p) { return json::array({p[0], p[1], p[2]}); }
+json toJson(const std::array<double, 3>& p) {
+    return json::array({p[0], p[1], p[2]});
+}
+json toJson(const std::array<int, 3>& p) {
+    return json::array({p[0], p[1], p[2]});
+}
 /// JSON has no infinity: handle loops report null for rho_C.
-json areaJson(double value) { return std::isfinite(value) ? json(value) : json(nullptr); }
+json areaJson(double value) {
+    return std::isfinite(value) ? json(value) : json(nullptr);
+}
 
 }  // namespace
 
@@ -77,8 +89,10 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     const auto wallStart = std::chrono::steady_clock::now();
     const double cpuStart = processCpuSeconds();
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
-    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-    const std::uint64_t memoryLimit = options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit();
+    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                    std::size_t(threads));
+    const std::uint64_t memoryLimit =
+        options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit();
 
     // Never replace the input: with --force, an input stored in OUTDIR under
     // an output name (a labels.nrrd fed back in) would be overwritten.
@@ -86,18 +100,21 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         std::error_code ec;
         if (fs::equivalent(options.input, options.outdir / name, ec))
             throw UsageError(options.input.string() + ": the input is " + name +
-                             " in the output directory and would be overwritten; choose another output directory");
+                             " in the output directory and would be overwritten; choose another "
+                             "output directory");
     }
     // Readers load the whole file: a file larger than the memory limit is
     // refused before anything is read (the finer estimates follow below).
     {
         std::error_code ec;
-        const auto fileSize = fs::is_regular_file(options.input, ec) ? fs::file_size(options.input, ec) : 0;
-        // (Files over kMaxInputFileBytes are bad input whatever the memory: the reader refuses them.)
+        const auto fileSize =
+            fs::is_regular_file(options.input, ec) ? fs::file_size(options.input, ec) : 0;
+        // (Files over kMaxInputFileBytes are bad input whatever the memory: the reader refuses
+        // them.)
         if (!ec && fileSize > memoryLimit && fileSize <= kMaxInputFileBytes)
             throw MemoryLimitError(options.input.string() + ": reading the file needs at least " +
-                                   formatBytes(fileSize) + ", over the limit of " + formatBytes(memoryLimit) +
-                                   " (--max-memory)");
+                                   formatBytes(fileSize) + ", over the limit of " +
+                                   formatBytes(memoryLimit) + " (--max-memory)");
     }
     // Refuse to clobber earlier results before doing any work.
     OutputDirectory out(options.outdir, options.force, segmentOutputNames());
@@ -146,11 +163,13 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
             } catch (const UsageError& error) {
                 throw nameTheFile(error);
             }
-            estimatedMemory = estimateSegmentationMemory(grid.dims, grid.dims.voxelCount() / 4, threads) +
-                              grid.dims.voxelCount() * 8;  // level set + dense copy while voxelising
+            estimatedMemory =
+                estimateSegmentationMemory(grid.dims, grid.dims.voxelCount() / 4, threads) +
+                grid.dims.voxelCount() * 8;  // level set + dense copy while voxelising
             if (estimatedMemory > memoryLimit)
-                throw MemoryLimitError(options.input.string() + ": needs about " + formatBytes(estimatedMemory) +
-                                       " at resolution " + std::to_string(options.resolution) + ", over the limit of " +
+                throw MemoryLimitError(options.input.string() + ": needs about " +
+                                       formatBytes(estimatedMemory) + " at resolution " +
+                                       std::to_string(options.resolution) + ", over the limit of " +
                                        formatBytes(memoryLimit) + " (--max-memory)");
             auto t = timer.stage("voxelise", true);
             try {
@@ -168,10 +187,12 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         }
         std::uint64_t objectVoxels = 0;
         for (std::uint8_t v : mask.values()) objectVoxels += v != 0;
-        estimatedMemory = std::max(estimatedMemory, estimateSegmentationMemory(mask.dims(), objectVoxels, threads));
+        estimatedMemory = std::max(estimatedMemory,
+                                   estimateSegmentationMemory(mask.dims(), objectVoxels, threads));
         if (estimatedMemory > memoryLimit)
-            throw MemoryLimitError(options.input.string() + ": needs about " + formatBytes(estimatedMemory) +
-                                   ", over the limit of " + formatBytes(memoryLimit) + " (--max-memory)");
+            throw MemoryLimitError(options.input.string() + ": needs about " +
+                                   formatBytes(estimatedMemory) + ", over the limit of " +
+                                   formatBytes(memoryLimit) + " (--max-memory)");
     });
     Node segment(graph, [&](Msg) {
         result = segmentVolume(mask, options.parameters, progress, &timer);
@@ -201,7 +222,8 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
                 r.critical = v.critical;
                 skeletonPoints.push_back(r);
             }
-            for (const auto& e : object.skeletonEdges) skeletonEdges.push_back({e[0] + base, e[1] + base});
+            for (const auto& e : object.skeletonEdges)
+                skeletonEdges.push_back({e[0] + base, e[1] + base});
             for (const auto& loop : object.cutLoops) {
                 std::vector<std::array<double, 3>> world;
                 for (const auto& v : loop) world.push_back(voxelToWorld(*geometry, v));
@@ -231,12 +253,14 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
             std::vector<std::uint32_t> triangleLabels(mesh->triangles.size());
             for (std::size_t i = 0; i < triangleLabels.size(); ++i)
                 triangleLabels[i] = faceLabels[mesh->triangleFace[i]];
-            writeColouredMeshPly(out.stagingPath("segments.ply"), mesh->vertices, mesh->triangles, triangleLabels);
+            writeColouredMeshPly(out.stagingPath("segments.ply"), mesh->vertices, mesh->triangles,
+                                 triangleLabels);
             writeSeg(out.stagingPath("segmentation.seg"), faceLabels);
             scene.vertices = mesh->vertices;
             scene.triangles = mesh->triangles;
             scene.triangleLabels.resize(triangleLabels.size());
-            for (std::size_t i = 0; i < triangleLabels.size(); ++i) scene.triangleLabels[i] = triangleLabels[i] + 1;
+            for (std::size_t i = 0; i < triangleLabels.size(); ++i)
+                scene.triangleLabels[i] = triangleLabels[i] + 1;
         } else {
             // A few smoothing passes take the voxel terraces off the picture
             // and the meshes; the surfaces stay within a voxel of the labels.
@@ -244,8 +268,10 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
             so.smoothingIterations = 10;
             LabelledSurface surface = extractSegmentSurfaces(result.labels, so, progress);
             std::vector<std::uint32_t> zeroBased(surface.triangleLabels.size());
-            for (std::size_t i = 0; i < zeroBased.size(); ++i) zeroBased[i] = surface.triangleLabels[i] - 1;
-            writeColouredMeshPly(out.stagingPath("segments.ply"), surface.vertices, surface.triangles, zeroBased);
+            for (std::size_t i = 0; i < zeroBased.size(); ++i)
+                zeroBased[i] = surface.triangleLabels[i] - 1;
+            writeColouredMeshPly(out.stagingPath("segments.ply"), surface.vertices,
+                                 surface.triangles, zeroBased);
             scene.vertices = std::move(surface.vertices);
             scene.triangles = std::move(surface.triangles);
             scene.triangleLabels = std::move(surface.triangleLabels);
@@ -254,9 +280,11 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         for (const auto& p : skeletonPoints) scene.skeletonPoints.push_back(p.position);
         scene.skeletonEdges = skeletonEdges;
         scene.cutLoops = cutLoops;
-        scene.title = options.input.filename().string() + "   parts: " + std::to_string(result.segments.size()) +
-                      "   tau: " + options.parameters.tau.toString() +
-                      (options.parameters.mode == CutMode::Junctions ? "   mode: junctions (RT07)" : "");
+        scene.title =
+            options.input.filename().string() +
+            "   parts: " + std::to_string(result.segments.size()) +
+            "   tau: " + options.parameters.tau.toString() +
+            (options.parameters.mode == CutMode::Junctions ? "   mode: junctions (RT07)" : "");
         PreviewOptions po;  // default: the longest side of the shape points up
         renderPreviewPng(out.stagingPath("preview.png"), scene, po);
     });
@@ -272,7 +300,8 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     throwIfInterrupted(progress);
 
     // The report comes last: it holds the timings of everything above.
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     json report;
     report["status"] = "ok";
     report["skelseg_version"] = versionString();
@@ -290,24 +319,34 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     report["grid"] = {{"size", {d.x, d.y, d.z}},
                       {"voxel_size", result.labels.geometry.voxelSize()},
                       {"origin", toJson(result.labels.geometry.origin)}};
-    report["parameters"] = {{"tau", options.parameters.tau.toString()},
-                            {"sigma_min", options.parameters.sigmaMin},
-                            {"body_ratio", options.parameters.bodyRatio},
-                            {"mode", options.parameters.mode == CutMode::Junctions ? "junctions" : "junction-rule"},
-                            {"threads", threads},
-                            {"region_radius", options.parameters.regionRadius},
-                            {"bridge_gap", options.parameters.bridgeGap},
-                            {"consecutive_levels", options.parameters.consecutiveLevels}};
-    json counts = {{"object_voxels", 0}, {"boundary_voxels", 0}, {"candidates", 0}, {"curve_skeleton_points", 0},
-                   {"skeleton_points", 0}, {"junction_voxels", 0}};
-    json work = {{"objects_voxels_examined", 0}, {"candidates_searched", 0}, {"dijkstra_searches", 0},
-                 {"heap_pops", 0}, {"nodes_settled", 0}, {"path_cache_hits", 0}, {"rim_tests", 0},
-                 {"component_growth_steps", 0}, {"sigma_evaluations", 0}, {"sigma_searches", 0},
+    report["parameters"] = {
+        {"tau", options.parameters.tau.toString()},
+        {"sigma_min", options.parameters.sigmaMin},
+        {"body_ratio", options.parameters.bodyRatio},
+        {"mode", options.parameters.mode == CutMode::Junctions ? "junctions" : "junction-rule"},
+        {"threads", threads},
+        {"region_radius", options.parameters.regionRadius},
+        {"bridge_gap", options.parameters.bridgeGap},
+        {"consecutive_levels", options.parameters.consecutiveLevels}};
+    json counts = {{"object_voxels", 0},         {"boundary_voxels", 0}, {"candidates", 0},
+                   {"curve_skeleton_points", 0}, {"skeleton_points", 0}, {"junction_voxels", 0}};
+    json work = {{"objects_voxels_examined", 0},
+                 {"candidates_searched", 0},
+                 {"dijkstra_searches", 0},
+                 {"heap_pops", 0},
+                 {"nodes_settled", 0},
+                 {"path_cache_hits", 0},
+                 {"rim_tests", 0},
+                 {"component_growth_steps", 0},
+                 {"sigma_evaluations", 0},
+                 {"sigma_searches", 0},
                  {"repeated_feature_sets", 0}};
     json objects = json::array(), junctions = json::array(), critical = json::array();
     for (std::size_t o = 0; o < result.objects.size(); ++o) {
         const ObjectSegmentation& obj = result.objects[o];
-        auto add = [](json& j, const char* key, std::uint64_t v) { j[key] = j[key].get<std::uint64_t>() + v; };
+        auto add = [](json& j, const char* key, std::uint64_t v) {
+            j[key] = j[key].get<std::uint64_t>() + v;
+        };
         add(counts, "object_voxels", obj.voxelCount);
         add(counts, "boundary_voxels", obj.boundaryArea);
         add(counts, "candidates", obj.candidateStats.candidates);
@@ -317,8 +356,10 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         add(work, "objects_voxels_examined", obj.candidateStats.objectVoxels);
         add(work, "candidates_searched", obj.candidateStats.candidates);
         add(work, "dijkstra_searches", obj.measureStats.search.searches);
-        add(work, "heap_pops", obj.measureStats.search.heapPops + obj.measureStats.sigmaSearch.heapPops);
-        add(work, "nodes_settled", obj.measureStats.search.nodesSettled + obj.measureStats.sigmaSearch.nodesSettled);
+        add(work, "heap_pops",
+            obj.measureStats.search.heapPops + obj.measureStats.sigmaSearch.heapPops);
+        add(work, "nodes_settled",
+            obj.measureStats.search.nodesSettled + obj.measureStats.sigmaSearch.nodesSettled);
         add(work, "path_cache_hits", obj.measureStats.pathCacheHits);
         add(work, "rim_tests", obj.measureStats.rimTests);
         add(work, "component_growth_steps", obj.measureStats.componentGrowthSteps);
@@ -342,13 +383,14 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
                            {"cuts", obj.cutLoops.size()},
                            {"segments", obj.labels}});
         for (const auto& j : obj.junctions)
-            junctions.push_back({{"object", o},
-                                 {"voxel", toJson(j.voxel)},
-                                 {"position", toJson(voxelToWorld(result.labels.geometry, j.voxel))},
-                                 {"branches", j.branches},
-                                 {"cuts", j.cuts},
-                                 {"rho_s", j.rhoS},
-                                 {"core_voxels", j.coreVoxels}});
+            junctions.push_back(
+                {{"object", o},
+                 {"voxel", toJson(j.voxel)},
+                 {"position", toJson(voxelToWorld(result.labels.geometry, j.voxel))},
+                 {"branches", j.branches},
+                 {"cuts", j.cuts},
+                 {"rho_s", j.rhoS},
+                 {"core_voxels", j.coreVoxels}});
         for (const auto& c : obj.criticalPoints)
             critical.push_back({{"object", o},
                                 {"voxel", toJson(c.voxel)},
@@ -367,7 +409,9 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     report["critical_points"] = critical;
     json segments = json::array();
     for (const auto& s : result.segments)
-        segments.push_back({{"id", s.label}, {"object", s.object}, {"voxels", s.voxelCount},
+        segments.push_back({{"id", s.label},
+                            {"object", s.object},
+                            {"voxels", s.voxelCount},
                             {"boundary_area", s.boundaryArea}});
     report["segments"] = segments;
     report["segment_count"] = result.segments.size();
@@ -379,8 +423,11 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     json stages = json::array();
     double serialWall = 0.0, stageWall = 0.0;
     for (const auto& s : timer.timings()) {
-        stages.push_back({{"name", s.name}, {"parallel", s.parallel}, {"wall_seconds", s.wallSeconds},
-                          {"cpu_seconds", s.cpuSeconds}, {"calls", s.calls}});
+        stages.push_back({{"name", s.name},
+                          {"parallel", s.parallel},
+                          {"wall_seconds", s.wallSeconds},
+                          {"cpu_seconds", s.cpuSeconds},
+                          {"calls", s.calls}});
         stageWall += s.wallSeconds;
         if (!s.parallel) serialWall += s.wallSeconds;
     }

@@ -22,12 +22,12 @@ namespace skelseg {
 struct SegmentCommandOptions {
     std::filesystem::path input;
     std::filesystem::path outdir;
-    std::string gridName;        // .vdb: grid to read (default: the first)
-    int resolution = 256;        // meshes: voxels along the longest side
+    std::string gridName;  // .vdb: grid to read (default: the first)
+    int resolution = 256;  // meshes: voxels along the longest side
     SegmentationParameters parameters;
-    int threads = 0;             // 0: all cores
-    double timeLimitSeconds = 0; // 0: none
-    bool force = false;          // replace earlier results in OUTDIR
+    int threads = 0;                   // 0: all cores
+    double timeLimitSeconds = 0;       // 0: none
+    bool force = false;                // replace earlier results in OUTDIR
     std::uint64_t maxMemoryBytes = 0;  // 0: default share of physical memory
     bool writePreview = true;
     bool writeVdb = true;
@@ -39,7 +39,7 @@ const std::vector<std::string>& segmentOutputNames();
 /// Default memory cap: 75% of physical memory.
 std::uint64_t defaultMemoryLimit();
 
-/// Runs the command. Throws skelseg::Error subclasses (see engine/Error.h).
+/// Runs the command. Throws skelseg::Error subclasses (see kernels/base/Error.h).
 /// Warnings go to `progress.message()`.
 void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& progress);
 

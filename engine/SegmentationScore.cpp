@@ -4,14 +4,15 @@
 #include <cmath>
 #include <unordered_map>
 
-#include "engine/Error.h"
+#include "kernels/base/Error.h"
 
 namespace skelseg {
 
 namespace {
 
 /// Segment labels renumbered 0..K-1 in order of first appearance.
-std::vector<std::uint32_t> compactLabels(const std::vector<std::int64_t>& labels, std::size_t& segmentCount) {
+std::vector<std::uint32_t> compactLabels(const std::vector<std::int64_t>& labels,
+                                         std::size_t& segmentCount) {
     std::unordered_map<std::int64_t, std::uint32_t> numbers;
     std::vector<std::uint32_t> compact(labels.size());
     for (std::size_t f = 0; f < labels.size(); ++f)
@@ -33,23 +34,26 @@ struct SetWeight {
 };
 
 struct Cell {
-    SetWeight pairWeight;   // Rand Index weights
-    double overlap = 0.0;   // Hamming weights
+    SetWeight pairWeight;  // Rand Index weights
+    double overlap = 0.0;  // Hamming weights
 };
 
 void checkWeights(const std::vector<double>& weights, std::size_t faceCount) {
     if (weights.size() != faceCount)
-        throw UsageError("face areas: " + std::to_string(weights.size()) + " values for " + std::to_string(faceCount) +
-                         " faces");
+        throw UsageError("face areas: " + std::to_string(weights.size()) + " values for " +
+                         std::to_string(faceCount) + " faces");
     for (std::size_t f = 0; f < weights.size(); ++f)
         if (!(std::isfinite(weights[f]) && weights[f] >= 0.0))
-            throw UsageError("face areas: face " + std::to_string(f) + " has a negative or non-finite area");
+            throw UsageError("face areas: face " + std::to_string(f) +
+                             " has a negative or non-finite area");
 }
 
 /// One pass over the faces: Rand Index with randWeights, Hamming measures
 /// with hammingWeights (null = unit weight).
-PartitionScore score(const std::vector<std::int64_t>& candidate, const std::vector<std::int64_t>& reference,
-                     const std::vector<double>* randWeights, const std::vector<double>* hammingWeights) {
+PartitionScore score(const std::vector<std::int64_t>& candidate,
+                     const std::vector<std::int64_t>& reference,
+                     const std::vector<double>* randWeights,
+                     const std::vector<double>* hammingWeights) {
     const std::size_t faceCount = candidate.size();
     std::size_t candidateSegments = 0, referenceSegments = 0;
     const std::vector<std::uint32_t> s1 = compactLabels(candidate, candidateSegments);
@@ -72,7 +76,8 @@ PartitionScore score(const std::vector<std::int64_t>& candidate, const std::vect
         all.add(randWeight);
         totalOverlap += hammingWeight;
     }
-    if (!(all.sum > 0.0) || !(totalOverlap > 0.0)) throw UsageError("face areas: all faces have zero area");
+    if (!(all.sum > 0.0) || !(totalOverlap > 0.0))
+        throw UsageError("face areas: all faces have zero area");
 
     PartitionScore result;
     // Rand Index error: pairs together in exactly one of the two partitions.
@@ -82,12 +87,14 @@ PartitionScore score(const std::vector<std::int64_t>& candidate, const std::vect
     std::vector<double> bestInRow(candidateSegments, 0.0), bestInColumn(referenceSegments, 0.0);
     for (const auto& [key, cell] : cells) {
         togetherBoth += cell.pairWeight.pairs();
-        const std::uint32_t row = std::uint32_t(key >> 32), column = std::uint32_t(key & 0xFFFFFFFFu);
+        const std::uint32_t row = std::uint32_t(key >> 32),
+                            column = std::uint32_t(key & 0xFFFFFFFFu);
         bestInRow[row] = std::max(bestInRow[row], cell.overlap);
         bestInColumn[column] = std::max(bestInColumn[column], cell.overlap);
     }
     const double allPairs = all.pairs();
-    result.randIndexError = allPairs > 0.0 ? std::max(0.0, together1 + together2 - 2.0 * togetherBoth) / allPairs : 0.0;
+    result.randIndexError =
+        allPairs > 0.0 ? std::max(0.0, together1 + together2 - 2.0 * togetherBoth) / allPairs : 0.0;
 
     // D_H(S1 => S2) = sum over reference segments of what their best
     // candidate match misses; D_H(S2 => S1) the other way round.
@@ -102,11 +109,12 @@ PartitionScore score(const std::vector<std::int64_t>& candidate, const std::vect
 
 }  // namespace
 
-PartitionScore comparePartitions(const std::vector<std::int64_t>& candidate, const std::vector<std::int64_t>& reference,
+PartitionScore comparePartitions(const std::vector<std::int64_t>& candidate,
+                                 const std::vector<std::int64_t>& reference,
                                  const std::vector<double>* faceAreas, ScoreWeighting weighting) {
     if (candidate.size() != reference.size())
-        throw UsageError("segmentations differ in size: " + std::to_string(candidate.size()) + " and " +
-                         std::to_string(reference.size()) + " faces");
+        throw UsageError("segmentations differ in size: " + std::to_string(candidate.size()) +
+                         " and " + std::to_string(reference.size()) + " faces");
     if (candidate.empty()) throw UsageError("segmentations without faces cannot be compared");
     if (faceAreas) checkWeights(*faceAreas, candidate.size());
     const std::vector<double>* areas = weighting == ScoreWeighting::Faces ? nullptr : faceAreas;

@@ -54,7 +54,8 @@ enum class ScoreWeighting {
 /// non-negative weight per face, used as `weighting` says.
 /// @throw UsageError when the sizes differ, there are no faces, a weight is
 /// negative or not finite, or all weights are zero.
-PartitionScore comparePartitions(const std::vector<std::int64_t>& candidate, const std::vector<std::int64_t>& reference,
+PartitionScore comparePartitions(const std::vector<std::int64_t>& candidate,
+                                 const std::vector<std::int64_t>& reference,
                                  const std::vector<double>* faceAreas = nullptr,
                                  ScoreWeighting weighting = ScoreWeighting::Areas);
 

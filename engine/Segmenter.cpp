@@ -28,10 +28,12 @@ TauSpec TauSpec::parse(const std::string& text) {
         spec.value = std::stod(number, &used);
         if (used != number.size()) throw std::invalid_argument("trailing characters");
     } catch (const std::exception&) {
-        throw UsageError("--tau '" + text + "' is not a number of voxels or a percentage such as 3%");
+        throw UsageError("--tau '" + text +
+                         "' is not a number of voxels or a percentage such as 3%");
     }
     if (!(spec.value >= 0.0) || !std::isfinite(spec.value) || (spec.percent && spec.value > 100.0))
-        throw UsageError("--tau '" + text + "' is out of range (0 to 100% or a non-negative voxel area)");
+        throw UsageError("--tau '" + text +
+                         "' is out of range (0 to 100% or a non-negative voxel area)");
     return spec;
 }
 
@@ -46,11 +48,13 @@ namespace {
 /// Orders a cut loop Gamma(q) into a polyline: a shortest arc a -> b inside
 /// Gamma, then the way back b -> a avoiding the first arc (falls back to the
 /// dilated set, then to the open arc).
-std::vector<std::uint32_t> orderLoop(const BoundaryGraph& graph, const std::vector<std::uint32_t>& gamma,
-                                     std::uint32_t a, std::uint32_t b, GeodesicSearch& search, RimCounter& rims) {
+std::vector<std::uint32_t> orderLoop(const BoundaryGraph& graph,
+                                     const std::vector<std::uint32_t>& gamma, std::uint32_t a,
+                                     std::uint32_t b, GeodesicSearch& search, RimCounter& rims) {
     rims.countRims(gamma);
     std::vector<std::uint32_t> arc1, arc2;
-    if (search.shortestPathWithin(a, b, [&](std::uint32_t n) { return rims.isInPathSet(n); }, &arc1) == kUnreachable)
+    if (search.shortestPathWithin(
+            a, b, [&](std::uint32_t n) { return rims.isInPathSet(n); }, &arc1) == kUnreachable)
         return gamma;
     std::vector<std::uint8_t> blockedLocal;
     std::vector<std::uint32_t> blocked;
@@ -61,11 +65,14 @@ std::vector<std::uint32_t> orderLoop(const BoundaryGraph& graph, const std::vect
         blocked.push_back(n);
         for (std::uint32_t e = graph.offset[n]; e < graph.offset[n + 1]; ++e) {
             const std::uint32_t m = graph.neighbour[e];
-            if (graph.euclidean(m, a) >= keepRadius && graph.euclidean(m, b) >= keepRadius) blocked.push_back(m);
+            if (graph.euclidean(m, a) >= keepRadius && graph.euclidean(m, b) >= keepRadius)
+                blocked.push_back(m);
         }
     }
     std::sort(blocked.begin(), blocked.end());
-    auto isBlocked = [&](std::uint32_t n) { return std::binary_search(blocked.begin(), blocked.end(), n); };
+    auto isBlocked = [&](std::uint32_t n) {
+        return std::binary_search(blocked.begin(), blocked.end(), n);
+    };
     float back = search.shortestPathWithin(
         b, a, [&](std::uint32_t n) { return rims.isInPathSet(n) && !isBlocked(n); }, &arc2);
     if (back == kUnreachable)
@@ -78,7 +85,8 @@ std::vector<std::uint32_t> orderLoop(const BoundaryGraph& graph, const std::vect
 
 }  // namespace
 
-std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels, int threads) {
+std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels,
+                                         int threads) {
     const std::uint64_t voxels = dims.voxelCount();
     // Input mask (1) + labels (2) + object ids (4) per grid voxel; per object
     // crop at most the grid: mask (1) + feature transform (4) + node map (4).
@@ -87,13 +95,14 @@ std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectV
     // of CSR and the node's landmark row, plus per-thread workspaces;
     // candidates ~ 40 bytes per object voxel.
     const std::uint64_t boundary = std::min<std::uint64_t>(objectVoxels, objectVoxels / 6 + 4096);
-    bytes += boundary * (12 + sizeof(float) * Landmarks::kStride) + boundary * 40 * std::uint64_t(std::max(threads, 1));
+    bytes += boundary * (12 + sizeof(float) * Landmarks::kStride) +
+             boundary * 40 * std::uint64_t(std::max(threads, 1));
     bytes += objectVoxels / 4 * 48;
     return bytes;
 }
 
-SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParameters& p, Interrupter& interrupter,
-                                 StageTimer* timerIn) {
+SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParameters& p,
+                                 Interrupter& interrupter, StageTimer* timerIn) {
     StageTimer localTimer;
     StageTimer& timer = timerIn ? *timerIn : localTimer;
     SegmentationResult result;
@@ -110,7 +119,8 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
         objects = std::move(found.objects);
         component = std::move(found.component);
     }
-    if (objects.empty()) result.warnings.push_back("the volume holds no object voxels: no segments");
+    if (objects.empty())
+        result.warnings.push_back("the volume holds no object voxels: no segments");
 
     struct LocalSegment {
         std::uint32_t object, local;
@@ -140,16 +150,19 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
             auto cropPlanes = [&](int z0, int z1) {
                 for (int z = z0; z < z1; ++z)
                     for (int y = 1; y < cropDims.y - 1; ++y) {
-                        // Row start at the first object column (x = 1 in the crop): origin[0] itself
-                        // may be -1, and forming a pointer before the array is undefined.
+                        // Row start at the first object column (x = 1 in the crop): origin[0]
+                        // itself may be -1, and forming a pointer before the array is undefined.
                         const std::uint32_t* in =
-                            component.data() + mask.index(origin[0] + 1, y + origin[1], z + origin[2]);
-                        for (int x = 1; x < cropDims.x - 1; ++x) crop(x, y, z) = in[x - 1] == extent.id + 1 ? 1 : 0;
+                            component.data() +
+                            mask.index(origin[0] + 1, y + origin[1], z + origin[2]);
+                        for (int x = 1; x < cropDims.x - 1; ++x)
+                            crop(x, y, z) = in[x - 1] == extent.id + 1 ? 1 : 0;
                     }
             };
             if (p.threaded)
-                tbb::parallel_for(tbb::blocked_range<int>(1, cropDims.z - 1),
-                                  [&](const tbb::blocked_range<int>& r) { cropPlanes(r.begin(), r.end()); });
+                tbb::parallel_for(
+                    tbb::blocked_range<int>(1, cropDims.z - 1),
+                    [&](const tbb::blocked_range<int>& r) { cropPlanes(r.begin(), r.end()); });
             else
                 cropPlanes(1, cropDims.z - 1);
         }
@@ -173,8 +186,9 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
         out.boundaryArea = graph.nodeCount();
         out.boundaryComponents = graph.componentSize.size();
         out.tauArea = p.tau.areaFor(out.boundaryArea);
-        out.noiseArea = std::min(std::max(p.noiseAreaMin, p.noiseAreaFraction * double(out.boundaryArea)),
-                                 std::max(out.tauArea, 1.0));
+        out.noiseArea =
+            std::min(std::max(p.noiseAreaMin, p.noiseAreaFraction * double(out.boundaryArea)),
+                     std::max(out.tauArea, 1.0));
 
         std::vector<std::vector<std::uint32_t>> cutLoops;
         if (extent.voxels >= p.minObjectVoxels) {
@@ -183,7 +197,8 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
                 auto t = timer.stage("skeleton candidates", true);
                 CandidateOptions options;
                 options.threaded = p.threaded;
-                candidates = selectSkeletonCandidates(crop, ft, graph, options, &out.candidateStats, interrupter);
+                candidates = selectSkeletonCandidates(crop, ft, graph, options, &out.candidateStats,
+                                                      interrupter);
             }
             std::vector<SkeletonPoint> points;
             Landmarks landmarks;
@@ -198,7 +213,8 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
             measureOptions.threaded = p.threaded;
             {
                 auto t = timer.stage("path sets, rims, areas, sigma", true);
-                points = measureSkeleton(graph, candidates, measureOptions, &out.measureStats, interrupter);
+                points = measureSkeleton(graph, candidates, measureOptions, &out.measureStats,
+                                         interrupter);
             }
             out.curveSkeletonPoints = points.size();
             SkeletonGraph skeleton;
@@ -225,14 +241,17 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
                     SkeletonPoint exact;
                     SkeletonMeasureOptions o = measureOptions;
                     o.exactRhoC = true;
-                    return measurePoint(graph, candidates[points[pointIndex].candidate], o, exact) ? exact.rhoC : 0.0;
+                    return measurePoint(graph, candidates[points[pointIndex].candidate], o, exact)
+                               ? exact.rhoC
+                               : 0.0;
                 });
                 GeodesicSearch search(graph, &landmarks);
                 RimCounter rims(graph);
                 for (std::uint32_t node : plan.cutNodes) {
                     const SkeletonPoint& sp = points[skeleton.point[node]];
                     std::uint32_t a = 0, b = 0;
-                    cutLoops.push_back(pathSet(graph, candidates[sp.candidate], search, nullptr, &a, &b));
+                    cutLoops.push_back(
+                        pathSet(graph, candidates[sp.candidate], search, nullptr, &a, &b));
                     std::vector<std::array<int, 3>> polyline;
                     for (std::uint32_t n : orderLoop(graph, cutLoops.back(), a, b, search, rims))
                         polyline.push_back(toGrid(graph.voxel[n]));
@@ -294,7 +313,8 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
         {
             auto t = timer.stage("interior labels", true);
             std::vector<std::uint16_t> localId(segments.segmentCount);
-            for (std::uint32_t s = 0; s < segments.segmentCount; ++s) localId[s] = std::uint16_t(std::min<std::uint32_t>(s + 1, 65535));
+            for (std::uint32_t s = 0; s < segments.segmentCount; ++s)
+                localId[s] = std::uint16_t(std::min<std::uint32_t>(s + 1, 65535));
             labelInterior(crop, ft, graph, segments, localId, labels.local, p.threaded);
         }
         for (std::uint32_t s = 0; s < segments.segmentCount; ++s)

@@ -15,12 +15,12 @@
 #include <string>
 #include <vector>
 
-#include "engine/Interrupter.h"
 #include "engine/StageTimer.h"
 #include "kernels/CutPlacement.h"
 #include "kernels/SkeletonCandidates.h"
 #include "kernels/SkeletonMeasures.h"
-#include "kernels/Volume.h"
+#include "kernels/base/Interrupter.h"
+#include "kernels/base/Volume.h"
 
 namespace skelseg {
 
@@ -31,7 +31,9 @@ struct TauSpec {
     /// Parses "250" (voxels) or "2.5%" (of the boundary area). Throws UsageError.
     static TauSpec parse(const std::string& text);
     std::string toString() const;
-    double areaFor(std::uint64_t boundaryArea) const { return percent ? value * 0.01 * double(boundaryArea) : value; }
+    double areaFor(std::uint64_t boundaryArea) const {
+        return percent ? value * 0.01 * double(boundaryArea) : value;
+    }
 };
 
 struct SegmentationParameters {
@@ -52,9 +54,10 @@ struct SegmentationParameters {
 };
 
 struct SkeletonVertex {
-    std::array<int, 3> voxel{};  // in the input grid (may be -1 or dims for border-touching objects)
+    std::array<int, 3>
+        voxel{};  // in the input grid (may be -1 or dims for border-touching objects)
     float rhoS = 0.0f;
-    double rhoC = 0.0;           // +inf for handle loops
+    double rhoC = 0.0;  // +inf for handle loops
     float sigma = -1.0f;
     bool junction = false;
     bool critical = false;
@@ -120,6 +123,7 @@ struct SegmentationResult {
 std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels, int threads);
 
 SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParameters& parameters,
-                                 Interrupter& interrupter = nullInterrupter(), StageTimer* timer = nullptr);
+                                 Interrupter& interrupter = nullInterrupter(),
+                                 StageTimer* timer = nullptr);
 
 }  // namespace skelseg

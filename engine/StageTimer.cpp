@@ -18,11 +18,15 @@ std::uint64_t peakResidentBytes() noexcept {
 }
 
 StageTimer::Scope::Scope(StageTimer& timer, std::string name, bool parallel)
-    : mTimer(timer), mName(std::move(name)), mParallel(parallel), mStart(std::chrono::steady_clock::now()),
+    : mTimer(timer),
+      mName(std::move(name)),
+      mParallel(parallel),
+      mStart(std::chrono::steady_clock::now()),
       mCpuStart(processCpuSeconds()) {}
 
 StageTimer::Scope::~Scope() {
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
     mTimer.add(mName, mParallel, wall, processCpuSeconds() - mCpuStart);
 }
 

@@ -1,5 +1,7 @@
 #include "engine/Version.h"
 
 namespace skelseg {
-const char* versionString() noexcept { return "0.1.0"; }
+const char* versionString() noexcept {
+    return "0.1.0";
+}
 }  // namespace skelseg

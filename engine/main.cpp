@@ -11,14 +11,14 @@
 #include <iostream>
 #include <string>
 
-#include "engine/Error.h"
 #include "engine/ProgressReporter.h"
 #include "engine/ScoreCommand.h"
 #include "engine/SegmentCommand.h"
 #include "engine/Version.h"
-#include "io/BinvoxIO.h"
-#include "io/NrrdIO.h"
-#include "io/SyntheticShapes.h"
+#include "io/shapes/SyntheticShapes.h"
+#include "io/volume/BinvoxIO.h"
+#include "io/volume/NrrdIO.h"
+#include "kernels/base/Error.h"
 
 namespace {
 
@@ -32,10 +32,14 @@ std::uint64_t parseBytes(const std::string& text) {
     }
     std::string unit = text.substr(used);
     double scale = 1;
-    if (unit == "K" || unit == "KB") scale = 1e3;
-    else if (unit == "M" || unit == "MB") scale = 1e6;
-    else if (unit == "G" || unit == "GB") scale = 1e9;
-    else if (!unit.empty()) throw skelseg::UsageError("--max-memory '" + text + "': unknown unit '" + unit + "'");
+    if (unit == "K" || unit == "KB")
+        scale = 1e3;
+    else if (unit == "M" || unit == "MB")
+        scale = 1e6;
+    else if (unit == "G" || unit == "GB")
+        scale = 1e9;
+    else if (!unit.empty())
+        throw skelseg::UsageError("--max-memory '" + text + "': unknown unit '" + unit + "'");
     if (!(value > 0)) throw skelseg::UsageError("--max-memory must be positive");
     return std::uint64_t(value * scale);
 }
@@ -51,22 +55,37 @@ int main(int argc, char** argv) {
     skelseg::SegmentCommandOptions seg;
     std::string tauText = "3%", modeText = "junction-rule", maxMemoryText;
     bool quiet = false;
-    auto* segment = app.add_subcommand("segment", "Segment a volume (.nrrd .binvox .vdb) or a mesh (.off .obj .stl .ply)");
+    auto* segment = app.add_subcommand(
+        "segment", "Segment a volume (.nrrd .binvox .vdb) or a mesh (.off .obj .stl .ply)");
     segment->add_option("input", seg.input, "Input file")->required();
     segment->add_option("-o,--output", seg.outdir, "Output directory")->required();
-    segment->add_option("--tau", tauText, "Skeleton simplification: voxel area, or percent of the boundary area (e.g. 3%)")
+    segment
+        ->add_option(
+            "--tau", tauText,
+            "Skeleton simplification: voxel area, or percent of the boundary area (e.g. 3%)")
         ->capture_default_str();
-    segment->add_option("--sigma-min", seg.parameters.sigmaMin, "Minimum geodesicness of a cut point")
-        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
-    segment->add_option("--body-ratio", seg.parameters.bodyRatio, "Circumference similarity above which a candidate is on the body")
-        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
-    segment->add_option("--mode", modeText, "junction-rule (default) or junctions (the RT07 baseline)")
+    segment
+        ->add_option("--sigma-min", seg.parameters.sigmaMin, "Minimum geodesicness of a cut point")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    segment
+        ->add_option("--body-ratio", seg.parameters.bodyRatio,
+                     "Circumference similarity above which a candidate is on the body")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    segment
+        ->add_option("--mode", modeText, "junction-rule (default) or junctions (the RT07 baseline)")
         ->check(CLI::IsMember({"junction-rule", "junctions"}));
-    segment->add_option("--threads", seg.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+    segment->add_option("--threads", seg.threads, "Worker threads (default: all cores)")
+        ->check(CLI::Range(1, 1024));
     segment->add_option("--resolution", seg.resolution, "Meshes: voxels along the longest side")
-        ->capture_default_str()->check(CLI::Range(8, 2048));
-    segment->add_option("--grid", seg.gridName, "VDB input: name of the grid to read (default: the first)");
-    segment->add_option("--time-limit", seg.timeLimitSeconds, "Stop after this many seconds (exit code 3, no output)")
+        ->capture_default_str()
+        ->check(CLI::Range(8, 2048));
+    segment->add_option("--grid", seg.gridName,
+                        "VDB input: name of the grid to read (default: the first)");
+    segment
+        ->add_option("--time-limit", seg.timeLimitSeconds,
+                     "Stop after this many seconds (exit code 3, no output)")
         ->check(CLI::Validator(
             [](std::string& text) -> std::string {
                 try {
@@ -78,9 +97,12 @@ int main(int argc, char** argv) {
                 return "'" + text + "' is not a positive number of seconds";
             },
             "SECONDS"));
-    segment->add_option("--max-memory", maxMemoryText, "Refuse runs estimated to need more (e.g. 4G; default 75% of RAM)");
-    segment->add_flag("--force", seg.force, "Replace results of an earlier run in the output directory");
-    segment->add_flag("--quiet,-q", quiet, "No progress output (warnings and errors are still printed)");
+    segment->add_option("--max-memory", maxMemoryText,
+                        "Refuse runs estimated to need more (e.g. 4G; default 75% of RAM)");
+    segment->add_flag("--force", seg.force,
+                      "Replace results of an earlier run in the output directory");
+    segment->add_flag("--quiet,-q", quiet,
+                      "No progress output (warnings and errors are still printed)");
     segment->add_flag("!--no-preview", seg.writePreview, "Skip preview.png");
 
     // generate
@@ -88,21 +110,28 @@ int main(int argc, char** argv) {
     int size = 128, pose = 0;
     double noise = 0.0;
     std::uint64_t seed = 1;
-    auto* generate = app.add_subcommand("generate", "Write a synthetic shape as a volume (.nrrd or .binvox)");
+    auto* generate =
+        app.add_subcommand("generate", "Write a synthetic shape as a volume (.nrrd or .binvox)");
     std::string shapeList;
     for (const auto& n : skelseg::shapeNames()) shapeList += (shapeList.empty() ? "" : ", ") + n;
     generate->add_option("shape", shapeName, "One of: " + shapeList)->required();
     generate->add_option("-o,--output", generateOut, "Output file (.nrrd or .binvox)")->required();
-    generate->add_option("--size", size, "Voxels along the longest side")->capture_default_str()->check(CLI::Range(16, 2048));
-    generate->add_option("--pose", pose, "figure: pose 0, 1 or 2")->capture_default_str()->check(CLI::Range(0, 2));
-    generate->add_option("--noise", noise, "Fraction of boundary voxels to flip")->check(CLI::Range(0.0, 0.5));
+    generate->add_option("--size", size, "Voxels along the longest side")
+        ->capture_default_str()
+        ->check(CLI::Range(16, 2048));
+    generate->add_option("--pose", pose, "figure: pose 0, 1 or 2")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 2));
+    generate->add_option("--noise", noise, "Fraction of boundary voxels to flip")
+        ->check(CLI::Range(0.0, 0.5));
     generate->add_option("--seed", seed, "Noise seed")->capture_default_str();
 
     // score
     std::string scoreMesh, candidate;
     std::vector<std::string> humans;
     bool scoreJson = false;
-    auto* score = app.add_subcommand("score", "Rand Index error and Hamming distance of a face segmentation against human ones");
+    auto* score = app.add_subcommand(
+        "score", "Rand Index error and Hamming distance of a face segmentation against human ones");
     score->add_option("mesh", scoreMesh, "The mesh the segmentations label")->required();
     score->add_option("candidate", candidate, "Candidate .seg (or .seg.gz)")->required();
     score->add_option("humans", humans, "Human .seg or .seg.gz files")->required();
@@ -122,22 +151,28 @@ int main(int argc, char** argv) {
     try {
         if (*segment) {
             seg.parameters.tau = skelseg::TauSpec::parse(tauText);
-            seg.parameters.mode = modeText == "junctions" ? skelseg::CutMode::Junctions : skelseg::CutMode::JunctionRule;
+            seg.parameters.mode = modeText == "junctions" ? skelseg::CutMode::Junctions
+                                                          : skelseg::CutMode::JunctionRule;
             if (!maxMemoryText.empty()) seg.maxMemoryBytes = parseBytes(maxMemoryText);
             skelseg::ProgressReporter::installSignalHandlers();
             skelseg::ProgressReporter progress(quiet ? skelseg::ProgressReporter::Display::Quiet
                                                      : skelseg::ProgressReporter::Display::Auto,
                                                seg.timeLimitSeconds);
             skelseg::runSegmentCommand(seg, progress);
-            if (!quiet) progress.message("skelseg: wrote " + seg.outdir.string() + " in " +
-                                         std::to_string(progress.elapsedSeconds()).substr(0, 5) + " s");
+            if (!quiet)
+                progress.message("skelseg: wrote " + seg.outdir.string() + " in " +
+                                 std::to_string(progress.elapsedSeconds()).substr(0, 5) + " s");
         } else if (*generate) {
-            skelseg::MaskVolume mask = skelseg::rasterise(skelseg::makeShape(shapeName, pose), {size, 3});
+            skelseg::MaskVolume mask =
+                skelseg::rasterise(skelseg::makeShape(shapeName, pose), {size, 3});
             if (noise > 0) skelseg::addBoundaryNoise(mask, noise, seed);
             const std::string ext = std::filesystem::path(generateOut).extension().string();
-            if (ext == ".binvox") skelseg::writeBinvox(generateOut, mask);
-            else if (ext == ".nrrd") skelseg::writeNrrdMask(generateOut, mask);
-            else throw skelseg::UsageError(generateOut + ": output must end in .nrrd or .binvox");
+            if (ext == ".binvox")
+                skelseg::writeBinvox(generateOut, mask);
+            else if (ext == ".nrrd")
+                skelseg::writeNrrdMask(generateOut, mask);
+            else
+                throw skelseg::UsageError(generateOut + ": output must end in .nrrd or .binvox");
         } else if (*score) {
             std::vector<std::filesystem::path> humanPaths(humans.begin(), humans.end());
             return skelseg::runScoreCommand(scoreMesh, candidate, humanPaths, scoreJson, std::cout);

@@ -26,8 +26,9 @@ bool isObject(const MaskVolume& mask, int x, int y, int z) {
 
 bool isBoundary(const MaskVolume& mask, int x, int y, int z) {
     if (!mask(x, y, z)) return false;
-    return !isObject(mask, x - 1, y, z) || !isObject(mask, x + 1, y, z) || !isObject(mask, x, y - 1, z) ||
-           !isObject(mask, x, y + 1, z) || !isObject(mask, x, y, z - 1) || !isObject(mask, x, y, z + 1);
+    return !isObject(mask, x - 1, y, z) || !isObject(mask, x + 1, y, z) ||
+           !isObject(mask, x, y - 1, z) || !isObject(mask, x, y + 1, z) ||
+           !isObject(mask, x, y, z - 1) || !isObject(mask, x, y, z + 1);
 }
 
 }  // namespace

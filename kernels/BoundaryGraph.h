@@ -14,8 +14,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/Interrupter.h"
-#include "kernels/Volume.h"
+#include "kernels/base/Interrupter.h"
+#include "kernels/base/Volume.h"
 
 namespace skelseg {
 

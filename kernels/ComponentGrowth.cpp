@@ -23,7 +23,8 @@ const ComponentAreas& ComponentGrower::grow(const RimCounter& rims, std::uint64_
     out.growthSteps = 0;
     out.rhoC = 0;
     out.rhoCExact = true;
-    out.surfaceArea = pieces.dilated.empty() ? 0 : mGraph.componentSize[mGraph.component[pieces.dilated.front()]];
+    out.surfaceArea =
+        pieces.dilated.empty() ? 0 : mGraph.componentSize[mGraph.component[pieces.dilated.front()]];
     if (k == 0) return out;
 
     mOwner.clear();
@@ -79,7 +80,8 @@ const ComponentAreas& ComponentGrower::grow(const RimCounter& rims, std::uint64_
                 mParent[drop] = keep;
                 mSize[keep] += mSize[drop];
                 auto& dq = mQueue[drop];
-                mQueue[keep].insert(mQueue[keep].end(), dq.begin() + std::ptrdiff_t(mHead[drop]), dq.end());
+                mQueue[keep].insert(mQueue[keep].end(), dq.begin() + std::ptrdiff_t(mHead[drop]),
+                                    dq.end());
                 dq.clear();
                 mHead[drop] = 0;
                 root = keep;
@@ -108,7 +110,8 @@ const ComponentAreas& ComponentGrower::grow(const RimCounter& rims, std::uint64_
         out.componentOfPiece[i] = index[r];
     }
     const std::uint64_t blocked = pieces.dilated.size();
-    const std::uint64_t rest = out.surfaceArea > blocked + exhaustedSum ? out.surfaceArea - blocked - exhaustedSum : 0;
+    const std::uint64_t rest =
+        out.surfaceArea > blocked + exhaustedSum ? out.surfaceArea - blocked - exhaustedSum : 0;
     if (mActive.size() == 1) {
         // The survivor is everything not yet accounted for.
         for (std::uint32_t c = 0; c < out.componentCount; ++c)

@@ -34,7 +34,8 @@ void unite(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b)
 
 }  // namespace
 
-ConnectedObjects findConnectedObjects(const MaskVolume& mask, const ConnectedObjectsOptions& options,
+ConnectedObjects findConnectedObjects(const MaskVolume& mask,
+                                      const ConnectedObjectsOptions& options,
                                       Interrupter& interrupter) {
     InterrupterScope scope(interrupter, "objects");
     const Dims d = mask.dims();
@@ -148,7 +149,8 @@ ConnectedObjects findConnectedObjects(const MaskVolume& mask, const ConnectedObj
                 o.hi = {-1, -1, -1};
                 result.objects.push_back(o);
             }
-            objectOfRun[i] = root == i ? std::uint32_t(result.objects.size() - 1) : objectOfRun[root];
+            objectOfRun[i] =
+                root == i ? std::uint32_t(result.objects.size() - 1) : objectOfRun[root];
             ObjectExtent& o = result.objects[objectOfRun[i]];
             o.voxels += std::uint64_t(runs[i].x1 - runs[i].x0 + 1);
             o.lo = {std::min(o.lo[0], runs[i].x0), std::min(o.lo[1], y), std::min(o.lo[2], z)};

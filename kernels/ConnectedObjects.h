@@ -14,14 +14,14 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/Interrupter.h"
-#include "kernels/Volume.h"
+#include "kernels/base/Interrupter.h"
+#include "kernels/base/Volume.h"
 
 namespace skelseg {
 
 struct ObjectExtent {
-    std::uint32_t id = 0;        // 0, 1, ... in order of the first voxel
-    std::uint64_t voxels = 0;    // number of object voxels
+    std::uint32_t id = 0;           // 0, 1, ... in order of the first voxel
+    std::uint64_t voxels = 0;       // number of object voxels
     std::array<int, 3> lo{}, hi{};  // inclusive bounding box
 };
 
@@ -37,7 +37,8 @@ struct ConnectedObjectsOptions {
 
 /// 26-connected components of the nonzero voxels of `mask`.
 /// Throws InterruptedError when asked to stop.
-ConnectedObjects findConnectedObjects(const MaskVolume& mask, const ConnectedObjectsOptions& options = {},
+ConnectedObjects findConnectedObjects(const MaskVolume& mask,
+                                      const ConnectedObjectsOptions& options = {},
                                       Interrupter& interrupter = nullInterrupter());
 
 }  // namespace skelseg

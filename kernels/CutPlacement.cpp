@@ -9,9 +9,10 @@ namespace {
 
 /// Walks one branch from junction j's region; returns the candidate node or
 /// kNoJunction. `taken` marks nodes already walked from this junction.
-std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points, std::uint32_t junction,
-                         std::uint32_t piece, const CutOptions& options, std::vector<std::uint8_t>& taken,
-                         std::uint32_t& levelOut, float& sigmaOut) {
+std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                         std::uint32_t junction, std::uint32_t piece, const CutOptions& options,
+                         std::vector<std::uint8_t>& taken, std::uint32_t& levelOut,
+                         float& sigmaOut) {
     std::vector<std::uint32_t> level;
     for (std::uint32_t n : g.junctions[junction].region)
         for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
@@ -52,7 +53,8 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
 
 }  // namespace
 
-CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points, const CutOptions& options,
+CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                  const CutOptions& options,
                   const std::function<double(std::uint32_t)>& exactRhoC) {
     CutPlan plan;
     plan.junctions.resize(g.junctions.size());
@@ -63,7 +65,8 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         for (std::uint32_t n : junction.region)
             for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
                 const std::uint32_t piece = g.pieceOf[g.neighbour[e]];
-                if (piece != kNoJunction && std::find(branches.begin(), branches.end(), piece) == branches.end())
+                if (piece != kNoJunction &&
+                    std::find(branches.begin(), branches.end(), piece) == branches.end())
                     branches.push_back(piece);
             }
         std::sort(branches.begin(), branches.end());
@@ -80,7 +83,8 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         for (std::uint32_t piece : branches) {
             std::uint32_t level = 0;
             float sigma = 0.0f;
-            const std::uint32_t node = walkBranch(g, points, j, piece, options, taken, level, sigma);
+            const std::uint32_t node =
+                walkBranch(g, points, j, piece, options, taken, level, sigma);
             if (node == kNoJunction) continue;
             CutCandidate c;
             c.junction = j;
@@ -104,7 +108,8 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                 c.exactRhoC = exactRhoC(g.point[c.node]);
                 const bool better = c.exactRhoC > bestArea ||
                                     (c.exactRhoC == bestArea &&
-                                     points[g.point[c.node]].voxel < points[g.point[plan.candidates[keepOnBody].node]].voxel);
+                                     points[g.point[c.node]].voxel <
+                                         points[g.point[plan.candidates[keepOnBody].node]].voxel);
                 if (better) bestArea = c.exactRhoC, keepOnBody = i;
             }
             for (std::size_t i : body) plan.candidates[i].onBody = i == keepOnBody;
@@ -119,7 +124,8 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         }
     }
     std::sort(plan.cutNodes.begin(), plan.cutNodes.end());
-    plan.cutNodes.erase(std::unique(plan.cutNodes.begin(), plan.cutNodes.end()), plan.cutNodes.end());
+    plan.cutNodes.erase(std::unique(plan.cutNodes.begin(), plan.cutNodes.end()),
+                        plan.cutNodes.end());
     return plan;
 }
 

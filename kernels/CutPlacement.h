@@ -36,11 +36,11 @@ struct CutOptions {
 /// One candidate found on a branch (a "critical point").
 struct CutCandidate {
     std::uint32_t junction = 0;
-    std::uint32_t node = 0;       // skeleton graph node
-    std::uint32_t level = 0;      // BFS level from the junction region
+    std::uint32_t node = 0;   // skeleton graph node
+    std::uint32_t level = 0;  // BFS level from the junction region
     float sigma = 0.0f;
     float similarity = 0.0f;
-    double exactRhoC = -1.0;      // filled where the tie rule needed it
+    double exactRhoC = -1.0;  // filled where the tie rule needed it
     bool onBody = false;
     bool isCut = false;
 };
@@ -59,7 +59,7 @@ struct CutPlan {
 
 /// exactRhoC(pointIndex) returns the exact rho_C of a SkeletonPoint (only
 /// called for the "more than two qualify" rule).
-CutPlan placeCuts(const SkeletonGraph& graph, const std::vector<SkeletonPoint>& points, const CutOptions& options,
-                  const std::function<double(std::uint32_t)>& exactRhoC);
+CutPlan placeCuts(const SkeletonGraph& graph, const std::vector<SkeletonPoint>& points,
+                  const CutOptions& options, const std::function<double(std::uint32_t)>& exactRhoC);
 
 }  // namespace skelseg

@@ -74,7 +74,8 @@ void forRange(bool threaded, int count, int grain, const Body& body) {
 
 }  // namespace
 
-Volume<std::uint32_t> featureTransform(const MaskVolume& sites, const FeatureTransformOptions& options,
+Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
+                                       const FeatureTransformOptions& options,
                                        Interrupter& interrupter) {
     InterrupterScope scope(interrupter, "feature transform");
     const Dims dims = sites.dims();
@@ -94,7 +95,8 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites, const FeatureTra
                 return;
             }
             for (int y = 0; y < ny; ++y) {
-                const std::size_t row = std::size_t(z) * sliceSize + std::size_t(y) * std::size_t(nx);
+                const std::size_t row =
+                    std::size_t(z) * sliceSize + std::size_t(y) * std::size_t(nx);
                 const std::uint8_t* s = sites.data() + row;
                 std::uint32_t* f = feature + row;
                 int last = -1;
@@ -136,8 +138,10 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites, const FeatureTra
                 }
                 // Gather the slab: features[i * nx + x] for line position i.
                 auto voxelIndex = [&](int i, int x) -> std::size_t {
-                    return axis == 1 ? std::size_t(o) * sliceSize + std::size_t(i) * std::size_t(nx) + std::size_t(x)
-                                     : std::size_t(i) * sliceSize + std::size_t(o) * std::size_t(nx) + std::size_t(x);
+                    return axis == 1 ? std::size_t(o) * sliceSize +
+                                           std::size_t(i) * std::size_t(nx) + std::size_t(x)
+                                     : std::size_t(i) * sliceSize +
+                                           std::size_t(o) * std::size_t(nx) + std::size_t(x);
                 };
                 for (int i = 0; i < lineLength; ++i) {
                     const std::uint32_t* src = feature + voxelIndex(i, 0);
@@ -145,7 +149,8 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites, const FeatureTra
                 }
                 for (int x = 0; x < nx; ++x) {
                     for (int i = 0; i < lineLength; ++i) {
-                        const std::uint32_t f = scratch.features[std::size_t(i) * std::size_t(nx) + std::size_t(x)];
+                        const std::uint32_t f =
+                            scratch.features[std::size_t(i) * std::size_t(nx) + std::size_t(x)];
                         if (f == kNoFeature) {
                             scratch.cost[std::size_t(i)] = kInfiniteCost;
                             continue;
@@ -154,18 +159,22 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites, const FeatureTra
                         const std::int64_t dx = fx - x;
                         std::int64_t c = dx * dx;
                         if (axis == 2) {
-                            const std::int64_t fy = std::int64_t((f / std::uint32_t(nx)) % std::uint32_t(ny));
+                            const std::int64_t fy =
+                                std::int64_t((f / std::uint32_t(nx)) % std::uint32_t(ny));
                             const std::int64_t dy = fy - o;
                             c += dy * dy;
                         }
                         scratch.cost[std::size_t(i)] = c;
                     }
-                    nearestAlongLine(scratch.cost.data(), lineLength, scratch.nearest.data(), scratch.apex,
-                                     scratch.boundary);
+                    nearestAlongLine(scratch.cost.data(), lineLength, scratch.nearest.data(),
+                                     scratch.apex, scratch.boundary);
                     for (int j = 0; j < lineLength; ++j) {
                         const int i = scratch.nearest[std::size_t(j)];
                         feature[voxelIndex(j, x)] =
-                            i < 0 ? kNoFeature : scratch.features[std::size_t(i) * std::size_t(nx) + std::size_t(x)];
+                            i < 0
+                                ? kNoFeature
+                                : scratch
+                                      .features[std::size_t(i) * std::size_t(nx) + std::size_t(x)];
                     }
                 }
             }

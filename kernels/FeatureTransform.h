@@ -13,8 +13,8 @@
 
 #include <cstdint>
 
-#include "engine/Interrupter.h"
-#include "kernels/Volume.h"
+#include "kernels/base/Interrupter.h"
+#include "kernels/base/Volume.h"
 
 namespace skelseg {
 
@@ -30,7 +30,8 @@ struct FeatureTransformOptions {
 /// Returns FT with FT[i] = linear index of a site nearest to voxel i, or
 /// kNoFeature when `sites` has no nonzero voxel. `sites` nonzero = site.
 /// Throws InterruptedError when the interrupter asks to stop.
-Volume<std::uint32_t> featureTransform(const MaskVolume& sites, const FeatureTransformOptions& options = {},
+Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
+                                       const FeatureTransformOptions& options = {},
                                        Interrupter& interrupter = nullInterrupter());
 
 /// Squared Euclidean distance between two voxels given by linear index.

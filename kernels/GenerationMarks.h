@@ -44,11 +44,14 @@ private:
 template <typename T>
 class GenerationMap {
 public:
-    explicit GenerationMap(std::size_t size = 0, T absent = T()) : mMarks(size), mValues(size, absent), mAbsent(absent) {}
+    explicit GenerationMap(std::size_t size = 0, T absent = T())
+        : mMarks(size), mValues(size, absent), mAbsent(absent) {}
     void resize(std::size_t size) { mMarks.resize(size), mValues.assign(size, mAbsent); }
     void clear() noexcept { mMarks.nextGeneration(); }
     bool contains(std::uint32_t node) const noexcept { return mMarks.isMarked(node); }
-    T get(std::uint32_t node) const noexcept { return mMarks.isMarked(node) ? mValues[node] : mAbsent; }
+    T get(std::uint32_t node) const noexcept {
+        return mMarks.isMarked(node) ? mValues[node] : mAbsent;
+    }
     void set(std::uint32_t node, T value) noexcept { mMarks.mark(node), mValues[node] = value; }
 
 private:

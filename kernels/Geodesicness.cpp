@@ -5,7 +5,10 @@
 namespace skelseg {
 
 GeodesicnessEvaluator::GeodesicnessEvaluator(const BoundaryGraph& graph)
-    : mGraph(graph), mBlob(graph.nodeCount()), mHops(graph.nodeCount(), 0), mArcOf(graph.nodeCount(), kNoNode) {}
+    : mGraph(graph),
+      mBlob(graph.nodeCount()),
+      mHops(graph.nodeCount(), 0),
+      mArcOf(graph.nodeCount(), kNoNode) {}
 
 void GeodesicnessEvaluator::markBlob(const RimCounter& rims, std::uint32_t seed, int radius) {
     mHops.clear();
@@ -27,8 +30,8 @@ void GeodesicnessEvaluator::markBlob(const RimCounter& rims, std::uint32_t seed,
     }
 }
 
-GeodesicnessResult GeodesicnessEvaluator::evaluate(const RimCounter& rims, std::uint32_t a, std::uint32_t b,
-                                                   GeodesicSearch& search) {
+GeodesicnessResult GeodesicnessEvaluator::evaluate(const RimCounter& rims, std::uint32_t a,
+                                                   std::uint32_t b, GeodesicSearch& search) {
     GeodesicnessResult result;
     const std::vector<std::uint32_t>& annulus = rims.result().dilated;
     if (a == b || annulus.empty()) return result;
@@ -59,7 +62,8 @@ GeodesicnessResult GeodesicnessEvaluator::evaluate(const RimCounter& rims, std::
                     if (!rims.isInDilated(m)) continue;
                     if (mBlob.isMarked(m)) {
                         // Which neighbourhood: the nearer of a and b.
-                        (mGraph.euclidean(m, a) <= mGraph.euclidean(m, b) ? touchesA : touchesB) = true;
+                        (mGraph.euclidean(m, a) <= mGraph.euclidean(m, b) ? touchesA : touchesB) =
+                            true;
                         continue;
                     }
                     if (!mArcOf.contains(m)) {
@@ -70,17 +74,21 @@ GeodesicnessResult GeodesicnessEvaluator::evaluate(const RimCounter& rims, std::
             }
             // Pieces that do not join both ends are spurs, not arcs; their id
             // is kept (so they are not re-walked) but they are not recorded.
-            if (touchesA && touchesB) arcs.push_back({id, std::uint32_t(mQueue.size())});
-            else arcs.push_back({id, 0});
+            if (touchesA && touchesB)
+                arcs.push_back({id, std::uint32_t(mQueue.size())});
+            else
+                arcs.push_back({id, 0});
         }
-        arcs.erase(std::remove_if(arcs.begin(), arcs.end(), [](const Arc& arc) { return arc.size == 0; }),
-                   arcs.end());
+        arcs.erase(
+            std::remove_if(arcs.begin(), arcs.end(), [](const Arc& arc) { return arc.size == 0; }),
+            arcs.end());
         if (arcs.size() >= 2) break;
     }
     result.arcCount = std::uint32_t(arcs.size());
     if (arcs.size() < 2) return result;
     // The largest arcs carry the loop(s); cap the pairs examined.
-    std::stable_sort(arcs.begin(), arcs.end(), [](const Arc& x, const Arc& y) { return x.size > y.size; });
+    std::stable_sort(arcs.begin(), arcs.end(),
+                     [](const Arc& x, const Arc& y) { return x.size > y.size; });
     if (arcs.size() > 4) arcs.resize(4);
 
     struct ArcPath {

@@ -38,7 +38,8 @@ public:
     explicit GeodesicnessEvaluator(const BoundaryGraph& graph);
     /// sigma of the loop held by the last rims.countRims(pathSet) call, with
     /// a, b the feature pair that realises rho_S.
-    GeodesicnessResult evaluate(const RimCounter& rims, std::uint32_t a, std::uint32_t b, GeodesicSearch& search);
+    GeodesicnessResult evaluate(const RimCounter& rims, std::uint32_t a, std::uint32_t b,
+                                GeodesicSearch& search);
 
 private:
     /// Nodes of Gamma' within `radius` hops of `seed` (inside Gamma').

@@ -38,7 +38,8 @@ inline float landmarkBound(const float* row, const float* target, float h) {
     const __m128 signMask = _mm_set1_ps(-0.0f);
     __m128 best = _mm_set1_ps(h);
     for (std::uint32_t i = 0; i < Landmarks::kStride; i += 4) {
-        const __m128 difference = _mm_andnot_ps(signMask, _mm_sub_ps(_mm_loadu_ps(row + i), _mm_loadu_ps(target + i)));
+        const __m128 difference =
+            _mm_andnot_ps(signMask, _mm_sub_ps(_mm_loadu_ps(row + i), _mm_loadu_ps(target + i)));
         best = _mm_max_ps(difference, best);
     }
     best = _mm_max_ps(best, _mm_shuffle_ps(best, best, _MM_SHUFFLE(1, 0, 3, 2)));
@@ -65,7 +66,8 @@ inline float landmarkBound(const float* row, const float* target, float h) {
 /// Dijkstra's (each is the minimum of the same sums), at a fraction of the
 /// cost. Weights are below 2, so three buckets in a ring suffice.
 using Buckets = std::array<std::vector<std::uint32_t>, 3>;
-void lowerDistancesFrom(const BoundaryGraph& graph, std::uint32_t source, float* dist, Buckets& buckets) {
+void lowerDistancesFrom(const BoundaryGraph& graph, std::uint32_t source, float* dist,
+                        Buckets& buckets) {
     const std::uint32_t* offset = graph.offset.data();
     const std::uint32_t* neighbour = graph.neighbour.data();
     const float* weight = graph.weight.data();
@@ -100,8 +102,8 @@ void lowerDistancesFrom(const BoundaryGraph& graph, std::uint32_t source, float*
 
 }  // namespace
 
-float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to, std::vector<std::uint32_t>* path,
-                                   float bound) {
+float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to,
+                                   std::vector<std::uint32_t>* path, float bound) {
     struct BoundScope {  // the bound applies to this call only
         float& slot;
         BoundScope(float& s, float b) : slot(s) { slot = b; }
@@ -109,11 +111,15 @@ float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to, std::ve
     } scope(mBound, bound);
     const BoundaryGraph& g = mGraph;
     auto all = [](std::uint32_t) { return true; };
-    if (!mLandmarks) return search(from, to, [&](std::uint32_t n) { return g.euclidean(n, to); }, all, path);
+    if (!mLandmarks)
+        return search(
+            from, to, [&](std::uint32_t n) { return g.euclidean(n, to); }, all, path);
     alignas(64) float target[Landmarks::kStride];
     std::memcpy(target, mLandmarks->row(to), sizeof target);
     const Landmarks& lm = *mLandmarks;
-    auto heuristic = [&](std::uint32_t n) { return landmarkBound(lm.row(n), target, g.euclidean(n, to)); };
+    auto heuristic = [&](std::uint32_t n) {
+        return landmarkBound(lm.row(n), target, g.euclidean(n, to));
+    };
     return search(from, to, heuristic, all, path);
 }
 
@@ -130,9 +136,9 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
     Landmarks result;
     const std::uint32_t n = graph.nodeCount();
     if (n == 0) return result;
-    static const int directions[14][3] = {{1, 0, 0},  {-1, 0, 0},  {0, 1, 0},  {0, -1, 0},  {0, 0, 1},
-                                          {0, 0, -1}, {1, 1, 1},   {1, 1, -1}, {1, -1, 1},  {1, -1, -1},
-                                          {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
+    static const int directions[14][3] = {
+        {1, 0, 0},  {-1, 0, 0}, {0, 1, 0},   {0, -1, 0}, {0, 0, 1},   {0, 0, -1},  {1, 1, 1},
+        {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
     for (const auto& d : directions) {
         std::uint32_t best = 0;
         long bestDot = std::numeric_limits<long>::min();
@@ -141,7 +147,8 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
             const long dot = long(c.x) * d[0] + long(c.y) * d[1] + long(c.z) * d[2];
             if (dot > bestDot) bestDot = dot, best = v;
         }
-        if (std::find(result.node.begin(), result.node.end(), best) == result.node.end()) result.node.push_back(best);
+        if (std::find(result.node.begin(), result.node.end(), best) == result.node.end())
+            result.node.push_back(best);
     }
     // Farthest-point landmarks fill the row up to Landmarks::kStride: each is
     // the node farthest from every landmark so far. Extremes sit on the tips
@@ -156,7 +163,9 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
     // is computed in parallel afterwards.
     std::vector<float> nearest(n, kUnreachable);
     Buckets buckets;
-    auto claimCell = [&](std::uint32_t source) { lowerDistancesFrom(graph, source, nearest.data(), buckets); };
+    auto claimCell = [&](std::uint32_t source) {
+        lowerDistancesFrom(graph, source, nearest.data(), buckets);
+    };
     for (std::uint32_t landmark : result.node) claimCell(landmark);
     while (result.node.size() < Landmarks::kStride) {
         std::uint32_t best = 0;
@@ -205,7 +214,8 @@ void PathCache::growTable() {
     }
 }
 
-const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a, std::uint32_t b, float bound) {
+const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a, std::uint32_t b,
+                                        float bound) {
     if (a > b) std::swap(a, b);
     if (a == b) {  // key 0 marks empty slots; a point pair needs no search anyway
         ++hits;
@@ -237,7 +247,8 @@ const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a,
                 clearTable();
                 return path(search, a, b, bound);
             }
-            e = Entry{length, std::uint32_t(mPool.size()), std::uint32_t(mScratch.size()), kUnreachable};
+            e = Entry{length, std::uint32_t(mPool.size()), std::uint32_t(mScratch.size()),
+                      kUnreachable};
             mPool.insert(mPool.end(), mScratch.begin(), mScratch.end());
             return e;
         }
@@ -253,7 +264,8 @@ const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a,
     mask = mTable.size() - 1;
     i = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
     while (mTable[i].key) i = (i + 1) & mask;
-    mTable[i] = Slot{key, Entry{length, std::uint32_t(mPool.size()), std::uint32_t(mScratch.size()), bound}};
+    mTable[i] = Slot{
+        key, Entry{length, std::uint32_t(mPool.size()), std::uint32_t(mScratch.size()), bound}};
     ++mUsed;
     mPool.insert(mPool.end(), mScratch.begin(), mScratch.end());
     return mTable[i].entry;

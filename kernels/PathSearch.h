@@ -61,8 +61,12 @@ struct Landmarks {
     /// All landmark distances of node n: kStride floats (unused slots 0),
     /// 64-byte aligned, so the A* bound is a few SIMD maxima over one row
     /// instead of a loop with branches.
-    const float* row(std::uint32_t n) const noexcept { return mRows.data() + mRowsOffset + std::size_t(n) * kStride; }
-    float* row(std::uint32_t n) noexcept { return mRows.data() + mRowsOffset + std::size_t(n) * kStride; }
+    const float* row(std::uint32_t n) const noexcept {
+        return mRows.data() + mRowsOffset + std::size_t(n) * kStride;
+    }
+    float* row(std::uint32_t n) noexcept {
+        return mRows.data() + mRowsOffset + std::size_t(n) * kStride;
+    }
     /// Sizes the rows for `nodes` nodes, all 0.
     void allocateRows(std::uint32_t nodes);
     bool hasRows() const noexcept { return !mRows.empty(); }
@@ -88,8 +92,8 @@ public:
     /// With a finite `bound` the search gives up (kUnreachable) once every
     /// remaining path is known to be longer than `bound`; a path it does find
     /// is the same as without the bound (same settle order, earlier stop).
-    float shortestPath(std::uint32_t from, std::uint32_t to, std::vector<std::uint32_t>* path = nullptr,
-                       float bound = kUnreachable);
+    float shortestPath(std::uint32_t from, std::uint32_t to,
+                       std::vector<std::uint32_t>* path = nullptr, float bound = kUnreachable);
 
     /// Dijkstra restricted to nodes with allowed(node) true (both ends must be
     /// allowed). Used on small node sets (a path set and its dilation).
@@ -119,8 +123,8 @@ private:
     /// found, is a function of the graph alone.
     using HeapKey = std::uint64_t;
     template <typename Heuristic, typename Allowed>
-    float search(std::uint32_t from, std::uint32_t to, const Heuristic& heuristic, const Allowed& allowed,
-                 std::vector<std::uint32_t>* path);
+    float search(std::uint32_t from, std::uint32_t to, const Heuristic& heuristic,
+                 const Allowed& allowed, std::vector<std::uint32_t>* path);
     void nextGeneration();
     void heapPush(HeapKey key);
     HeapKey heapPop();
@@ -150,7 +154,8 @@ public:
     /// `bound`: see GeodesicSearch::shortestPath. A pair cached as "longer than
     /// B" is searched again when asked with a larger bound, so the answer never
     /// depends on which request came first.
-    const Entry& path(GeodesicSearch& search, std::uint32_t a, std::uint32_t b, float bound = kUnreachable);
+    const Entry& path(GeodesicSearch& search, std::uint32_t a, std::uint32_t b,
+                      float bound = kUnreachable);
     const std::uint32_t* nodes(const Entry& e) const noexcept { return mPool.data() + e.begin; }
 
     std::uint64_t hits = 0, misses = 0;
@@ -280,8 +285,8 @@ float GeodesicSearch::search(std::uint32_t from, std::uint32_t to, const Heurist
 }
 
 template <typename Allowed>
-float GeodesicSearch::shortestPathWithin(std::uint32_t from, std::uint32_t to, const Allowed& allowed,
-                                         std::vector<std::uint32_t>* path) {
+float GeodesicSearch::shortestPathWithin(std::uint32_t from, std::uint32_t to,
+                                         const Allowed& allowed, std::vector<std::uint32_t>* path) {
     if (!allowed(from) || !allowed(to)) {
         if (path) path->clear();
         return kUnreachable;

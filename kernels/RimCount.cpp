@@ -5,12 +5,11 @@
 namespace skelseg {
 
 RimCounter::RimCounter(const BoundaryGraph& graph)
-    : mGraph(graph),
-      mState(graph.nodeCount(), 0),
-      mPiece(graph.nodeCount(), 0) {}
+    : mGraph(graph), mState(graph.nodeCount(), 0), mPiece(graph.nodeCount(), 0) {}
 
 const RimPieces& RimCounter::countRims(const std::vector<std::uint32_t>& pathSet) {
-    if (++mGeneration >= (1u << (32 - kFlagBits))) {  // stamps are 28 bits: really clear once in a while
+    if (++mGeneration >=
+        (1u << (32 - kFlagBits))) {  // stamps are 28 bits: really clear once in a while
         std::fill(mState.begin(), mState.end(), 0u);
         mGeneration = 1;
     }

@@ -10,8 +10,10 @@
 
 namespace skelseg {
 
-std::uint32_t extendedFeatureSet(const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
-                                 const BoundaryGraph& graph, int x, int y, int z, std::array<std::uint32_t, 8>& out) {
+std::uint32_t extendedFeatureSet(const MaskVolume& mask,
+                                 const Volume<std::uint32_t>& featureTransform,
+                                 const BoundaryGraph& graph, int x, int y, int z,
+                                 std::array<std::uint32_t, 8>& out) {
     std::uint32_t count = 0;
     for (int dz = 0; dz <= 1; ++dz)
         for (int dy = 0; dy <= 1; ++dy)
@@ -32,10 +34,10 @@ std::uint32_t extendedFeatureSet(const MaskVolume& mask, const Volume<std::uint3
     return count;
 }
 
-std::vector<SkeletonCandidate> selectSkeletonCandidates(const MaskVolume& mask,
-                                                        const Volume<std::uint32_t>& featureTransform,
-                                                        const BoundaryGraph& graph, const CandidateOptions& options,
-                                                        CandidateStats* stats, Interrupter& interrupter) {
+std::vector<SkeletonCandidate> selectSkeletonCandidates(
+    const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
+    const BoundaryGraph& graph, const CandidateOptions& options, CandidateStats* stats,
+    Interrupter& interrupter) {
     InterrupterScope scope(interrupter, "skeleton candidates");
     const Dims d = mask.dims();
     std::vector<std::vector<SkeletonCandidate>> perSlice(std::size_t(d.z));
@@ -58,11 +60,13 @@ std::vector<SkeletonCandidate> selectSkeletonCandidates(const MaskVolume& mask,
                 const std::size_t p = mask.index(x, y, z);
                 if (!mask[p]) continue;
                 ++objects;
-                const std::uint32_t n = extendedFeatureSet(mask, featureTransform, graph, x, y, z, c.feature);
+                const std::uint32_t n =
+                    extendedFeatureSet(mask, featureTransform, graph, x, y, z, c.feature);
                 if (n < 3) continue;
                 ++three;
                 const std::uint32_t fp = featureTransform[p];
-                const double depth2 = fp == kNoFeature ? 0.0 : double(squaredDistance(d, std::uint32_t(p), fp));
+                const double depth2 =
+                    fp == kNoFeature ? 0.0 : double(squaredDistance(d, std::uint32_t(p), fp));
                 const double threshold2 = std::max(ratio2 * depth2, minGap2);
                 double maxGap2 = 0.0;
                 for (std::uint32_t i = 0; i < n; ++i)

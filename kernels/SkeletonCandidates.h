@@ -16,9 +16,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/Interrupter.h"
 #include "kernels/BoundaryGraph.h"
-#include "kernels/Volume.h"
+#include "kernels/base/Interrupter.h"
+#include "kernels/base/Volume.h"
 
 namespace skelseg {
 
@@ -42,14 +42,15 @@ struct CandidateStats {
 
 /// Extended feature set of voxel (x,y,z) of `mask` (must be an object voxel),
 /// written to `out`; returns the count.
-std::uint32_t extendedFeatureSet(const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
-                                 const BoundaryGraph& graph, int x, int y, int z, std::array<std::uint32_t, 8>& out);
+std::uint32_t extendedFeatureSet(const MaskVolume& mask,
+                                 const Volume<std::uint32_t>& featureTransform,
+                                 const BoundaryGraph& graph, int x, int y, int z,
+                                 std::array<std::uint32_t, 8>& out);
 
 /// All candidates in increasing voxel order (independent of thread count).
-std::vector<SkeletonCandidate> selectSkeletonCandidates(const MaskVolume& mask,
-                                                        const Volume<std::uint32_t>& featureTransform,
-                                                        const BoundaryGraph& graph, const CandidateOptions& options = {},
-                                                        CandidateStats* stats = nullptr,
-                                                        Interrupter& interrupter = nullInterrupter());
+std::vector<SkeletonCandidate> selectSkeletonCandidates(
+    const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
+    const BoundaryGraph& graph, const CandidateOptions& options = {},
+    CandidateStats* stats = nullptr, Interrupter& interrupter = nullInterrupter());
 
 }  // namespace skelseg

@@ -26,7 +26,8 @@ struct UnionFind {
 /// Connected components of the nodes with include(n), following `adjacency`;
 /// numbered by smallest node. Returns the count; label kNoJunction elsewhere.
 template <typename Include>
-std::uint32_t labelComponents(const SkeletonGraph& g, const Include& include, std::vector<std::uint32_t>& label) {
+std::uint32_t labelComponents(const SkeletonGraph& g, const Include& include,
+                              std::vector<std::uint32_t>& label) {
     label.assign(g.nodeCount(), kNoJunction);
     std::uint32_t count = 0;
     std::vector<std::uint32_t> queue;
@@ -71,8 +72,10 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
         g.coord.push_back(Coord{int(v % nx), int((v / nx) % ny), int(v / (nx * ny))});
     }
     auto lookup = [&](int x, int y, int z) -> std::uint32_t {
-        if (x < 0 || y < 0 || z < 0 || x >= dims.x || y >= dims.y || z >= dims.z) return kNoJunction;
-        auto it = nodeOfVoxel.find(std::uint32_t(x) + nx * (std::uint32_t(y) + ny * std::uint32_t(z)));
+        if (x < 0 || y < 0 || z < 0 || x >= dims.x || y >= dims.y || z >= dims.z)
+            return kNoJunction;
+        auto it =
+            nodeOfVoxel.find(std::uint32_t(x) + nx * (std::uint32_t(y) + ny * std::uint32_t(z)));
         return it == nodeOfVoxel.end() ? kNoJunction : it->second;
     };
     // 26-adjacency edges (each once, i < j).
@@ -90,12 +93,15 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
 
     // Bridges between different connected parts closer than bridgeGap.
     std::vector<std::uint32_t> part;
-    const std::uint32_t parts = labelComponents(g, [](std::uint32_t) { return true; }, part);
+    const std::uint32_t parts = labelComponents(
+        g, [](std::uint32_t) { return true; }, part);
     if (parts > 1 && options.bridgeGap >= 1.0) {
         const int r = int(std::floor(options.bridgeGap));
         const double gap2 = options.bridgeGap * options.bridgeGap;
         // Closest pair per pair of parts; std::map keeps the order deterministic.
-        std::map<std::pair<std::uint32_t, std::uint32_t>, std::tuple<double, std::uint32_t, std::uint32_t>> best;
+        std::map<std::pair<std::uint32_t, std::uint32_t>,
+                 std::tuple<double, std::uint32_t, std::uint32_t>>
+            best;
         for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
             const Coord c = g.coord[n];
             for (int dz = -r; dz <= r; ++dz)
@@ -113,9 +119,11 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
         }
         // Join parts with the shortest bridges first (a spanning forest), so
         // that a piece is not tied to everything within reach.
-        std::vector<std::tuple<double, std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>> order;
+        std::vector<std::tuple<double, std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>>
+            order;
         for (const auto& [key, value] : best)
-            order.emplace_back(std::get<0>(value), std::get<1>(value), std::get<2>(value), key.first, key.second);
+            order.emplace_back(std::get<0>(value), std::get<1>(value), std::get<2>(value),
+                               key.first, key.second);
         std::sort(order.begin(), order.end());
         UnionFind joined(parts);
         for (const auto& [d2, n, m, pa, pb] : order) {
@@ -131,7 +139,8 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
     auto isCore = [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; };
     std::vector<std::uint32_t> cluster;
     const std::uint32_t clusters = labelComponents(g, isCore, cluster);
-    std::vector<std::uint32_t> owner(g.nodeCount(), kNoJunction);  // cluster whose region took the node first
+    std::vector<std::uint32_t> owner(g.nodeCount(),
+                                     kNoJunction);  // cluster whose region took the node first
     UnionFind merged(clusters);
     {
         // Multi-source BFS from all cores at once, `regionRadius` steps.
@@ -173,11 +182,13 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
         std::sort(byRho.begin(), byRho.end());
         if (byRho.empty()) continue;
         const auto& mid = byRho[byRho.size() / 2];
-        j.rhoS = byRho.size() % 2 ? mid.first : 0.5f * (byRho[byRho.size() / 2 - 1].first + mid.first);
+        j.rhoS =
+            byRho.size() % 2 ? mid.first : 0.5f * (byRho[byRho.size() / 2 - 1].first + mid.first);
         j.representative = mid.second;
     }
 
-    g.pieceCount = labelComponents(g, [&](std::uint32_t n) { return g.junctionOf[n] == kNoJunction; }, g.pieceOf);
+    g.pieceCount = labelComponents(
+        g, [&](std::uint32_t n) { return g.junctionOf[n] == kNoJunction; }, g.pieceOf);
     return g;
 }
 

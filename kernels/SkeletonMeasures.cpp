@@ -24,7 +24,12 @@ constexpr float kSheetMinimumBound = 32.0f;
 /// Everything one thread needs; built lazily, once per thread.
 struct Workspace {
     Workspace(const BoundaryGraph& graph, const Landmarks* landmarks)
-        : search(graph, landmarks), sigmaSearch(graph, landmarks), rims(graph), grower(graph), geodesicness(graph), inSet(graph.nodeCount()) {}
+        : search(graph, landmarks),
+          sigmaSearch(graph, landmarks),
+          rims(graph),
+          grower(graph),
+          geodesicness(graph),
+          inSet(graph.nodeCount()) {}
     GeodesicSearch search, sigmaSearch;
     PathCache cache;
     RimCounter rims;
@@ -52,12 +57,14 @@ struct Workspace {
 
 std::size_t featureSetSlot(const SkeletonCandidate& c) {
     std::uint64_t h = c.featureCount;
-    for (std::uint32_t i = 0; i < c.featureCount; ++i) h = (h ^ c.feature[i]) * 0x9E3779B97F4A7C15ull;
+    for (std::uint32_t i = 0; i < c.featureCount; ++i)
+        h = (h ^ c.feature[i]) * 0x9E3779B97F4A7C15ull;
     return std::size_t(h >> 40) & (Workspace::kRememberedSlots - 1);
 }
 
 /// Gamma(p) into ws.gamma via the cache; returns rho_S and the pair.
-float collectPathSet(Workspace& ws, const SkeletonCandidate& c, std::uint32_t& a, std::uint32_t& b) {
+float collectPathSet(Workspace& ws, const SkeletonCandidate& c, std::uint32_t& a,
+                     std::uint32_t& b) {
     ws.gamma.clear();
     ws.inSet.nextGeneration();
     float rhoS = -1.0f;
@@ -75,7 +82,8 @@ float collectPathSet(Workspace& ws, const SkeletonCandidate& c, std::uint32_t& a
     const float bound = std::max(kSheetRatio * gap, kSheetMinimumBound);
     for (std::uint32_t i = 0; i < c.featureCount; ++i)
         for (std::uint32_t j = i + 1; j < c.featureCount; ++j) {
-            if (g.component[c.feature[i]] != g.component[c.feature[j]]) continue;  // cavity: no path
+            if (g.component[c.feature[i]] != g.component[c.feature[j]])
+                continue;  // cavity: no path
             const PathCache::Entry& e = ws.cache.path(ws.search, c.feature[i], c.feature[j], bound);
             if (e.length == kUnreachable) return -1.0f;  // longer than the bound: a sheet
             if (e.length > rhoS) rhoS = e.length, a = c.feature[i], b = c.feature[j];
@@ -137,7 +145,8 @@ bool measure(Workspace& ws, const SkeletonCandidate& c, std::uint32_t candidateI
 }  // namespace
 
 std::vector<std::uint32_t> pathSet(const BoundaryGraph& graph, const SkeletonCandidate& candidate,
-                                   GeodesicSearch& search, float* rhoS, std::uint32_t* a, std::uint32_t* b) {
+                                   GeodesicSearch& search, float* rhoS, std::uint32_t* a,
+                                   std::uint32_t* b) {
     std::vector<std::uint32_t> nodes, path;
     float best = -1.0f;
     std::uint32_t bestA = kNoNode, bestB = kNoNode;
@@ -158,15 +167,16 @@ std::vector<std::uint32_t> pathSet(const BoundaryGraph& graph, const SkeletonCan
     return nodes;
 }
 
-bool measurePoint(const BoundaryGraph& graph, const SkeletonCandidate& candidate, const SkeletonMeasureOptions& options,
-                  SkeletonPoint& out) {
+bool measurePoint(const BoundaryGraph& graph, const SkeletonCandidate& candidate,
+                  const SkeletonMeasureOptions& options, SkeletonPoint& out) {
     Workspace ws(graph, options.landmarks);
     return measure(ws, candidate, 0, options, true, out);
 }
 
-std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph, const std::vector<SkeletonCandidate>& candidates,
-                                           const SkeletonMeasureOptions& options, SkeletonMeasureStats* stats,
-                                           Interrupter& interrupter) {
+std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
+                                           const std::vector<SkeletonCandidate>& candidates,
+                                           const SkeletonMeasureOptions& options,
+                                           SkeletonMeasureStats* stats, Interrupter& interrupter) {
     InterrupterScope scope(interrupter, "path sets and rims");
     const std::size_t n = candidates.size();
     std::vector<SkeletonPoint> slots(n);
@@ -182,7 +192,8 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph, const std
         for (std::size_t i = begin; i < end; ++i) {
             if ((i & 63) == 0) {
                 if (stop.load(std::memory_order_relaxed)) return;
-                if (interrupter.wasInterrupted(double(done.load(std::memory_order_relaxed)) / double(std::max<std::size_t>(n, 1)))) {
+                if (interrupter.wasInterrupted(double(done.load(std::memory_order_relaxed)) /
+                                               double(std::max<std::size_t>(n, 1)))) {
                     stop = true;
                     return;
                 }
@@ -190,7 +201,8 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph, const std
             const SkeletonCandidate& c = candidates[i];
             Workspace::Remembered& memo = ws.remembered[featureSetSlot(c)];
             if (memo.featureCount == c.featureCount &&
-                std::equal(c.feature.begin(), c.feature.begin() + c.featureCount, memo.feature.begin())) {
+                std::equal(c.feature.begin(), c.feature.begin() + c.featureCount,
+                           memo.feature.begin())) {
                 ++ws.repeats;
                 isPoint[i] = memo.isPoint ? 1 : 0;
                 if (memo.isPoint) {
@@ -200,7 +212,8 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph, const std
                 }
                 continue;
             }
-            isPoint[i] = measure(ws, c, std::uint32_t(i), options, options.exactRhoC, slots[i]) ? 1 : 0;
+            isPoint[i] =
+                measure(ws, c, std::uint32_t(i), options, options.exactRhoC, slots[i]) ? 1 : 0;
             memo.featureCount = c.featureCount;
             std::copy(c.feature.begin(), c.feature.begin() + c.featureCount, memo.feature.begin());
             memo.isPoint = isPoint[i] != 0;
@@ -209,8 +222,9 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph, const std
         done += end - begin;
     };
     if (options.threaded)
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64),
-                          [&](const tbb::blocked_range<std::size_t>& r) { range(r.begin(), r.end()); });
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, n, 64),
+            [&](const tbb::blocked_range<std::size_t>& r) { range(r.begin(), r.end()); });
     else
         range(0, n);
     throwIfInterrupted(interrupter);

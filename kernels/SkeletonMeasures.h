@@ -27,24 +27,24 @@
 #include <limits>
 #include <vector>
 
-#include "engine/Interrupter.h"
 #include "kernels/BoundaryGraph.h"
 #include "kernels/PathSearch.h"
 #include "kernels/SkeletonCandidates.h"
+#include "kernels/base/Interrupter.h"
 
 namespace skelseg {
 
 /// A point of the (unsimplified) curve skeleton C with its measures.
 struct SkeletonPoint {
-    std::uint32_t voxel = 0;        // linear voxel index
-    std::uint32_t candidate = 0;    // index into the candidate list
-    float rhoS = 0.0f;              // longest feature-pair geodesic
-    double rhoC = 0.0;              // area cut off by the loop; +inf for handle loops
-    bool rhoCExact = true;          // false: rhoC is a lower bound (>= tau, see ComponentGrowth.h)
+    std::uint32_t voxel = 0;      // linear voxel index
+    std::uint32_t candidate = 0;  // index into the candidate list
+    float rhoS = 0.0f;            // longest feature-pair geodesic
+    double rhoC = 0.0;            // area cut off by the loop; +inf for handle loops
+    bool rhoCExact = true;        // false: rhoC is a lower bound (>= tau, see ComponentGrowth.h)
     bool isHandle = false;
-    std::uint8_t rims = 0;          // rims whose component >= noiseArea
-    std::uint8_t robustRims = 0;    // rims whose component >= tau
-    float sigma = -1.0f;            // geodesicness; -1 where not computed (rho_C < tau)
+    std::uint8_t rims = 0;        // rims whose component >= noiseArea
+    std::uint8_t robustRims = 0;  // rims whose component >= tau
+    float sigma = -1.0f;          // geodesicness; -1 where not computed (rho_C < tau)
     std::uint32_t featureA = kNoNode, featureB = kNoNode;  // pair realising rho_S
 };
 
@@ -65,32 +65,34 @@ struct SkeletonMeasureOptions {
 };
 
 struct SkeletonMeasureStats {
-    SearchCounters search;          // pair searches
+    SearchCounters search;  // pair searches
     std::uint64_t pathCacheHits = 0;
     std::uint64_t pathCacheMisses = 0;
     std::uint64_t rimTests = 0;
     std::uint64_t componentGrowthSteps = 0;
     std::uint64_t sigmaEvaluations = 0;
-    SearchCounters sigmaSearch;     // searches made by sigma evaluation
+    SearchCounters sigmaSearch;             // searches made by sigma evaluation
     std::uint64_t repeatedFeatureSets = 0;  // candidates answered from an identical feature set
     std::uint64_t skeletonPoints = 0;
 };
 
 /// Measures every candidate; returns the points of C in candidate order.
-std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph, const std::vector<SkeletonCandidate>& candidates,
-                                           const SkeletonMeasureOptions& options, SkeletonMeasureStats* stats = nullptr,
+std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
+                                           const std::vector<SkeletonCandidate>& candidates,
+                                           const SkeletonMeasureOptions& options,
+                                           SkeletonMeasureStats* stats = nullptr,
                                            Interrupter& interrupter = nullInterrupter());
 
 /// Gamma(p) of one candidate: the union of its pair paths (sorted, unique).
 /// Also returns rho_S and the pair realising it through the pointers.
 std::vector<std::uint32_t> pathSet(const BoundaryGraph& graph, const SkeletonCandidate& candidate,
-                                   GeodesicSearch& search, float* rhoS = nullptr, std::uint32_t* a = nullptr,
-                                   std::uint32_t* b = nullptr);
+                                   GeodesicSearch& search, float* rhoS = nullptr,
+                                   std::uint32_t* a = nullptr, std::uint32_t* b = nullptr);
 
 /// Full measures of one candidate with exact rho_C (used for the few cut
 /// candidates where rho_C must be compared exactly). Returns false when the
 /// candidate is not a point of C.
-bool measurePoint(const BoundaryGraph& graph, const SkeletonCandidate& candidate, const SkeletonMeasureOptions& options,
-                  SkeletonPoint& out);
+bool measurePoint(const BoundaryGraph& graph, const SkeletonCandidate& candidate,
+                  const SkeletonMeasureOptions& options, SkeletonPoint& out);
 
 }  // namespace skelseg

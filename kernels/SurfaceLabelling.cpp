@@ -10,7 +10,8 @@
 
 namespace skelseg {
 
-SurfaceSegments labelSurface(const BoundaryGraph& graph, const std::vector<std::vector<std::uint32_t>>& cutLoops,
+SurfaceSegments labelSurface(const BoundaryGraph& graph,
+                             const std::vector<std::vector<std::uint32_t>>& cutLoops,
                              double minSegmentArea) {
     const std::uint32_t n = graph.nodeCount();
     constexpr std::uint32_t kCut = 0xFFFFFFFEu;
@@ -18,7 +19,8 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph, const std::vector<std::
     for (const auto& loop : cutLoops)
         for (std::uint32_t v : loop) {
             label[v] = kCut;
-            for (std::uint32_t e = graph.offset[v]; e < graph.offset[v + 1]; ++e) label[graph.neighbour[e]] = kCut;
+            for (std::uint32_t e = graph.offset[v]; e < graph.offset[v + 1]; ++e)
+                label[graph.neighbour[e]] = kCut;
         }
     // Components of the rest.
     std::uint32_t count = 0;
@@ -60,8 +62,9 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph, const std::vector<std::
     // Cavities: segments on a graph component other than the largest one,
     // where that component holds no other segment, join the largest segment.
     if (graph.componentSize.size() > 1) {
-        const std::uint32_t outer = std::uint32_t(
-            std::max_element(graph.componentSize.begin(), graph.componentSize.end()) - graph.componentSize.begin());
+        const std::uint32_t outer =
+            std::uint32_t(std::max_element(graph.componentSize.begin(), graph.componentSize.end()) -
+                          graph.componentSize.begin());
         std::uint32_t largest = 0;
         for (std::uint32_t s = 1; s < count; ++s)
             if (area[s] > area[largest]) largest = s;
@@ -76,7 +79,8 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph, const std::vector<std::
     for (;;) {
         std::uint32_t smallest = kNoNode;
         for (std::uint32_t s = 0; s < count; ++s)
-            if (find(s) == s && double(area[s]) < minSegmentArea && (smallest == kNoNode || area[s] < area[smallest]))
+            if (find(s) == s && double(area[s]) < minSegmentArea &&
+                (smallest == kNoNode || area[s] < area[smallest]))
                 smallest = s;
         if (smallest == kNoNode) break;
         std::uint32_t target = kNoNode;
@@ -109,7 +113,8 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph, const std::vector<std::
     std::vector<std::uint64_t> finalArea(count, 0);
     for (std::uint32_t v = 0; v < n; ++v) ++finalArea[find(label[v])];
     std::sort(roots.begin(), roots.end(), [&](std::uint32_t a, std::uint32_t b) {
-        return finalArea[a] != finalArea[b] ? finalArea[a] > finalArea[b] : firstNode[a] < firstNode[b];
+        return finalArea[a] != finalArea[b] ? finalArea[a] > finalArea[b]
+                                            : firstNode[a] < firstNode[b];
     });
     std::vector<std::uint32_t> id(count, kNoNode);
     SurfaceSegments out;
@@ -122,9 +127,10 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph, const std::vector<std::
     return out;
 }
 
-void labelInterior(const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform, const BoundaryGraph& graph,
-                   const SurfaceSegments& segments, const std::vector<std::uint16_t>& labelOfSegment,
-                   Volume<std::uint16_t>& out, bool threaded) {
+void labelInterior(const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
+                   const BoundaryGraph& graph, const SurfaceSegments& segments,
+                   const std::vector<std::uint16_t>& labelOfSegment, Volume<std::uint16_t>& out,
+                   bool threaded) {
     const std::size_t n = mask.size();
     auto body = [&](std::size_t begin, std::size_t end) {
         for (std::size_t v = begin; v < end; ++v) {
@@ -136,8 +142,9 @@ void labelInterior(const MaskVolume& mask, const Volume<std::uint32_t>& featureT
         }
     };
     if (threaded)
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16),
-                          [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, n, 1 << 16),
+            [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
     else
         body(0, n);
 }

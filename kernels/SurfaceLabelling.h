@@ -18,23 +18,25 @@
 #include <vector>
 
 #include "kernels/BoundaryGraph.h"
-#include "kernels/Volume.h"
+#include "kernels/base/Volume.h"
 
 namespace skelseg {
 
 struct SurfaceSegments {
     std::vector<std::uint32_t> nodeLabel;  // per boundary node, 0..segmentCount-1
     std::uint32_t segmentCount = 0;
-    std::vector<std::uint64_t> area;       // boundary nodes per segment
+    std::vector<std::uint64_t> area;  // boundary nodes per segment
 };
 
-SurfaceSegments labelSurface(const BoundaryGraph& graph, const std::vector<std::vector<std::uint32_t>>& cutLoops,
+SurfaceSegments labelSurface(const BoundaryGraph& graph,
+                             const std::vector<std::vector<std::uint32_t>>& cutLoops,
                              double minSegmentArea);
 
 /// Labels every object voxel of `mask` by the segment of its feature voxel:
 /// out[v] = firstLabel + nodeLabel(F(v)); background voxels are left alone.
-void labelInterior(const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform, const BoundaryGraph& graph,
-                   const SurfaceSegments& segments, const std::vector<std::uint16_t>& labelOfSegment,
-                   Volume<std::uint16_t>& out, bool threaded = true);
+void labelInterior(const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
+                   const BoundaryGraph& graph, const SurfaceSegments& segments,
+                   const std::vector<std::uint16_t>& labelOfSegment, Volume<std::uint16_t>& out,
+                   bool threaded = true);
 
 }  // namespace skelseg

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "engine/SegmentCommand.h"
-#include "io/NrrdIO.h"
-#include "kernels/Volume.h"
+#include "io/volume/NrrdIO.h"
+#include "kernels/base/Volume.h"
 #include "tests/support/CliRunner.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
@@ -40,7 +40,8 @@ inline std::string gzipBytes(const std::string& bytes) {
 /// Runs `skelseg segment INPUT -o OUTDIR --quiet EXTRA...`.
 inline CliResult runSegment(const std::filesystem::path& input, const std::filesystem::path& outdir,
                             const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> arguments = {"segment", input.string(), "-o", outdir.string(), "--quiet"};
+    std::vector<std::string> arguments = {"segment", input.string(), "-o", outdir.string(),
+                                          "--quiet"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     return runSkelseg(arguments);
 }
@@ -48,23 +49,30 @@ inline CliResult runSegment(const std::filesystem::path& input, const std::files
 /// The contract for every failure: exit code `code`, exactly one line on
 /// stderr, which names `mention` (usually the file) and contains `problem`
 /// (if not empty), and nothing on stdout.
-inline ::testing::AssertionResult failsWithOneLine(const CliResult& result, int code, const std::string& mention,
+inline ::testing::AssertionResult failsWithOneLine(const CliResult& result, int code,
+                                                   const std::string& mention,
                                                    const std::string& problem = "") {
     if (result.signal != 0)
-        return ::testing::AssertionFailure() << "killed by signal " << result.signal << ": " << result.describe();
+        return ::testing::AssertionFailure()
+               << "killed by signal " << result.signal << ": " << result.describe();
     if (result.exitCode != code)
-        return ::testing::AssertionFailure() << "expected exit " << code << ", got " << result.describe();
+        return ::testing::AssertionFailure()
+               << "expected exit " << code << ", got " << result.describe();
     const auto lines = result.errLines();
     if (lines.size() != 1 || result.err.back() != '\n')
-        return ::testing::AssertionFailure() << "expected exactly one line on stderr, got " << lines.size() << ": "
-                                             << result.describe();
+        return ::testing::AssertionFailure() << "expected exactly one line on stderr, got "
+                                             << lines.size() << ": " << result.describe();
     if (!mention.empty() && lines[0].find(mention) == std::string::npos)
-        return ::testing::AssertionFailure() << "the message does not name '" << mention << "': " << lines[0];
+        return ::testing::AssertionFailure()
+               << "the message does not name '" << mention << "': " << lines[0];
     if (!problem.empty() && lines[0].find(problem) == std::string::npos)
-        return ::testing::AssertionFailure() << "the message does not say '" << problem << "': " << lines[0];
+        return ::testing::AssertionFailure()
+               << "the message does not say '" << problem << "': " << lines[0];
     if (lines[0].rfind("skelseg: ", 0) != 0)
-        return ::testing::AssertionFailure() << "the message does not start with 'skelseg: ': " << lines[0];
-    if (!result.out.empty()) return ::testing::AssertionFailure() << "unexpected stdout: " << result.out;
+        return ::testing::AssertionFailure()
+               << "the message does not start with 'skelseg: ': " << lines[0];
+    if (!result.out.empty())
+        return ::testing::AssertionFailure() << "unexpected stdout: " << result.out;
     return ::testing::AssertionSuccess();
 }
 

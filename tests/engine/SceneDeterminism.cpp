@@ -19,16 +19,24 @@ std::string fileBytes(const std::filesystem::path& p) {
     return s.str();
 }
 
-int run(const std::string& command) { return std::system((command + " > /dev/null 2>&1").c_str()); }
+int run(const std::string& command) {
+    return std::system((command + " > /dev/null 2>&1").c_str());
+}
 
 TEST(SceneCli, OneAndTwoThreadsGiveByteIdenticalLabels) {
     TempDir dir;
     const std::string exe = skelsegBinary();
     const auto input = dir / "figure.nrrd";
-    ASSERT_EQ(run(exe + " generate figure -o " + input.string() + " --size 96 --pose 1 --noise 0.01"), 0);
-    ASSERT_EQ(run(exe + " segment " + input.string() + " -o " + (dir / "t1").string() + " --threads 1 -q --no-preview"), 0);
-    ASSERT_EQ(run(exe + " segment " + input.string() + " -o " + (dir / "t2").string() + " --threads 2 -q --no-preview"), 0);
-    const std::string a = fileBytes(dir / "t1" / "labels.nrrd"), b = fileBytes(dir / "t2" / "labels.nrrd");
+    ASSERT_EQ(
+        run(exe + " generate figure -o " + input.string() + " --size 96 --pose 1 --noise 0.01"), 0);
+    ASSERT_EQ(run(exe + " segment " + input.string() + " -o " + (dir / "t1").string() +
+                  " --threads 1 -q --no-preview"),
+              0);
+    ASSERT_EQ(run(exe + " segment " + input.string() + " -o " + (dir / "t2").string() +
+                  " --threads 2 -q --no-preview"),
+              0);
+    const std::string a = fileBytes(dir / "t1" / "labels.nrrd"),
+                      b = fileBytes(dir / "t2" / "labels.nrrd");
     ASSERT_FALSE(a.empty());
     EXPECT_EQ(a, b);
     EXPECT_EQ(fileBytes(dir / "t1" / "skeleton.ply"), fileBytes(dir / "t2" / "skeleton.ply"));

@@ -12,7 +12,9 @@ namespace {
 
 constexpr int kSize = 112;
 
-std::size_t parts(const SceneRun& run) { return run.result.segments.size(); }
+std::size_t parts(const SceneRun& run) {
+    return run.result.segments.size();
+}
 
 TEST(Scene, DiscWithThreeLimbsHasFourParts) {
     const SceneRun run = segmentShape("disc-limbs", kSize);
@@ -84,7 +86,8 @@ TEST(Scene, BoxWithTubesCutsEachTubeWhereItMeetsTheBox) {
                 if (i != axis) off += (centre[i] - faceVoxel[i]) * (centre[i] - faceVoxel[i]);
             if (std::sqrt(off) > 4.0) continue;
             found[std::size_t(axis)] = true;
-            EXPECT_NEAR(centre[std::size_t(axis)], faceVoxel[std::size_t(axis)], 3.0) << "tube along axis " << axis;
+            EXPECT_NEAR(centre[std::size_t(axis)], faceVoxel[std::size_t(axis)], 3.0)
+                << "tube along axis " << axis;
         }
     }
     EXPECT_TRUE(found[0] && found[1] && found[2]);
@@ -102,7 +105,8 @@ TEST(Scene, JunctionModeCutsLooserThanTheJunctionRule) {
     p.mode = CutMode::Junctions;
     const SceneRun rt07 = segmentShape("box-tubes", kSize, p);
     EXPECT_GT(parts(rt07), parts(rule));
-    EXPECT_LT(double(rt07.result.segments[0].boundaryArea), 0.9 * double(rule.result.segments[0].boundaryArea));
+    EXPECT_LT(double(rt07.result.segments[0].boundaryArea),
+              0.9 * double(rule.result.segments[0].boundaryArea));
 }
 
 TEST(Scene, TorusWithLimbKeepsItsRingAndSplitsTheLimb) {

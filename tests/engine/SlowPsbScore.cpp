@@ -7,8 +7,8 @@
 #include <filesystem>
 
 #include "engine/SegmentationScore.h"
-#include "io/MeshIO.h"
-#include "io/SegFile.h"
+#include "io/mesh/MeshIO.h"
+#include "io/mesh/SegFile.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
 
@@ -20,7 +20,8 @@ TEST(PsbScore, HumanModelBeatsTheOneSegmentBaseline) {
     const auto mesh = psb / "off" / "1.off";
     if (!std::filesystem::exists(mesh)) GTEST_SKIP() << "no shared data at " << psb << ": skipped";
     TempDir dir;
-    const std::string command = skelsegBinary() + " segment " + mesh.string() + " -o " + (dir / "out").string() +
+    const std::string command = skelsegBinary() + " segment " + mesh.string() + " -o " +
+                                (dir / "out").string() +
                                 " --resolution 160 -q --no-preview > /dev/null 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     const std::vector<std::int64_t> candidate = readSeg(dir / "out" / "segmentation.seg");

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <set>
 
-#include "io/MeshIO.h"
-#include "io/SyntheticShapes.h"
+#include "io/mesh/MeshIO.h"
+#include "io/shapes/SyntheticShapes.h"
 #include "tests/engine/RobustnessHelpers.h"
 
 namespace fs = std::filesystem;
@@ -33,15 +33,18 @@ std::vector<std::string> warningLines(const CliResult& result) {
 ///  - the segments' voxel counts add up to the object voxels, and per label
 ///    match labels.nrrd;
 ///  - segment_count is the number of segments; every line on stderr is a warning.
-nlohmann::json expectConsistentVolumeRun(const CliResult& result, const std::filesystem::path& outdir,
-                                                const MaskVolume& mask) {
+nlohmann::json expectConsistentVolumeRun(const CliResult& result,
+                                         const std::filesystem::path& outdir,
+                                         const MaskVolume& mask) {
     EXPECT_EQ(result.exitCode, 0) << result.describe();
     EXPECT_EQ(warningLines(result).size(), result.errLines().size()) << result.describe();
-    for (const char* name :
-         {"labels.nrrd", "labels.vdb", "skeleton.ply", "cuts.ply", "segments.ply", "preview.png", "report.json"})
-        EXPECT_TRUE(std::filesystem::exists(outdir / name)) << name << " missing; " << result.describe();
+    for (const char* name : {"labels.nrrd", "labels.vdb", "skeleton.ply", "cuts.ply",
+                             "segments.ply", "preview.png", "report.json"})
+        EXPECT_TRUE(std::filesystem::exists(outdir / name))
+            << name << " missing; " << result.describe();
     for (const auto& entry : directoryEntries(outdir))
-        EXPECT_EQ(entry.rfind(".skelseg-staging", 0), std::string::npos) << "staging directory left behind";
+        EXPECT_EQ(entry.rfind(".skelseg-staging", 0), std::string::npos)
+            << "staging directory left behind";
     if (!std::filesystem::exists(outdir / "report.json")) return {};
 
     const nlohmann::json report = readReport(outdir);
@@ -55,7 +58,8 @@ nlohmann::json expectConsistentVolumeRun(const CliResult& result, const std::fil
     std::uint64_t reportedTotal = 0;
     for (const auto& segment : report["segments"]) {
         const auto id = segment["id"].get<std::uint32_t>();
-        EXPECT_TRUE(reported.emplace(id, segment["voxels"].get<std::uint64_t>()).second) << "label " << id << " twice";
+        EXPECT_TRUE(reported.emplace(id, segment["voxels"].get<std::uint64_t>()).second)
+            << "label " << id << " twice";
         reportedTotal += segment["voxels"].get<std::uint64_t>();
     }
     std::map<std::uint32_t, std::uint64_t> counted;
@@ -63,8 +67,10 @@ nlohmann::json expectConsistentVolumeRun(const CliResult& result, const std::fil
     for (std::size_t i = 0; i < mask.size(); ++i) {
         if (mask[i]) {
             ++objectVoxels;
-            if (labels[i] == 0) ++unlabelled;
-            else ++counted[labels[i]];
+            if (labels[i] == 0)
+                ++unlabelled;
+            else
+                ++counted[labels[i]];
         } else if (labels[i] != 0) {
             ++labelledBackground;
         }
@@ -79,8 +85,8 @@ nlohmann::json expectConsistentVolumeRun(const CliResult& result, const std::fil
 
 // --- volumes -------------------------------------------------------------------------
 
-
-nlohmann::json runVolume(const TempDir& dir, const MaskVolume& mask, CliResult* resultOut = nullptr) {
+nlohmann::json runVolume(const TempDir& dir, const MaskVolume& mask,
+                         CliResult* resultOut = nullptr) {
     writeNrrdMask(dir / "input.nrrd", mask);
     const CliResult result = runSegment(dir / "input.nrrd", dir / "out");
     if (resultOut) *resultOut = result;
@@ -105,7 +111,8 @@ TEST(DegenerateShapes, EmptyVolumeGivesNoSegmentsAndAWarning) {
 
 TEST(DegenerateShapes, SingleVoxelIsOneSegment) {
     TempDir dir;
-    const MaskVolume mask = makeMask(Dims{9, 9, 9}, [](int x, int y, int z) { return x == 4 && y == 4 && z == 4; });
+    const MaskVolume mask =
+        makeMask(Dims{9, 9, 9}, [](int x, int y, int z) { return x == 4 && y == 4 && z == 4; });
     const auto report = runVolume(dir, mask);
     EXPECT_EQ(report["segment_count"], 1);
     EXPECT_EQ(report["objects"].size(), 1u);
@@ -113,15 +120,17 @@ TEST(DegenerateShapes, SingleVoxelIsOneSegment) {
 
 TEST(DegenerateShapes, SingleVoxelInACornerIsOneSegment) {
     TempDir dir;
-    const MaskVolume mask = makeMask(Dims{5, 5, 5}, [](int x, int y, int z) { return x == 0 && y == 0 && z == 0; });
+    const MaskVolume mask =
+        makeMask(Dims{5, 5, 5}, [](int x, int y, int z) { return x == 0 && y == 0 && z == 0; });
     const auto report = runVolume(dir, mask);
     EXPECT_EQ(report["segment_count"], 1);
 }
 
 TEST(DegenerateShapes, OneVoxelThinSheet) {
     TempDir dir;
-    const MaskVolume mask =
-        makeMask(Dims{32, 32, 5}, [](int x, int y, int z) { return inBox(x, y, z, {3, 3, 2}, {28, 28, 2}); });
+    const MaskVolume mask = makeMask(Dims{32, 32, 5}, [](int x, int y, int z) {
+        return inBox(x, y, z, {3, 3, 2}, {28, 28, 2});
+    });
     const auto report = runVolume(dir, mask);
     EXPECT_GE(report["segment_count"].get<int>(), 1);
     EXPECT_EQ(report["objects"].size(), 1u);
@@ -129,8 +138,9 @@ TEST(DegenerateShapes, OneVoxelThinSheet) {
 
 TEST(DegenerateShapes, OneVoxelThinLine) {
     TempDir dir;
-    const MaskVolume mask =
-        makeMask(Dims{40, 5, 5}, [](int x, int y, int z) { return inBox(x, y, z, {2, 2, 2}, {37, 2, 2}); });
+    const MaskVolume mask = makeMask(Dims{40, 5, 5}, [](int x, int y, int z) {
+        return inBox(x, y, z, {2, 2, 2}, {37, 2, 2});
+    });
     const auto report = runVolume(dir, mask);
     EXPECT_EQ(report["segment_count"], 1) << "a straight line has no parts";
     EXPECT_EQ(report["objects"].size(), 1u);
@@ -180,7 +190,8 @@ TEST(DegenerateShapes, TwoDisjointObjectsGetDisjointLabels) {
                 if (!mask(x, y, z)) continue;
                 (x <= 10 ? first : second).insert(labels(x, y, z));
             }
-    for (std::uint16_t label : first) EXPECT_EQ(second.count(label), 0u) << "label " << label << " in both objects";
+    for (std::uint16_t label : first)
+        EXPECT_EQ(second.count(label), 0u) << "label " << label << " in both objects";
     std::set<int> objectsOfSegments;
     for (const auto& s : report["segments"]) objectsOfSegments.insert(s["object"].get<int>());
     EXPECT_EQ(objectsOfSegments, (std::set<int>{0, 1}));
@@ -189,8 +200,9 @@ TEST(DegenerateShapes, TwoDisjointObjectsGetDisjointLabels) {
 TEST(DegenerateShapes, ManyTinyObjects) {
     TempDir dir;
     // 64 isolated voxels: each its own object and segment, labels unique.
-    const MaskVolume mask =
-        makeMask(Dims{16, 16, 16}, [](int x, int y, int z) { return x % 4 == 1 && y % 4 == 1 && z % 4 == 1; });
+    const MaskVolume mask = makeMask(Dims{16, 16, 16}, [](int x, int y, int z) {
+        return x % 4 == 1 && y % 4 == 1 && z % 4 == 1;
+    });
     const auto report = runVolume(dir, mask);
     EXPECT_EQ(report["objects"].size(), 64u);
     EXPECT_EQ(report["segment_count"], 64);
@@ -215,9 +227,10 @@ TEST(DegenerateShapes, TorusWithALimb) {
 
 TriangleMesh cubeMesh(bool withoutTopFace) {
     TriangleMesh mesh;
-    mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
-    const std::vector<std::array<std::uint32_t, 4>> quads = {{0, 3, 2, 1}, {0, 1, 5, 4}, {1, 2, 6, 5},
-                                                             {2, 3, 7, 6}, {3, 0, 4, 7}, {4, 5, 6, 7}};
+    mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                     {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    const std::vector<std::array<std::uint32_t, 4>> quads = {
+        {0, 3, 2, 1}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}, {4, 5, 6, 7}};
     for (std::size_t q = 0; q < quads.size(); ++q) {
         if (withoutTopFace && q == 5) continue;
         const auto& f = quads[q];
@@ -243,11 +256,12 @@ nlohmann::json runMesh(const TempDir& dir, const TriangleMesh& mesh, CliResult& 
     result = runSegment(dir / "input.off", dir / "out", {"--resolution", "32"});
     EXPECT_EQ(result.exitCode, 0) << result.describe();
     EXPECT_EQ(warningLines(result).size(), result.errLines().size()) << result.describe();
-    for (const char* name : {"labels.nrrd", "labels.vdb", "skeleton.ply", "cuts.ply", "segments.ply", "preview.png",
-                             "report.json", "segmentation.seg"})
+    for (const char* name : {"labels.nrrd", "labels.vdb", "skeleton.ply", "cuts.ply",
+                             "segments.ply", "preview.png", "report.json", "segmentation.seg"})
         EXPECT_TRUE(fs::exists(dir / "out" / name)) << name << " missing; " << result.describe();
     if (!fs::exists(dir / "out" / "report.json")) return {};
-    EXPECT_EQ(lineCount(dir / "out" / "segmentation.seg"), mesh.faceCount) << "one label per input face";
+    EXPECT_EQ(lineCount(dir / "out" / "segmentation.seg"), mesh.faceCount)
+        << "one label per input face";
     const nlohmann::json report = readReport(dir / "out");
     EXPECT_EQ(report["status"], "ok");
     EXPECT_EQ(report["input"]["faces"].get<std::size_t>(), mesh.faceCount);
@@ -277,7 +291,8 @@ TEST(DegenerateMeshes, CubeWithAHoleGivesAResultAndAWarning) {
     EXPECT_TRUE(anyLineHas(warningLines(result), file, "not closed")) << result.describe();
     EXPECT_EQ(report["input"]["mesh_closed"], false);
     EXPECT_EQ(report["input"]["mesh_boundary_edges"], 4);
-    EXPECT_GE(report["segment_count"].get<int>(), 1) << "the open cube is still voxelised as a solid";
+    EXPECT_GE(report["segment_count"].get<int>(), 1)
+        << "the open cube is still voxelised as a solid";
 }
 
 TEST(DegenerateMeshes, ZeroAreaFacesGiveAResultAndAWarning) {
@@ -289,7 +304,8 @@ TEST(DegenerateMeshes, ZeroAreaFacesGiveAResultAndAWarning) {
     mesh.triangleFace.push_back(std::uint32_t(mesh.faceCount++));
     CliResult result;
     const auto report = runMesh(dir, mesh, result);
-    EXPECT_TRUE(anyLineHas(warningLines(result), (dir / "input.off").string(), "zero area")) << result.describe();
+    EXPECT_TRUE(anyLineHas(warningLines(result), (dir / "input.off").string(), "zero area"))
+        << result.describe();
     EXPECT_EQ(report["input"]["mesh_degenerate_faces"], 1);
 }
 
@@ -302,7 +318,8 @@ TEST(DegenerateMeshes, FlatSingleTriangleBecomesAThinSheet) {
     mesh.faceCount = 1;
     CliResult result;
     const auto report = runMesh(dir, mesh, result);
-    EXPECT_TRUE(anyLineHas(warningLines(result), (dir / "input.off").string(), "not closed")) << result.describe();
+    EXPECT_TRUE(anyLineHas(warningLines(result), (dir / "input.off").string(), "not closed"))
+        << result.describe();
     // The open surface is voxelised as a sheet one voxel thick: one part.
     EXPECT_EQ(report["segment_count"], 1);
 }
@@ -322,7 +339,8 @@ TEST(DegenerateMeshes, AllFacesDegenerate) {
         EXPECT_TRUE(leftNothing(dir / "out"));
     } else {
         EXPECT_EQ(result.exitCode, 0) << result.describe();
-        EXPECT_TRUE(anyLineHas(warningLines(result), (dir / "input.off").string(), "zero area")) << result.describe();
+        EXPECT_TRUE(anyLineHas(warningLines(result), (dir / "input.off").string(), "zero area"))
+            << result.describe();
     }
 }
 
@@ -349,7 +367,8 @@ TEST(SlowDegenerateShapes, FertilityHasTunnels) {
         EXPECT_LT(std::stoul(line), report["face_segments"].get<std::size_t>());
     }
     EXPECT_EQ(lines, mesh.faceCount);
-    EXPECT_EQ(readNrrdLabels(dir / "out" / "labels.nrrd").dims().x, report["grid"]["size"][0].get<int>());
+    EXPECT_EQ(readNrrdLabels(dir / "out" / "labels.nrrd").dims().x,
+              report["grid"]["size"][0].get<int>());
 }
 
 }  // namespace

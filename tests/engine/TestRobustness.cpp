@@ -15,8 +15,8 @@
 #include <ostream>
 #include <thread>
 
-#include "io/MeshIO.h"
-#include "io/SyntheticShapes.h"
+#include "io/mesh/MeshIO.h"
+#include "io/shapes/SyntheticShapes.h"
 #include "tests/engine/RobustnessHelpers.h"
 
 namespace fs = std::filesystem;
@@ -29,17 +29,23 @@ namespace {
 // Small valid files the bad cases are derived from
 // ---------------------------------------------------------------------------
 
-const std::string kTetraOff = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+const std::string kTetraOff =
+    "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
 
-std::string nrrd(const std::string& fields, const std::string& data) { return "NRRD0004\n" + fields + "\n" + data; }
+std::string nrrd(const std::string& fields, const std::string& data) {
+    return "NRRD0004\n" + fields + "\n" + data;
+}
 const std::string kUint8Fields = "type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n";
 const std::string kEightVoxels("\0\1\1\0\1\0\0\1", 8);
 
-std::string binvox(const std::string& header, const std::string& data) { return "#binvox 1\n" + header + data; }
+std::string binvox(const std::string& header, const std::string& data) {
+    return "#binvox 1\n" + header + data;
+}
 /// 4x4x4 = 64 voxels: runs of 20 + 24 + 20.
 const std::string kBinvoxRuns("\0\x14\1\x18\0\x14", 6);
 
-std::string stlBinary(std::uint32_t claimedTriangles, const std::vector<std::array<float, 9>>& triangles) {
+std::string stlBinary(std::uint32_t claimedTriangles,
+                      const std::vector<std::array<float, 9>>& triangles) {
     std::string out(80, ' ');
     out.append(reinterpret_cast<const char*>(&claimedTriangles), 4);
     for (const auto& t : triangles) {
@@ -50,13 +56,15 @@ std::string stlBinary(std::uint32_t claimedTriangles, const std::vector<std::arr
     }
     return out;
 }
-const std::vector<std::array<float, 9>> kStlTetra = {std::array<float, 9>{0, 0, 0, 1, 0, 0, 0, 1, 0},
-                                                     std::array<float, 9>{0, 0, 0, 0, 1, 0, 0, 0, 1},
-                                                     std::array<float, 9>{0, 0, 0, 0, 0, 1, 1, 0, 0},
-                                                     std::array<float, 9>{1, 0, 0, 0, 0, 1, 0, 1, 0}};
+const std::vector<std::array<float, 9>> kStlTetra = {
+    std::array<float, 9>{0, 0, 0, 1, 0, 0, 0, 1, 0},
+    std::array<float, 9>{0, 0, 0, 0, 1, 0, 0, 0, 1},
+    std::array<float, 9>{0, 0, 0, 0, 0, 1, 1, 0, 0},
+    std::array<float, 9>{1, 0, 0, 0, 0, 1, 0, 1, 0}};
 
 const std::string kPlyHeader =
-    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float "
+    "z\n"
     "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
 const std::string kPlyBody = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
 
@@ -68,16 +76,18 @@ struct BadCase {
     std::string name;      // test name: letters, digits, underscores
     std::string fileName;  // created in the test's temporary directory
     std::function<void(const fs::path&)> make;
-    std::string problem;   // a phrase the message must contain ("" = any)
+    std::string problem;  // a phrase the message must contain ("" = any)
     std::vector<std::string> extraArguments = {};
-    bool score = false;    // a .seg file, read by `skelseg score`
+    bool score = false;  // a .seg file, read by `skelseg score`
 };
 
-void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const BadCase& c, std::ostream* os) {
+    *os << c.name;
+}
 
 BadCase bytes(std::string name, std::string fileName, std::string content, std::string problem) {
-    return {std::move(name), std::move(fileName), [content](const fs::path& f) { writeBytes(f, content); },
-            std::move(problem)};
+    return {std::move(name), std::move(fileName),
+            [content](const fs::path& f) { writeBytes(f, content); }, std::move(problem)};
 }
 
 BadCase seg(std::string name, std::string content, std::string problem) {
@@ -93,32 +103,45 @@ std::vector<BadCase> nrrdCases() {
         bytes("nrrd_empty", "empty.nrrd", "", "file is empty"),
         bytes("nrrd_wrong_magic", "png.nrrd", "\x89PNG\r\n\x1a\n\0\0\0\rIHDR", "wrong magic"),
         bytes("nrrd_text_not_nrrd", "text.nrrd", "hello world\n", "wrong magic"),
-        bytes("nrrd_binary_garbage", "garbage.nrrd", std::string("\0\xff\x13\x37\0\0\x80\x01\n\n\0", 11), "wrong magic"),
-        bytes("nrrd_future_version", "v9.nrrd", "NRRD0009\n" + kUint8Fields + "\n" + kEightVoxels, "unsupported NRRD version"),
+        bytes("nrrd_binary_garbage", "garbage.nrrd",
+              std::string("\0\xff\x13\x37\0\0\x80\x01\n\n\0", 11), "wrong magic"),
+        bytes("nrrd_future_version", "v9.nrrd", "NRRD0009\n" + kUint8Fields + "\n" + kEightVoxels,
+              "unsupported NRRD version"),
         bytes("nrrd_magic_only", "magic.nrrd", "NRRD0004\n", "missing required field 'dimension'"),
-        bytes("nrrd_truncated_header", "cut.nrrd", "NRRD0004\ntype: uint8\ndimension: 3\nsiz", "malformed header line"),
+        bytes("nrrd_truncated_header", "cut.nrrd", "NRRD0004\ntype: uint8\ndimension: 3\nsiz",
+              "malformed header line"),
         bytes("nrrd_header_without_blank_line", "noblank.nrrd", "NRRD0004\n" + kUint8Fields,
               "does not end with a blank line"),
-        bytes("nrrd_missing_sizes", "nosizes.nrrd", nrrd("type: uint8\ndimension: 3\nencoding: raw\n", kEightVoxels),
+        bytes("nrrd_missing_sizes", "nosizes.nrrd",
+              nrrd("type: uint8\ndimension: 3\nencoding: raw\n", kEightVoxels),
               "missing required field 'sizes'"),
-        bytes("nrrd_missing_type", "notype.nrrd", nrrd("dimension: 3\nsizes: 2 2 2\nencoding: raw\n", kEightVoxels),
+        bytes("nrrd_missing_type", "notype.nrrd",
+              nrrd("dimension: 3\nsizes: 2 2 2\nencoding: raw\n", kEightVoxels),
               "missing required field 'type'"),
-        bytes("nrrd_missing_encoding", "noencoding.nrrd", nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\n", kEightVoxels),
+        bytes("nrrd_missing_encoding", "noencoding.nrrd",
+              nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\n", kEightVoxels),
               "missing required field 'encoding'"),
-        bytes("nrrd_dimension_2", "dim2.nrrd", nrrd("type: uint8\ndimension: 2\nsizes: 4 2\nencoding: raw\n", kEightVoxels),
+        bytes("nrrd_dimension_2", "dim2.nrrd",
+              nrrd("type: uint8\ndimension: 2\nsizes: 4 2\nencoding: raw\n", kEightVoxels),
               "dimension 2 is not supported"),
         bytes("nrrd_dimension_4", "dim4.nrrd",
-              nrrd("type: uint8\ndimension: 4\nsizes: 2 2 2 1\nencoding: raw\n", kEightVoxels), "dimension 4"),
-        bytes("nrrd_sizes_count", "sizes2.nrrd", nrrd("type: uint8\ndimension: 3\nsizes: 4 2\nencoding: raw\n", kEightVoxels),
+              nrrd("type: uint8\ndimension: 4\nsizes: 2 2 2 1\nencoding: raw\n", kEightVoxels),
+              "dimension 4"),
+        bytes("nrrd_sizes_count", "sizes2.nrrd",
+              nrrd("type: uint8\ndimension: 3\nsizes: 4 2\nencoding: raw\n", kEightVoxels),
               "sizes lists 2 values"),
         bytes("nrrd_size_negative", "negative.nrrd",
-              nrrd("type: uint8\ndimension: 3\nsizes: 2 -2 2\nencoding: raw\n", kEightVoxels), "is not positive"),
-        bytes("nrrd_size_zero", "zero.nrrd", nrrd("type: uint8\ndimension: 3\nsizes: 2 2 0\nencoding: raw\n", ""),
+              nrrd("type: uint8\ndimension: 3\nsizes: 2 -2 2\nencoding: raw\n", kEightVoxels),
+              "is not positive"),
+        bytes("nrrd_size_zero", "zero.nrrd",
+              nrrd("type: uint8\ndimension: 3\nsizes: 2 2 0\nencoding: raw\n", ""),
               "is not positive"),
         bytes("nrrd_size_not_integer", "float.nrrd",
-              nrrd("type: uint8\ndimension: 3\nsizes: 2 2.5 2\nencoding: raw\n", kEightVoxels), "is not an integer"),
+              nrrd("type: uint8\ndimension: 3\nsizes: 2 2.5 2\nencoding: raw\n", kEightVoxels),
+              "is not an integer"),
         bytes("nrrd_size_overflows_int64", "overflow.nrrd",
-              nrrd("type: uint8\ndimension: 3\nsizes: 2 99999999999999999999 2\nencoding: raw\n", kEightVoxels),
+              nrrd("type: uint8\ndimension: 3\nsizes: 2 99999999999999999999 2\nencoding: raw\n",
+                   kEightVoxels),
               "overflows a 64-bit integer"),
         bytes("nrrd_size_over_axis_cap", "huge.nrrd",
               nrrd("type: uint8\ndimension: 3\nsizes: 100000 100000 100000\nencoding: gzip\n", gz),
@@ -126,58 +149,78 @@ std::vector<BadCase> nrrdCases() {
         bytes("nrrd_size_over_voxel_cap", "cap.nrrd",
               nrrd("type: uint8\ndimension: 3\nsizes: 8192 8192 8192\nencoding: gzip\n", gz),
               "over the limit of 4294967280 voxels"),
-        bytes("nrrd_raw_data_short", "short.nrrd", nrrd(kUint8Fields, kEightVoxels.substr(0, 5)), "data is too short"),
-        bytes("nrrd_raw_data_missing", "nodata.nrrd", nrrd(kUint8Fields, ""), "data is too short"),
-        bytes("nrrd_raw_data_long", "long.nrrd", nrrd(kUint8Fields, kEightVoxels + "extra"), "data is too long"),
-        bytes("nrrd_raw_uint16_short", "short16.nrrd",
-              nrrd("type: uint16\nendian: little\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n", kEightVoxels),
+        bytes("nrrd_raw_data_short", "short.nrrd", nrrd(kUint8Fields, kEightVoxels.substr(0, 5)),
               "data is too short"),
-        bytes("nrrd_gzip_corrupt", "corrupt.nrrd", nrrd(gzFields, gz.substr(0, 10) + std::string(8, '\xa5') + gz.substr(18)),
-              "gzip"),
-        bytes("nrrd_gzip_not_gzip", "plain.nrrd", nrrd(gzFields, kEightVoxels), "corrupt gzip data"),
-        bytes("nrrd_gzip_truncated", "gzcut.nrrd", nrrd(gzFields, gz.substr(0, gz.size() / 2)), "too short"),
-        bytes("nrrd_gzip_long", "gzlong.nrrd", nrrd(gzFields, gzipBytes(kEightVoxels + kEightVoxels)), "data is too long"),
+        bytes("nrrd_raw_data_missing", "nodata.nrrd", nrrd(kUint8Fields, ""), "data is too short"),
+        bytes("nrrd_raw_data_long", "long.nrrd", nrrd(kUint8Fields, kEightVoxels + "extra"),
+              "data is too long"),
+        bytes("nrrd_raw_uint16_short", "short16.nrrd",
+              nrrd("type: uint16\nendian: little\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n",
+                   kEightVoxels),
+              "data is too short"),
+        bytes("nrrd_gzip_corrupt", "corrupt.nrrd",
+              nrrd(gzFields, gz.substr(0, 10) + std::string(8, '\xa5') + gz.substr(18)), "gzip"),
+        bytes("nrrd_gzip_not_gzip", "plain.nrrd", nrrd(gzFields, kEightVoxels),
+              "corrupt gzip data"),
+        bytes("nrrd_gzip_truncated", "gzcut.nrrd", nrrd(gzFields, gz.substr(0, gz.size() / 2)),
+              "too short"),
+        bytes("nrrd_gzip_long", "gzlong.nrrd",
+              nrrd(gzFields, gzipBytes(kEightVoxels + kEightVoxels)), "data is too long"),
         bytes("nrrd_gzip_cannot_hold", "bomb.nrrd",
-              nrrd("type: uint8\ndimension: 3\nsizes: 2000 2000 1000\nencoding: gzip\n", gz), "cannot hold"),
-        bytes("nrrd_encoding_hex", "hex.nrrd", nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: hex\n", "00"),
+              nrrd("type: uint8\ndimension: 3\nsizes: 2000 2000 1000\nencoding: gzip\n", gz),
+              "cannot hold"),
+        bytes("nrrd_encoding_hex", "hex.nrrd",
+              nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: hex\n", "00"),
               "unsupported encoding"),
-        bytes("nrrd_encoding_bzip2", "bz2.nrrd", nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: bzip2\n", "BZh"),
+        bytes("nrrd_encoding_bzip2", "bz2.nrrd",
+              nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: bzip2\n", "BZh"),
               "unsupported encoding"),
-        bytes("nrrd_type_block", "block.nrrd", nrrd("type: block\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n", kEightVoxels),
+        bytes("nrrd_type_block", "block.nrrd",
+              nrrd("type: block\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n", kEightVoxels),
               "unsupported type"),
         bytes("nrrd_missing_endian", "noendian.nrrd",
-              nrrd("type: uint16\ndimension: 3\nsizes: 2 2 1\nencoding: raw\n", kEightVoxels), "missing field 'endian'"),
+              nrrd("type: uint16\ndimension: 3\nsizes: 2 2 1\nencoding: raw\n", kEightVoxels),
+              "missing field 'endian'"),
         bytes("nrrd_bad_endian", "endian.nrrd",
-              nrrd("type: uint16\nendian: middle\ndimension: 3\nsizes: 2 2 1\nencoding: raw\n", kEightVoxels),
+              nrrd("type: uint16\nendian: middle\ndimension: 3\nsizes: 2 2 1\nencoding: raw\n",
+                   kEightVoxels),
               "unknown endian"),
-        bytes("nrrd_byte_skip", "skip.nrrd", nrrd(kUint8Fields + "byte skip: -1\n", kEightVoxels), "byte skip"),
-        bytes("nrrd_duplicate_field", "twice.nrrd", nrrd(kUint8Fields + "sizes: 2 2 2\n", kEightVoxels), "appears twice"),
+        bytes("nrrd_byte_skip", "skip.nrrd", nrrd(kUint8Fields + "byte skip: -1\n", kEightVoxels),
+              "byte skip"),
+        bytes("nrrd_duplicate_field", "twice.nrrd",
+              nrrd(kUint8Fields + "sizes: 2 2 2\n", kEightVoxels), "appears twice"),
         bytes("nrrd_direction_nan", "nan.nrrd",
-              nrrd(kUint8Fields + "space directions: (nan,0,0) (0,1,0) (0,0,1)\n", kEightVoxels), "not a finite number"),
-        bytes("nrrd_direction_count", "dirs.nrrd", nrrd(kUint8Fields + "space directions: (1,0,0) (0,1,0)\n", kEightVoxels),
+              nrrd(kUint8Fields + "space directions: (nan,0,0) (0,1,0) (0,0,1)\n", kEightVoxels),
+              "not a finite number"),
+        bytes("nrrd_direction_count", "dirs.nrrd",
+              nrrd(kUint8Fields + "space directions: (1,0,0) (0,1,0)\n", kEightVoxels),
               "lists 2 vectors"),
-        bytes("nrrd_direction_2d", "dir2d.nrrd", nrrd(kUint8Fields + "space directions: (1,0) (0,1) (1,1)\n", kEightVoxels),
+        bytes("nrrd_direction_2d", "dir2d.nrrd",
+              nrrd(kUint8Fields + "space directions: (1,0) (0,1) (1,1)\n", kEightVoxels),
               "only 3D spaces"),
-        bytes("nrrd_space_4d", "rast.nrrd", nrrd(kUint8Fields + "space: RAST\n", kEightVoxels), "only 3D spaces"),
-        bytes("nrrd_space_unknown", "space.nrrd", nrrd(kUint8Fields + "space: up-down-sideways\n", kEightVoxels),
-              "unknown space"),
-        bytes("nrrd_origin_malformed", "origin.nrrd", nrrd(kUint8Fields + "space origin: 1 2 3\n", kEightVoxels),
-              "is not a vector"),
-        bytes("nrrd_data_file_list", "list.nhdr", "NRRD0004\n" + kUint8Fields + "data file: LIST\na.raw\n",
-              "multiple data files"),
-        bytes("nrrd_data_file_missing", "detached.nhdr", "NRRD0004\n" + kUint8Fields + "data file: missing.raw\n",
-              "no such file"),
+        bytes("nrrd_space_4d", "rast.nrrd", nrrd(kUint8Fields + "space: RAST\n", kEightVoxels),
+              "only 3D spaces"),
+        bytes("nrrd_space_unknown", "space.nrrd",
+              nrrd(kUint8Fields + "space: up-down-sideways\n", kEightVoxels), "unknown space"),
+        bytes("nrrd_origin_malformed", "origin.nrrd",
+              nrrd(kUint8Fields + "space origin: 1 2 3\n", kEightVoxels), "is not a vector"),
+        bytes("nrrd_data_file_list", "list.nhdr",
+              "NRRD0004\n" + kUint8Fields + "data file: LIST\na.raw\n", "multiple data files"),
+        bytes("nrrd_data_file_missing", "detached.nhdr",
+              "NRRD0004\n" + kUint8Fields + "data file: missing.raw\n", "no such file"),
     };
-    BadCase directoryData = bytes("nrrd_data_file_is_directory", "dirdata.nhdr",
-                                  "NRRD0004\n" + kUint8Fields + "data file: subdir\n", "is a directory");
+    BadCase directoryData =
+        bytes("nrrd_data_file_is_directory", "dirdata.nhdr",
+              "NRRD0004\n" + kUint8Fields + "data file: subdir\n", "is a directory");
     const auto writeHeader = directoryData.make;
     directoryData.make = [writeHeader](const fs::path& f) {
         writeHeader(f);
         fs::create_directory(f.parent_path() / "subdir");
     };
     cases.push_back(directoryData);
-    BadCase shortData = bytes("nrrd_data_file_short", "shortdata.nhdr",
-                              "NRRD0004\n" + kUint8Fields + "data file: short.raw\n", "data is too short");
+    BadCase shortData =
+        bytes("nrrd_data_file_short", "shortdata.nhdr",
+              "NRRD0004\n" + kUint8Fields + "data file: short.raw\n", "data is too short");
     const auto writeShort = shortData.make;
     shortData.make = [writeShort](const fs::path& f) {
         writeShort(f);
@@ -191,32 +234,48 @@ std::vector<BadCase> binvoxCases() {
     const std::string header = "dim 4 4 4\ntranslate 0 0 0\nscale 1\ndata\n";
     return {
         bytes("binvox_empty", "empty.binvox", "", "file is empty"),
-        bytes("binvox_wrong_magic", "magic.binvox", "#voxbin 1\n" + header + kBinvoxRuns, "wrong magic"),
-        bytes("binvox_garbage", "garbage.binvox", std::string("\x7f" "ELF\2\1\1\0\0\0", 10), "wrong magic"),
-        bytes("binvox_version_3", "v3.binvox", "#binvox 3\n" + header + kBinvoxRuns, "unsupported binvox version"),
-        bytes("binvox_missing_dim", "nodim.binvox", binvox("scale 1\ndata\n", kBinvoxRuns), "missing 'dim'"),
-        bytes("binvox_dim_two_values", "dim2.binvox", binvox("dim 4 4\ndata\n", kBinvoxRuns), "needs 3 sizes"),
-        bytes("binvox_dim_negative", "negative.binvox", binvox("dim 4 -4 4\ndata\n", kBinvoxRuns), "is not positive"),
+        bytes("binvox_wrong_magic", "magic.binvox", "#voxbin 1\n" + header + kBinvoxRuns,
+              "wrong magic"),
+        bytes("binvox_garbage", "garbage.binvox",
+              std::string("\x7f"
+                          "ELF\2\1\1\0\0\0",
+                          10),
+              "wrong magic"),
+        bytes("binvox_version_3", "v3.binvox", "#binvox 3\n" + header + kBinvoxRuns,
+              "unsupported binvox version"),
+        bytes("binvox_missing_dim", "nodim.binvox", binvox("scale 1\ndata\n", kBinvoxRuns),
+              "missing 'dim'"),
+        bytes("binvox_dim_two_values", "dim2.binvox", binvox("dim 4 4\ndata\n", kBinvoxRuns),
+              "needs 3 sizes"),
+        bytes("binvox_dim_negative", "negative.binvox", binvox("dim 4 -4 4\ndata\n", kBinvoxRuns),
+              "is not positive"),
         bytes("binvox_dim_zero", "zero.binvox", binvox("dim 0 4 4\ndata\n", ""), "is not positive"),
-        bytes("binvox_dim_over_axis_cap", "huge.binvox", binvox("dim 100000 100000 100000\ndata\n", kBinvoxRuns),
-              "over the limit of 8192"),
+        bytes("binvox_dim_over_axis_cap", "huge.binvox",
+              binvox("dim 100000 100000 100000\ndata\n", kBinvoxRuns), "over the limit of 8192"),
         bytes("binvox_dim_overflows_int64", "overflow.binvox",
-              binvox("dim 4 99999999999999999999 4\ndata\n", kBinvoxRuns), "overflows a 64-bit integer"),
-        bytes("binvox_dim_not_integer", "text.binvox", binvox("dim 4 four 4\ndata\n", kBinvoxRuns), "is not an integer"),
-        bytes("binvox_no_data_line", "nodata.binvox", binvox("dim 4 4 4\n", ""), "missing 'data' line"),
+              binvox("dim 4 99999999999999999999 4\ndata\n", kBinvoxRuns),
+              "overflows a 64-bit integer"),
+        bytes("binvox_dim_not_integer", "text.binvox", binvox("dim 4 four 4\ndata\n", kBinvoxRuns),
+              "is not an integer"),
+        bytes("binvox_no_data_line", "nodata.binvox", binvox("dim 4 4 4\n", ""),
+              "missing 'data' line"),
         bytes("binvox_data_empty", "empty-data.binvox", binvox(header, ""), "data is too short"),
-        bytes("binvox_data_short", "short.binvox", binvox(header, kBinvoxRuns.substr(0, 4)), "data is too short"),
+        bytes("binvox_data_short", "short.binvox", binvox(header, kBinvoxRuns.substr(0, 4)),
+              "data is too short"),
         bytes("binvox_truncated_run", "halfrun.binvox",
               binvox("dim 2 2 2\ndata\n", std::string("\1\4\0", 3)), "too short"),
-        bytes("binvox_data_long", "long.binvox", binvox(header, kBinvoxRuns + std::string("\0\1", 2)), "data is too long"),
-        bytes("binvox_odd_trailing_byte", "odd.binvox", binvox(header, kBinvoxRuns + "x"), "data is too long"),
-        bytes("binvox_run_overflows_grid", "runover.binvox", binvox(header, std::string("\0\x14\1\x18\0\x20", 6)),
-              "overflows the 64 voxels"),
-        bytes("binvox_scale_zero", "scale0.binvox", binvox("dim 4 4 4\nscale 0\ndata\n", kBinvoxRuns), "is not positive"),
-        bytes("binvox_scale_nan", "scalenan.binvox", binvox("dim 4 4 4\nscale nan\ndata\n", kBinvoxRuns),
-              "not a finite number"),
-        bytes("binvox_translate_inf", "inf.binvox", binvox("dim 4 4 4\ntranslate 0 inf 0\ndata\n", kBinvoxRuns),
-              "not a finite number"),
+        bytes("binvox_data_long", "long.binvox",
+              binvox(header, kBinvoxRuns + std::string("\0\1", 2)), "data is too long"),
+        bytes("binvox_odd_trailing_byte", "odd.binvox", binvox(header, kBinvoxRuns + "x"),
+              "data is too long"),
+        bytes("binvox_run_overflows_grid", "runover.binvox",
+              binvox(header, std::string("\0\x14\1\x18\0\x20", 6)), "overflows the 64 voxels"),
+        bytes("binvox_scale_zero", "scale0.binvox",
+              binvox("dim 4 4 4\nscale 0\ndata\n", kBinvoxRuns), "is not positive"),
+        bytes("binvox_scale_nan", "scalenan.binvox",
+              binvox("dim 4 4 4\nscale nan\ndata\n", kBinvoxRuns), "not a finite number"),
+        bytes("binvox_translate_inf", "inf.binvox",
+              binvox("dim 4 4 4\ntranslate 0 inf 0\ndata\n", kBinvoxRuns), "not a finite number"),
     };
 }
 
@@ -225,7 +284,8 @@ std::vector<BadCase> meshCases() {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     std::memcpy(&nanStl[84 + 12 + 4], &nan, 4);
     std::string plyBinary =
-        "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float "
+        "y\n"
         "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n";
     plyBinary += std::string(4 * 12, '\0') + "\x03";  // vertices, then the file ends inside face 0
     return {
@@ -235,75 +295,108 @@ std::vector<BadCase> meshCases() {
         bytes("off_wrong_magic", "magic.off", "OFX\n4 4 0\n", "not an OFF file"),
         bytes("off_binary", "binary.off", "OFF BINARY\n", "binary OFF"),
         bytes("off_counts_missing", "counts.off", "OFF\n", "file ends before"),
-        bytes("off_counts_huge", "huge.off", "OFF\n4000000000 4000000000 0\n0 0 0\n", "header says"),
+        bytes("off_counts_huge", "huge.off", "OFF\n4000000000 4000000000 0\n0 0 0\n",
+              "header says"),
         bytes("off_counts_negative", "negative.off", "OFF\n-4 4 0\n0 0 0\n", ""),
         bytes("off_no_faces", "nofaces.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n", "no faces"),
-        bytes("off_truncated_vertices", "cutv.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n3 0 1 2\n3 0 1 2\n3 0 1 2\n", ""),
-        bytes("off_truncated_faces", "cutf.off", kTetraOff.substr(0, kTetraOff.size() - 16), "only 40 bytes follow"),
-        bytes("off_bad_coordinate", "coord.off", "OFF\n3 1 0\n0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n", "bad coordinate"),
-        bytes("off_nan_coordinate", "nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", "non-finite"),
-        bytes("off_inf_coordinate", "inf.off", "OFF\n3 1 0\n0 0 0\n1 0 -inf\n0 1 0\n3 0 1 2\n", "non-finite"),
-        bytes("off_index_out_of_range", "range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", "references vertex 3"),
-        bytes("off_index_negative", "negindex.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n", "references vertex"),
-        bytes("off_face_two_vertices", "twov.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n# padding, so that the counts fit\n", "at least 3"),
-        bytes("off_face_count_lies", "lies.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n5 0 1 2\n", "lists 3 of its 5"),
-        bytes("off_face_count_huge", "fhuge.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n", ""),
+        bytes("off_truncated_vertices", "cutv.off",
+              "OFF\n4 4 0\n0 0 0\n1 0 0\n3 0 1 2\n3 0 1 2\n3 0 1 2\n", ""),
+        bytes("off_truncated_faces", "cutf.off", kTetraOff.substr(0, kTetraOff.size() - 16),
+              "only 40 bytes follow"),
+        bytes("off_bad_coordinate", "coord.off", "OFF\n3 1 0\n0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n",
+              "bad coordinate"),
+        bytes("off_nan_coordinate", "nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n",
+              "non-finite"),
+        bytes("off_inf_coordinate", "inf.off", "OFF\n3 1 0\n0 0 0\n1 0 -inf\n0 1 0\n3 0 1 2\n",
+              "non-finite"),
+        bytes("off_index_out_of_range", "range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
+              "references vertex 3"),
+        bytes("off_index_negative", "negindex.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n",
+              "references vertex"),
+        bytes("off_face_two_vertices", "twov.off",
+              "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n# padding, so that the counts fit\n",
+              "at least 3"),
+        bytes("off_face_count_lies", "lies.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n5 0 1 2\n",
+              "lists 3 of its 5"),
+        bytes("off_face_count_huge", "fhuge.off",
+              "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n", ""),
         // OBJ
         bytes("obj_empty", "empty.obj", "", "no faces"),
         bytes("obj_vertices_only", "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"),
-        bytes("obj_index_zero", "zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "bad face vertex"),
-        bytes("obj_index_out_of_range", "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "references vertex 4"),
-        bytes("obj_index_huge", "hugeidx.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n",
+        bytes("obj_index_zero", "zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n",
               "bad face vertex"),
-        bytes("obj_negative_before_start", "neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n", "precede it"),
-        bytes("obj_bad_coordinate", "coord.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nf 1 2 3\n", "bad vertex coordinate"),
+        bytes("obj_index_out_of_range", "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",
+              "references vertex 4"),
+        bytes("obj_index_huge", "hugeidx.obj",
+              "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n", "bad face vertex"),
+        bytes("obj_negative_before_start", "neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n",
+              "precede it"),
+        bytes("obj_bad_coordinate", "coord.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nf 1 2 3\n",
+              "bad vertex coordinate"),
         bytes("obj_two_coordinates", "twoc.obj", "v 0 0\n", "fewer than 3 coordinates"),
-        bytes("obj_nan_coordinate", "nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n", "non-finite"),
+        bytes("obj_nan_coordinate", "nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n",
+              "non-finite"),
         bytes("obj_face_two_vertices", "twov.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", "at least 3"),
         bytes("obj_binary_garbage", "garbage.obj", std::string("\0\1\2\3f\xff\n", 7), ""),
         // STL
         bytes("stl_empty", "empty.stl", "", "not an STL file"),
         bytes("stl_short_binary", "short.stl", std::string(50, '\0'), "not an STL file"),
-        bytes("stl_binary_count_mismatch", "count.stl", stlBinary(1000, kStlTetra), "binary STL header says"),
-        bytes("stl_binary_truncated", "cut.stl", stlBinary(4, kStlTetra).substr(0, 84 + 50 * 3 + 20), "binary STL header says"),
+        bytes("stl_binary_count_mismatch", "count.stl", stlBinary(1000, kStlTetra),
+              "binary STL header says"),
+        bytes("stl_binary_truncated", "cut.stl",
+              stlBinary(4, kStlTetra).substr(0, 84 + 50 * 3 + 20), "binary STL header says"),
         bytes("stl_binary_zero_triangles", "zero.stl", stlBinary(0, {}), "no faces"),
         bytes("stl_binary_nan", "nan.stl", nanStl, "non-finite"),
         bytes("stl_ascii_truncated", "cut-ascii.stl",
-              "solid t\n facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n", "expected"),
+              "solid t\n facet normal 0 0 0\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n",
+              "expected"),
         bytes("stl_ascii_bad_vertex", "badv.stl",
-              "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 one 0\nvertex 0 1 0\nendloop\nendfacet\n"
+              "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 one 0\nvertex 0 1 "
+              "0\nendloop\nendfacet\n"
               "endsolid t\n",
               "bad vertex coordinate"),
         bytes("stl_ascii_no_facets", "nofacets.stl", "solid t\nendsolid t\n", "no faces"),
         bytes("stl_ascii_garbage", "garbage.stl", "solid t\nhello there\n", "expected"),
         // PLY
         bytes("ply_empty", "empty.ply", "", "not a PLY file"),
-        bytes("ply_wrong_magic", "magic.ply", "PLY\nformat ascii 1.0\nend_header\n", "not a PLY file"),
-        bytes("ply_unknown_format", "format.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n", "unknown format"),
-        bytes("ply_no_end_header", "noend.ply", "ply\nformat ascii 1.0\nelement vertex 4\n", "no 'end_header'"),
-        bytes("ply_no_format", "noformat.ply", "ply\nelement vertex 0\nend_header\n", "no 'format' line"),
+        bytes("ply_wrong_magic", "magic.ply", "PLY\nformat ascii 1.0\nend_header\n",
+              "not a PLY file"),
+        bytes("ply_unknown_format", "format.ply",
+              "ply\nformat binary_middle_endian 1.0\nend_header\n", "unknown format"),
+        bytes("ply_no_end_header", "noend.ply", "ply\nformat ascii 1.0\nelement vertex 4\n",
+              "no 'end_header'"),
+        bytes("ply_no_format", "noformat.ply", "ply\nelement vertex 0\nend_header\n",
+              "no 'format' line"),
         bytes("ply_count_huge", "huge.ply",
-              "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\n"
+              "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float "
+              "y\nproperty float z\n"
               "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n",
               "claims"),
         bytes("ply_property_type", "ptype.ply",
-              "ply\nformat ascii 1.0\nelement vertex 1\nproperty quaternion x\nend_header\n", "unknown property type"),
+              "ply\nformat ascii 1.0\nelement vertex 1\nproperty quaternion x\nend_header\n",
+              "unknown property type"),
         bytes("ply_list_count_float", "listf.ply",
-              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-              "element face 1\nproperty list float int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+              "y\nproperty float z\n"
+              "element face 1\nproperty list float int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 "
+              "1 0\n3 0 1 2\n",
               "bad list count type"),
         bytes("ply_missing_z", "noz.ply",
               "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-              "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0\n1 0\n0 1\n3 0 1 2\n",
+              "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0\n1 0\n0 "
+              "1\n3 0 1 2\n",
               "lacks one of the properties"),
         bytes("ply_no_face_element", "noface.ply",
-              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+              "y\nproperty float z\n"
               "end_header\n0 0 0\n1 0 0\n0 1 0\n",
               "no face element"),
-        bytes("ply_index_out_of_range", "range.ply", kPlyHeader + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 9\n3 1 2 3\n",
+        bytes("ply_index_out_of_range", "range.ply",
+              kPlyHeader + "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 9\n3 1 2 3\n",
               "references vertex 9"),
         bytes("ply_ascii_truncated", "cut.ply", kPlyHeader + kPlyBody.substr(0, 30), ""),
-        bytes("ply_ascii_bad_value", "badval.ply", kPlyHeader + "0 0 0\n1 0 0\n0 one 0\n0 0 1\n3 0 2 1\n", "bad"),
+        bytes("ply_ascii_bad_value", "badval.ply",
+              kPlyHeader + "0 0 0\n1 0 0\n0 one 0\n0 0 1\n3 0 2 1\n", "bad"),
         bytes("ply_binary_truncated", "cutbin.ply", plyBinary, "claims 4 items"),
     };
 }
@@ -318,27 +411,35 @@ std::vector<BadCase> segCases() {
         seg("seg_too_many_labels", "0\n1\n1\n0\n1\n", ""),
         seg("seg_gzip_truncated", gz.substr(0, gz.size() - 6), "truncated"),
         seg("seg_gzip_corrupt", gz.substr(0, 10) + std::string(6, '\xee') + gz.substr(16), ""),
-        seg("seg_binary_garbage", std::string("\x7f" "ELF\2\1\1\0", 8), ""),
+        seg("seg_binary_garbage",
+            std::string("\x7f"
+                        "ELF\2\1\1\0",
+                        8),
+            ""),
     };
 }
 
 /// Files that are not what their name says, or not there at all.
 std::vector<BadCase> fileSystemCases() {
     auto directory = [](std::string name, std::string fileName) {
-        return BadCase{std::move(name), std::move(fileName), [](const fs::path& f) { fs::create_directory(f); },
-                       "is a directory"};
+        return BadCase{std::move(name), std::move(fileName),
+                       [](const fs::path& f) { fs::create_directory(f); }, "is a directory"};
     };
     auto fifo = [](std::string name, std::string fileName) {
         return BadCase{std::move(name), std::move(fileName),
-                       [](const fs::path& f) { ASSERT_EQ(::mkfifo(f.c_str(), 0644), 0) << std::strerror(errno); },
+                       [](const fs::path& f) {
+                           ASSERT_EQ(::mkfifo(f.c_str(), 0644), 0) << std::strerror(errno);
+                       },
                        "not a regular file"};
     };
     std::vector<BadCase> cases = {
         BadCase{"missing_volume", "missing.nrrd", [](const fs::path&) {}, "no such file"},
         BadCase{"missing_mesh", "missing.off", [](const fs::path&) {}, "no such file"},
         BadCase{"dangling_symlink", "dangling.nrrd",
-                [](const fs::path& f) { fs::create_symlink(f.parent_path() / "nowhere.nrrd", f); }, "no such file"},
-        BadCase{"symlink_to_device", "zero.nrrd", [](const fs::path& f) { fs::create_symlink("/dev/zero", f); },
+                [](const fs::path& f) { fs::create_symlink(f.parent_path() / "nowhere.nrrd", f); },
+                "no such file"},
+        BadCase{"symlink_to_device", "zero.nrrd",
+                [](const fs::path& f) { fs::create_symlink("/dev/zero", f); },
                 "not a regular file"},
         directory("directory_nrrd", "dir.nrrd"),
         directory("directory_binvox", "dir.binvox"),
@@ -379,7 +480,8 @@ TEST_P(BadInput, ExitsTwoWithOneLineNamingTheFileAndWritesNothing) {
     if (c.score) {
         writeBytes(dir / "tetra.off", kTetraOff);
         writeBytes(dir / "human.seg", "0\n1\n1\n0\n");
-        arguments = {"score", (dir / "tetra.off").string(), file.string(), (dir / "human.seg").string()};
+        arguments = {"score", (dir / "tetra.off").string(), file.string(),
+                     (dir / "human.seg").string()};
     } else {
         arguments = {"segment", file.string(), "-o", out.string(), "--quiet"};
         arguments.insert(arguments.end(), c.extraArguments.begin(), c.extraArguments.end());
@@ -393,7 +495,9 @@ TEST_P(BadInput, ExitsTwoWithOneLineNamingTheFileAndWritesNothing) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryFormat, BadInput, ::testing::ValuesIn(allBadCases()),
-                         [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+                         [](const ::testing::TestParamInfo<BadCase>& info) {
+                             return info.param.name;
+                         });
 
 TEST(BadInputCli, UnreadableFileIsRefused) {
     if (::geteuid() == 0) GTEST_SKIP() << "running as root: permissions do not stop reading";
@@ -436,7 +540,9 @@ struct UsageCase {
     std::string problem;
 };
 
-void PrintTo(const UsageCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const UsageCase& c, std::ostream* os) {
+    *os << c.name;
+}
 
 class UsageErrors : public ::testing::TestWithParam<UsageCase> {};
 
@@ -459,28 +565,41 @@ TEST_P(UsageErrors, ExitTwoWithOneLine) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cli, UsageErrors,
-    ::testing::Values(UsageCase{"no_arguments", {}, "subcommand"},
-                      UsageCase{"unknown_subcommand", {"paint", "{input}"}, ""},
-                      UsageCase{"missing_output", {"segment", "{input}"}, "--output"},
-                      UsageCase{"unknown_option", {"segment", "{input}", "-o", "{out}", "--colour"}, "--colour"},
-                      UsageCase{"tau_not_a_number", {"segment", "{input}", "-o", "{out}", "--tau", "lots"}, "--tau"},
-                      UsageCase{"tau_over_100_percent", {"segment", "{input}", "-o", "{out}", "--tau", "150%"}, "--tau"},
-                      UsageCase{"tau_negative", {"segment", "{input}", "-o", "{out}", "--tau", "-1"}, ""},
-                      UsageCase{"sigma_out_of_range", {"segment", "{input}", "-o", "{out}", "--sigma-min", "2"}, ""},
-                      UsageCase{"threads_zero", {"segment", "{input}", "-o", "{out}", "--threads", "0"}, ""},
-                      UsageCase{"resolution_too_small", {"segment", "{input}", "-o", "{out}", "--resolution", "2"}, ""},
-                      UsageCase{"mode_unknown", {"segment", "{input}", "-o", "{out}", "--mode", "magic"}, ""},
-                      UsageCase{"time_limit_negative", {"segment", "{input}", "-o", "{out}", "--time-limit", "-1"}, ""},
-                      UsageCase{"max_memory_text", {"segment", "{input}", "-o", "{out}", "--max-memory", "lots"},
-                                "--max-memory"},
-                      UsageCase{"max_memory_unit", {"segment", "{input}", "-o", "{out}", "--max-memory", "4X"},
-                                "unknown unit"},
-                      UsageCase{"max_memory_zero", {"segment", "{input}", "-o", "{out}", "--max-memory", "0"},
-                                "--max-memory"},
-                      UsageCase{"grid_name_for_nrrd", {"segment", "{input}", "-o", "{out}", "--quiet", "--grid", "density"},
-                                "grid name applies only to OpenVDB"},
-                      UsageCase{"generate_unknown_shape", {"generate", "teapot", "-o", "{out}.nrrd"}, "teapot"},
-                      UsageCase{"generate_bad_extension", {"generate", "sphere", "-o", "{out}.png"}, ".nrrd or .binvox"}),
+    ::testing::Values(
+        UsageCase{"no_arguments", {}, "subcommand"},
+        UsageCase{"unknown_subcommand", {"paint", "{input}"}, ""},
+        UsageCase{"missing_output", {"segment", "{input}"}, "--output"},
+        UsageCase{"unknown_option", {"segment", "{input}", "-o", "{out}", "--colour"}, "--colour"},
+        UsageCase{
+            "tau_not_a_number", {"segment", "{input}", "-o", "{out}", "--tau", "lots"}, "--tau"},
+        UsageCase{"tau_over_100_percent",
+                  {"segment", "{input}", "-o", "{out}", "--tau", "150%"},
+                  "--tau"},
+        UsageCase{"tau_negative", {"segment", "{input}", "-o", "{out}", "--tau", "-1"}, ""},
+        UsageCase{
+            "sigma_out_of_range", {"segment", "{input}", "-o", "{out}", "--sigma-min", "2"}, ""},
+        UsageCase{"threads_zero", {"segment", "{input}", "-o", "{out}", "--threads", "0"}, ""},
+        UsageCase{
+            "resolution_too_small", {"segment", "{input}", "-o", "{out}", "--resolution", "2"}, ""},
+        UsageCase{"mode_unknown", {"segment", "{input}", "-o", "{out}", "--mode", "magic"}, ""},
+        UsageCase{
+            "time_limit_negative", {"segment", "{input}", "-o", "{out}", "--time-limit", "-1"}, ""},
+        UsageCase{"max_memory_text",
+                  {"segment", "{input}", "-o", "{out}", "--max-memory", "lots"},
+                  "--max-memory"},
+        UsageCase{"max_memory_unit",
+                  {"segment", "{input}", "-o", "{out}", "--max-memory", "4X"},
+                  "unknown unit"},
+        UsageCase{"max_memory_zero",
+                  {"segment", "{input}", "-o", "{out}", "--max-memory", "0"},
+                  "--max-memory"},
+        UsageCase{"grid_name_for_nrrd",
+                  {"segment", "{input}", "-o", "{out}", "--quiet", "--grid", "density"},
+                  "grid name applies only to OpenVDB"},
+        UsageCase{"generate_unknown_shape", {"generate", "teapot", "-o", "{out}.nrrd"}, "teapot"},
+        UsageCase{"generate_bad_extension",
+                  {"generate", "sphere", "-o", "{out}.png"},
+                  ".nrrd or .binvox"}),
     [](const ::testing::TestParamInfo<UsageCase>& info) { return info.param.name; });
 
 TEST(ExitCodes, HelpAndVersionExitZero) {
@@ -499,7 +618,8 @@ TEST(ExitCodes, UnwritableOutputIsExitOne) {
     // A directory cannot be created below a regular file (ENOTDIR), even as root.
     writeBytes(dir / "file", "x");
     const CliResult result = runSegment(input, dir / "file" / "out");
-    EXPECT_TRUE(failsWithOneLine(result, 1, (dir / "file" / "out").string(), "cannot create directory"));
+    EXPECT_TRUE(
+        failsWithOneLine(result, 1, (dir / "file" / "out").string(), "cannot create directory"));
     EXPECT_EQ(fileBytes(dir / "file"), "x");
 }
 
@@ -530,7 +650,8 @@ TEST(Limits, FileLargerThanMaxMemoryIsRefusedBeforeReading) {
     TempDir dir;
     const fs::path input = dir / "box.nrrd";
     // 4096 bytes of raw data: over a 1 KB limit before a byte is parsed.
-    writeBytes(input, nrrd("type: uint8\ndimension: 3\nsizes: 16 16 16\nencoding: raw\n", std::string(4096, '\1')));
+    writeBytes(input, nrrd("type: uint8\ndimension: 3\nsizes: 16 16 16\nencoding: raw\n",
+                           std::string(4096, '\1')));
     const CliResult result = runSegment(input, dir / "out", {"--max-memory", "1K"});
     EXPECT_TRUE(failsWithOneLine(result, 4, input.string(), "reading the file needs at least 4.1"));
     EXPECT_TRUE(leftNothing(dir / "out"));
@@ -565,7 +686,8 @@ TEST(Limits, MaxMemoryIsCheckedBeforeVoxelisingAMesh) {
     const fs::path input = dir / "tetra.off";
     writeBytes(input, kTetraOff);
     // At --resolution 1024 the grid alone would need gigabytes: refused at once.
-    const CliResult result = runSegment(input, dir / "out", {"--resolution", "1024", "--max-memory", "1M"});
+    const CliResult result =
+        runSegment(input, dir / "out", {"--resolution", "1024", "--max-memory", "1M"});
     EXPECT_TRUE(failsWithOneLine(result, 4, input.string(), "--max-memory"));
     EXPECT_LT(result.seconds, 20.0);
     EXPECT_TRUE(leftNothing(dir / "out"));
@@ -594,7 +716,9 @@ TEST(Limits, GridOverTheAxisCapIsRefusedBeforeReadingData) {
     TempDir dir;
     const fs::path input = dir / "huge.nrrd";
     // A header claiming 100000^3 voxels (10^15 bytes) over a few bytes of data.
-    writeBytes(input, nrrd("type: uint8\ndimension: 3\nsizes: 100000 100000 100000\nencoding: raw\n", "abc"));
+    writeBytes(
+        input,
+        nrrd("type: uint8\ndimension: 3\nsizes: 100000 100000 100000\nencoding: raw\n", "abc"));
     const CliResult result = runSegment(input, dir / "out");
     EXPECT_TRUE(failsWithOneLine(result, 2, input.string(), "over the limit of 8192"));
     EXPECT_LT(result.seconds, 20.0);
@@ -653,20 +777,25 @@ void expectInterruptedBy(int signalNumber) {
     const fs::path out = dir / "out";
     bool sent = false;
     // The staging directory appears after the signal handlers are installed.
-    const CliResult result = runSkelseg({"segment", input.string(), "-o", out.string(), "--quiet"}, [&](pid_t pid) {
-        if (!sent && hasStagingDirectory(out)) {
-            std::this_thread::sleep_for(std::chrono::milliseconds(200));
-            ::kill(pid, signalNumber);
-            sent = true;
-        }
-    });
+    const CliResult result =
+        runSkelseg({"segment", input.string(), "-o", out.string(), "--quiet"}, [&](pid_t pid) {
+            if (!sent && hasStagingDirectory(out)) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(200));
+                ::kill(pid, signalNumber);
+                sent = true;
+            }
+        });
     ASSERT_TRUE(sent) << "the run ended before it could be interrupted: " << result.describe();
     EXPECT_TRUE(failsWithOneLine(result, 3, "", "interrupted"));
     EXPECT_TRUE(leftNothing(out));
 }
 
-TEST(Outputs, SigintIsExitThreeAndLeavesNothing) { expectInterruptedBy(SIGINT); }
-TEST(Outputs, SigtermIsExitThreeAndLeavesNothing) { expectInterruptedBy(SIGTERM); }
+TEST(Outputs, SigintIsExitThreeAndLeavesNothing) {
+    expectInterruptedBy(SIGINT);
+}
+TEST(Outputs, SigtermIsExitThreeAndLeavesNothing) {
+    expectInterruptedBy(SIGTERM);
+}
 
 TEST(Outputs, EarlierResultsNeedForce) {
     TempDir dir;

@@ -46,11 +46,15 @@ struct VdbCase {
     std::vector<std::string> extraArguments = {};
 };
 
-void PrintTo(const VdbCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const VdbCase& c, std::ostream* os) {
+    *os << c.name;
+}
 
 std::vector<VdbCase> vdbCases() {
     const std::string magic("\x20\x42\x44\x56\0\0\0\0", 8);
-    auto raw = [](std::string content) { return [content](const fs::path& f) { writeBytes(f, content); }; };
+    auto raw = [](std::string content) {
+        return [content](const fs::path& f) { writeBytes(f, content); };
+    };
     return {
         {"empty", raw(""), "file is empty"},
         {"wrong_magic", raw("#binvox 1\ndim 1 1 1\ndata\n\1\1"), "wrong magic"},
@@ -92,7 +96,9 @@ std::vector<VdbCase> vdbCases() {
              writeGrids(f, {grid});
          },
          "over the limit of 8192"},
-        {"grid_name_not_found", [](const fs::path& f) { writeGrids(f, {cubeGrid()}); }, "no grid named 'nope'",
+        {"grid_name_not_found",
+         [](const fs::path& f) { writeGrids(f, {cubeGrid()}); },
+         "no grid named 'nope'",
          {"--grid", "nope"}},
     };
 }
@@ -111,7 +117,9 @@ TEST_P(BadVdbInput, ExitsTwoWithOneLineNamingTheFileAndWritesNothing) {
 }
 
 INSTANTIATE_TEST_SUITE_P(OpenVdb, BadVdbInput, ::testing::ValuesIn(vdbCases()),
-                         [](const ::testing::TestParamInfo<VdbCase>& info) { return info.param.name; });
+                         [](const ::testing::TestParamInfo<VdbCase>& info) {
+                             return info.param.name;
+                         });
 
 TEST(VdbInputCli, OwnLabelsOutputIsRefusedAsInput) {
     // labels.vdb is an Int32Grid of segment labels, not an object mask.
@@ -121,7 +129,8 @@ TEST(VdbInputCli, OwnLabelsOutputIsRefusedAsInput) {
                   }));
     ASSERT_EQ(runSegment(dir / "box.nrrd", dir / "first", {"--no-preview"}).exitCode, 0);
     const CliResult result = runSegment(dir / "first" / "labels.vdb", dir / "second");
-    EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "first" / "labels.vdb").string(), "unsupported grid type"));
+    EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "first" / "labels.vdb").string(),
+                                 "unsupported grid type"));
     EXPECT_TRUE(leftNothing(dir / "second"));
 }
 

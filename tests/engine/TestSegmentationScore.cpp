@@ -8,10 +8,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "engine/Error.h"
 #include "engine/ScoreCommand.h"
-#include "io/MeshIO.h"
-#include "io/SegFile.h"
+#include "io/mesh/MeshIO.h"
+#include "io/mesh/SegFile.h"
+#include "kernels/base/Error.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
 
@@ -136,18 +136,21 @@ TEST(SegmentationScore, LinearTimeOnLargeInputs) {
     }
     const auto start = std::chrono::steady_clock::now();
     const PartitionScore s = comparePartitions(everyFace, tenSegments);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_LT(seconds, 20.0);
     EXPECT_NEAR(s.missingRate, 1.0 - 10.0 / double(faces), 1e-12);
     EXPECT_EQ(s.falseAlarmRate, 0.0);
     // 1 - RI = pairs inside the ten segments / all pairs ~ 1/10.
-    const double inside = 10.0 * (faces / 10.0) * (faces / 10.0 - 1) / 2, all = double(faces) * (faces - 1) / 2;
+    const double inside = 10.0 * (faces / 10.0) * (faces / 10.0 - 1) / 2,
+                 all = double(faces) * (faces - 1) / 2;
     EXPECT_NEAR(s.randIndexError, inside / all, 1e-12);
 }
 
 TEST(SegmentationScore, ScoreAgainstHumansAverages) {
     const Labels candidate = {0, 0, 1, 1};
-    const ScoreSummary summary = scoreAgainstHumans(candidate, {{0, 1, 1, 1}, {0, 0, 1, 1}}, nullptr);
+    const ScoreSummary summary =
+        scoreAgainstHumans(candidate, {{0, 1, 1, 1}, {0, 0, 1, 1}}, nullptr);
     ASSERT_EQ(summary.perHuman.size(), 2u);
     EXPECT_DOUBLE_EQ(summary.perHuman[0].randIndexError, 0.5);
     EXPECT_DOUBLE_EQ(summary.perHuman[1].randIndexError, 0.0);
@@ -166,7 +169,9 @@ TEST(ScoreCommand, PrintsJsonAndTable) {
     writeSeg(dir / "human1.seg.gz", {0, 0, 1, 1, 2, 2});
     writeSeg(dir / "human2.seg", {0, 0, 0, 0, 0, 0});
     std::ostringstream json;
-    EXPECT_EQ(runScoreCommand(dir / "cube.off", dir / "candidate.seg", {dir / "human1.seg.gz", dir / "human2.seg"}, true, json), 0);
+    EXPECT_EQ(runScoreCommand(dir / "cube.off", dir / "candidate.seg",
+                              {dir / "human1.seg.gz", dir / "human2.seg"}, true, json),
+              0);
     const auto document = nlohmann::json::parse(json.str());
     EXPECT_EQ(document["faces"], 6);
     ASSERT_EQ(document["humans"].size(), 2u);
@@ -186,18 +191,22 @@ TEST(ScoreCommand, PrintsJsonAndTable) {
     writeSeg(dir / "short.seg", {0, 0, 1});
     try {
         std::ostringstream ignored;
-        runScoreCommand(dir / "cube.off", dir / "candidate.seg", {dir / "human1.seg.gz", dir / "short.seg"}, true, ignored);
+        runScoreCommand(dir / "cube.off", dir / "candidate.seg",
+                        {dir / "human1.seg.gz", dir / "short.seg"}, true, ignored);
         ADD_FAILURE() << "mismatching face count accepted";
     } catch (const InputError& error) {
         EXPECT_NE(std::string(error.what()).find("short.seg"), std::string::npos);
-        EXPECT_NE(std::string(error.what()).find("3 labels but the mesh has 6 faces"), std::string::npos);
+        EXPECT_NE(std::string(error.what()).find("3 labels but the mesh has 6 faces"),
+                  std::string::npos);
     }
     std::ostringstream ignored;
-    EXPECT_THROW(runScoreCommand(dir / "cube.off", dir / "candidate.seg", {}, false, ignored), UsageError);
+    EXPECT_THROW(runScoreCommand(dir / "cube.off", dir / "candidate.seg", {}, false, ignored),
+                 UsageError);
 }
 
 TEST(SegmentationScore, PrincetonHumansAgreeWithEachOtherMoreThanBaselines) {
-    if (!test::hasSharedData()) GTEST_SKIP() << "shared data folder " << test::sharedDataDir() << " is absent";
+    if (!test::hasSharedData())
+        GTEST_SKIP() << "shared data folder " << test::sharedDataDir() << " is absent";
     const auto meshPath = test::sharedDataDir() / "psb" / "off" / "1.off";
     const auto segDir = test::sharedDataDir() / "psb" / "seg" / "1";
     if (!std::filesystem::exists(meshPath) || !std::filesystem::exists(segDir / "1_0.seg.gz"))
@@ -205,7 +214,8 @@ TEST(SegmentationScore, PrincetonHumansAgreeWithEachOtherMoreThanBaselines) {
     const TriangleMesh mesh = readMesh(meshPath);
     const std::vector<double> areas = faceAreas(mesh);
     std::vector<Labels> humans;
-    for (const auto& entry : std::filesystem::directory_iterator(segDir)) humans.push_back(readSeg(entry.path()));
+    for (const auto& entry : std::filesystem::directory_iterator(segDir))
+        humans.push_back(readSeg(entry.path()));
     ASSERT_GE(humans.size(), 2u);
     const Labels first = humans.front();
     humans.erase(humans.begin());

@@ -24,15 +24,18 @@ void expectLabelsCoverTheObject(const MaskVolume& mask, const SegmentationResult
             for (int x = 0; x < d.x; ++x) {
                 const std::uint16_t label = result.labels(x, y, z);
                 if (!mask(x, y, z)) {
-                    ASSERT_EQ(label, 0) << "background voxel " << x << ',' << y << ',' << z << " labelled";
+                    ASSERT_EQ(label, 0)
+                        << "background voxel " << x << ',' << y << ',' << z << " labelled";
                     continue;
                 }
-                ASSERT_GE(label, 1) << "object voxel " << x << ',' << y << ',' << z << " unlabelled";
+                ASSERT_GE(label, 1)
+                    << "object voxel " << x << ',' << y << ',' << z << " unlabelled";
                 ASSERT_LE(label, result.segments.size());
                 ++counted[label];
             }
     ASSERT_EQ(counted.size(), result.segments.size());
-    for (const SegmentInfo& s : result.segments) EXPECT_EQ(counted[s.label], s.voxelCount) << "label " << s.label;
+    for (const SegmentInfo& s : result.segments)
+        EXPECT_EQ(counted[s.label], s.voxelCount) << "label " << s.label;
 }
 
 SegmentationResult segmentWith(const MaskVolume& mask, bool threaded) {
@@ -74,7 +77,8 @@ TEST(Segmenter, ObjectsInOppositeCornersKeepTheirVoxels) {
     // single voxel in a third corner.
     const Dims dims{20, 16, 12};
     const MaskVolume mask = makeMask(dims, [](int x, int y, int z) {
-        return (x <= 5 && y <= 5 && z <= 5) || (x >= 12 && y >= 9 && z >= 6) || (x == 19 && y == 0 && z == 0);
+        return (x <= 5 && y <= 5 && z <= 5) || (x >= 12 && y >= 9 && z >= 6) ||
+               (x == 19 && y == 0 && z == 0);
     });
     const SegmentationResult result = segmentWith(mask, true);
     expectLabelsCoverTheObject(mask, result);

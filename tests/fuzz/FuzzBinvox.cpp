@@ -1,6 +1,6 @@
-// libFuzzer target: the binvox reader (io/BinvoxIO.h). Seeds:
+// libFuzzer target: the binvox reader (io/volume/BinvoxIO.h). Seeds:
 // tests/fuzz/corpus/binvox/.
-#include "io/BinvoxIO.h"
+#include "io/volume/BinvoxIO.h"
 #include "tests/fuzz/FuzzCommon.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <string>
 
-#include "engine/Error.h"
+#include "kernels/base/Error.h"
 
 namespace skelseg::fuzz {
 

@@ -1,11 +1,11 @@
 // The mesh fuzz targets (FuzzOff, FuzzObj, FuzzStl, FuzzPly) share this body:
-// read, then check the invariants io/MeshIO.h promises for every mesh it
+// read, then check the invariants io/mesh/MeshIO.h promises for every mesh it
 // returns.
 #pragma once
 
 #include <cmath>
 
-#include "io/MeshIO.h"
+#include "io/mesh/MeshIO.h"
 #include "tests/fuzz/FuzzCommon.h"
 
 namespace skelseg::fuzz {

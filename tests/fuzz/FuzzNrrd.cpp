@@ -1,6 +1,6 @@
-// libFuzzer target: the NRRD reader (io/NrrdIO.h), both as a mask and as
+// libFuzzer target: the NRRD reader (io/volume/NrrdIO.h), both as a mask and as
 // labels. Seeds: tests/fuzz/corpus/nrrd/.
-#include "io/NrrdIO.h"
+#include "io/volume/NrrdIO.h"
 #include "tests/fuzz/FuzzCommon.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

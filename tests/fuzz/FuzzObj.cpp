@@ -1,6 +1,6 @@
-// libFuzzer target: the OBJ reader (io/MeshIO.h). Seeds:
+// libFuzzer target: the OBJ reader (io/mesh/MeshIO.h). Seeds:
 // tests/fuzz/corpus/obj/.
-#include "io/MeshIO.h"
+#include "io/mesh/MeshIO.h"
 #include "tests/fuzz/FuzzMesh.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,6 +1,6 @@
-// libFuzzer target: the OFF reader (io/MeshIO.h). Seeds:
+// libFuzzer target: the OFF reader (io/mesh/MeshIO.h). Seeds:
 // tests/fuzz/corpus/off/.
-#include "io/MeshIO.h"
+#include "io/mesh/MeshIO.h"
 #include "tests/fuzz/FuzzMesh.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

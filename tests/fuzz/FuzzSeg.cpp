@@ -1,6 +1,6 @@
-// libFuzzer target: the Princeton .seg reader (io/SegFile.h), plain and gzip.
+// libFuzzer target: the Princeton .seg reader (io/mesh/SegFile.h), plain and gzip.
 // Seeds: tests/fuzz/corpus/seg/.
-#include "io/SegFile.h"
+#include "io/mesh/SegFile.h"
 #include "tests/fuzz/FuzzCommon.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

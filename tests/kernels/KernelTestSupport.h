@@ -16,7 +16,7 @@
 #include "kernels/BoundaryGraph.h"
 #include "kernels/PathSearch.h"
 #include "kernels/SkeletonMeasures.h"
-#include "kernels/Volume.h"
+#include "kernels/base/Volume.h"
 
 namespace skelseg::test {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "kernels/SkeletonMeasures.h"
-#include "kernels/Volume.h"
+#include "kernels/base/Volume.h"
 
 namespace skelseg::test {
 

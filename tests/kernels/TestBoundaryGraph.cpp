@@ -8,7 +8,7 @@
 #include <set>
 #include <utility>
 
-#include "io/SyntheticShapes.h"
+#include "io/shapes/SyntheticShapes.h"
 #include "tests/kernels/KernelTestSupport.h"
 
 namespace skelseg {

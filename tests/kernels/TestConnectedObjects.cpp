@@ -31,7 +31,8 @@ ConnectedObjects floodReference(const MaskVolume& mask) {
                     const std::size_t v = stack.back();
                     stack.pop_back();
                     ++o.voxels;
-                    const int vx = int(v % std::size_t(d.x)), vy = int(v / std::size_t(d.x) % std::size_t(d.y)),
+                    const int vx = int(v % std::size_t(d.x)),
+                              vy = int(v / std::size_t(d.x) % std::size_t(d.y)),
                               vz = int(v / (std::size_t(d.x) * std::size_t(d.y)));
                     o.lo = {std::min(o.lo[0], vx), std::min(o.lo[1], vy), std::min(o.lo[2], vz)};
                     o.hi = {std::max(o.hi[0], vx), std::max(o.hi[1], vy), std::max(o.hi[2], vz)};
@@ -40,7 +41,8 @@ ConnectedObjects floodReference(const MaskVolume& mask) {
                             for (int dx = -1; dx <= 1; ++dx) {
                                 if (!mask.contains(vx + dx, vy + dy, vz + dz)) continue;
                                 const std::size_t q = mask.index(vx + dx, vy + dy, vz + dz);
-                                if (mask[q] && !r.component[q]) r.component[q] = o.id + 1, stack.push_back(q);
+                                if (mask[q] && !r.component[q])
+                                    r.component[q] = o.id + 1, stack.push_back(q);
                             }
                 }
                 r.objects.push_back(o);
@@ -76,7 +78,8 @@ TEST(ConnectedObjects, RandomMasksMatchAFloodFillSerialAndParallel) {
             for (unsigned seed = 1; seed <= 2; ++seed) {
                 const MaskVolume mask = randomMask(d, density, seed);
                 const ConnectedObjects reference = floodReference(mask);
-                SCOPED_TRACE(::testing::Message() << d.x << "x" << d.y << "x" << d.z << " density " << density);
+                SCOPED_TRACE(::testing::Message()
+                             << d.x << "x" << d.y << "x" << d.z << " density " << density);
                 const ConnectedObjects serial = findConnectedObjects(mask, {false});
                 const ConnectedObjects parallel = findConnectedObjects(mask, {true});
                 expectSameObjects(serial, reference);

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "io/SyntheticShapes.h"
+#include "io/shapes/SyntheticShapes.h"
 #include "kernels/BoundaryGraph.h"
 #include "tests/kernels/KernelTestSupport.h"
 

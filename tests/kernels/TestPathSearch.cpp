@@ -241,11 +241,13 @@ TEST_F(PathSearchOnBlob, LandmarkDistancesAreDijkstra) {
     const std::uint32_t last = serial.count - 1;
     const float lastNearest = nearestBefore(serial.node[last], last);
     EXPECT_GT(lastNearest, 0.0f);
-    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n) ASSERT_LE(nearestBefore(n, last), lastNearest);
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
+        ASSERT_LE(nearestBefore(n, last), lastNearest);
     const Landmarks parallel = computeLandmarks(graph, true);
     EXPECT_EQ(parallel.node, serial.node);
     for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
-        for (std::uint32_t k = 0; k < serial.count; ++k) ASSERT_EQ(parallel.distance(n, k), serial.distance(n, k));
+        for (std::uint32_t k = 0; k < serial.count; ++k)
+            ASSERT_EQ(parallel.distance(n, k), serial.distance(n, k));
 }
 
 TEST_F(PathSearchOnBlob, AStarWithLandmarksEqualsDijkstra) {

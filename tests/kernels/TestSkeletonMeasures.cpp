@@ -9,7 +9,7 @@
 #include <map>
 #include <memory>
 
-#include "io/SyntheticShapes.h"
+#include "io/shapes/SyntheticShapes.h"
 #include "kernels/FeatureTransform.h"
 #include "tests/kernels/KernelTestSupport.h"
 
@@ -280,14 +280,16 @@ TEST(SkeletonMeasures, HandleFlagIsExactOnlyWithExactAreas) {
     const Prepared& p = prepared("torus", 56);
     const SkeletonMeasureOptions cappedOptions = p.options(0.03);
     const std::vector<SkeletonPoint> capped = measureSkeleton(p.graph, p.candidates, cappedOptions);
-    const std::vector<SkeletonPoint> exact = measureSkeleton(p.graph, p.candidates, p.options(0.03, true));
+    const std::vector<SkeletonPoint> exact =
+        measureSkeleton(p.graph, p.candidates, p.options(0.03, true));
     ASSERT_EQ(capped.size(), exact.size());
     int flaggedExact = 0;
     for (std::size_t i = 0; i < capped.size(); ++i) {
         flaggedExact += exact[i].isHandle;
         if (exact[i].isHandle) {
             EXPECT_TRUE(std::isinf(exact[i].rhoC));
-            EXPECT_GE(capped[i].rhoC, cappedOptions.tau) << "a handle loop must stay in C_tau under the cap";
+            EXPECT_GE(capped[i].rhoC, cappedOptions.tau)
+                << "a handle loop must stay in C_tau under the cap";
         }
     }
     EXPECT_GT(flaggedExact, 20);

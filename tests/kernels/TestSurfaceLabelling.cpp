@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "io/SyntheticShapes.h"
+#include "io/shapes/SyntheticShapes.h"
 #include "kernels/FeatureTransform.h"
 #include "tests/kernels/KernelTestSupport.h"
 

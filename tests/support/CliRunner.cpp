@@ -28,7 +28,8 @@ std::vector<std::string> CliResult::errLines() const {
 }
 
 std::string CliResult::describe() const {
-    std::string text = signal ? "killed by signal " + std::to_string(signal) : "exit " + std::to_string(exitCode);
+    std::string text =
+        signal ? "killed by signal " + std::to_string(signal) : "exit " + std::to_string(exitCode);
     return text + ", stderr: [" + err + "], stdout: [" + out.substr(0, 2000) + "]";
 }
 
@@ -56,15 +57,18 @@ std::vector<std::string> directoryEntries(const std::filesystem::path& directory
     return names;
 }
 
-CliResult runSkelseg(const std::vector<std::string>& arguments, const std::function<void(pid_t)>& whileRunning,
-                     std::chrono::seconds timeout) {
+CliResult runSkelseg(const std::vector<std::string>& arguments,
+                     const std::function<void(pid_t)>& whileRunning, std::chrono::seconds timeout) {
     TempDir capture;
-    const std::string outPath = (capture / "stdout").string(), errPath = (capture / "stderr").string();
+    const std::string outPath = (capture / "stdout").string(),
+                      errPath = (capture / "stderr").string();
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 1, outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&actions, 2, errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&actions, 1, outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
+    posix_spawn_file_actions_addopen(&actions, 2, errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
 
     const std::string binary = skelsegBinary();
     std::vector<char*> argv;
@@ -87,7 +91,8 @@ CliResult runSkelseg(const std::vector<std::string>& arguments, const std::funct
 
     const auto start = std::chrono::steady_clock::now();
     pid_t pid = 0;
-    const int spawned = posix_spawn(&pid, binary.c_str(), &actions, &attributes, argv.data(), environ);
+    const int spawned =
+        posix_spawn(&pid, binary.c_str(), &actions, &attributes, argv.data(), environ);
     posix_spawn_file_actions_destroy(&actions);
     posix_spawnattr_destroy(&attributes);
     if (spawned != 0) throw std::runtime_error("cannot start " + binary);
@@ -106,7 +111,8 @@ CliResult runSkelseg(const std::vector<std::string>& arguments, const std::funct
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     CliResult result;
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (WIFEXITED(status)) result.exitCode = WEXITSTATUS(status);
     if (WIFSIGNALED(status)) result.signal = WTERMSIG(status);
     result.out = fileBytes(outPath);

@@ -4,8 +4,8 @@
 
 namespace skelseg::test {
 
-SceneRun segmentShape(const std::string& name, int size, const SegmentationParameters& parameters, int pose,
-                      double noise, std::uint64_t seed) {
+SceneRun segmentShape(const std::string& name, int size, const SegmentationParameters& parameters,
+                      int pose, double noise, std::uint64_t seed) {
     SceneRun run;
     run.mask = rasterise(makeShape(name, pose), {size, 3});
     if (noise > 0) addBoundaryNoise(run.mask, noise, seed);
@@ -24,7 +24,8 @@ std::set<std::pair<int, int>> segmentAdjacency(const LabelVolume& labels) {
                 for (int dz = 0; dz <= 1; ++dz)
                     for (int dy = -1; dy <= 1; ++dy)
                         for (int dx = -1; dx <= 1; ++dx) {
-                            if (dz == 0 && (dy < 0 || (dy == 0 && dx <= 0))) continue;  // each pair once
+                            if (dz == 0 && (dy < 0 || (dy == 0 && dx <= 0)))
+                                continue;  // each pair once
                             if (!labels.contains(x + dx, y + dy, z + dz)) continue;
                             const int b = labels(x + dx, y + dy, z + dz);
                             if (b && b != a) pairs.insert({std::min(a, b), std::max(a, b)});
@@ -41,7 +42,8 @@ std::vector<int> degreeSequence(const std::set<std::pair<int, int>>& adjacency, 
     return degree;
 }
 
-std::array<double, 3> modelToVoxel(const VolumeGeometry& geometry, const std::array<double, 3>& model) {
+std::array<double, 3> modelToVoxel(const VolumeGeometry& geometry,
+                                   const std::array<double, 3>& model) {
     const double s = geometry.directions[0][0];
     return {(model[0] - geometry.origin[0]) / s, (model[1] - geometry.origin[1]) / s,
             (model[2] - geometry.origin[2]) / s};

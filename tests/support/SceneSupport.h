@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "engine/Segmenter.h"
-#include "io/SyntheticShapes.h"
+#include "io/shapes/SyntheticShapes.h"
 
 namespace skelseg::test {
 
@@ -18,8 +18,9 @@ struct SceneRun {
 
 /// Rasterises makeShape(name, pose) at `size` (optionally with boundary
 /// noise) and segments it with `parameters`.
-SceneRun segmentShape(const std::string& name, int size, const SegmentationParameters& parameters = {},
-                      int pose = 0, double noise = 0.0, std::uint64_t seed = 7);
+SceneRun segmentShape(const std::string& name, int size,
+                      const SegmentationParameters& parameters = {}, int pose = 0,
+                      double noise = 0.0, std::uint64_t seed = 7);
 
 /// Pairs of labels (a < b) whose voxels are 26-adjacent.
 std::set<std::pair<int, int>> segmentAdjacency(const LabelVolume& labels);
@@ -28,6 +29,7 @@ std::set<std::pair<int, int>> segmentAdjacency(const LabelVolume& labels);
 std::vector<int> degreeSequence(const std::set<std::pair<int, int>>& adjacency, int count);
 
 /// Model-space point -> voxel coordinates (inverse of the uniform geometry).
-std::array<double, 3> modelToVoxel(const VolumeGeometry& geometry, const std::array<double, 3>& model);
+std::array<double, 3> modelToVoxel(const VolumeGeometry& geometry,
+                                   const std::array<double, 3>& model);
 
 }  // namespace skelseg::test

@@ -1,0 +1,126 @@
+#include "io/files/OutputDirectory.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <system_error>
+
+#include "kernels/base/Error.h"
+
+namespace fs = std::filesystem;
+
+namespace skelseg {
+
+namespace {
+std::string uniqueSuffix() {
+    static std::atomic<unsigned> counter{0};
+    return std::to_string(::getpid()) + "-" + std::to_string(counter++);
+}
+}  // namespace
+
+OutputDirectory::OutputDirectory(const fs::path& outdir, bool force,
+                                 const std::vector<std::string>& outputNames)
+    : mDirectory(outdir) {
+    std::error_code ec;
+    if (fs::exists(outdir, ec) && !fs::is_directory(outdir, ec))
+        throw UsageError(outdir.string() + ": exists and is not a directory");
+    if (!force) {
+        for (const auto& name : outputNames)
+            if (fs::exists(outdir / name, ec))
+                throw UsageError(outdir.string() + ": holds results of an earlier run (" + name +
+                                 "); use --force to replace them");
+    }
+    // Remember which directories this run creates: a run that fails removes
+    // them again (if still empty), so bad input leaves no trace.
+    for (fs::path p = outdir; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+        mCreated.push_back(p);
+        if (p == p.parent_path()) break;
+    }
+    fs::create_directories(outdir, ec);
+    if (ec) {
+        removeCreatedDirectories();
+        throw OutputError(outdir.string() + ": cannot create directory: " + ec.message());
+    }
+    mStaging = outdir / (".skelseg-staging-" + uniqueSuffix());
+    fs::create_directory(mStaging, ec);
+    if (ec) {
+        const std::string problem = ec.message();
+        mStaging.clear();
+        removeCreatedDirectories();
+        throw OutputError(outdir.string() +
+                          ": cannot create a staging directory in it: " + problem);
+    }
+}
+
+void OutputDirectory::removeCreatedDirectories() noexcept {
+    std::error_code ec;
+    // Deepest first; fs::remove() only removes empty directories.
+    for (const auto& directory : mCreated) fs::remove(directory, ec);
+    mCreated.clear();
+}
+
+OutputDirectory::~OutputDirectory() {
+    discard();
+}
+
+fs::path OutputDirectory::stagingPath(const std::string& name) {
+    // Writers run concurrently in the output flow graph; an unguarded
+    // push_back here crashed one run in 45 (PSB model 143).
+    const std::lock_guard<std::mutex> lock(mStagedMutex);
+    if (std::find(mStaged.begin(), mStaged.end(), name) == mStaged.end()) mStaged.push_back(name);
+    return mStaging / name;
+}
+
+void OutputDirectory::commit() {
+    const std::lock_guard<std::mutex> lock(mStagedMutex);
+    std::error_code ec;
+    for (const auto& name : mStaged) {
+        const fs::path from = mStaging / name;
+        if (!fs::exists(from, ec)) continue;  // an optional output that was not produced
+        fs::rename(from, mDirectory / name, ec);
+        if (ec)
+            throw OutputError((mDirectory / name).string() +
+                              ": cannot move into place: " + ec.message());
+    }
+    mCommitted = true;
+    fs::remove_all(mStaging, ec);
+}
+
+void OutputDirectory::discard() noexcept {
+    std::error_code ec;
+    if (!mStaging.empty()) fs::remove_all(mStaging, ec);
+    {
+        const std::lock_guard<std::mutex> lock(mStagedMutex);
+        mStaged.clear();
+    }
+    if (!mCommitted) removeCreatedDirectories();
+}
+
+void writeFileAtomically(const fs::path& path, const std::string& bytes) {
+    const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    const fs::path temp = parent / ("." + path.filename().string() + ".tmp-" + uniqueSuffix());
+    {
+        std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+        if (!out) throw OutputError(path.string() + ": cannot write: " + std::strerror(errno));
+        out.write(bytes.data(), std::streamsize(bytes.size()));
+        out.flush();
+        if (!out) {
+            std::error_code ec;
+            fs::remove(temp, ec);
+            throw OutputError(path.string() + ": write failed (disk full?)");
+        }
+    }
+    std::error_code ec;
+    fs::rename(temp, path, ec);
+    if (ec) {
+        fs::remove(temp, ec);
+        throw OutputError(path.string() + ": cannot move into place: " + ec.message());
+    }
+}
+
+}  // namespace skelseg

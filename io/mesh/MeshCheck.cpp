@@ -1,0 +1,159 @@
+#include "io/mesh/MeshCheck.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <unordered_map>
+
+namespace skelseg {
+
+namespace {
+
+struct PositionHash {
+    std::size_t operator()(const std::array<double, 3>& p) const noexcept {
+        std::uint64_t h = 1469598103934665603ull;
+        for (double c : p) {
+            std::uint64_t bits;
+            std::memcpy(&bits, &c, 8);
+            h = (h ^ bits) * 1099511628211ull + (h >> 29);
+        }
+        return std::size_t(h);
+    }
+};
+
+/// Union-find with path halving; union by smaller index keeps it deterministic.
+class DisjointSets {
+public:
+    explicit DisjointSets(std::size_t n) : mParent(n) {
+        std::iota(mParent.begin(), mParent.end(), 0u);
+    }
+    std::uint32_t find(std::uint32_t x) noexcept {
+        while (mParent[x] != x) {
+            mParent[x] = mParent[mParent[x]];
+            x = mParent[x];
+        }
+        return x;
+    }
+    void unite(std::uint32_t a, std::uint32_t b) noexcept {
+        a = find(a);
+        b = find(b);
+        if (a == b) return;
+        if (a < b)
+            mParent[b] = a;
+        else
+            mParent[a] = b;
+    }
+
+private:
+    std::vector<std::uint32_t> mParent;
+};
+
+double triangleArea(const TriangleMesh& mesh, std::size_t t) {
+    const auto& a = mesh.vertices[mesh.triangles[t][0]];
+    const auto& b = mesh.vertices[mesh.triangles[t][1]];
+    const auto& c = mesh.vertices[mesh.triangles[t][2]];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                         u[0] * v[1] - u[1] * v[0]};
+    return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> canonicalVertices(const TriangleMesh& mesh) {
+    std::vector<std::uint32_t> canonical(mesh.vertices.size());
+    std::unordered_map<std::array<double, 3>, std::uint32_t, PositionHash> first;
+    first.reserve(mesh.vertices.size());
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+        std::array<double, 3> p = mesh.vertices[v];
+        for (double& c : p)
+            if (c == 0.0) c = 0.0;  // -0 and +0 are one position
+        canonical[v] = first.emplace(p, std::uint32_t(v)).first->second;
+    }
+    return canonical;
+}
+
+MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
+    MeshDiagnostics diagnostics;
+    const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
+
+    // Degenerate faces: zero area relative to the mesh size (absolute zero
+    // would miss faces that are zero up to rounding).
+    std::array<double, 3> low{HUGE_VAL, HUGE_VAL, HUGE_VAL}, high{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (const auto& p : mesh.vertices)
+        for (int c = 0; c < 3; ++c) {
+            low[std::size_t(c)] = std::min(low[std::size_t(c)], p[std::size_t(c)]);
+            high[std::size_t(c)] = std::max(high[std::size_t(c)], p[std::size_t(c)]);
+        }
+    double diagonalSquared = 0.0;
+    if (!mesh.vertices.empty())
+        for (int c = 0; c < 3; ++c)
+            diagonalSquared += (high[std::size_t(c)] - low[std::size_t(c)]) *
+                               (high[std::size_t(c)] - low[std::size_t(c)]);
+    const double areaTolerance = 1e-14 * diagonalSquared;
+    std::vector<double> areas(mesh.faceCount, 0.0);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+        areas[mesh.triangleFace[t]] += triangleArea(mesh, t);
+    for (double area : areas)
+        if (!(area > areaTolerance)) ++diagnostics.degenerateFaces;
+
+    // Edges: count uses of every undirected edge between distinct (canonical)
+    // vertices. Fan diagonals inside a polygon are used twice, like any
+    // interior edge.
+    std::unordered_map<std::uint64_t, std::uint32_t> edgeUses;
+    edgeUses.reserve(mesh.triangles.size() * 2);
+    DisjointSets pieces(mesh.vertices.size());
+    std::vector<char> used(mesh.vertices.size(), 0);
+    for (const auto& triangle : mesh.triangles) {
+        for (int corner = 0; corner < 3; ++corner) {
+            std::uint32_t a = canonical[triangle[std::size_t(corner)]];
+            std::uint32_t b = canonical[triangle[std::size_t((corner + 1) % 3)]];
+            used[a] = 1;
+            if (a == b) continue;
+            pieces.unite(a, b);
+            if (a > b) std::swap(a, b);
+            ++edgeUses[(std::uint64_t(a) << 32) | b];
+        }
+    }
+    bool everyEdgeEven = true;
+    for (const auto& [edge, uses] : edgeUses) {
+        (void)edge;
+        if (uses == 1) ++diagnostics.boundaryEdges;
+        if (uses > 2) ++diagnostics.nonManifoldEdges;
+        if (uses % 2 != 0) everyEdgeEven = false;
+    }
+    diagnostics.closed = everyEdgeEven && !edgeUses.empty();
+    for (std::uint32_t v = 0; v < std::uint32_t(mesh.vertices.size()); ++v)
+        if (used[v] && pieces.find(v) == v) ++diagnostics.pieces;
+    return diagnostics;
+}
+
+std::vector<std::string> meshWarnings(const MeshDiagnostics& diagnostics, const std::string& file) {
+    std::vector<std::string> warnings;
+    if (!diagnostics.closed) {
+        if (diagnostics.boundaryEdges > 0)
+            warnings.push_back(file + ": mesh is not closed (" +
+                               std::to_string(diagnostics.boundaryEdges) +
+                               " boundary edges); the inside is estimated");
+        else
+            warnings.push_back(file +
+                               ": mesh is not closed (edges shared by an odd number of faces); the "
+                               "inside is estimated");
+    }
+    if (diagnostics.nonManifoldEdges > 0)
+        warnings.push_back(file + ": " + std::to_string(diagnostics.nonManifoldEdges) +
+                           " edges are shared by more than two faces (non-manifold)");
+    if (diagnostics.pieces > 1)
+        warnings.push_back(file + ": mesh has " + std::to_string(diagnostics.pieces) +
+                           " separate pieces");
+    if (diagnostics.degenerateFaces > 0)
+        warnings.push_back(
+            file + ": " + std::to_string(diagnostics.degenerateFaces) +
+            " faces have zero area; they take the label of the voxels or faces around them");
+    return warnings;
+}
+
+}  // namespace skelseg

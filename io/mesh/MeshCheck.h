@@ -1,0 +1,46 @@
+// skelseg: checks of a mesh's soundness before it is voxelised.
+//
+// The voxeliser decides inside from outside; that is exact only for a closed
+// surface. checkMesh() counts what can make it inexact and meshWarnings()
+// turns the counts into one-line warnings for the user. Vertices at identical
+// positions count as one vertex here (STL-like soups and seams where a writer
+// duplicated vertices are still closed surfaces). Linear time: edges are hashed.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/mesh/MeshIO.h"
+
+namespace skelseg {
+
+struct MeshDiagnostics {
+    /// Input faces with (numerically) zero area.
+    std::size_t degenerateFaces = 0;
+    /// Edges used by exactly one triangle (holes, open borders).
+    std::size_t boundaryEdges = 0;
+    /// Edges used by more than two triangles.
+    std::size_t nonManifoldEdges = 0;
+    /// Connected pieces (triangles joined through shared vertices).
+    std::size_t pieces = 0;
+    /// True when every edge is used by an even number (>= 2) of triangles:
+    /// the surface encloses a volume and inside/outside is well defined.
+    bool closed = false;
+};
+
+/// Counts degenerate faces, boundary and non-manifold edges and pieces.
+MeshDiagnostics checkMesh(const TriangleMesh& mesh);
+
+/// One line per problem found, each starting with "FILE: ", e.g.
+/// "hand.off: mesh is not closed (124 boundary edges); the inside is estimated".
+/// Empty for a sound mesh.
+std::vector<std::string> meshWarnings(const MeshDiagnostics& diagnostics, const std::string& file);
+
+/// For every vertex, the smallest index of a vertex at the bitwise-same
+/// position (-0 = +0): #vertices entries. Lets adjacency be computed on
+/// meshes whose writers duplicated vertices.
+std::vector<std::uint32_t> canonicalVertices(const TriangleMesh& mesh);
+
+}  // namespace skelseg

@@ -1,0 +1,366 @@
+#include "io/mesh/MeshVoxelizer.h"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/MeshToVolume.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "io/mesh/MeshCheck.h"
+
+namespace skelseg {
+
+namespace {
+
+/// Two face-adjacent voxel centres (one voxel apart) on opposite sides of the
+/// surface cannot both be more than half a voxel from it, so the voxels this
+/// close to the surface form a layer that a 6-connected flood fill cannot
+/// cross. The small excess absorbs float rounding of the distances.
+constexpr double kSurfaceLayer = 0.501;
+
+/// OpenVDB's MeshDataAdapter over a TriangleMesh: index-space points computed
+/// in double precision (OpenVDB's own adapters take float world points).
+class MeshAdapter {
+public:
+    MeshAdapter(const TriangleMesh& mesh, const VolumeGeometry& geometry)
+        : mMesh(mesh), mOrigin(geometry.origin), mInverseVoxelSize(1.0 / geometry.voxelSize()) {}
+    std::size_t polygonCount() const { return mMesh.triangles.size(); }
+    std::size_t pointCount() const { return mMesh.vertices.size(); }
+    std::size_t vertexCount(std::size_t) const { return 3; }
+    void getIndexSpacePoint(std::size_t polygon, std::size_t corner,
+                            openvdb::Vec3d& position) const {
+        const auto& p = mMesh.vertices[mMesh.triangles[polygon][corner]];
+        position = openvdb::Vec3d((p[0] - mOrigin[0]) * mInverseVoxelSize,
+                                  (p[1] - mOrigin[1]) * mInverseVoxelSize,
+                                  (p[2] - mOrigin[2]) * mInverseVoxelSize);
+    }
+
+private:
+    const TriangleMesh& mMesh;
+    std::array<double, 3> mOrigin;
+    double mInverseVoxelSize;
+};
+
+/// Forwards OpenVDB's interrupter calls to ours (stage names are ours).
+class VdbInterrupter final : public openvdb::util::NullInterrupter {
+public:
+    explicit VdbInterrupter(Interrupter& interrupter) : mInterrupter(interrupter) {}
+    void start(const char* = nullptr) override {}
+    void end() override {}
+    bool wasInterrupted(int percent = -1) override {
+        return mInterrupter.wasInterrupted(percent < 0 ? -1.0 : 0.8 * percent / 100.0);
+    }
+
+private:
+    Interrupter& mInterrupter;
+};
+
+openvdb::math::Transform::Ptr transformFor(const VolumeGeometry& geometry) {
+    auto transform = openvdb::math::Transform::createLinearTransform(geometry.voxelSize());
+    transform->postTranslate(
+        openvdb::Vec3d(geometry.origin[0], geometry.origin[1], geometry.origin[2]));
+    return transform;
+}
+
+/// Calls visit(x, y, z, value) for every voxel of the box [offset, offset+dims)
+/// of `grid`, a z-slab per task. Whole 8-voxel runs inside one OpenVDB leaf
+/// are read from the leaf, runs without a leaf from one tile lookup.
+template <typename Visit>
+void forEachGridValue(const openvdb::FloatGrid& grid, const Dims& dims,
+                      const std::array<int, 3>& offset, Interrupter& interrupter, Visit visit) {
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, dims.z), [&](const tbb::blocked_range<int>& slabs) {
+            auto accessor = grid.getConstAccessor();
+            for (int z = slabs.begin(); z < slabs.end(); ++z) {
+                if (interrupter.wasInterrupted(0.8 + 0.1 * z / dims.z)) return;
+                for (int y = 0; y < dims.y; ++y) {
+                    int x = 0;
+                    while (x < dims.x) {
+                        const openvdb::Coord coord(x + offset[0], y + offset[1], z + offset[2]);
+                        // Length of the run up to the next leaf boundary (leaves are 8 wide).
+                        // (* 8, not << 3: coordinates can be negative, and shifting a
+                        // negative value left is undefined before C++20.)
+                        const int leafEnd = ((coord.x() >> 3) + 1) * 8;
+                        const int runLength = std::min(leafEnd - coord.x(), dims.x - x);
+                        if (const auto* leaf = accessor.probeConstLeaf(coord)) {
+                            for (int i = 0; i < runLength; ++i)
+                                visit(x + i, y, z, leaf->getValue(coord.offsetBy(i, 0, 0)));
+                        } else {
+                            const float value = accessor.getValue(coord);
+                            for (int i = 0; i < runLength; ++i) visit(x + i, y, z, value);
+                        }
+                        x += runLength;
+                    }
+                }
+            }
+        });
+}
+
+MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid,
+                              Interrupter& interrupter) {
+    VdbInterrupter vdbInterrupter(interrupter);
+    const MeshAdapter adapter(mesh, grid.geometry);
+    // A narrow band of 2 voxels is enough: only the sign is used; the deep
+    // inside is filled with negative tiles by OpenVDB's sign flood fill.
+    auto distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
+        vdbInterrupter, adapter, *transformFor(grid.geometry), 2.0f, 2.0f, 0);
+    throwIfInterrupted(interrupter);
+    MaskVolume mask(grid.dims, 0);
+    mask.geometry = grid.geometry;
+    std::uint8_t* out = mask.data();
+    const Dims dims = grid.dims;
+    forEachGridValue(
+        *distance, dims, {0, 0, 0}, interrupter, [&](int x, int y, int z, float value) {
+            out[std::size_t(x) +
+                std::size_t(dims.x) * (std::size_t(y) + std::size_t(dims.y) * std::size_t(z))] =
+                value < 0.0f ? 1 : 0;
+        });
+    throwIfInterrupted(interrupter);
+    return mask;
+}
+
+/// The shell method (see the header). surfaceVoxels: how many voxels of the
+/// result lie in the half-voxel surface layer.
+MaskVolume shellVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, double holeClosing,
+                             Interrupter& interrupter, std::size_t& surfaceVoxels) {
+    VdbInterrupter vdbInterrupter(interrupter);
+    const MeshAdapter adapter(mesh, grid.geometry);
+    const double shellWidth = holeClosing + kSurfaceLayer;
+    auto distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
+        vdbInterrupter, adapter, *transformFor(grid.geometry), float(shellWidth + 1.5), 0.0f,
+        openvdb::tools::UNSIGNED_DISTANCE_FIELD);
+    throwIfInterrupted(interrupter);
+
+    // Work on a grid padded so that its border lies outside the thick shell,
+    // whatever the margin: the flood fill starts from that border.
+    const int pad = int(std::ceil(shellWidth)) + 2;
+    const Dims work{grid.dims.x + 2 * pad, grid.dims.y + 2 * pad, grid.dims.z + 2 * pad};
+    if (work.voxelCount() > kMaxVoxels)
+        throw UsageError("the padded voxel grid for an open mesh is over the limit of " +
+                         std::to_string(kMaxVoxels) + " voxels; lower the resolution");
+    auto at = [&](int x, int y, int z) {
+        return std::size_t(x) +
+               std::size_t(work.x) * (std::size_t(y) + std::size_t(work.y) * std::size_t(z));
+    };
+    enum : std::uint8_t { kFree = 0, kShell = 1, kSurface = 2, kOutside = 3 };
+    std::vector<std::uint8_t> state(work.voxelCount(), kFree);
+    const float voxelSize = float(grid.geometry.voxelSize());
+    const float shellLimit = float(shellWidth) * voxelSize,
+                surfaceLimit = float(kSurfaceLayer) * voxelSize;
+    forEachGridValue(*distance, work, {-pad, -pad, -pad}, interrupter,
+                     [&](int x, int y, int z, float value) {
+                         state[at(x, y, z)] = value <= surfaceLimit ? kSurface
+                                              : value <= shellLimit ? kShell
+                                                                    : kFree;
+                     });
+    throwIfInterrupted(interrupter);
+    distance.reset();
+
+    // Flood the outside from the border through free voxels (6-connected).
+    std::vector<std::uint32_t> frontier, next;
+    auto visitNeighbours = [&](std::uint32_t index, auto&& onNeighbour) {
+        const int x = int(index % std::uint32_t(work.x));
+        const int y = int((index / std::uint32_t(work.x)) % std::uint32_t(work.y));
+        const int z = int(index / (std::uint32_t(work.x) * std::uint32_t(work.y)));
+        if (x > 0) onNeighbour(index - 1);
+        if (x + 1 < work.x) onNeighbour(index + 1);
+        if (y > 0) onNeighbour(index - std::uint32_t(work.x));
+        if (y + 1 < work.y) onNeighbour(index + std::uint32_t(work.x));
+        if (z > 0) onNeighbour(index - std::uint32_t(work.x) * std::uint32_t(work.y));
+        if (z + 1 < work.z) onNeighbour(index + std::uint32_t(work.x) * std::uint32_t(work.y));
+    };
+    frontier.push_back(0);  // a corner: free because of the padding
+    state[0] = kOutside;
+    std::size_t visited = 0;
+    while (!frontier.empty()) {
+        const std::uint32_t index = frontier.back();
+        frontier.pop_back();
+        if (++visited % (1u << 20) == 0) throwIfInterrupted(interrupter);
+        visitNeighbours(index, [&](std::uint32_t neighbour) {
+            if (state[neighbour] == kFree) {
+                state[neighbour] = kOutside;
+                frontier.push_back(neighbour);
+            }
+        });
+    }
+
+    // Grow the outside back towards the surface, one voxel per step, at most
+    // holeClosing + 1 steps, never into the surface layer: this undoes the
+    // thickening where the shell was closed, and can leak only a few voxels
+    // through a hole that was too wide to bridge.
+    for (std::size_t i = 0; i < state.size(); ++i)
+        if (state[i] == kOutside) {
+            bool nearShell = false;
+            visitNeighbours(std::uint32_t(i),
+                            [&](std::uint32_t n) { nearShell |= state[n] == kShell; });
+            if (nearShell) frontier.push_back(std::uint32_t(i));
+        }
+    const int growSteps = int(std::ceil(holeClosing)) + 1;
+    for (int step = 0; step < growSteps && !frontier.empty(); ++step) {
+        throwIfInterrupted(interrupter);
+        next.clear();
+        for (std::uint32_t index : frontier)
+            visitNeighbours(index, [&](std::uint32_t neighbour) {
+                if (state[neighbour] == kShell) {
+                    state[neighbour] = kOutside;
+                    next.push_back(neighbour);
+                }
+            });
+        frontier.swap(next);
+    }
+
+    MaskVolume mask(grid.dims, 0);
+    mask.geometry = grid.geometry;
+    surfaceVoxels = 0;
+    for (int z = 0; z < grid.dims.z; ++z)
+        for (int y = 0; y < grid.dims.y; ++y)
+            for (int x = 0; x < grid.dims.x; ++x) {
+                const std::uint8_t s = state[at(x + pad, y + pad, z + pad)];
+                mask(x, y, z) = s == kOutside ? 0 : 1;
+                surfaceVoxels += s == kSurface;
+            }
+    return mask;
+}
+
+}  // namespace
+
+VoxelGrid voxelGridFor(const TriangleMesh& mesh, const VoxelizeOptions& options) {
+    if (options.resolution < 8 || options.resolution > 2048)
+        throw UsageError("voxel resolution " + std::to_string(options.resolution) +
+                         " is outside [8, 2048]");
+    if (options.margin < 0 || options.margin > 64)
+        throw UsageError("voxel margin " + std::to_string(options.margin) + " is outside [0, 64]");
+    if (!(options.holeClosing >= 0.0 && options.holeClosing <= 16.0))
+        throw UsageError("hole closing " + std::to_string(options.holeClosing) +
+                         " is outside [0, 16] voxels");
+    if (mesh.vertices.empty() || mesh.triangles.empty())
+        throw UsageError("cannot voxelise a mesh without faces");
+
+    // Bounding box of the vertices that faces use (stray vertices do not count).
+    std::array<double, 3> low{HUGE_VAL, HUGE_VAL, HUGE_VAL}, high{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (const auto& triangle : mesh.triangles)
+        for (std::uint32_t v : triangle)
+            for (std::size_t c = 0; c < 3; ++c) {
+                low[c] = std::min(low[c], mesh.vertices[v][c]);
+                high[c] = std::max(high[c], mesh.vertices[v][c]);
+            }
+    const double longest = std::max({high[0] - low[0], high[1] - low[1], high[2] - low[2]});
+    if (!(longest > 0.0) || !std::isfinite(longest))
+        throw UsageError("cannot voxelise the mesh: all its vertices lie at one point");
+    const double voxelSize = longest / options.resolution;
+
+    std::int64_t extents[3];
+    std::array<double, 3> origin{};
+    for (std::size_t c = 0; c < 3; ++c) {
+        // The 1e-9 keeps the longest axis at exactly `resolution` voxels
+        // despite rounding in longest / resolution * resolution.
+        const std::int64_t inner = std::max<std::int64_t>(
+            1, std::int64_t(std::ceil((high[c] - low[c]) / voxelSize - 1e-9)));
+        extents[c] = inner + 2 * options.margin;
+        // Centre the shape: the grid's middle is the box's middle; origin is
+        // the centre of voxel 0.
+        origin[c] =
+            0.5 * (low[c] + high[c]) - 0.5 * double(extents[c]) * voxelSize + 0.5 * voxelSize;
+    }
+    const std::uint64_t voxels =
+        std::uint64_t(extents[0]) * std::uint64_t(extents[1]) * std::uint64_t(extents[2]);
+    if (voxels > kMaxVoxels)
+        throw UsageError("voxel resolution " + std::to_string(options.resolution) + " gives a " +
+                         std::to_string(extents[0]) + "x" + std::to_string(extents[1]) + "x" +
+                         std::to_string(extents[2]) + " grid, over the limit of " +
+                         std::to_string(kMaxVoxels) + " voxels");
+    VoxelGrid grid;
+    grid.dims = Dims{int(extents[0]), int(extents[1]), int(extents[2])};
+    grid.geometry = VolumeGeometry::uniform(voxelSize, origin);
+    return grid;
+}
+
+MaskVolume voxelizeMesh(const TriangleMesh& mesh, const VoxelizeOptions& options,
+                        Interrupter& interrupter) {
+    const VoxelGrid grid = voxelGridFor(mesh, options);
+    InterrupterScope scope(interrupter, "voxelize");
+    openvdb::initialize();
+    const bool closed = options.meshIsClosed ? *options.meshIsClosed : checkMesh(mesh).closed;
+    throwIfInterrupted(interrupter, 0.0);
+
+    MaskVolume mask;
+    // OpenVDB's tools have no serial switch; a one-thread arena makes every
+    // TBB loop inside (theirs and ours) run on this thread.
+    tbb::task_arena arena(options.threaded ? tbb::task_arena::automatic : 1);
+    arena.execute([&] {
+        if (closed) {
+            mask = signedVoxelization(mesh, grid, interrupter);
+            // The sign computation can fail on badly broken "closed" meshes
+            // (nothing comes out inside): fall back to the shell method.
+            if (std::find(mask.values().begin(), mask.values().end(), std::uint8_t(1)) !=
+                mask.values().end())
+                return;
+        }
+        // A hole wider than the closing lets the flood fill in, and leaves
+        // little more than the surface layer: retry with twice the closing
+        // (up to 16 voxels) while the result is that hollow.
+        for (double closing = options.holeClosing;;
+             closing = std::min(16.0, std::max(1.0, 2.0 * closing))) {
+            std::size_t surfaceVoxels = 0;
+            mask = shellVoxelization(mesh, grid, closing, interrupter, surfaceVoxels);
+            const auto solid = std::size_t(
+                std::count(mask.values().begin(), mask.values().end(), std::uint8_t(1)));
+            if (solid > 2 * surfaceVoxels || closing >= 16.0) break;
+        }
+    });
+    throwIfInterrupted(interrupter, 1.0);
+    return mask;
+}
+
+WorldToIndex::WorldToIndex(const VolumeGeometry& geometry) : mOrigin(geometry.origin) {
+    // Columns of M are the step vectors: world = origin + M * index.
+    const auto& d = geometry.directions;
+    const double m[3][3] = {
+        {d[0][0], d[1][0], d[2][0]}, {d[0][1], d[1][1], d[2][1]}, {d[0][2], d[1][2], d[2][2]}};
+    const double cofactor[3][3] = {
+        {m[1][1] * m[2][2] - m[1][2] * m[2][1], m[1][2] * m[2][0] - m[1][0] * m[2][2],
+         m[1][0] * m[2][1] - m[1][1] * m[2][0]},
+        {m[0][2] * m[2][1] - m[0][1] * m[2][2], m[0][0] * m[2][2] - m[0][2] * m[2][0],
+         m[0][1] * m[2][0] - m[0][0] * m[2][1]},
+        {m[0][1] * m[1][2] - m[0][2] * m[1][1], m[0][2] * m[1][0] - m[0][0] * m[1][2],
+         m[0][0] * m[1][1] - m[0][1] * m[1][0]}};
+    const double determinant =
+        m[0][0] * cofactor[0][0] + m[0][1] * cofactor[0][1] + m[0][2] * cofactor[0][2];
+    mValid = std::isfinite(determinant) && std::abs(determinant) > 0.0;
+    const double inverseDeterminant =
+        mValid ? 1.0 / determinant : std::numeric_limits<double>::quiet_NaN();
+    // inverse = adjugate / det, adjugate = cofactor transposed.
+    for (std::size_t r = 0; r < 3; ++r)
+        for (std::size_t c = 0; c < 3; ++c) mInverse[r][c] = cofactor[c][r] * inverseDeterminant;
+}
+
+std::array<double, 3> WorldToIndex::operator()(const std::array<double, 3>& world) const noexcept {
+    const double p[3] = {world[0] - mOrigin[0], world[1] - mOrigin[1], world[2] - mOrigin[2]};
+    std::array<double, 3> index{};
+    for (std::size_t r = 0; r < 3; ++r)
+        index[r] = mInverse[r][0] * p[0] + mInverse[r][1] * p[1] + mInverse[r][2] * p[2];
+    return index;
+}
+
+std::array<double, 3> worldToIndex(const VolumeGeometry& geometry,
+                                   const std::array<double, 3>& world) {
+    return WorldToIndex(geometry)(world);
+}
+
+Coord voxelContaining(const VolumeGeometry& geometry, const std::array<double, 3>& world) {
+    const auto index = worldToIndex(geometry, world);
+    // Clamped so that far-away (or NaN) points give a valid, outside Coord.
+    auto rounded = [](double value) {
+        const double r = std::floor(value + 0.5);
+        return r >= -1e9 && r <= 1e9 ? int(r) : (r > 0 ? 1000000000 : -1000000000);
+    };
+    return Coord{rounded(index[0]), rounded(index[1]), rounded(index[2])};
+}
+
+}  // namespace skelseg

@@ -1,0 +1,98 @@
+// skelseg: turning a triangle mesh into a solid voxel mask.
+//
+// Grid: the longest side of the mesh's bounding box spans `resolution` voxels
+// of size h = longest side / resolution; every axis gets ceil(extent / h)
+// voxels (at least 1) plus `margin` empty voxels on each side, and the shape is
+// centred in the grid. The geometry is VolumeGeometry::uniform(h, origin), where
+// index (i, j, k) is the CENTRE of that voxel:
+//     world = origin + h * (i, j, k),     index = (world - origin) / h.
+// worldToIndex() gives the inverse (continuous indices; round to get the voxel
+// that contains a point), so voxels, skeletons and labels map back onto the mesh.
+//
+// Inside/outside (see docs/meshes.md):
+//  - closed meshes (MeshCheck: every edge used an even number of times):
+//    OpenVDB's meshToVolume builds a narrow-band signed distance field; a
+//    voxel is solid when the signed distance at its centre is negative.
+//  - open meshes (or when the signed conversion finds no inside at all): an
+//    unsigned distance field gives a shell of voxels within
+//    holeClosing + 0.5 voxels of the surface; a 6-connected flood fill from
+//    the grid's border finds the outside, which then grows back up to
+//    holeClosing + 1 voxels towards the surface (never into the half-voxel
+//    surface layer). Everything not outside is solid. Holes narrower than
+//    about 2 * holeClosing voxels are bridged; the solid keeps the outer
+//    half-voxel layer, so it is a few percent larger than for a closed mesh.
+//    When a wider hole lets the outside in (the solid is then hardly more
+//    than the surface layer), holeClosing is doubled, up to 16 voxels, and
+//    the pass repeated. A single open sheet becomes a thin plate.
+// Degenerate faces are harmless (OpenVDB ignores their area). Several pieces
+// are voxelised together; overlapping closed pieces give their union.
+#pragma once
+
+#include <array>
+#include <optional>
+
+#include "io/mesh/MeshIO.h"
+#include "kernels/base/Interrupter.h"
+#include "kernels/base/Volume.h"
+
+namespace skelseg {
+
+struct VoxelizeOptions {
+    /// Voxels along the longest side of the mesh's bounding box, in [8, 2048].
+    int resolution = 256;
+    /// Empty voxels added on every side, in [0, 64].
+    int margin = 2;
+    /// Open meshes only: how far (in voxels) the surface is thickened before
+    /// the outside is flood-filled, i.e. half the width of the widest hole
+    /// that is bridged. In [0, 16].
+    double holeClosing = 2.0;
+    /// false: every phase runs on the calling thread (OpenVDB's mesh
+    /// conversion has no serial switch, so it runs in a one-thread TBB arena).
+    bool threaded = true;
+    /// Whether the mesh is closed (checkMesh().closed), when the caller has
+    /// already checked it; unset: voxelizeMesh() checks (a full edge count,
+    /// so a caller that runs checkMesh() for its warnings passes the answer).
+    std::optional<bool> meshIsClosed;
+};
+
+/// Size and placement of the grid voxelizeMesh() makes, without voxelising.
+/// @throw UsageError for options out of range, a grid over kMaxVoxels, or a
+/// mesh without extent (all vertices at one point).
+struct VoxelGrid {
+    Dims dims;
+    VolumeGeometry geometry;
+};
+VoxelGrid voxelGridFor(const TriangleMesh& mesh, const VoxelizeOptions& options);
+
+/// Solid mask of the mesh (1 inside, 0 outside) on the grid of
+/// voxelGridFor(); x fastest: index = x + nx * (y + ny * z).
+/// Polls the interrupter between phases and inside OpenVDB's conversion.
+/// @throw UsageError (see voxelGridFor), InterruptedError.
+MaskVolume voxelizeMesh(const TriangleMesh& mesh, const VoxelizeOptions& options,
+                        Interrupter& interrupter = nullInterrupter());
+
+/// World point -> continuous voxel index (voxel centres at integers) for any
+/// VolumeGeometry; the inverse of VolumeGeometry::indexToWorld. The matrix is
+/// inverted once, so use this for many points.
+class WorldToIndex {
+public:
+    explicit WorldToIndex(const VolumeGeometry& geometry);
+    std::array<double, 3> operator()(const std::array<double, 3>& world) const noexcept;
+    /// False when the geometry's directions are singular (every result NaN).
+    bool isValid() const noexcept { return mValid; }
+
+private:
+    std::array<double, 3> mOrigin{};
+    std::array<std::array<double, 3>, 3> mInverse{};  // [index axis][world component]
+    bool mValid = false;
+};
+
+/// One-off form of WorldToIndex.
+std::array<double, 3> worldToIndex(const VolumeGeometry& geometry,
+                                   const std::array<double, 3>& world);
+
+/// The voxel whose cell contains the world point (rounded index; may lie
+/// outside the volume).
+Coord voxelContaining(const VolumeGeometry& geometry, const std::array<double, 3>& world);
+
+}  // namespace skelseg

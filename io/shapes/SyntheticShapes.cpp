@@ -1,0 +1,295 @@
+#include "io/shapes/SyntheticShapes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "kernels/BoundaryGraph.h"
+#include "kernels/base/Error.h"
+
+namespace skelseg {
+
+namespace {
+
+using Vec = std::array<double, 3>;
+Vec sub(Vec a, Vec b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+double dot(Vec a, Vec b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+double norm(Vec a) {
+    return std::sqrt(dot(a, a));
+}
+
+double segmentDistance(const Vec& p, const Vec& a, const Vec& b, double* tOut = nullptr) {
+    const Vec ab = sub(b, a), ap = sub(p, a);
+    const double len2 = dot(ab, ab);
+    double t = len2 > 0 ? std::clamp(dot(ap, ab) / len2, 0.0, 1.0) : 0.0;
+    if (tOut) *tOut = len2 > 0 ? dot(ap, ab) / len2 : 0.0;
+    const Vec q = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]};
+    return norm(sub(p, q));
+}
+
+bool inside(const ShapePrimitive& s, const Vec& p) {
+    switch (s.kind) {
+        case ShapePrimitive::Kind::Sphere:
+            return norm(sub(p, s.a)) <= s.radius;
+        case ShapePrimitive::Kind::Ellipsoid: {
+            double sum = 0;
+            for (int i = 0; i < 3; ++i)
+                sum += (p[i] - s.a[i]) * (p[i] - s.a[i]) / (s.axes[i] * s.axes[i]);
+            return sum <= 1.0;
+        }
+        case ShapePrimitive::Kind::Capsule:
+            return segmentDistance(p, s.a, s.b) <= s.radius;
+        case ShapePrimitive::Kind::Cylinder: {
+            double t = 0;
+            const Vec ab = sub(s.b, s.a);
+            const double len = norm(ab);
+            const Vec ap = sub(p, s.a);
+            t = dot(ap, ab) / (len * len);
+            if (t < 0 || t > 1) return false;
+            const Vec q = {s.a[0] + t * ab[0], s.a[1] + t * ab[1], s.a[2] + t * ab[2]};
+            return norm(sub(p, q)) <= s.radius;
+        }
+        case ShapePrimitive::Kind::Box: {
+            const Vec d = {std::fabs(p[0] - s.a[0]), std::fabs(p[1] - s.a[1]),
+                           std::fabs(p[2] - s.a[2])};
+            if (d[0] > s.b[0] || d[1] > s.b[1] || d[2] > s.b[2]) return false;
+            // Chamfer: cut each edge where the distances to two faces sum below c.
+            const double c = s.radius2;
+            if (c <= 0) return true;
+            const Vec m = {s.b[0] - d[0], s.b[1] - d[1],
+                           s.b[2] - d[2]};  // distance to each face pair
+            return m[0] + m[1] >= c && m[1] + m[2] >= c && m[0] + m[2] >= c;
+        }
+        case ShapePrimitive::Kind::Torus: {
+            const Vec q = sub(p, s.a);
+            const double h = dot(q, s.axes);
+            const Vec inPlane = {q[0] - h * s.axes[0], q[1] - h * s.axes[1], q[2] - h * s.axes[2]};
+            const double r = norm(inPlane) - s.radius2;
+            return r * r + h * h <= s.radius * s.radius;
+        }
+    }
+    return false;
+}
+
+Vec rotateZ(Vec v, double degrees) {
+    const double a = degrees * M_PI / 180.0, c = std::cos(a), s = std::sin(a);
+    return {c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]};
+}
+Vec add(Vec a, Vec b) {
+    return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+Vec scale(Vec a, double k) {
+    return {a[0] * k, a[1] * k, a[2] * k};
+}
+
+}  // namespace
+
+Shape& Shape::sphere(Vec centre, double radius) {
+    ShapePrimitive p;
+    p.kind = ShapePrimitive::Kind::Sphere, p.a = centre, p.radius = radius;
+    mPrimitives.push_back(p);
+    return *this;
+}
+Shape& Shape::ellipsoid(Vec centre, Vec semiAxes) {
+    ShapePrimitive p;
+    p.kind = ShapePrimitive::Kind::Ellipsoid, p.a = centre, p.axes = semiAxes;
+    mPrimitives.push_back(p);
+    return *this;
+}
+Shape& Shape::capsule(Vec from, Vec to, double radius) {
+    ShapePrimitive p;
+    p.kind = ShapePrimitive::Kind::Capsule, p.a = from, p.b = to, p.radius = radius;
+    mPrimitives.push_back(p);
+    return *this;
+}
+Shape& Shape::cylinder(Vec from, Vec to, double radius) {
+    ShapePrimitive p;
+    p.kind = ShapePrimitive::Kind::Cylinder, p.a = from, p.b = to, p.radius = radius;
+    mPrimitives.push_back(p);
+    return *this;
+}
+Shape& Shape::box(Vec centre, Vec halfSize, double chamfer) {
+    ShapePrimitive p;
+    p.kind = ShapePrimitive::Kind::Box, p.a = centre, p.b = halfSize, p.radius2 = chamfer;
+    mPrimitives.push_back(p);
+    return *this;
+}
+Shape& Shape::torus(Vec centre, Vec normal, double ringRadius, double tubeRadius) {
+    ShapePrimitive p;
+    p.kind = ShapePrimitive::Kind::Torus, p.a = centre, p.axes = scale(normal, 1.0 / norm(normal));
+    p.radius = tubeRadius, p.radius2 = ringRadius;
+    mPrimitives.push_back(p);
+    return *this;
+}
+
+bool Shape::contains(const Vec& p) const {
+    for (const auto& s : mPrimitives)
+        if (inside(s, p)) return true;
+    return false;
+}
+
+std::array<Vec, 2> Shape::bounds() const {
+    Vec lo = {1e300, 1e300, 1e300}, hi = {-1e300, -1e300, -1e300};
+    auto grow = [&](Vec c, Vec h) {
+        for (int i = 0; i < 3; ++i)
+            lo[i] = std::min(lo[i], c[i] - h[i]), hi[i] = std::max(hi[i], c[i] + h[i]);
+    };
+    for (const auto& s : mPrimitives) {
+        switch (s.kind) {
+            case ShapePrimitive::Kind::Sphere:
+                grow(s.a, {s.radius, s.radius, s.radius});
+                break;
+            case ShapePrimitive::Kind::Ellipsoid:
+                grow(s.a, s.axes);
+                break;
+            case ShapePrimitive::Kind::Capsule:
+            case ShapePrimitive::Kind::Cylinder:
+                grow(s.a, {s.radius, s.radius, s.radius});
+                grow(s.b, {s.radius, s.radius, s.radius});
+                break;
+            case ShapePrimitive::Kind::Box:
+                grow(s.a, s.b);
+                break;
+            case ShapePrimitive::Kind::Torus: {
+                const double r = s.radius + s.radius2;
+                grow(s.a, {r, r, r});
+                break;
+            }
+        }
+    }
+    return {lo, hi};
+}
+
+MaskVolume rasterise(const Shape& shape, const RasterOptions& options) {
+    if (shape.primitives().empty()) throw UsageError("shape has no primitives");
+    if (options.size < 2 * options.margin + 4 || options.size > 2048)
+        throw UsageError("shape size " + std::to_string(options.size) + " out of range [" +
+                         std::to_string(2 * options.margin + 4) + ", 2048]");
+    const auto [lo, hi] = shape.bounds();
+    const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    const double voxel = longest / double(options.size - 2 * options.margin);
+    Dims dims;
+    int* extent[3] = {&dims.x, &dims.y, &dims.z};
+    Vec origin{};
+    for (int i = 0; i < 3; ++i) {
+        *extent[i] = int(std::ceil((hi[i] - lo[i]) / voxel)) + 2 * options.margin;
+        origin[i] = lo[i] - (options.margin - 0.5) * voxel;  // centre of voxel 0
+    }
+    MaskVolume mask(dims, 0);
+    mask.geometry = VolumeGeometry::uniform(voxel, origin);
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x)
+                mask(x, y, z) = shape.contains(mask.geometry.indexToWorld(x, y, z)) ? 1 : 0;
+    return mask;
+}
+
+std::vector<std::string> shapeNames() {
+    return {"disc-limbs", "y-arms",  "t-body",   "slab",   "box-tubes", "torus-limb",
+            "figure",     "capsule", "cylinder", "sphere", "box",       "torus"};
+}
+
+Shape makeShape(const std::string& name, int pose) {
+    Shape s;
+    if (name == "disc-limbs") {
+        s.cylinder({0, 0, -0.07}, {0, 0, 0.07}, 0.42);
+        for (int i = 0; i < 3; ++i) {
+            const Vec dir = rotateZ({1, 0, 0}, 90.0 + 120.0 * i);
+            s.capsule(scale(dir, 0.3), scale(dir, 0.95), 0.075);
+        }
+    } else if (name == "y-arms") {
+        for (int i = 0; i < 3; ++i)
+            s.capsule({0, 0, 0}, scale(rotateZ({1, 0, 0}, 90.0 + 120.0 * i), 0.8), 0.13);
+    } else if (name == "t-body") {
+        s.capsule({-0.6, 0, 0}, {0.6, 0, 0}, 0.25);
+        s.capsule({0, 0.1, 0}, {0, 0.85, 0}, 0.07);
+    } else if (name == "slab") {
+        s.box({0, 0, 0}, {0.6, 0.4, 0.08});
+    } else if (name == "box-tubes") {
+        s.box({0, 0, 0}, {0.32, 0.26, 0.22}, 0.08);
+        s.cylinder({0.2, 0, 0}, {0.75, 0, 0}, 0.08);
+        s.cylinder({0, 0.15, 0}, {0, 0.7, 0}, 0.08);
+        s.cylinder({-0.1, 0, 0.1}, {-0.1, 0, 0.65}, 0.08);
+    } else if (name == "torus-limb") {
+        s.torus({0, 0, 0}, {0, 0, 1}, 0.42, 0.13);
+        s.capsule({0.5, 0, 0}, {1.05, 0, 0}, 0.06);
+    } else if (name == "figure") {
+        if (pose < 0 || pose > 2) throw UsageError("figure pose must be 0, 1 or 2");
+        // Limb angles (degrees from straight down) per pose: arms, legs.
+        const double arm[3][2] = {{60, -60}, {100, -35}, {25, -140}};
+        const double leg[3][2] = {{15, -15}, {35, -5}, {5, -40}};
+        s.ellipsoid({0, 0, 0}, {0.22, 0.15, 0.35});   // body
+        s.capsule({0, 0, 0.3}, {0, 0, 0.47}, 0.055);  // neck
+        s.sphere({0, 0, 0.6}, 0.14);                  // head
+        for (int side = 0; side < 2; ++side) {
+            const double sign = side == 0 ? 1.0 : -1.0;
+            const Vec shoulder = {sign * 0.14, 0, 0.2};
+            const double a = arm[pose][side] * M_PI / 180.0;
+            const Vec hand = add(shoulder, {std::sin(a) * 0.55, 0, -std::cos(a) * 0.55});
+            s.capsule(shoulder, hand, 0.055);
+            const Vec hip = {sign * 0.1, 0, -0.25};
+            const double l = leg[pose][side] * M_PI / 180.0;
+            const Vec foot = add(hip, {std::sin(l) * 0.6, 0, -std::cos(l) * 0.6});
+            s.capsule(hip, foot, 0.07);
+        }
+    } else if (name == "capsule") {
+        s.capsule({-0.6, 0, 0}, {0.6, 0, 0}, 0.15);
+    } else if (name == "cylinder") {
+        s.cylinder({-0.6, 0, 0}, {0.6, 0, 0}, 0.15);
+    } else if (name == "sphere") {
+        s.sphere({0, 0, 0}, 0.5);
+    } else if (name == "box") {
+        s.box({0, 0, 0}, {0.5, 0.35, 0.25});
+    } else if (name == "torus") {
+        s.torus({0, 0, 0}, {0, 0, 1}, 0.4, 0.12);
+    } else {
+        std::string list;
+        for (const auto& n : shapeNames()) list += (list.empty() ? "" : ", ") + n;
+        throw UsageError("unknown shape '" + name + "' (known: " + list + ")");
+    }
+    return s;
+}
+
+void addBoundaryNoise(MaskVolume& mask, double fraction, std::uint64_t seed) {
+    // splitmix64: a tiny, fully specified generator, so the noise is the same
+    // on every platform and standard library.
+    auto next = [&seed]() {
+        std::uint64_t z = (seed += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    };
+    const MaskVolume boundary = boundaryVoxels(mask);
+    const Dims d = mask.dims();
+    std::vector<std::size_t> inner, outer;
+    for (int z = 0; z < d.z; ++z)
+        for (int y = 0; y < d.y; ++y)
+            for (int x = 0; x < d.x; ++x) {
+                const std::size_t v = mask.index(x, y, z);
+                if (boundary[v]) {
+                    inner.push_back(v);
+                    continue;
+                }
+                if (mask[v] || x == 0 || y == 0 || z == 0 || x == d.x - 1 || y == d.y - 1 ||
+                    z == d.z - 1)
+                    continue;
+                const bool touches = mask(x - 1, y, z) || mask(x + 1, y, z) || mask(x, y - 1, z) ||
+                                     mask(x, y + 1, z) || mask(x, y, z - 1) || mask(x, y, z + 1);
+                if (touches) outer.push_back(v);
+            }
+    const std::size_t flips = std::size_t(double(inner.size()) * fraction);
+    for (std::size_t i = 0; i < flips; ++i) {
+        // Half the flips remove a boundary voxel, half add one outside.
+        auto& pool = (i % 2 == 0) ? inner : outer;
+        if (pool.empty()) continue;
+        const std::size_t k = std::size_t(next() % pool.size());
+        mask[pool[k]] = (&pool == &inner) ? 0 : 1;
+        pool[k] = pool.back();
+        pool.pop_back();
+    }
+}
+
+}  // namespace skelseg

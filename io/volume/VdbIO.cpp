@@ -1,0 +1,299 @@
+#include "io/volume/VdbIO.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <istream>
+#include <mutex>
+#include <new>
+#include <streambuf>
+#include <system_error>
+
+#include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Dense.h>
+#include <openvdb/tools/LevelSetUtil.h>
+
+#include "io/volume/VolumeReader.h"
+#include "kernels/base/Error.h"
+
+namespace fs = std::filesystem;
+
+namespace skelseg {
+
+namespace {
+
+void initializeOpenVdb() {
+    static std::once_flag once;
+    std::call_once(once, [] { openvdb::initialize(); });
+}
+
+/// Exception text on one line (the CLI prints what() as a single line).
+std::string oneLine(const char* text) {
+    std::string line = text ? text : "";
+    std::replace(line.begin(), line.end(), '\n', ' ');
+    std::replace(line.begin(), line.end(), '\r', ' ');
+    for (char& c : line)  // other control characters (from names in the file)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    return line;
+}
+
+/// A grid name (any bytes in a file) quoted for a one-line message:
+/// printable ASCII only, shortened.
+std::string quoteName(const std::string& name) {
+    std::string shown;
+    for (char c : name) {
+        if (shown.size() >= 40) {
+            shown += "...";
+            break;
+        }
+        const auto byte = static_cast<unsigned char>(c);
+        shown += (byte >= 0x20 && byte < 0x7f) ? c : '?';
+    }
+    return "'" + shown + "'";
+}
+
+/// A read-only std::streambuf over a memory block, so that
+/// openvdb::io::Stream reads the caller's bytes without a copy.
+class MemoryStreamBuffer : public std::streambuf {
+public:
+    MemoryStreamBuffer(const std::uint8_t* bytes, std::size_t size) {
+        char* begin = const_cast<char*>(reinterpret_cast<const char*>(bytes));
+        setg(begin, begin, begin + size);
+    }
+
+protected:
+    pos_type seekoff(off_type offset, std::ios_base::seekdir direction,
+                     std::ios_base::openmode which) override {
+        if (!(which & std::ios_base::in)) return pos_type(off_type(-1));
+        off_type base = 0;
+        if (direction == std::ios_base::cur)
+            base = gptr() - eback();
+        else if (direction == std::ios_base::end)
+            base = egptr() - eback();
+        const off_type target = base + offset;
+        if (target < 0 || target > egptr() - eback()) return pos_type(off_type(-1));
+        setg(eback(), eback() + target, egptr());
+        return pos_type(target);
+    }
+    pos_type seekpos(pos_type position, std::ios_base::openmode which) override {
+        return seekoff(off_type(position), std::ios_base::beg, which);
+    }
+};
+
+VolumeGeometry geometryAt(const openvdb::math::Transform& transform,
+                          const openvdb::Coord& indexMin) {
+    const openvdb::Vec3d base(indexMin.x(), indexMin.y(), indexMin.z());
+    const openvdb::Vec3d origin = transform.indexToWorld(base);
+    VolumeGeometry geometry;
+    geometry.origin = {origin.x(), origin.y(), origin.z()};
+    for (int axis = 0; axis < 3; ++axis) {
+        openvdb::Vec3d step = base;
+        step[axis] += 1.0;
+        const openvdb::Vec3d direction = transform.indexToWorld(step) - origin;
+        geometry.directions[axis] = {direction.x(), direction.y(), direction.z()};
+    }
+    return geometry;
+}
+
+/// The dense mask of the active voxels and tiles of `grid`, covering their
+/// bounding box; `transform` places it in world space.
+template <typename GridT>
+MaskVolume denseFromActive(const std::string& name, const GridT& grid,
+                           const openvdb::math::Transform& transform) {
+    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    if (box.empty()) {
+        MaskVolume empty(Dims{1, 1, 1});
+        empty.geometry = geometryAt(transform, openvdb::Coord(0, 0, 0));
+        return empty;
+    }
+    const openvdb::Coord min = box.min();
+    const auto extent = [&](int axis) {
+        return std::int64_t(box.max()[axis]) - std::int64_t(min[axis]) + 1;
+    };
+    MaskVolume mask(Dims::checked(extent(0), extent(1), extent(2), name));
+    for (auto it = grid.cbeginValueOn(); it; ++it) {
+        if (it.isVoxelValue()) {
+            const openvdb::Coord c = it.getCoord() - min;
+            mask(c.x(), c.y(), c.z()) = 1;
+            continue;
+        }
+        openvdb::CoordBBox tile;
+        it.getBoundingBox(tile);
+        tile.intersect(box);
+        for (int z = tile.min().z(); z <= tile.max().z(); ++z)
+            for (int y = tile.min().y(); y <= tile.max().y(); ++y)
+                for (int x = tile.min().x(); x <= tile.max().x(); ++x)
+                    mask(x - min.x(), y - min.y(), z - min.z()) = 1;
+    }
+    mask.geometry = geometryAt(transform, min);
+    return mask;
+}
+
+/// Float or double grid: a level set unless its class says fog volume.
+template <typename GridT>
+MaskVolume denseFromReal(const std::string& name, const GridT& grid) {
+    if (grid.getGridClass() == openvdb::GRID_FOG_VOLUME) {
+        // Fog: active values above zero are the object.
+        openvdb::BoolGrid object(false);
+        auto accessor = object.getAccessor();
+        for (auto it = grid.cbeginValueOn(); it; ++it) {
+            if (!(*it > 0)) continue;
+            if (it.isVoxelValue()) {
+                accessor.setValueOn(it.getCoord(), true);
+            } else {
+                openvdb::CoordBBox tile;
+                it.getBoundingBox(tile);
+                object.fill(tile, true, true);
+            }
+        }
+        return denseFromActive(name, object, grid.transform());
+    }
+    const openvdb::BoolGrid::Ptr interior = openvdb::tools::sdfInteriorMask(grid);
+    return denseFromActive(name, *interior, grid.transform());
+}
+
+MaskVolume maskFromGrid(const std::string& name, const openvdb::GridBase::Ptr& grid) {
+    if (!grid->transform().isLinear())
+        throw InputError(name, "grid " + quoteName(grid->getName()) + " has a non-linear (" +
+                                   grid->transform().mapType() +
+                                   ") transform, which is not supported");
+    if (auto boolGrid = openvdb::GridBase::grid<openvdb::BoolGrid>(grid))
+        return denseFromActive(name, *boolGrid, boolGrid->transform());
+    if (auto maskGrid = openvdb::GridBase::grid<openvdb::MaskGrid>(grid))
+        return denseFromActive(name, *maskGrid, maskGrid->transform());
+    if (auto floatGrid = openvdb::GridBase::grid<openvdb::FloatGrid>(grid))
+        return denseFromReal(name, *floatGrid);
+    if (auto doubleGrid = openvdb::GridBase::grid<openvdb::DoubleGrid>(grid))
+        return denseFromReal(name, *doubleGrid);
+    throw InputError(name, "unsupported grid type " + grid->valueType() + " (grid " +
+                               quoteName(grid->getName()) +
+                               "; supported: bool, mask, float, double)");
+}
+
+openvdb::math::Transform::Ptr transformFor(const VolumeGeometry& geometry) {
+    const auto& d = geometry.directions;
+    const double size = d[0][0];
+    const bool uniform = size > 0.0 && d[1][1] == size && d[2][2] == size && d[0][1] == 0.0 &&
+                         d[0][2] == 0.0 && d[1][0] == 0.0 && d[1][2] == 0.0 && d[2][0] == 0.0 &&
+                         d[2][1] == 0.0;
+    openvdb::math::Transform::Ptr transform;
+    if (uniform) {
+        transform = openvdb::math::Transform::createLinearTransform(size);
+        transform->postTranslate(
+            openvdb::Vec3d(geometry.origin[0], geometry.origin[1], geometry.origin[2]));
+        return transform;
+    }
+    // OpenVDB maps row vectors: world = (i, j, k, 1) * M, so row a is the
+    // world step along axis a and row 3 the origin.
+    openvdb::Mat4d matrix = openvdb::Mat4d::identity();
+    for (int axis = 0; axis < 3; ++axis)
+        for (int c = 0; c < 3; ++c) matrix[axis][c] = d[axis][c];
+    for (int c = 0; c < 3; ++c) matrix[3][c] = geometry.origin[c];
+    return openvdb::math::Transform::createLinearTransform(matrix);
+}
+
+std::string temporaryNameBeside(const fs::path& file) {
+    static std::atomic<unsigned> counter{0};
+    const fs::path parent = file.has_parent_path() ? file.parent_path() : fs::path(".");
+    return (parent / ("." + file.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+                      std::to_string(counter++)))
+        .string();
+}
+
+}  // namespace
+
+MaskVolume readVdbMaskFromMemory(const std::string& name, const std::uint8_t* bytes,
+                                 std::size_t size, const std::string& gridName) {
+    initializeOpenVdb();
+    if (size == 0) throw InputError(name, "file is empty");
+    // Every VDB file starts with the 64-bit magic number 0x56444220 ("VDB ").
+    const std::uint8_t magic[8] = {0x20, 0x42, 0x44, 0x56, 0, 0, 0, 0};
+    if (size < 8 || std::memcmp(bytes, magic, 8) != 0)
+        throw InputError(name, "not an OpenVDB file: wrong magic number");
+
+    try {
+        openvdb::GridPtrVecPtr grids;
+        {
+            MemoryStreamBuffer buffer(bytes, size);
+            std::istream in(&buffer);
+            // A short read then throws instead of leaving OpenVDB with garbage.
+            in.exceptions(std::ios::failbit | std::ios::badbit);
+            openvdb::io::Stream stream(in, /*delayLoad=*/false);
+            grids = stream.getGrids();
+        }
+        if (!grids || grids->empty()) throw InputError(name, "the file holds no grids");
+        openvdb::GridBase::Ptr chosen;
+        if (gridName.empty()) {
+            chosen = grids->front();
+        } else {
+            for (const auto& grid : *grids)
+                if (grid && grid->getName() == gridName) {
+                    chosen = grid;
+                    break;
+                }
+            if (!chosen) {
+                std::string available;
+                for (const auto& grid : *grids)
+                    if (grid)
+                        available += (available.empty() ? "" : ", ") + quoteName(grid->getName());
+                throw InputError(name, "no grid named " + quoteName(gridName) +
+                                           "; grids in the file: " + available);
+            }
+        }
+        if (!chosen) throw InputError(name, "the file holds no grids");
+        return maskFromGrid(name, chosen);
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::ios_base::failure&) {
+        throw InputError(name, "truncated or corrupt OpenVDB file (read past the end of the data)");
+    } catch (const openvdb::Exception& error) {
+        throw InputError(name, "cannot read OpenVDB data: " + oneLine(error.what()));
+    } catch (const std::bad_alloc&) {
+        throw InputError(name, "corrupt OpenVDB file (implausible allocation while reading)");
+    } catch (const std::exception& error) {
+        throw InputError(name, "cannot read OpenVDB data: " + oneLine(error.what()));
+    }
+}
+
+MaskVolume readVdbMask(const fs::path& file, const std::string& gridName) {
+    const std::string bytes = readFileBytes(file);
+    return readVdbMaskFromMemory(file.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()),
+                                 bytes.size(), gridName);
+}
+
+void writeVdbLabels(const fs::path& file, const LabelVolume& labels) {
+    initializeOpenVdb();
+    const std::string temporary = temporaryNameBeside(file);
+    try {
+        openvdb::Int32Grid::Ptr grid = openvdb::Int32Grid::create(0);
+        grid->setName("labels");
+        grid->setTransform(transformFor(labels.geometry));
+        const Dims& dims = labels.dims();
+        const openvdb::CoordBBox box(openvdb::Coord(0, 0, 0),
+                                     openvdb::Coord(dims.x - 1, dims.y - 1, dims.z - 1));
+        // LayoutXYZ: x fastest, our layout. Dense only reads through the pointer here.
+        openvdb::tools::Dense<std::uint16_t, openvdb::tools::LayoutXYZ> dense(
+            box, const_cast<std::uint16_t*>(labels.data()));
+        openvdb::tools::copyFromDense(dense, *grid, std::int32_t(0));
+        openvdb::io::File out(temporary);
+        out.write(openvdb::GridCPtrVec{grid});
+        out.close();
+    } catch (const std::exception& error) {
+        std::error_code ignored;
+        fs::remove(temporary, ignored);
+        throw OutputError(file.string() + ": cannot write OpenVDB file: " + oneLine(error.what()));
+    }
+    std::error_code ec;
+    fs::rename(temporary, file, ec);
+    if (ec) {
+        std::error_code ignored;
+        fs::remove(temporary, ignored);
+        throw OutputError(file.string() + ": cannot move into place: " + ec.message());
+    }
+}
+
+}  // namespace skelseg

@@ -1,0 +1,42 @@
+// skelseg: OpenVDB files (input masks and the labels.vdb output).
+//
+// Only VdbIO.cpp includes OpenVDB headers (they take ~20 s to compile), so
+// this header exposes plain skelseg types.
+//
+// Reading: BoolGrid and MaskGrid -> the active voxels (and active tiles) are
+// the object. FloatGrid and DoubleGrid -> level sets: values below zero are
+// the object, including the inactive interior (openvdb::tools::sdfInteriorMask);
+// a grid whose class is "fog volume" instead has its active values above
+// zero as the object. Other grid types are rejected. The dense mask covers
+// exactly the bounding box of the object voxels; its geometry maps our voxel
+// (0,0,0) to the VDB index-space minimum of that box, so world positions are
+// unchanged. A grid without object voxels gives a 1x1x1 volume with no object.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "kernels/base/Volume.h"
+
+namespace skelseg {
+
+/// Reads grid `gridName` (or the first grid, if empty) of a .vdb file as a mask.
+/// @throw InputError naming the file: not a VDB file, truncated, no grids,
+///        no grid of that name (the message lists the grids), unsupported grid
+///        type, non-linear transform, or a bounding box over kMaxVoxels.
+MaskVolume readVdbMask(const std::filesystem::path& file, const std::string& gridName = "");
+
+/// As readVdbMask() for a file already in memory; `name` is used in messages.
+MaskVolume readVdbMaskFromMemory(const std::string& name, const std::uint8_t* bytes,
+                                 std::size_t size, const std::string& gridName = "");
+
+/// Writes `labels` as one Int32Grid named "labels": background 0, active where
+/// the label is above 0. The transform reproduces labels.geometry (a uniform
+/// scale and translation when the directions are axis aligned and isotropic,
+/// an affine map otherwise). Atomic: written under a temporary name, then
+/// renamed. @throw OutputError naming the file.
+void writeVdbLabels(const std::filesystem::path& file, const LabelVolume& labels);
+
+}  // namespace skelseg

@@ -1,0 +1,50 @@
+// skelseg: the one serial switch of every parallel loop.
+//
+// parallelFor(count, body, threaded, grain) calls body(begin, end) on
+// disjoint half-open ranges that together cover [0, count). With threaded
+// true the ranges run on oneTBB's workers (tbb::parallel_for over a
+// blocked_range with the given grain); with threaded false body(0, count)
+// runs once on the calling thread. Every parallel kernel goes through here,
+// so "serial equals parallel" is one switch to flip in a test, and a kernel
+// never hand-writes its own if/else around tbb::parallel_for.
+//
+// Bodies must not depend on how the range is split: each index's work writes
+// only its own outputs, or reduces with a combine that is order-independent.
+#pragma once
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cstddef>
+#include <type_traits>
+
+namespace skelseg {
+
+/// Runs body(begin, end) over [0, count) in parallel (threaded) or as one
+/// serial call. grain: the smallest range TBB hands to one task (>= 1).
+template <typename Index, typename RangeBody>
+void parallelFor(Index count, const RangeBody& body, bool threaded = true, std::size_t grain = 1) {
+    static_assert(std::is_integral<Index>::value, "parallelFor counts with an integer type");
+    if (count <= Index(0)) return;
+    if (!threaded) {
+        body(Index(0), count);
+        return;
+    }
+    tbb::parallel_for(
+        tbb::blocked_range<Index>(Index(0), count, grain > 0 ? grain : 1),
+        [&](const tbb::blocked_range<Index>& range) { body(range.begin(), range.end()); });
+}
+
+/// The same with a per-index body: body(i) for every i in [0, count).
+template <typename Index, typename IndexBody>
+void parallelForEach(Index count, const IndexBody& body, bool threaded = true,
+                     std::size_t grain = 1) {
+    parallelFor(
+        count,
+        [&](Index begin, Index end) {
+            for (Index i = begin; i < end; ++i) body(i);
+        },
+        threaded, grain);
+}
+
+}  // namespace skelseg

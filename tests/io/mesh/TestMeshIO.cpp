@@ -1,0 +1,452 @@
+#include "io/mesh/MeshIO.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <set>
+
+#include "io/mesh/MeshCheck.h"
+#include "io/mesh/SegFile.h"
+#include "kernels/base/Error.h"
+#include "tests/support/TempDir.h"
+#include "tests/support/TestPaths.h"
+
+namespace skelseg {
+namespace {
+
+using test::TempDir;
+
+// A cube [0,2]^3: 8 vertices, 6 quads, outward orientation.
+const double kCubeVertices[8][3] = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0},
+                                    {0, 0, 2}, {2, 0, 2}, {2, 2, 2}, {0, 2, 2}};
+const int kCubeQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                              {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+
+const char* kCubeOff =
+    "OFF\n"
+    "# a cube\n"
+    "8 6 12\n"
+    "0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2\n0 2 2\n"
+    "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+
+TriangleMesh fromText(MeshFormat format, const std::string& text,
+                      const std::string& name = "test") {
+    return readMeshFromMemory(name, format, reinterpret_cast<const std::uint8_t*>(text.data()),
+                              text.size());
+}
+
+void appendFloat(std::string& out, float value, bool bigEndian = false) {
+    char bytes[4];
+    std::memcpy(bytes, &value, 4);
+    if (bigEndian) std::swap(bytes[0], bytes[3]), std::swap(bytes[1], bytes[2]);
+    out.append(bytes, 4);
+}
+
+void appendUInt32(std::string& out, std::uint32_t value, bool bigEndian = false) {
+    char bytes[4];
+    std::memcpy(bytes, &value, 4);
+    if (bigEndian) std::swap(bytes[0], bytes[3]), std::swap(bytes[1], bytes[2]);
+    out.append(bytes, 4);
+}
+
+// The cube as 12 triangles (each quad split along its 0-2 diagonal, as a fan).
+std::vector<std::array<int, 3>> cubeTriangles() {
+    std::vector<std::array<int, 3>> triangles;
+    for (const auto& q : kCubeQuads) {
+        triangles.push_back({q[0], q[1], q[2]});
+        triangles.push_back({q[0], q[2], q[3]});
+    }
+    return triangles;
+}
+
+std::string cubeAsciiStl() {
+    std::string out = "solid cube\n";
+    for (const auto& t : cubeTriangles()) {
+        out += "  facet normal 0 0 0\n    outer loop\n";
+        for (int v : t)
+            out += "      vertex " + std::to_string(kCubeVertices[v][0]) + " " +
+                   std::to_string(kCubeVertices[v][1]) + " " + std::to_string(kCubeVertices[v][2]) +
+                   "\n";
+        out += "    endloop\n  endfacet\n";
+    }
+    return out + "endsolid cube\n";
+}
+
+std::string cubeBinaryStl(std::uint32_t claimedTriangles = 12) {
+    std::string out = "solid this header starts like ASCII on purpose";
+    out.resize(80, ' ');
+    appendUInt32(out, claimedTriangles);
+    for (const auto& t : cubeTriangles()) {
+        for (int c = 0; c < 3; ++c) appendFloat(out, 0.0f);
+        for (int v : t)
+            for (int c = 0; c < 3; ++c) appendFloat(out, float(kCubeVertices[v][c]));
+        out += std::string(2, '\0');
+    }
+    return out;
+}
+
+std::string cubeAsciiPly() {
+    std::string out =
+        "ply\nformat ascii 1.0\ncomment made by hand\n"
+        "element vertex 8\nproperty float x\nproperty float y\nproperty float z\nproperty uchar "
+        "red\n"
+        "element edge 2\nproperty int vertex1\nproperty int vertex2\n"
+        "element face 6\nproperty list uchar float texcoord\nproperty list uchar int "
+        "vertex_indices\n"
+        "end_header\n";
+    for (const auto& v : kCubeVertices)
+        out += std::to_string(v[0]) + " " + std::to_string(v[1]) + " " + std::to_string(v[2]) +
+               " 255\n";
+    out += "0 1\n1 2\n";
+    for (const auto& q : kCubeQuads)
+        out += "2 0.5 0.25 4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " +
+               std::to_string(q[2]) + " " + std::to_string(q[3]) + "\n";
+    return out;
+}
+
+std::string cubeBinaryPly(bool bigEndian) {
+    std::string out =
+        std::string("ply\nformat ") + (bigEndian ? "binary_big_endian" : "binary_little_endian") +
+        " 1.0\n"
+        "element vertex 8\nproperty double x\nproperty double y\nproperty double z\nproperty float "
+        "nx\n"
+        "element face 6\nproperty uchar flags\nproperty list uchar uint vertex_index\n"
+        "end_header\n";
+    for (const auto& v : kCubeVertices) {
+        for (int c = 0; c < 3; ++c) {
+            char bytes[8];
+            std::memcpy(bytes, &v[c], 8);
+            if (bigEndian) std::reverse(bytes, bytes + 8);
+            out.append(bytes, 8);
+        }
+        appendFloat(out, 1.0f, bigEndian);
+    }
+    for (const auto& q : kCubeQuads) {
+        out += char(7);
+        out += char(4);
+        for (int v : q) appendUInt32(out, std::uint32_t(v), bigEndian);
+    }
+    return out;
+}
+
+std::string cubeObj() {
+    // Quads with every index syntax, negative (relative) indices and
+    // statements the reader must ignore.
+    return "# cube\nmtllib cube.mtl\no cube\n"
+           "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nv 0 0 2\nv 2 0 2\nv 2 2 2\nv 0 2 2\n"
+           "vt 0 0\nvt 1 0\nvn 0 0 1\ng side\nusemtl red\ns off\n"
+           "f 1 4 3 2\n"
+           "f 5/1 6/2 7/1 8/2\n"
+           "f 1//1 2//1 6//1 5//1\n"
+           "f 2/1/1 3/2/1 7/1/1 6/2/1\n"
+           "f -6 -5 -1 -2\n"
+           "l 1 2\n"
+           "f 4 1 5 8\n";
+}
+
+void expectSameMesh(const TriangleMesh& a, const TriangleMesh& b) {
+    EXPECT_EQ(a.faceCount, b.faceCount);
+    EXPECT_EQ(a.triangles, b.triangles);
+    EXPECT_EQ(a.triangleFace, b.triangleFace);
+    EXPECT_EQ(a.vertices, b.vertices);
+}
+
+TEST(MeshIO, CubeReadsTheSameFromOffObjAndPly) {
+    const TriangleMesh off = fromText(MeshFormat::Off, kCubeOff);
+    EXPECT_EQ(off.faceCount, 6u);
+    EXPECT_EQ(off.vertices.size(), 8u);
+    ASSERT_EQ(off.triangles.size(), 12u);
+    EXPECT_EQ(off.triangleFace, (std::vector<std::uint32_t>{0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5}));
+    // Fan triangulation of quad (0 3 2 1).
+    EXPECT_EQ(off.triangles[0], (std::array<std::uint32_t, 3>{0, 3, 2}));
+    EXPECT_EQ(off.triangles[1], (std::array<std::uint32_t, 3>{0, 2, 1}));
+
+    expectSameMesh(off, fromText(MeshFormat::Obj, cubeObj()));
+    expectSameMesh(off, fromText(MeshFormat::Ply, cubeAsciiPly()));
+    expectSameMesh(off, fromText(MeshFormat::Ply, cubeBinaryPly(false)));
+    expectSameMesh(off, fromText(MeshFormat::Ply, cubeBinaryPly(true)));
+}
+
+TEST(MeshIO, StlAsciiAndBinaryGiveTheSameWeldedMesh) {
+    const TriangleMesh ascii = fromText(MeshFormat::Stl, cubeAsciiStl());
+    const TriangleMesh binary = fromText(MeshFormat::Stl, cubeBinaryStl());
+    EXPECT_EQ(ascii.faceCount, 12u);  // STL has triangles only: one face each
+    EXPECT_EQ(ascii.triangles.size(), 12u);
+    EXPECT_EQ(ascii.vertices.size(), 8u);  // repeated corners merged
+    expectSameMesh(ascii, binary);
+    for (std::size_t t = 0; t < 12; ++t) EXPECT_EQ(binary.triangleFace[t], t);
+    EXPECT_TRUE(checkMesh(binary).closed);
+    // Same triangles as the quads' fans of the OFF cube, in positions.
+    const TriangleMesh off = fromText(MeshFormat::Off, kCubeOff);
+    for (std::size_t t = 0; t < 12; ++t)
+        for (int c = 0; c < 3; ++c)
+            EXPECT_EQ(binary.vertices[binary.triangles[t][c]], off.vertices[off.triangles[t][c]]);
+}
+
+TEST(MeshIO, PolygonsMapBackToTheirInputFace) {
+    const TriangleMesh mesh = fromText(MeshFormat::Off,
+                                       "OFF 6 3 0\n"
+                                       "0 0 0\n1 0 0\n2 1 0\n1 2 0\n0 1 0\n5 5 5\n"
+                                       "5 0 1 2 3 4\n3 0 1 5\n4 1 2 5 0\n");
+    EXPECT_EQ(mesh.faceCount, 3u);
+    EXPECT_EQ(mesh.triangleFace, (std::vector<std::uint32_t>{0, 0, 0, 1, 2, 2}));
+    EXPECT_EQ(mesh.triangles[2], (std::array<std::uint32_t, 3>{0, 3, 4}));
+    EXPECT_EQ(mesh.triangles[5], (std::array<std::uint32_t, 3>{1, 5, 0}));
+}
+
+TEST(MeshIO, OffHeaderVariants) {
+    // Colour per vertex and per face (COFF), counts after blank and comment
+    // lines, CRLF line ends.
+    const std::string coff =
+        "COFF\r\n\r\n# counts next\r\n3 1 0\r\n0 0 0 255 0 0 255\r\n1 0 0 0 255 0 255\r\n0 1 0 0 0 "
+        "255 255\r\n"
+        "3 0 1 2 1 0 0\r\n";
+    const TriangleMesh mesh = fromText(MeshFormat::Off, coff);
+    EXPECT_EQ(mesh.faceCount, 1u);
+    EXPECT_EQ(mesh.vertices[1], (std::array<double, 3>{1, 0, 0}));
+    EXPECT_EQ(
+        fromText(MeshFormat::Off, "NOFF\n3 1\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n")
+            .faceCount,
+        1u);
+    EXPECT_EQ(fromText(MeshFormat::Off, "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").faceCount,
+              1u);  // no keyword
+}
+
+TEST(MeshIO, ObjForwardAndNegativeIndices) {
+    const TriangleMesh mesh =
+        fromText(MeshFormat::Obj, "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf -1 -2 -3\n");
+    EXPECT_EQ(mesh.faceCount, 2u);
+    EXPECT_EQ(mesh.triangles[1], (std::array<std::uint32_t, 3>{3, 2, 1}));
+}
+
+struct BadInput {
+    MeshFormat format;
+    std::string content;
+    std::string expected;  // part of the message
+};
+
+TEST(MeshIO, MalformedInputThrowsInputErrorNamingTheFile) {
+    const std::string v3 = "0 0 0\n1 0 0\n0 1 0\n";
+    // Long enough lines that the counts pass the bytes-left check.
+    const std::string v3Long = "0.0000 0.0000 0.0000\n1.0000 0.0000 0.0000\n0.0000 1.0000 0.0000\n";
+    std::string truncatedBinaryStl = cubeBinaryStl();
+    truncatedBinaryStl.resize(truncatedBinaryStl.size() - 30);
+    std::string binaryStlNan = cubeBinaryStl(1).substr(0, 84 + 50);
+    const float nan = std::nanf("");
+    std::memcpy(&binaryStlNan[84 + 12], &nan, 4);
+    std::string truncatedBinaryPly = cubeBinaryPly(false);
+    truncatedBinaryPly.resize(truncatedBinaryPly.size() - 5);
+
+    const std::vector<BadInput> cases = {
+        {MeshFormat::Off, "", "empty file"},
+        {MeshFormat::Off, "hello world\n", "not an OFF file"},
+        {MeshFormat::Off, "OFF\n", "counts"},
+        {MeshFormat::Off, "OFF\n3 1 0\n" + v3Long.substr(0, 42), "file ends after 2 of 3 vertices"},
+        {MeshFormat::Off, "OFF\n3 2 0\n" + v3Long + "3 0 1 2\n", "file ends after 1 of 2 faces"},
+        {MeshFormat::Off, "OFF\n3 1 0\n" + v3 + "3 0 1 900\n",
+         "face 0 references vertex 900 but there are 3 vertices"},
+        {MeshFormat::Off, "OFF\n3 1 0\n" + v3 + "3 0 -1 2\n", "face 0 references vertex -1"},
+        {MeshFormat::Off, "OFF\n1000000000 1000000000 0\n" + v3, "header says 1000000000 vertices"},
+        {MeshFormat::Off, "OFF\n99999999999999999999 1 0\n",
+         "expected vertex, face and edge counts"},
+        {MeshFormat::Off, "OFF\n3 0 0\n" + v3, "no faces"},
+        {MeshFormat::Off, "OFF\n3 1 0\n" + v3Long + "2 0 1\n", "face 0 has 2 vertices"},
+        {MeshFormat::Off, "OFF\n4 4 0\n" + v3 + "0 0 1\n3 0 1 2\n",
+         "header says 4 vertices and 4 faces but only 32 bytes follow"},
+        {MeshFormat::Off, "OFF\n3 1 0\n" + v3 + "4 0 1 2\n", "lists 3 of its 4 vertex indices"},
+        {MeshFormat::Off, "OFF\n3 1 0\n0 0 nan\n1 0 0\n0 1 0\n3 0 1 2\n",
+         "vertex 0 has a non-finite coordinate"},
+        {MeshFormat::Off, "OFF\n3 1 0\n0 0 1x\n1 0 0\n0 1 0\n3 0 1 2\n", "bad coordinate"},
+        {MeshFormat::Off, "4OFF\n", "dimensions"},
+        {MeshFormat::Obj, "", "no faces"},
+        {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"},
+        {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n",
+         "face 0 references vertex 9 but there are 3 vertices"},
+        {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nf 1 2\n", "face 0 has 2 vertices"},
+        {MeshFormat::Obj, "v 0 0\n", "fewer than 3 coordinates"},
+        {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "bad face vertex"},
+        {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -5 -1 -2\n", "only 3 vertices precede it"},
+        {MeshFormat::Obj, "v inf 0 0\n", "non-finite"},
+        {MeshFormat::Obj, "\x01\x02garbage\nf a b c\n", "bad face vertex"},
+        {MeshFormat::Stl, "", "not an STL file"},
+        {MeshFormat::Stl, truncatedBinaryStl, "header says 12 triangles"},
+        {MeshFormat::Stl, cubeBinaryStl(0).substr(0, 84), "no faces"},
+        {MeshFormat::Stl, binaryStlNan, "non-finite"},
+        {MeshFormat::Stl,
+         "solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 0 0\n",
+         "end of the file"},
+        {MeshFormat::Stl, "solid x\n foo\n", "expected 'facet' or 'endsolid'"},
+        {MeshFormat::Stl, "solid x\nendsolid x\n", "no faces"},
+        {MeshFormat::Stl,
+         "solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 0 0\n endloop\n "
+         "endfacet\nendsolid\n",
+         "face 0 has 2 vertices"},
+        {MeshFormat::Ply, "", "not a PLY file"},
+        {MeshFormat::Ply, "ply\nformat ascii 1.0\nelement vertex 3\n", "no 'end_header'"},
+        {MeshFormat::Ply, "ply\nformat weird 1.0\nend_header\n", "unknown format"},
+        {MeshFormat::Ply,
+         "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float "
+         "y\nproperty float z\nend_header\n0 0 0\n",
+         "claims 4000000000 items"},
+        {MeshFormat::Ply,
+         "ply\nformat binary_little_endian 1.0\nelement vertex 100000\nproperty float x\nproperty "
+         "float y\nproperty float z\nend_header\n",
+         "claims 100000 items"},
+        {MeshFormat::Ply, truncatedBinaryPly, "file ends inside the face data"},
+        {MeshFormat::Ply,
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+         "float z\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+             v3 + "3 0 1 7\n",
+         "face 0 references vertex 7 but there are 3 vertices"},
+        {MeshFormat::Ply,
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+         "float z\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+             v3 + "2 0 1\n",
+         "face 0 has 2 vertices"},
+        {MeshFormat::Ply,
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+         "y\nend_header\n0 0\n1 0\n0 1\n",
+         "lacks one of the properties x, y, z"},
+        {MeshFormat::Ply,
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+         "float z\nend_header\n" +
+             v3,
+         "no face element"},
+        {MeshFormat::Ply,
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty "
+         "float z\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0.000000 0.000000 "
+         "0.000000\n1.000000 0 0\n0.5\n",
+         "file ends inside the vertex data"},
+    };
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        const BadInput& bad = cases[i];
+        const std::string name = std::string("bad.") + meshFormatName(bad.format);
+        try {
+            fromText(bad.format, bad.content, name);
+            ADD_FAILURE() << "case " << i << " (" << name
+                          << ") was accepted; expected: " << bad.expected;
+        } catch (const InputError& error) {
+            const std::string message = error.what();
+            EXPECT_EQ(message.rfind(name + ": ", 0), 0u) << "case " << i << ": " << message;
+            EXPECT_NE(message.find(bad.expected), std::string::npos)
+                << "case " << i << ": " << message;
+            EXPECT_EQ(message.find('\n'), std::string::npos)
+                << "case " << i << ": one line expected";
+        }
+    }
+}
+
+TEST(MeshIO, ReadsFilesByExtensionAndNamesThemInErrors) {
+    TempDir dir;
+    {
+        std::ofstream(dir / "cube.OFF") << kCubeOff;
+        std::ofstream(dir / "cube.stl", std::ios::binary) << cubeBinaryStl();
+        std::ofstream(dir / "cube.txt") << kCubeOff;
+    }
+    EXPECT_EQ(readMesh(dir / "cube.OFF").faceCount, 6u);
+    EXPECT_EQ(readMesh(dir / "cube.stl").faceCount, 12u);
+    EXPECT_THROW(readMesh(dir / "cube.txt"), InputError);
+    try {
+        readMesh(dir / "missing.obj");
+        ADD_FAILURE() << "missing file accepted";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("missing.obj"), std::string::npos);
+    }
+}
+
+TEST(MeshIO, WriteOffKeepsPolygonsAndExactCoordinates) {
+    TriangleMesh mesh = fromText(MeshFormat::Off,
+                                 "OFF 6 3 0\n0.1 0.2 0.3\n1 0 0\n2 1 0\n1 2 0\n0 1 0\n5 5 1e-17\n"
+                                 "5 0 1 2 3 4\n3 0 1 5\n4 1 2 5 0\n");
+    mesh.vertices[0] = {1.0 / 3.0, -2.0 / 7.0, 1e300};
+    TempDir dir;
+    writeOff(dir / "out.off", mesh);
+    expectSameMesh(mesh, readMesh(dir / "out.off"));
+}
+
+TEST(MeshIO, FaceAreasSumTheTrianglesOfEachFace) {
+    const std::vector<double> areas = faceAreas(fromText(MeshFormat::Off, kCubeOff));
+    ASSERT_EQ(areas.size(), 6u);
+    for (double area : areas) EXPECT_NEAR(area, 4.0, 1e-12);
+}
+
+TEST(MeshCheck, ClosedOpenSplitAndDegenerateCubes) {
+    const TriangleMesh cube = fromText(MeshFormat::Off, kCubeOff);
+    MeshDiagnostics d = checkMesh(cube);
+    EXPECT_TRUE(d.closed);
+    EXPECT_EQ(d.boundaryEdges, 0u);
+    EXPECT_EQ(d.nonManifoldEdges, 0u);
+    EXPECT_EQ(d.pieces, 1u);
+    EXPECT_EQ(d.degenerateFaces, 0u);
+    EXPECT_TRUE(meshWarnings(d, "cube.off").empty());
+
+    // Without its last quad: the 4 edges around the hole are boundary edges.
+    TriangleMesh open = cube;
+    open.triangles.resize(10);
+    open.triangleFace.resize(10);
+    open.faceCount = 5;
+    d = checkMesh(open);
+    EXPECT_FALSE(d.closed);
+    EXPECT_EQ(d.boundaryEdges, 4u);
+    const auto warnings = meshWarnings(d, "hand.off");
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0],
+              "hand.off: mesh is not closed (4 boundary edges); the inside is estimated");
+
+    // Two disjoint cubes.
+    TriangleMesh two = cube;
+    for (const auto& v : cube.vertices) two.vertices.push_back({v[0] + 5, v[1], v[2]});
+    for (std::size_t t = 0; t < cube.triangles.size(); ++t) {
+        auto triangle = cube.triangles[t];
+        for (auto& index : triangle) index += 8;
+        two.triangles.push_back(triangle);
+        two.triangleFace.push_back(cube.triangleFace[t] + 6);
+    }
+    two.faceCount = 12;
+    d = checkMesh(two);
+    EXPECT_TRUE(d.closed);
+    EXPECT_EQ(d.pieces, 2u);
+    EXPECT_EQ(meshWarnings(d, "two.off").size(), 1u);
+
+    // A face with a repeated vertex has zero area.
+    TriangleMesh degenerate = cube;
+    degenerate.triangles.push_back({0, 1, 1});
+    degenerate.triangleFace.push_back(6);
+    degenerate.faceCount = 7;
+    d = checkMesh(degenerate);
+    EXPECT_EQ(d.degenerateFaces, 1u);
+    EXPECT_EQ(d.pieces, 1u);
+
+    // Duplicated vertices (a writer's seams) still make a closed surface.
+    TriangleMesh seams = cube;
+    seams.vertices.push_back(cube.vertices[0]);
+    seams.triangles[0][0] = 8;
+    EXPECT_TRUE(checkMesh(seams).closed);
+}
+
+TEST(MeshIO, PrincetonModelMatchesItsSegFiles) {
+    if (!test::hasSharedData())
+        GTEST_SKIP() << "shared data folder " << test::sharedDataDir() << " is absent";
+    const auto meshPath = test::sharedDataDir() / "psb" / "off" / "1.off";
+    const auto segDir = test::sharedDataDir() / "psb" / "seg" / "1";
+    if (!std::filesystem::exists(meshPath) || !std::filesystem::is_directory(segDir))
+        GTEST_SKIP() << "psb model 1 is absent";
+    const TriangleMesh mesh = readMesh(meshPath);
+    EXPECT_GT(mesh.faceCount, 1000u);
+    EXPECT_EQ(mesh.triangles.size(), mesh.faceCount);  // PSB meshes are triangles
+    EXPECT_TRUE(checkMesh(mesh).closed);
+    int files = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(segDir)) {
+        EXPECT_EQ(readSeg(entry.path()).size(), mesh.faceCount) << entry.path();
+        ++files;
+    }
+    EXPECT_GE(files, 1);
+}
+
+}  // namespace
+}  // namespace skelseg

@@ -1,0 +1,251 @@
+#include "io/mesh/MeshVoxelizer.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include "io/mesh/MeshCheck.h"
+#include "kernels/base/Error.h"
+
+namespace skelseg {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A closed sphere: an icosahedron subdivided `levels` times, projected onto
+/// the sphere of `radius` around `centre`.
+TriangleMesh icosphere(int levels, double radius, std::array<double, 3> centre) {
+    const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+    std::vector<std::array<double, 3>> points = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                                                 {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                                                 {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<std::array<std::uint32_t, 3>> faces = {
+        {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+        {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+        {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    for (int level = 0; level < levels; ++level) {
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoints;
+        auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+            const auto key = std::minmax(a, b);
+            const auto found = midpoints.find(key);
+            if (found != midpoints.end()) return found->second;
+            const std::uint32_t index = std::uint32_t(points.size());
+            points.push_back({(points[a][0] + points[b][0]) / 2, (points[a][1] + points[b][1]) / 2,
+                              (points[a][2] + points[b][2]) / 2});
+            midpoints.emplace(key, index);
+            return index;
+        };
+        std::vector<std::array<std::uint32_t, 3>> finer;
+        for (const auto& f : faces) {
+            const std::uint32_t ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]),
+                                ca = midpoint(f[2], f[0]);
+            finer.push_back({f[0], ab, ca});
+            finer.push_back({f[1], bc, ab});
+            finer.push_back({f[2], ca, bc});
+            finer.push_back({ab, bc, ca});
+        }
+        faces.swap(finer);
+    }
+    TriangleMesh mesh;
+    for (auto p : points) {
+        const double length = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        mesh.vertices.push_back({centre[0] + radius * p[0] / length,
+                                 centre[1] + radius * p[1] / length,
+                                 centre[2] + radius * p[2] / length});
+    }
+    mesh.triangles = faces;
+    mesh.triangleFace.resize(faces.size());
+    std::iota(mesh.triangleFace.begin(), mesh.triangleFace.end(), 0u);
+    mesh.faceCount = faces.size();
+    return mesh;
+}
+
+std::size_t solidCount(const MaskVolume& mask) {
+    return std::size_t(std::count(mask.values().begin(), mask.values().end(), std::uint8_t(1)));
+}
+
+TEST(MeshVoxelizer, SphereVolumeAndGrid) {
+    const double radius = 1.5;
+    const std::array<double, 3> centre{0.3, -0.2, 10.5};
+    const TriangleMesh sphere = icosphere(4, radius, centre);
+    ASSERT_TRUE(checkMesh(sphere).closed);
+    VoxelizeOptions options;
+    options.resolution = 64;
+    options.margin = 3;
+    const MaskVolume mask = voxelizeMesh(sphere, options);
+
+    // The longest side spans `resolution` voxels, plus the margins.
+    const int longestAxis = std::max({mask.dims().x, mask.dims().y, mask.dims().z});
+    EXPECT_EQ(longestAxis, 64 + 2 * 3);
+    double low = HUGE_VAL, high = -HUGE_VAL;
+    for (const auto& p : sphere.vertices) low = std::min(low, p[0]), high = std::max(high, p[0]);
+    double longest = 0;
+    for (int c = 0; c < 3; ++c) {
+        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        for (const auto& p : sphere.vertices) lo = std::min(lo, p[c]), hi = std::max(hi, p[c]);
+        longest = std::max(longest, hi - lo);
+    }
+    const double h = mask.geometry.voxelSize();
+    EXPECT_NEAR(h, longest / 64, 1e-12);
+
+    // Volume within 3% of the ball's.
+    const double volume = double(solidCount(mask)) * h * h * h;
+    const double ball = 4.0 / 3.0 * kPi * radius * radius * radius;
+    EXPECT_NEAR(volume / ball, 1.0, 0.03) << "voxel volume " << volume << " vs " << ball;
+
+    // Every solid voxel centre lies (nearly) inside the sphere, and the margin is empty.
+    for (int z = 0; z < mask.dims().z; ++z)
+        for (int y = 0; y < mask.dims().y; ++y)
+            for (int x = 0; x < mask.dims().x; ++x) {
+                if (!mask(x, y, z)) continue;
+                const auto w = mask.geometry.indexToWorld(x, y, z);
+                const double r = std::sqrt((w[0] - centre[0]) * (w[0] - centre[0]) +
+                                           (w[1] - centre[1]) * (w[1] - centre[1]) +
+                                           (w[2] - centre[2]) * (w[2] - centre[2]));
+                ASSERT_LT(r, radius + h) << x << " " << y << " " << z;
+                ASSERT_TRUE(x >= 3 && y >= 3 && z >= 3 && x < mask.dims().x - 3 &&
+                            y < mask.dims().y - 3 && z < mask.dims().z - 3);
+            }
+
+    // Voxel <-> world both ways.
+    const WorldToIndex toIndex(mask.geometry);
+    for (const Coord c : {Coord{0, 0, 0}, Coord{5, 17, 33}, Coord{69, 69, 69}}) {
+        const auto index = toIndex(mask.geometry.indexToWorld(c.x, c.y, c.z));
+        EXPECT_NEAR(index[0], c.x, 1e-9);
+        EXPECT_NEAR(index[1], c.y, 1e-9);
+        EXPECT_NEAR(index[2], c.z, 1e-9);
+    }
+    const Coord middle = voxelContaining(mask.geometry, centre);
+    EXPECT_NEAR(middle.x, (mask.dims().x - 1) / 2.0, 0.6);
+    EXPECT_EQ(mask(middle.x, middle.y, middle.z), 1);
+    const Coord inside =
+        voxelContaining(mask.geometry, {centre[0] + 0.9 * radius, centre[1], centre[2]});
+    const Coord outside =
+        voxelContaining(mask.geometry, {centre[0] + 1.1 * radius, centre[1], centre[2]});
+    EXPECT_EQ(mask(inside.x, inside.y, inside.z), 1);
+    EXPECT_EQ(mask(outside.x, outside.y, outside.z), 0);
+}
+
+TEST(MeshVoxelizer, SerialAndThreadedAgree) {
+    const TriangleMesh sphere = icosphere(3, 1.0, {0, 0, 0});
+    VoxelizeOptions options;
+    options.resolution = 40;
+    const MaskVolume threaded = voxelizeMesh(sphere, options);
+    options.threaded = false;
+    const MaskVolume serial = voxelizeMesh(sphere, options);
+    EXPECT_EQ(threaded.dims(), serial.dims());
+    EXPECT_TRUE(threaded.values() == serial.values());
+    EXPECT_GT(solidCount(serial), 0u);
+}
+
+TEST(MeshVoxelizer, OpenSphereIsStillSolid) {
+    const double radius = 1.0;
+    TriangleMesh sphere = icosphere(4, radius, {0, 0, 0});
+    const TriangleMesh closed = sphere;
+    // Punch a small hole (about 3 voxels wide): drop the 3 triangles whose
+    // centroids are highest.
+    std::vector<std::pair<double, std::size_t>> heights;
+    for (std::size_t t = 0; t < sphere.triangles.size(); ++t) {
+        double y = 0;
+        for (auto v : sphere.triangles[t]) y += sphere.vertices[v][1];
+        heights.emplace_back(y, t);
+    }
+    std::sort(heights.rbegin(), heights.rend());
+    std::vector<std::array<std::uint32_t, 3>> kept;
+    for (std::size_t k = 3; k < heights.size(); ++k)
+        kept.push_back(sphere.triangles[heights[k].second]);
+    sphere.triangles = kept;
+    sphere.triangleFace.resize(kept.size());
+    std::iota(sphere.triangleFace.begin(), sphere.triangleFace.end(), 0u);
+    sphere.faceCount = kept.size();
+    ASSERT_FALSE(checkMesh(sphere).closed);
+
+    VoxelizeOptions options;
+    options.resolution = 48;
+    const std::size_t closedCount = solidCount(voxelizeMesh(closed, options));
+    const std::size_t openCount = solidCount(voxelizeMesh(sphere, options));
+    // Filled, not just a shell; a little fatter than the closed one.
+    EXPECT_GT(double(openCount), 0.99 * double(closedCount));
+    EXPECT_LT(double(openCount), 1.10 * double(closedCount));
+
+    // A hole far wider than the default closing (a cap of about 10 voxels
+    // across) is bridged by the retries with a larger closing.
+    TriangleMesh wide = closed;
+    kept.clear();
+    for (const auto& t : closed.triangles) {
+        double top = 1;
+        for (auto v : t) top = std::min(top, closed.vertices[v][1]);
+        if (top < 0.97 * radius) kept.push_back(t);
+    }
+    wide.triangles = kept;
+    wide.triangleFace.resize(kept.size());
+    std::iota(wide.triangleFace.begin(), wide.triangleFace.end(), 0u);
+    wide.faceCount = kept.size();
+    const std::size_t wideCount = solidCount(voxelizeMesh(wide, options));
+    EXPECT_GT(double(wideCount), 0.9 * double(closedCount));
+    EXPECT_LT(double(wideCount), 1.10 * double(closedCount));
+}
+
+TEST(MeshVoxelizer, FlatSheetBecomesAPlate) {
+    TriangleMesh sheet;
+    sheet.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    sheet.triangles = {{0, 1, 2}, {0, 2, 3}};
+    sheet.triangleFace = {0, 0};
+    sheet.faceCount = 1;
+    VoxelizeOptions options;
+    options.resolution = 16;
+    const MaskVolume mask = voxelizeMesh(sheet, options);
+    EXPECT_EQ(mask.dims().z, 1 + 2 * options.margin);
+    const std::size_t count = solidCount(mask);
+    EXPECT_GE(count, 16u * 16u);
+    EXPECT_LE(count, 20u * 20u * 3u);
+}
+
+TEST(MeshVoxelizer, RejectsBadOptionsAndHonoursInterrupts) {
+    const TriangleMesh sphere = icosphere(2, 1.0, {0, 0, 0});
+    VoxelizeOptions options;
+    options.resolution = 4;
+    EXPECT_THROW(voxelizeMesh(sphere, options), UsageError);
+    options.resolution = 4096;
+    EXPECT_THROW(voxelizeMesh(sphere, options), UsageError);
+    options.resolution = 2048;  // a cube-like box of 2052^3 voxels is over kMaxVoxels
+    EXPECT_THROW(voxelGridFor(sphere, options), UsageError);
+    TriangleMesh point = sphere;
+    for (auto& v : point.vertices) v = {1, 1, 1};
+    EXPECT_THROW(voxelGridFor(point, VoxelizeOptions{}), UsageError);
+
+    struct StopAtOnce : Interrupter {
+        std::atomic<int> starts{0}, ends{0};
+        void start(const char*) override { ++starts; }
+        void end() override { ++ends; }
+        bool wasInterrupted(double) override { return true; }
+    } stop;
+    options.resolution = 32;
+    EXPECT_THROW(voxelizeMesh(sphere, options, stop), InterruptedError);
+    EXPECT_EQ(stop.starts.load(), 1);
+    EXPECT_EQ(stop.ends.load(), 1);
+}
+
+TEST(MeshVoxelizer, KnownClosednessSelectsTheMethodWithoutRechecking) {
+    // A caller that has run checkMesh() passes its answer: the same answer
+    // gives the same mask; a closed mesh declared open goes through the shell
+    // method instead (fatter by the closing, so the masks differ).
+    const TriangleMesh sphere = icosphere(3, 1.0, {0, 0, 0});
+    VoxelizeOptions options;
+    options.resolution = 40;
+    const MaskVolume unset = voxelizeMesh(sphere, options);
+    options.meshIsClosed = true;
+    const MaskVolume declaredClosed = voxelizeMesh(sphere, options);
+    EXPECT_TRUE(unset.values() == declaredClosed.values());
+    options.meshIsClosed = false;
+    const MaskVolume declaredOpen = voxelizeMesh(sphere, options);
+    EXPECT_FALSE(unset.values() == declaredOpen.values());
+    EXPECT_GE(solidCount(declaredOpen), solidCount(unset));
+}
+
+}  // namespace
+}  // namespace skelseg

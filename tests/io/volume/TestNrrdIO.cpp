@@ -1,0 +1,464 @@
+// Tests for io/volume/NrrdIO.h: round trips, sample types, encodings, endianness,
+// detached headers, geometry, and a table of malformed files.
+#include <zlib.h>
+
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "io/volume/NrrdIO.h"
+#include "io/volume/VolumeReader.h"
+#include "kernels/base/Error.h"
+#include "tests/support/TempDir.h"
+
+namespace fs = std::filesystem;
+using namespace skelseg;
+
+namespace {
+
+void writeBytes(const fs::path& file, const std::string& bytes) {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    ASSERT_TRUE(out.good()) << file;
+}
+
+std::string readBytes(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// gzip (windowBits 15 + 16) or zlib (15) compression of `bytes`.
+std::string compress(const std::string& bytes, bool gzipHeader = true) {
+    z_stream stream{};
+    EXPECT_EQ(
+        deflateInit2(&stream, 6, Z_DEFLATED, gzipHeader ? 15 + 16 : 15, 8, Z_DEFAULT_STRATEGY),
+        Z_OK);
+    std::string out(deflateBound(&stream, uLong(bytes.size())) + 64, '\0');
+    stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+    stream.avail_in = uInt(bytes.size());
+    stream.next_out = reinterpret_cast<Bytef*>(out.data());
+    stream.avail_out = uInt(out.size());
+    EXPECT_EQ(deflate(&stream, Z_FINISH), Z_STREAM_END);
+    out.resize(stream.total_out);
+    deflateEnd(&stream);
+    return out;
+}
+
+/// An attached NRRD: magic, the given field lines, a blank line, the data.
+std::string nrrd(const std::string& fields, const std::string& data) {
+    return "NRRD0004\n" + fields + "\n" + data;
+}
+
+std::string basicFields(const std::string& type, const std::string& sizes,
+                        const std::string& encoding, const std::string& extra = "") {
+    return "type: " + type + "\ndimension: 3\nsizes: " + sizes + "\nencoding: " + encoding + "\n" +
+           extra;
+}
+
+/// Asserts that `read` throws an InputError whose one-line message names
+/// `file` and contains `keyword`.
+void expectInputError(const std::function<void()>& read, const std::string& file,
+                      const std::string& keyword) {
+    try {
+        read();
+        ADD_FAILURE() << "no InputError for " << file << " (expected '" << keyword << "')";
+    } catch (const InputError& error) {
+        const std::string message = error.what();
+        EXPECT_NE(message.find(file), std::string::npos) << message;
+        EXPECT_NE(message.find(keyword), std::string::npos)
+            << "expected '" << keyword << "' in: " << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+}
+
+std::size_t countNonzero(const MaskVolume& mask) {
+    std::size_t count = 0;
+    for (auto value : mask.values()) count += value != 0;
+    return count;
+}
+
+LabelVolume makeLabels() {
+    LabelVolume labels(Dims{5, 7, 3});
+    for (int z = 0; z < 3; ++z)
+        for (int y = 0; y < 7; ++y)
+            for (int x = 0; x < 5; ++x)
+                labels(x, y, z) =
+                    std::uint16_t((x * 7 + y * 31 + z * 1009) % 4 == 0 ? 0 : x + 10 * y + 100 * z);
+    labels(4, 6, 2) = 65535;  // high byte set: catches byte order mistakes
+    labels(0, 0, 0) = 0;
+    return labels;
+}
+
+VolumeGeometry obliqueGeometry() {
+    VolumeGeometry geometry;
+    geometry.spaceName = "left-posterior-superior";
+    geometry.origin = {-12.5, 3.25, 100.125};
+    geometry.directions = {{{0.5, 0.1, 0.0}, {-0.1, 0.75, 0.0}, {0.0, 0.0, 1.2}}};
+    return geometry;
+}
+
+void expectSameGeometry(const VolumeGeometry& a, const VolumeGeometry& b) {
+    EXPECT_EQ(a.spaceName, b.spaceName);
+    for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(a.origin[c], b.origin[c]);
+    for (int axis = 0; axis < 3; ++axis)
+        for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(a.directions[axis][c], b.directions[axis][c]);
+}
+
+}  // namespace
+
+TEST(NrrdIO, LabelsRoundTripKeepsValuesDimsAndGeometry) {
+    test::TempDir dir;
+    LabelVolume labels = makeLabels();
+    labels.geometry = obliqueGeometry();
+    writeNrrdLabels(dir / "labels.nrrd", labels);
+    const LabelVolume back = readNrrdLabels(dir / "labels.nrrd");
+    ASSERT_EQ(back.dims(), (Dims{5, 7, 3}));
+    EXPECT_EQ(back.values(), labels.values());
+    expectSameGeometry(back.geometry, labels.geometry);
+    // The file is gzip encoded, uint16, little endian: what teem/Slicer expect.
+    const std::string text = readBytes(dir / "labels.nrrd");
+    EXPECT_NE(text.find("encoding: gzip\n"), std::string::npos);
+    EXPECT_NE(text.find("type: uint16\n"), std::string::npos);
+    EXPECT_NE(text.find("endian: little\n"), std::string::npos);
+    EXPECT_NE(text.find("space: left-posterior-superior\n"), std::string::npos);
+}
+
+TEST(NrrdIO, MaskRoundTripAndLabelsReadAsMask) {
+    test::TempDir dir;
+    MaskVolume mask(Dims{5, 7, 3});
+    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = (i * 2654435761u) % 3 == 0;
+    mask.geometry = VolumeGeometry::uniform(0.3, {1.0, -2.0, 3.5});
+    writeNrrdMask(dir / "mask.nrrd", mask);
+    const MaskVolume back = readNrrdMask(dir / "mask.nrrd");
+    ASSERT_EQ(back.dims(), mask.dims());
+    EXPECT_EQ(back.values(), mask.values());
+    expectSameGeometry(back.geometry, mask.geometry);
+
+    const LabelVolume labels = makeLabels();
+    writeNrrdLabels(dir / "labels.nrrd", labels);
+    const MaskVolume fromLabels = readNrrdMask(dir / "labels.nrrd");
+    for (std::size_t i = 0; i < labels.size(); ++i)
+        ASSERT_EQ(fromLabels[i], labels[i] != 0 ? 1 : 0) << i;
+}
+
+TEST(NrrdIO, NoSpaceNameWritesSpaceDimensionAndRoundTrips) {
+    test::TempDir dir;
+    LabelVolume labels = makeLabels();
+    labels.geometry = VolumeGeometry::uniform(0.125, {4, 5, 6});
+    writeNrrdLabels(dir / "labels.nrrd", labels);
+    EXPECT_NE(readBytes(dir / "labels.nrrd").find("space dimension: 3\n"), std::string::npos);
+    expectSameGeometry(readNrrdLabels(dir / "labels.nrrd").geometry, labels.geometry);
+}
+
+TEST(NrrdIO, FirstAxisIsXFastest) {
+    test::TempDir dir;
+    std::string data(5 * 7 * 3, '\0');
+    data[4 + 5 * (1 + 7 * 2)] = 9;  // (x, y, z) = (4, 1, 2)
+    writeBytes(dir / "one.nrrd", nrrd(basicFields("uchar", "5 7 3", "raw"), data));
+    const MaskVolume mask = readNrrdMask(dir / "one.nrrd");
+    ASSERT_EQ(mask.dims(), (Dims{5, 7, 3}));
+    EXPECT_EQ(mask(4, 1, 2), 1);
+    EXPECT_EQ(countNonzero(mask), 1u);
+}
+
+TEST(NrrdIO, BigAndLittleEndianUint16) {
+    test::TempDir dir;
+    std::string data(2 * 2 * 1 * 1, '\0');
+    data[0] = 0x01;
+    data[1] = 0x02;  // first sample bytes 01 02
+    data[2] = 0x00;
+    data[3] = 0x05;  // second sample bytes 00 05
+    writeBytes(dir / "big.nrrd",
+               nrrd(basicFields("unsigned short", "2 1 1", "raw", "endian: big\n"), data));
+    writeBytes(dir / "little.nrrd",
+               nrrd(basicFields("uint16", "2 1 1", "raw", "endian: little\n"), data));
+    const LabelVolume big = readNrrdLabels(dir / "big.nrrd");
+    const LabelVolume little = readNrrdLabels(dir / "little.nrrd");
+    EXPECT_EQ(big[0], 0x0102);
+    EXPECT_EQ(big[1], 0x0005);
+    EXPECT_EQ(little[0], 0x0201);
+    EXPECT_EQ(little[1], 0x0500);
+}
+
+TEST(NrrdIO, GzipZlibAndGzSpellings) {
+    test::TempDir dir;
+    std::string data(4 * 3 * 2, '\0');
+    data[1] = 1;
+    data[23] = 7;
+    writeBytes(dir / "gzip.nrrd", nrrd(basicFields("uint8", "4 3 2", "gzip"), compress(data)));
+    writeBytes(dir / "gz.nrrd", nrrd(basicFields("uint8", "4 3 2", "gz"), compress(data)));
+    writeBytes(dir / "zlib.nrrd",
+               nrrd(basicFields("uint8", "4 3 2", "gzip"), compress(data, false)));
+    // Two concatenated gzip members (as `cat a.gz b.gz` gives).
+    writeBytes(dir / "members.nrrd",
+               nrrd(basicFields("uint8", "4 3 2", "gzip"),
+                    compress(data.substr(0, 10)) + compress(data.substr(10))));
+    for (const char* name : {"gzip.nrrd", "gz.nrrd", "zlib.nrrd", "members.nrrd"}) {
+        const MaskVolume mask = readNrrdMask(dir / name);
+        EXPECT_EQ(mask[1], 1) << name;
+        EXPECT_EQ(mask[23], 1) << name;
+        EXPECT_EQ(countNonzero(mask), 2u) << name;
+    }
+}
+
+TEST(NrrdIO, GzipBigEndianUint16Labels) {
+    test::TempDir dir;
+    std::string data(3 * 1 * 1 * 2, '\0');
+    data[2] = 0x12;
+    data[3] = 0x34;
+    writeBytes(dir / "big.nrrd",
+               nrrd(basicFields("ushort", "3 1 1", "gzip", "endian: big\n"), compress(data)));
+    const LabelVolume labels = readNrrdLabels(dir / "big.nrrd");
+    EXPECT_EQ(labels[0], 0);
+    EXPECT_EQ(labels[1], 0x1234);
+    EXPECT_EQ(labels[2], 0);
+}
+
+TEST(NrrdIO, AllSampleTypesNonzeroIsObject) {
+    test::TempDir dir;
+    struct Case {
+        const char* type;
+        std::vector<std::uint8_t> zero, nonzero;  // little-endian sample bytes
+    };
+    const float negativeZero = -0.0f, half = 0.5f;
+    const double tiny = 1e-300;
+    std::vector<std::uint8_t> negativeZeroBytes(4), halfBytes(4), tinyBytes(8);
+    std::memcpy(negativeZeroBytes.data(), &negativeZero, 4);
+    std::memcpy(halfBytes.data(), &half, 4);
+    std::memcpy(tinyBytes.data(), &tiny, 8);
+    const std::vector<Case> cases = {
+        {"signed char", {0}, {0xff}},
+        {"int8", {0}, {0x80}},
+        {"uchar", {0}, {1}},
+        {"unsigned char", {0}, {255}},
+        {"uint8_t", {0}, {2}},
+        {"short", {0, 0}, {0xff, 0xff}},
+        {"signed short int", {0, 0}, {0, 1}},
+        {"ushort", {0, 0}, {0, 0x80}},
+        {"unsigned short int", {0, 0}, {1, 0}},
+        {"int", {0, 0, 0, 0}, {0, 0, 0, 0x80}},
+        {"uint32", {0, 0, 0, 0}, {0, 0, 1, 0}},
+        {"unsigned   int", {0, 0, 0, 0}, {0, 1, 0, 0}},
+        {"long long", {0, 0, 0, 0, 0, 0, 0, 0}, {0, 0, 0, 0, 0, 0, 0, 1}},
+        {"uint64", {0, 0, 0, 0, 0, 0, 0, 0}, {1, 0, 0, 0, 0, 0, 0, 0}},
+        {"float", negativeZeroBytes, halfBytes},  // -0.0 is zero
+        {"double", {0, 0, 0, 0, 0, 0, 0, 0}, tinyBytes},
+    };
+    for (const auto& c : cases) {
+        std::string data;
+        data.append(c.zero.begin(), c.zero.end());
+        data.append(c.nonzero.begin(), c.nonzero.end());
+        data.append(c.zero.begin(), c.zero.end());
+        const std::string extra = c.zero.size() > 1 ? "endian: little\n" : "";
+        const fs::path file = dir / "typed.nrrd";
+        writeBytes(file, nrrd(basicFields(c.type, "3 1 1", "raw", extra), data));
+        const MaskVolume mask = readNrrdMask(file);
+        EXPECT_EQ(mask[0], 0) << c.type;
+        EXPECT_EQ(mask[1], 1) << c.type;
+        EXPECT_EQ(mask[2], 0) << c.type;
+    }
+}
+
+TEST(NrrdIO, DetachedHeaderWithRelativeDataFile) {
+    test::TempDir dir;
+    fs::create_directories(dir / "sub");
+    std::string data(2 * 3 * 4, '\0');
+    data[5] = 1;
+    writeBytes(dir / "sub" / "volume.raw", data);
+    writeBytes(dir / "volume.nhdr",
+               "NRRD0005\n" + basicFields("uint8", "2 3 4", "raw") + "data file: sub/volume.raw\n");
+    MaskVolume mask = readNrrdMask(dir / "volume.nhdr");
+    EXPECT_EQ(mask[5], 1);
+    EXPECT_EQ(countNonzero(mask), 1u);
+
+    // Detached gzip data, through the format dispatcher.
+    writeBytes(dir / "sub" / "volume.raw.gz", compress(data));
+    writeBytes(dir / "gz.nhdr", "NRRD0004\n" + basicFields("uint8", "2 3 4", "gzip") +
+                                    "datafile: sub/volume.raw.gz\n\n");
+    mask = readVolume(dir / "gz.nhdr");
+    EXPECT_EQ(mask[5], 1);
+    EXPECT_EQ(countNonzero(mask), 1u);
+}
+
+TEST(NrrdIO, GeometryFromSpaceFieldsAndSpacings) {
+    test::TempDir dir;
+    const std::string data(2 * 2 * 2, '\1');
+    writeBytes(dir / "space.nrrd",
+               nrrd(basicFields("uint8", "2 2 2", "raw",
+                                "space: RAS\nspace directions: (0.5,0,0) ( 0, 2 ,0) (0,0,-1.5e-1)\n"
+                                "space origin: (1,2,3)\n# a comment\nkinds: domain domain domain\n"
+                                "my key:=my value\n"),
+                    data));
+    const VolumeGeometry geometry = readNrrdMask(dir / "space.nrrd").geometry;
+    EXPECT_EQ(geometry.spaceName, "RAS");
+    EXPECT_DOUBLE_EQ(geometry.origin[2], 3.0);
+    EXPECT_DOUBLE_EQ(geometry.directions[1][1], 2.0);
+    EXPECT_DOUBLE_EQ(geometry.directions[2][2], -0.15);
+    const auto world = geometry.indexToWorld(1, 1, 1);
+    EXPECT_DOUBLE_EQ(world[0], 1.5);
+    EXPECT_DOUBLE_EQ(world[1], 4.0);
+    EXPECT_DOUBLE_EQ(world[2], 2.85);
+
+    writeBytes(dir / "spacings.nrrd",
+               nrrd(basicFields("uint8", "2 2 2", "raw", "spacings: 0.25 nan 4\n"), data));
+    const VolumeGeometry spaced = readNrrdMask(dir / "spacings.nrrd").geometry;
+    EXPECT_DOUBLE_EQ(spaced.directions[0][0], 0.25);
+    EXPECT_DOUBLE_EQ(spaced.directions[1][1], 1.0);  // nan = non-spatial axis -> unit
+    EXPECT_DOUBLE_EQ(spaced.directions[2][2], 4.0);
+    EXPECT_DOUBLE_EQ(spaced.directions[0][1], 0.0);
+    EXPECT_TRUE(spaced.spaceName.empty());
+}
+
+TEST(NrrdIO, LabelsOutputReproducesInputGeometry) {
+    test::TempDir dir;
+    const std::string data(3 * 2 * 2, '\1');
+    writeBytes(dir / "input.nrrd", nrrd(basicFields("uint8", "3 2 2", "raw",
+                                                    "space: left-posterior-superior\n"
+                                                    "space directions: (0.1,0.2,0) (0,0.3,0.4) "
+                                                    "(0.7,0,0.9)\nspace origin: (-1,-2,-3)\n"),
+                                        data));
+    const MaskVolume input = readNrrdMask(dir / "input.nrrd");
+    LabelVolume labels(input.dims(), 1);
+    labels.geometry = input.geometry;
+    writeNrrdLabels(dir / "labels.nrrd", labels);
+    expectSameGeometry(readNrrdLabels(dir / "labels.nrrd").geometry, input.geometry);
+}
+
+TEST(NrrdIO, MemoryReaders) {
+    std::string data(2 * 2 * 2, '\0');
+    data[7] = 1;
+    // Windows line ends in the header are accepted.
+    const std::string bytes =
+        "NRRD0004\r\ntype: uint8\r\ndimension: 3\r\nsizes: 2 2 2\r\nencoding: raw\r\n\r\n" + data;
+    const auto* begin = reinterpret_cast<const std::uint8_t*>(bytes.data());
+    EXPECT_EQ(readNrrdMaskFromMemory("buffer", begin, bytes.size())(1, 1, 1), 1);
+    EXPECT_EQ(readNrrdLabelsFromMemory("buffer", begin, bytes.size())(1, 1, 1), 1);
+
+    const std::string detached =
+        "NRRD0004\n" + basicFields("uint8", "2 2 2", "raw") + "data file: x.raw\n";
+    expectInputError(
+        [&] {
+            readNrrdMaskFromMemory("in-memory.nhdr",
+                                   reinterpret_cast<const std::uint8_t*>(detached.data()),
+                                   detached.size());
+        },
+        "in-memory.nhdr", "memory");
+}
+
+TEST(NrrdIO, LabelsRejectNonIntegerLabelTypes) {
+    test::TempDir dir;
+    writeBytes(dir / "float.nrrd", nrrd(basicFields("float", "1 1 1", "raw", "endian: little\n"),
+                                        std::string(4, '\0')));
+    expectInputError([&] { readNrrdLabels(dir / "float.nrrd"); }, "float.nrrd", "uint8 or uint16");
+}
+
+TEST(NrrdIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
+    test::TempDir dir;
+    const std::string raw24(2 * 3 * 4, '\0');
+    const std::string ok = basicFields("uint8", "2 3 4", "raw");
+    std::string corrupt = compress(raw24);
+    corrupt[corrupt.size() / 2] = char(corrupt[corrupt.size() / 2] ^ 0x55);
+    corrupt[10] = char(0xff);
+    const std::string gzipped = compress(raw24);
+    struct Case {
+        const char* name;
+        std::string content;
+        const char* keyword;
+    };
+    const std::vector<Case> cases = {
+        {"empty", "", "empty"},
+        {"wrong-magic", "P5\n2 3\n255\n", "magic"},
+        {"version", "NRRD0009\n" + ok + "\n" + raw24, "version"},
+        {"no-dimension", nrrd("type: uint8\nsizes: 2 3 4\nencoding: raw\n", raw24), "dimension"},
+        {"no-type", nrrd("dimension: 3\nsizes: 2 3 4\nencoding: raw\n", raw24), "'type'"},
+        {"no-sizes", nrrd("type: uint8\ndimension: 3\nencoding: raw\n", raw24), "'sizes'"},
+        {"no-encoding", nrrd("type: uint8\ndimension: 3\nsizes: 2 3 4\n", raw24), "'encoding'"},
+        {"dimension-2",
+         nrrd("type: uint8\ndimension: 2\nsizes: 2 3\nencoding: raw\n", raw24.substr(0, 6)),
+         "dimension 2"},
+        {"dimension-4", nrrd("type: uint8\ndimension: 4\nsizes: 1 2 3 4\nencoding: raw\n", raw24),
+         "dimension 4"},
+        {"sizes-count", nrrd("type: uint8\ndimension: 3\nsizes: 2 3\nencoding: raw\n", raw24),
+         "sizes"},
+        {"negative-size", nrrd(basicFields("uint8", "2 -3 4", "raw"), raw24), "not positive"},
+        {"zero-size", nrrd(basicFields("uint8", "2 0 4", "raw"), raw24), "not positive"},
+        {"huge-size", nrrd(basicFields("uint8", "2 100000 4", "raw"), raw24), "limit"},
+        {"overflow-size", nrrd(basicFields("uint8", "2 99999999999999999999999 4", "raw"), raw24),
+         "too large"},
+        {"too-many-voxels", nrrd(basicFields("uint8", "8192 8192 8192", "raw"), raw24), "limit"},
+        {"fractional-size", nrrd(basicFields("uint8", "2 3.5 4", "raw"), raw24), "not an integer"},
+        {"text-size", nrrd(basicFields("uint8", "2 three 4", "raw"), raw24), "not an integer"},
+        {"unsupported-type", nrrd(basicFields("block", "2 3 4", "raw"), raw24), "unsupported type"},
+        {"unsupported-encoding", nrrd(basicFields("uint8", "2 3 4", "bzip2"), raw24),
+         "unsupported encoding"},
+        {"missing-endian", nrrd(basicFields("uint16", "2 3 4", "raw"), raw24 + raw24), "endian"},
+        {"bad-endian",
+         nrrd(basicFields("uint16", "2 3 4", "raw", "endian: middle\n"), raw24 + raw24), "endian"},
+        {"byte-skip", nrrd(ok + "byte skip: 4\n", raw24), "byte skip"},
+        {"raw-short", nrrd(ok, raw24.substr(0, 23)), "too short"},
+        {"raw-long", nrrd(ok, raw24 + "x"), "too long"},
+        {"raw-missing", nrrd(ok, ""), "too short"},
+        {"gzip-short", nrrd(basicFields("uint8", "2 3 4", "gzip"), compress(raw24.substr(0, 20))),
+         "too short"},
+        {"gzip-long", nrrd(basicFields("uint8", "2 3 4", "gzip"), compress(raw24 + "abc")),
+         "too long"},
+        {"gzip-truncated",
+         nrrd(basicFields("uint8", "2 3 4", "gzip"), gzipped.substr(0, gzipped.size() - 9)),
+         "too short"},
+        {"gzip-trailing", nrrd(basicFields("uint8", "2 3 4", "gzip"), gzipped + "junk"),
+         "too long"},
+        {"gzip-corrupt", nrrd(basicFields("uint8", "2 3 4", "gzip"), corrupt), "corrupt"},
+        {"gzip-not-gzip", nrrd(basicFields("uint8", "2 3 4", "gzip"), "this is not compressed"),
+         "corrupt"},
+        {"gzip-implausible", nrrd(basicFields("uint8", "4000 4000 200", "gzip"), gzipped),
+         "cannot hold"},
+        {"no-blank-line", "NRRD0004\n" + ok, "blank line"},
+        {"duplicate-field", nrrd(ok + "type: uint8\n", raw24), "twice"},
+        {"malformed-line", nrrd(ok + "this line has no colon\n", raw24), "malformed"},
+        {"direction-none", nrrd(ok + "space directions: none (1,0,0) (0,1,0)\n", raw24), "none"},
+        {"direction-2d", nrrd(ok + "space directions: (1,0) (0,1) (1,1)\n", raw24), "components"},
+        {"direction-count", nrrd(ok + "space directions: (1,0,0) (0,1,0)\n", raw24),
+         "space directions"},
+        {"direction-text", nrrd(ok + "space directions: (1,a,0) (0,1,0) (0,0,1)\n", raw24),
+         "not a number"},
+        {"origin-infinite", nrrd(ok + "space origin: (inf,0,0)\n", raw24), "finite"},
+        {"unknown-space", nrrd(ok + "space: upside-down\n", raw24), "unknown space"},
+        {"time-space", nrrd(ok + "space: RAST\n", raw24), "only 3D"},
+        {"space-dimension", nrrd(ok + "space dimension: 2\n", raw24), "space dimension"},
+        {"data-file-list", "NRRD0004\n" + ok + "data file: LIST\na.raw\n", "multiple data files"},
+        {"data-file-missing", "NRRD0004\n" + ok + "data file: absent.raw\n", "no such file"},
+    };
+    for (const auto& c : cases) {
+        const std::string fileName = std::string(c.name) + ".nrrd";
+        writeBytes(dir / fileName, c.content);
+        expectInputError([&] { readNrrdMask(dir / fileName); }, fileName, c.keyword);
+        // The memory reader reports the same problems (detached data aside).
+        if (std::string(c.name).rfind("data-file-missing", 0) == 0) continue;
+        expectInputError(
+            [&] {
+                readNrrdMaskFromMemory(fileName,
+                                       reinterpret_cast<const std::uint8_t*>(c.content.data()),
+                                       c.content.size());
+            },
+            fileName, c.keyword);
+    }
+}
+
+TEST(NrrdIO, FileSystemErrors) {
+    test::TempDir dir;
+    expectInputError([&] { readNrrdMask(dir / "absent.nrrd"); }, "absent.nrrd", "no such file");
+    fs::create_directories(dir / "folder.nrrd");
+    expectInputError([&] { readNrrdMask(dir / "folder.nrrd"); }, "folder.nrrd", "is a directory");
+}
+
+TEST(NrrdIO, WriterFailureIsOutputError) {
+    test::TempDir dir;
+    const LabelVolume labels = makeLabels();
+    EXPECT_THROW(writeNrrdLabels(dir / "no" / "such" / "dir" / "labels.nrrd", labels), OutputError);
+}

@@ -1,0 +1,264 @@
+// Tests for io/volume/VdbIO.h. The only test file that includes OpenVDB headers
+// (they are slow to compile): it builds its input grids with OpenVDB itself.
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetSphere.h>
+
+#include "io/volume/VdbIO.h"
+#include "io/volume/VolumeReader.h"
+#include "kernels/base/Error.h"
+#include "tests/support/TempDir.h"
+
+namespace fs = std::filesystem;
+using namespace skelseg;
+
+namespace {
+
+void writeGrids(const fs::path& file, const openvdb::GridCPtrVec& grids) {
+    openvdb::initialize();
+    openvdb::io::File out(file.string());
+    out.write(grids);
+    out.close();
+}
+
+void writeBytes(const fs::path& file, const std::string& bytes) {
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    ASSERT_TRUE(out.good()) << file;
+}
+
+std::string readBytes(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void expectInputError(const std::function<void()>& read, const std::string& file,
+                      const std::string& keyword) {
+    try {
+        read();
+        ADD_FAILURE() << "no InputError for " << file << " (expected '" << keyword << "')";
+    } catch (const InputError& error) {
+        const std::string message = error.what();
+        EXPECT_NE(message.find(file), std::string::npos) << message;
+        EXPECT_NE(message.find(keyword), std::string::npos)
+            << "expected '" << keyword << "' in: " << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+}
+
+std::size_t countNonzero(const MaskVolume& mask) {
+    std::size_t count = 0;
+    for (auto value : mask.values()) count += value != 0;
+    return count;
+}
+
+openvdb::BoolGrid::Ptr boolGridWith(const std::string& name,
+                                    std::initializer_list<openvdb::Coord> voxels) {
+    openvdb::initialize();
+    auto grid = openvdb::BoolGrid::create(false);
+    grid->setName(name);
+    auto transform = openvdb::math::Transform::createLinearTransform(0.5);
+    transform->postTranslate(openvdb::Vec3d(10.0, -4.0, 2.5));
+    grid->setTransform(transform);
+    for (const auto& voxel : voxels) grid->tree().setValueOn(voxel, true);
+    return grid;
+}
+
+}  // namespace
+
+TEST(VdbIO, BoolGridActiveVoxelsWithBoundingBoxAndGeometry) {
+    test::TempDir dir;
+    const auto grid = boolGridWith("shape", {openvdb::Coord(-3, 2, 5), openvdb::Coord(1, 4, 6)});
+    // An active voxel whose value is false is still object: activity decides.
+    grid->tree().setValueOn(openvdb::Coord(0, 3, 5), false);
+    writeGrids(dir / "bool.vdb", {grid});
+    const MaskVolume mask = readVdbMask(dir / "bool.vdb");
+    ASSERT_EQ(mask.dims(), (Dims{5, 3, 2}));
+    EXPECT_EQ(mask(0, 0, 0), 1);
+    EXPECT_EQ(mask(4, 2, 1), 1);
+    EXPECT_EQ(mask(3, 1, 0), 1);
+    EXPECT_EQ(countNonzero(mask), 3u);
+    // Our voxel (4, 2, 1) is VDB index (1, 4, 6).
+    const auto world = mask.geometry.indexToWorld(4, 2, 1);
+    const openvdb::Vec3d expected = grid->transform().indexToWorld(openvdb::Coord(1, 4, 6));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(world[c], expected[c], 1e-12);
+    EXPECT_NEAR(mask.geometry.voxelSize(), 0.5, 1e-12);
+}
+
+TEST(VdbIO, ActiveTilesAreDensified) {
+    test::TempDir dir;
+    auto grid = boolGridWith("tiles", {});
+    // A leaf-aligned 8^3 fill becomes an active tile, plus one loose voxel.
+    grid->tree().fill(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(7)), true, true);
+    grid->tree().setValueOn(openvdb::Coord(9, 0, 0), true);
+    ASSERT_GT(grid->tree().activeTileCount(), 0u);
+    writeGrids(dir / "tiles.vdb", {grid});
+    const MaskVolume mask = readVdbMask(dir / "tiles.vdb");
+    ASSERT_EQ(mask.dims(), (Dims{10, 8, 8}));
+    EXPECT_EQ(countNonzero(mask), 8u * 8u * 8u + 1u);
+    EXPECT_EQ(mask(8, 0, 0), 0);
+}
+
+TEST(VdbIO, MaskGrid) {
+    test::TempDir dir;
+    openvdb::initialize();
+    auto grid = openvdb::MaskGrid::create();
+    grid->setName("mask");
+    grid->tree().setValueOn(openvdb::Coord(2, 2, 2));
+    grid->tree().setValueOn(openvdb::Coord(2, 3, 2));
+    writeGrids(dir / "mask.vdb", {grid});
+    const MaskVolume mask = readVdbMask(dir / "mask.vdb");
+    EXPECT_EQ(mask.dims(), (Dims{1, 2, 1}));
+    EXPECT_EQ(countNonzero(mask), 2u);
+}
+
+TEST(VdbIO, LevelSetSphereInteriorMatchesBallVolume) {
+    test::TempDir dir;
+    openvdb::initialize();
+    const float radius = 12.0f;
+    auto sphere = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(
+        radius, openvdb::Vec3f(3, -2, 1), 1.0f);
+    sphere->setName("sphere");
+    auto doubleSphere = openvdb::tools::createLevelSetSphere<openvdb::DoubleGrid>(
+        radius, openvdb::Vec3f(3, -2, 1), 1.0f);
+    doubleSphere->setName("double sphere");
+    writeGrids(dir / "sphere.vdb", {sphere, doubleSphere});
+    const double ball = 4.0 / 3.0 * M_PI * radius * radius * radius;
+    for (const char* name : {"sphere", "double sphere"}) {
+        const MaskVolume mask = readVdbMask(dir / "sphere.vdb", name);
+        const double interior = double(countNonzero(mask));
+        // The inactive interior (beyond the narrow band) counts too.
+        EXPECT_NEAR(interior, ball, 0.03 * ball) << name;
+        EXPECT_GE(mask.dims().x, 23) << name;
+        EXPECT_LE(mask.dims().x, 25) << name;
+        // The centre of the ball is object.
+        const auto& g = mask.geometry;
+        const int cx = int(std::lround(3 - g.origin[0])), cy = int(std::lround(-2 - g.origin[1])),
+                  cz = int(std::lround(1 - g.origin[2]));
+        EXPECT_EQ(mask(cx, cy, cz), 1) << name;
+    }
+}
+
+TEST(VdbIO, FogVolumeUsesPositiveActiveValues) {
+    test::TempDir dir;
+    openvdb::initialize();
+    auto fog = openvdb::FloatGrid::create(0.0f);
+    fog->setGridClass(openvdb::GRID_FOG_VOLUME);
+    fog->tree().setValueOn(openvdb::Coord(1, 1, 1), 0.5f);
+    fog->tree().setValueOn(openvdb::Coord(4, 1, 1), 0.0f);  // active but empty
+    fog->tree().setValueOn(openvdb::Coord(5, 1, 1), 1.0f);
+    writeGrids(dir / "fog.vdb", {fog});
+    const MaskVolume mask = readVdbMask(dir / "fog.vdb");
+    EXPECT_EQ(mask.dims(), (Dims{5, 1, 1}));
+    EXPECT_EQ(countNonzero(mask), 2u);
+    EXPECT_EQ(mask(3, 0, 0), 0);
+}
+
+TEST(VdbIO, NamedGridSelectionAndMissingNameListsGrids) {
+    test::TempDir dir;
+    const auto a = boolGridWith("alpha", {openvdb::Coord(0, 0, 0)});
+    const auto b = boolGridWith("beta", {openvdb::Coord(0, 0, 0), openvdb::Coord(0, 0, 1)});
+    writeGrids(dir / "two.vdb", {a, b});
+    EXPECT_EQ(countNonzero(readVdbMask(dir / "two.vdb")), 1u);
+    EXPECT_EQ(countNonzero(readVdbMask(dir / "two.vdb", "beta")), 2u);
+    VolumeReadOptions options;
+    options.gridName = "beta";
+    EXPECT_EQ(countNonzero(readVolume(dir / "two.vdb", options)), 2u);
+    expectInputError([&] { readVdbMask(dir / "two.vdb", "gamma"); }, "two.vdb", "'alpha', 'beta'");
+}
+
+TEST(VdbIO, EmptyGridGivesOneEmptyVoxel) {
+    test::TempDir dir;
+    writeGrids(dir / "empty.vdb", {boolGridWith("nothing", {})});
+    const MaskVolume mask = readVdbMask(dir / "empty.vdb");
+    EXPECT_EQ(mask.dims(), (Dims{1, 1, 1}));
+    EXPECT_EQ(countNonzero(mask), 0u);
+}
+
+TEST(VdbIO, MemoryReaderMatchesFileReader) {
+    test::TempDir dir;
+    writeGrids(dir / "bool.vdb",
+               {boolGridWith("shape", {openvdb::Coord(1, 2, 3), openvdb::Coord(4, 2, 3)})});
+    const std::string bytes = readBytes(dir / "bool.vdb");
+    const MaskVolume fromMemory = readVdbMaskFromMemory(
+        "buffer", reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+    const MaskVolume fromFile = readVdbMask(dir / "bool.vdb");
+    EXPECT_EQ(fromMemory.dims(), fromFile.dims());
+    EXPECT_EQ(fromMemory.values(), fromFile.values());
+    EXPECT_EQ(countNonzero(fromMemory), 2u);
+}
+
+TEST(VdbIO, WriteLabelsUniformAndAffineGeometry) {
+    test::TempDir dir;
+    LabelVolume labels(Dims{5, 7, 3});
+    std::size_t nonzero = 0;
+    for (int z = 0; z < 3; ++z)
+        for (int y = 0; y < 7; ++y)
+            for (int x = 0; x < 5; ++x) {
+                const int value = (x + 2 * y + 3 * z) % 4 == 0 ? 0 : 1 + x + 5 * y + 35 * z;
+                labels(x, y, z) = std::uint16_t(value);
+                nonzero += value != 0;
+            }
+    labels(4, 6, 2) = 60000;
+
+    VolumeGeometry uniform = VolumeGeometry::uniform(0.5, {1.0, 2.0, 3.0});
+    VolumeGeometry affine;
+    affine.origin = {-1.0, 0.5, 7.0};
+    affine.directions = {{{0.5, 0.1, 0.0}, {-0.1, 0.75, 0.0}, {0.0, 0.0, 1.2}}};
+    for (const VolumeGeometry& geometry : {uniform, affine}) {
+        labels.geometry = geometry;
+        writeVdbLabels(dir / "labels.vdb", labels);
+        openvdb::io::File in((dir / "labels.vdb").string());
+        in.open();
+        auto grid = openvdb::gridPtrCast<openvdb::Int32Grid>(in.readGrid("labels"));
+        in.close();
+        ASSERT_TRUE(grid);
+        EXPECT_EQ(grid->background(), 0);
+        EXPECT_EQ(grid->activeVoxelCount(), openvdb::Index64(nonzero));
+        auto accessor = grid->getConstAccessor();
+        for (int z = 0; z < 3; ++z)
+            for (int y = 0; y < 7; ++y)
+                for (int x = 0; x < 5; ++x) {
+                    const openvdb::Coord c(x, y, z);
+                    ASSERT_EQ(accessor.getValue(c), int(labels(x, y, z)));
+                    ASSERT_EQ(accessor.isValueOn(c), labels(x, y, z) > 0);
+                }
+        const auto expected = geometry.indexToWorld(4, 6, 2);
+        const auto world = grid->transform().indexToWorld(openvdb::Coord(4, 6, 2));
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(world[c], expected[c], 1e-9);
+    }
+    // labels.vdb is an Int32Grid, which is not an input grid type.
+    expectInputError([&] { readVdbMask(dir / "labels.vdb"); }, "labels.vdb",
+                     "unsupported grid type int32");
+}
+
+TEST(VdbIO, MalformedFilesGiveOneLineErrors) {
+    test::TempDir dir;
+    writeGrids(dir / "good.vdb",
+               {boolGridWith("shape", {openvdb::Coord(1, 2, 3), openvdb::Coord(40, 2, 3)})});
+    const std::string good = readBytes(dir / "good.vdb");
+    writeBytes(dir / "empty.vdb", "");
+    writeBytes(dir / "text.vdb", "this is not a vdb file at all");
+    writeBytes(dir / "truncated.vdb", good.substr(0, good.size() / 2));
+    writeBytes(dir / "header-only.vdb", good.substr(0, 12));
+    writeGrids(dir / "nogrids.vdb", {});
+    writeGrids(dir / "huge.vdb",
+               {boolGridWith("far", {openvdb::Coord(0, 0, 0), openvdb::Coord(100000, 0, 0)})});
+    expectInputError([&] { readVdbMask(dir / "empty.vdb"); }, "empty.vdb", "empty");
+    expectInputError([&] { readVdbMask(dir / "text.vdb"); }, "text.vdb", "not an OpenVDB file");
+    expectInputError([&] { readVdbMask(dir / "truncated.vdb"); }, "truncated.vdb", "truncated");
+    expectInputError([&] { readVdbMask(dir / "header-only.vdb"); }, "header-only.vdb", "truncated");
+    expectInputError([&] { readVdbMask(dir / "nogrids.vdb"); }, "nogrids.vdb", "no grids");
+    expectInputError([&] { readVdbMask(dir / "huge.vdb"); }, "huge.vdb", "limit");
+    expectInputError([&] { readVdbMask(dir / "absent.vdb"); }, "absent.vdb", "no such file");
+    fs::create_directories(dir / "folder.vdb");
+    expectInputError([&] { readVdbMask(dir / "folder.vdb"); }, "folder.vdb", "is a directory");
+}
