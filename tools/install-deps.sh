@@ -7,8 +7,8 @@ packages=(
   libtbb-dev libopenvdb-dev libboost-iostreams-dev zlib1g-dev libeigen3-dev
   libgtest-dev libbenchmark-dev libbenchmark-tools
   libcli11-dev nlohmann-json3-dev libfmt-dev libstb-dev
-  clang libclang-rt-14-dev
-  python3-numpy python3-scipy python3-matplotlib
+  clang libclang-rt-14-dev clang-format
+  python3-numpy python3-scipy python3-matplotlib python3-pytest
 )
 missing=()
 for p in "${packages[@]}"; do

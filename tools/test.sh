@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Set-up command 2 (and what CI runs): build everything in Release with strict
-# warnings and run the test suites, fastest first, slow ones last:
+# Set-up command 2 (and what CI runs): check the include layering and the
+# formatting, build everything in Release with strict warnings and run the
+# test suites, fastest first, slow ones last:
 #   unit   kernels, readers/writers, scoring          (label unit)
 #   scene  generated shapes end to end                (label scene)
 #   bench  every benchmark at its smallest size, compared with the baseline
@@ -18,6 +19,10 @@ jobs="${SKELSEG_JOBS:-2}"
 fuzz_seconds="${SKELSEG_FUZZ_SECONDS:-60}"
 start=$(date +%s)
 stamp() { echo "== $1 ($(( $(date +%s) - start )) s)"; }
+
+stamp "layering and format checks"
+/usr/bin/python3 tools/check-layering.py
+tools/check-format.sh
 
 stamp "build (Release, strict warnings)"
 cmake -S . -B build-ci -G Ninja -DCMAKE_BUILD_TYPE=Release -DSKELSEG_WERROR=ON > /dev/null
