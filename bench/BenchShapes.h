@@ -30,7 +30,7 @@
 namespace skelseg::bench {
 
 /// Shapes every benchmark runs on: a sphere-bodied figure with thin limbs and
-/// a box body with tubes (the two cost profiles of ALGORITHM.md section 13).
+/// a box body with tubes (the two cost profiles of docs/algorithm.md §13).
 inline const std::vector<std::string>& benchShapes() {
     static const std::vector<std::string> shapes = {"figure", "box-tubes"};
     return shapes;

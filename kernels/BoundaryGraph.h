@@ -1,4 +1,4 @@
-// skelseg: the boundary graph (ALGORITHM.md section 1).
+// skelseg: the boundary graph (docs/algorithm.md §1).
 //
 // Nodes are the boundary voxels of an object: object voxels with at least one
 // face (6-)neighbour in the background; everything outside the grid counts as

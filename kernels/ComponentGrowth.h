@@ -1,4 +1,4 @@
-// skelseg: component areas behind the rims (ALGORITHM.md section 5).
+// skelseg: component areas behind the rims (docs/algorithm.md §5).
 //
 // Removing Gamma'(p) splits the surface into components; rho_C(p) is all the
 // surface area except the largest component. Instead of a flood fill of the

@@ -1,4 +1,4 @@
-// skelseg: the objects of a volume (ALGORITHM.md section 1): 26-connected
+// skelseg: the objects of a volume (docs/algorithm.md §1): 26-connected
 // components of the object voxels, each segmented on its own.
 //
 // Labelled through x-runs of object voxels and a union-find over runs: runs

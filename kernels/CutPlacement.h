@@ -1,5 +1,5 @@
-// skelseg: placing the part cuts (ALGORITHM.md section 8, with the choices
-// of section 14; the RT07 baseline of section 10).
+// skelseg: placing the part cuts (docs/algorithm.md §8; the RT07 baseline
+// of §10).
 //
 // For every junction, walk out along each branch leaving its region. A
 // "point" of the 2-3 voxel thick skeleton is one BFS level from the region;
@@ -22,8 +22,8 @@
 namespace skelseg {
 
 enum class CutMode {
-    JunctionRule,  // section 8 (default)
-    Junctions,     // RT07: the junctions' own path sets are the cuts
+    JunctionRule,  // docs/algorithm.md §8 (default)
+    Junctions,     // RT07 (§10): the junctions' own path sets are the cuts
 };
 
 struct CutOptions {

@@ -1,4 +1,4 @@
-// skelseg: exact Euclidean feature transform (ALGORITHM.md section 2).
+// skelseg: exact Euclidean feature transform (docs/algorithm.md §2).
 //
 // For every voxel, the linear index of a nearest "site" voxel (for skelseg:
 // a boundary voxel) in exact Euclidean distance. Separable algorithm: one

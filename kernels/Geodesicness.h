@@ -1,4 +1,4 @@
-// skelseg: geodesicness sigma of a skeleton point's loop (ALGORITHM.md section 7).
+// skelseg: geodesicness sigma of a skeleton point's loop (docs/algorithm.md §7).
 //
 // The two feature points a, b that realise rho_S(p) split the loop Gamma(p)
 // into two arcs. With c, d the arc-length midpoints of the arcs,
@@ -10,7 +10,7 @@
 // and b from it leaves one piece per arc. Each arc's length is the shortest
 // path from a to b through Gamma restricted to that piece (plus the two
 // neighbourhoods). A loop with no second arc (e.g. inside the "web" at a
-// disc's centre) gets sigma = 0, as ALGORITHM.md section 14 recommends. For a
+// disc's centre) gets sigma = 0, as docs/algorithm.md §7 explains. For a
 // junction, whose annulus splits into more than two arcs, sigma is the
 // minimum over pairs of arcs.
 #pragma once

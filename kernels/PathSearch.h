@@ -1,4 +1,4 @@
-// skelseg: shortest boundary paths (ALGORITHM.md section 3).
+// skelseg: shortest boundary paths (docs/algorithm.md §3).
 //
 // GeodesicSearch is a per-thread workspace for A* searches on the boundary
 // graph (the Euclidean distance is an admissible, consistent heuristic since
@@ -8,7 +8,7 @@
 // graph alone: any thread finds the same path.
 //
 // PathCache keeps the paths already found by one thread. Many voxels ask for
-// the same feature pair (ALGORITHM.md section 13: only ~20% are distinct), so
+// the same feature pair (docs/algorithm.md §3.3: only ~20% are distinct), so
 // searching each distinct pair once is the largest single saving. Because a
 // pair's path does not depend on who computes it, the cache changes cost,
 // never results.

@@ -1,10 +1,10 @@
-// skelseg: the Jordan-curve test (ALGORITHM.md section 4).
+// skelseg: the Jordan-curve test (docs/algorithm.md §4).
 //
 // Given a path set Gamma(p) (boundary nodes), dilate it by one step on the
 // boundary graph (Gamma') and split the rim (nodes adjacent to Gamma' but not
 // in it) into 26-connected pieces. An open path gives one rim piece, a closed
 // loop two, a junction of n branches n. One dilation step and 26-adjacency
-// are the choices ALGORITHM.md section 13 measured as right (without the
+// are the choices measured as right (docs/algorithm.md §4: without the
 // dilation rims leak through diagonal steps; 6-adjacency breaks every rim).
 // Cost is proportional to |Gamma(p)|, not to the surface.
 #pragma once

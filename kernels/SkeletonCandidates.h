@@ -1,10 +1,10 @@
-// skelseg: extended feature sets and the search pre-filter (ALGORITHM.md
-// sections 2 and 3).
+// skelseg: extended feature sets and the search pre-filter
+// (docs/algorithm.md §2 and §3.1).
 //
 // For every object voxel p, Fbar(p) is the set of distinct nearest boundary
 // nodes of the object voxels of the 2x2x2 cell p + {0,1}^3. Only voxels whose
 // features are genuinely apart can be skeletal, and only they get path
-// searches. The pre-filter (ALGORITHM.md section 13, measured to lose nothing):
+// searches. The pre-filter (docs/algorithm.md §3.1, measured to lose nothing):
 //   - at least 3 distinct feature nodes (2 give one path, never a loop);
 //   - the largest Euclidean gap between two of them > max(gapRatio * D(p), minimumGap).
 // The absolute minimum gap (default 2 voxels) drops the cells right at the

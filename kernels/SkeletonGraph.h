@@ -1,5 +1,5 @@
 // skelseg: the simplified skeleton as a graph of junctions and branches
-// (ALGORITHM.md section 6, with the choices of section 14).
+// (docs/algorithm.md §6).
 //
 // Nodes are the points of C_tau (rho_C >= tau) with 26-adjacency. The
 // skeleton is 2-3 voxels thick and junction voxels (J_tau, three or more

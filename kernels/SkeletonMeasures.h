@@ -1,5 +1,5 @@
 // skelseg: path sets, the curve-skeleton test and the importance measures,
-// per candidate voxel (ALGORITHM.md sections 3 to 7).
+// per candidate voxel (docs/algorithm.md §3 to §7).
 //
 // For every candidate p (in parallel, one workspace per thread):
 //   Gamma(p)  union of shortest boundary paths between all pairs of Fbar(p)
@@ -9,7 +9,7 @@
 //   sigma     geodesicness, for points of C_tau only           (Geodesicness.h)
 // A rim counts when the component it bounds has at least `noiseArea` nodes:
 // bundles of nearly parallel paths enclose holes of 1 to 10 voxels that are
-// not loops (ALGORITHM.md section 13). p is in C when two or more rims count.
+// not loops (docs/algorithm.md §5.3). p is in C when two or more rims count.
 // A rim is robust when its component reaches tau; p is a junction (J_tau) with
 // three or more robust rims. When fewer distinct components than counting
 // rims exist, Gamma(p) holds a loop around a handle (genus > 0): such points

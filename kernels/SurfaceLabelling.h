@@ -1,4 +1,4 @@
-// skelseg: from cut loops to labelled segments (ALGORITHM.md section 9).
+// skelseg: from cut loops to labelled segments (docs/algorithm.md §9).
 //
 // The cut loops, dilated by one step on the boundary graph (a 26-connected
 // curve does not separate 26-connected regions; its one-step dilation does),

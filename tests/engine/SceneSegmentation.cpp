@@ -1,5 +1,5 @@
-// Scene tests: generated shapes segmented end to end (ALGORITHM.md section
-// 14; issue 2). Each checks the number of parts and, where the issue asks,
+// Scene tests: generated shapes segmented end to end (docs/algorithm.md §8
+// and §13; issue 2). Each checks the number of parts and, where the issue asks,
 // where the cuts are.
 #include <gtest/gtest.h>
 
@@ -46,7 +46,7 @@ TEST(Scene, ThickBodyWithThinLimbHasTwoParts) {
 
 TEST(Scene, FlatSlabIsOnePart) {
     // The skeleton runs into the corners and makes junctions, which must not
-    // produce cuts (ALGORITHM.md section 8: 0 cuts).
+    // produce cuts (docs/algorithm.md §8: 0 cuts).
     const SceneRun run = segmentShape("slab", 64);
     EXPECT_EQ(parts(run), 1u);
 }
@@ -97,7 +97,7 @@ TEST(Scene, BoxWithTubesCutsEachTubeWhereItMeetsTheBox) {
 }
 
 TEST(Scene, JunctionModeCutsLooserThanTheJunctionRule) {
-    // RT07 (ALGORITHM.md section 10) uses the junctions' own loops as cuts:
+    // RT07 (docs/algorithm.md §10) uses the junctions' own loops as cuts:
     // they run over the box, so the box loses surface to the tube parts and
     // the shape is over-segmented.
     const SceneRun rule = segmentShape("box-tubes", kSize);
