@@ -9,6 +9,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev libstb-dev
   clang libclang-rt-14-dev clang-format
   python3-numpy python3-scipy python3-matplotlib python3-pytest
+  pybind11-dev python3-dev python3-dask python3-distributed
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -23,7 +23,7 @@ if [[ "${1:-}" == "--build-only" ]]; then BUILD_ONLY=1; shift; fi
 if [[ ! -f "$BUILD_DIR/build.ninja" ]]; then
   if [[ -z "${CXX:-}" ]] && command -v clang++ >/dev/null; then export CXX=clang++; fi
   cmake -S "$ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Asan -DSKELSEG_BUILD_TESTS=ON \
-    -DSKELSEG_BUILD_BENCH=OFF
+    -DSKELSEG_BUILD_BENCH=OFF -DSKELSEG_BUILD_PYTHON=OFF
 fi
 # The unit test executables (those that exist: a layer without tests has
 # none) and the CLI the engine tests run.

@@ -47,7 +47,7 @@ fi
 # --- build ----------------------------------------------------------------------
 if [[ ! -f "$BUILD_DIR/build.ninja" ]]; then
   CXX="${CXX:-clang++}" cmake -S "$ROOT" -B "$BUILD_DIR" -G Ninja -DSKELSEG_BUILD_FUZZ=ON \
-    -DSKELSEG_BUILD_TESTS=OFF -DSKELSEG_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+    -DSKELSEG_BUILD_TESTS=OFF -DSKELSEG_BUILD_BENCH=OFF -DSKELSEG_BUILD_PYTHON=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
 fi
 ninja -C "$BUILD_DIR" -j "$JOBS" "${TARGETS[@]}"
 [[ $BUILD_ONLY -eq 1 ]] && exit 0

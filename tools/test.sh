@@ -4,6 +4,7 @@
 # test suites, fastest first, slow ones last:
 #   unit   kernels, readers/writers, scoring          (label unit)
 #   scene  generated shapes end to end                (label scene)
+#   python the Python module with pytest, Dask included (label python)
 #   bench  every benchmark at its smallest size, compared with the baseline
 #   asan   unit tests under AddressSanitizer + UBSan, built with clang (SKELSEG_CI_ASAN=0 skips)
 #   fuzz   each parser under libFuzzer for a bounded time, JOBS targets at a time
@@ -32,6 +33,8 @@ stamp "unit tests"
 ctest --test-dir build-ci -L unit --output-on-failure -j"$jobs"
 stamp "scene tests"
 ctest --test-dir build-ci -L scene --output-on-failure
+stamp "python tests"
+ctest --test-dir build-ci -L python --output-on-failure
 
 stamp "benchmarks (smallest size) vs baseline"
 tools/run-benchmarks.sh build-ci

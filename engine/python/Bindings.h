@@ -1,0 +1,70 @@
+// skelseg: the functions of the extension module _skelseg.
+//
+// Module.cpp registers them; the package's __init__.py wraps them in the
+// public, documented API (keyword arguments, result classes, warnings). The
+// functions here take already-checked plain arguments and return plain
+// Python objects (dicts of numpy arrays), which pickle, so results travel
+// between Dask workers as they are.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace skelseg {
+
+/// Parameters every segmentation call takes (see __init__.py for meaning).
+struct CallOptions {
+    std::string tau = "3%";
+    double sigmaMin = 0.8;
+    double bodyRatio = 0.6;
+    std::string mode = "junction-rule";
+    int threads = 0;                   // 0: all cores
+    double timeLimitSeconds = 0.0;     // 0: none
+    std::uint64_t maxMemoryBytes = 0;  // 0: 75% of physical memory
+    pybind11::object progress;         // callable(stage, fraction) or None
+};
+
+/// Segments a 3-D array (any dtype numpy can give as bool, int, uint or
+/// float; any strides). Returns {"labels", "skeleton", "cuts", "report",
+/// "warnings"}; labels has the array's shape (Fortran order, axis 0 = x).
+pybind11::dict segmentArray(const pybind11::array& mask, const std::array<double, 3>& spacing,
+                            const CallOptions& options);
+
+/// Voxelises and segments a triangle mesh given as arrays: vertices (V, 3)
+/// float64, faces (F, 3) int64 triangles, triangleFace (F,) the input face of
+/// each triangle or empty (each triangle is a face). Returns the same keys as
+/// segmentArray plus "face_labels" (int32, one per input face).
+pybind11::dict segmentMeshArrays(const pybind11::array_t<double>& vertices,
+                                 const pybind11::array_t<std::int64_t>& faces,
+                                 const pybind11::array_t<std::int64_t>& triangleFace,
+                                 int resolution, const CallOptions& options);
+
+/// Reads a volume file's mask as a bool array, axis 0 = x (Fortran order),
+/// and its voxel spacing. Returns (array, spacing, origin).
+pybind11::tuple readVolumeArray(const std::string& path, const std::string& gridName);
+
+/// Reads a mesh file: (vertices (V, 3) float64, triangles (T, 3) int64,
+/// triangle_face (T,) int64, face_count).
+pybind11::tuple readMeshArrays(const std::string& path);
+
+/// Reads a .seg or .seg.gz file: one int64 label per face.
+pybind11::array_t<std::int64_t> readSegArray(const std::string& path);
+
+/// Area of every input face; arguments as segmentMeshArrays.
+pybind11::array_t<double> faceAreaArray(const pybind11::array_t<double>& vertices,
+                                        const pybind11::array_t<std::int64_t>& faces,
+                                        const pybind11::array_t<std::int64_t>& triangleFace);
+
+/// Princeton benchmark measures of `labels` against each of `humans` and
+/// their mean: {"mean": {...}, "per_human": [{...}, ...]}. faceAreas: None
+/// (every face counts once) or one weight per face (weighted as the CLI's
+/// `skelseg score`: Rand Index by faces, Hamming by area).
+pybind11::dict scoreLabels(const pybind11::array_t<std::int64_t>& labels,
+                           const pybind11::list& humans, const pybind11::object& faceAreas);
+
+}  // namespace skelseg

@@ -1,0 +1,158 @@
+#include "engine/python/CallReport.h"
+
+#include <cmath>
+
+#include "engine/Version.h"
+
+using json = nlohmann::json;
+
+namespace skelseg {
+
+namespace {
+
+json toJson(const std::array<double, 3>& p) {
+    return json::array({p[0], p[1], p[2]});
+}
+json toJson(const std::array<int, 3>& p) {
+    return json::array({p[0], p[1], p[2]});
+}
+/// JSON has no infinity: handle loops report null for rho_C.
+json areaJson(double value) {
+    return std::isfinite(value) ? json(value) : json(nullptr);
+}
+
+void addCount(json& j, const char* key, std::uint64_t value) {
+    j[key] = j[key].get<std::uint64_t>() + value;
+}
+
+}  // namespace
+
+json callReport(const SegmentationResult& result, const CallReportContext& context) {
+    const SegmentationParameters& p = context.parameters;
+    const VolumeGeometry& geometry = result.labels.geometry;
+    json report;
+    report["status"] = "ok";
+    report["skelseg_version"] = versionString();
+    report["input"] = context.input;
+    const Dims d = result.labels.dims();
+    report["grid"] = {{"size", {d.x, d.y, d.z}},
+                      {"voxel_size", geometry.voxelSize()},
+                      {"origin", toJson(geometry.origin)}};
+    report["parameters"] = {{"tau", p.tau.toString()},
+                            {"sigma_min", p.sigmaMin},
+                            {"body_ratio", p.bodyRatio},
+                            {"mode", p.mode == CutMode::Junctions ? "junctions" : "junction-rule"},
+                            {"threads", context.threads},
+                            {"region_radius", p.regionRadius},
+                            {"bridge_gap", p.bridgeGap},
+                            {"consecutive_levels", p.consecutiveLevels}};
+    json counts = {{"object_voxels", 0},         {"boundary_voxels", 0}, {"candidates", 0},
+                   {"curve_skeleton_points", 0}, {"skeleton_points", 0}, {"junction_voxels", 0}};
+    json work = {{"objects_voxels_examined", 0},
+                 {"candidates_searched", 0},
+                 {"dijkstra_searches", 0},
+                 {"heap_pops", 0},
+                 {"nodes_settled", 0},
+                 {"path_cache_hits", 0},
+                 {"rim_tests", 0},
+                 {"component_growth_steps", 0},
+                 {"sigma_evaluations", 0},
+                 {"sigma_searches", 0},
+                 {"repeated_feature_sets", 0}};
+    json objects = json::array(), junctions = json::array(), critical = json::array();
+    for (std::size_t o = 0; o < result.objects.size(); ++o) {
+        const ObjectSegmentation& obj = result.objects[o];
+        const SearchCounters& search = obj.measureStats.search;
+        const SearchCounters& sigmaSearch = obj.measureStats.sigmaSearch;
+        addCount(counts, "object_voxels", obj.voxelCount);
+        addCount(counts, "boundary_voxels", obj.boundaryArea);
+        addCount(counts, "candidates", obj.candidateStats.candidates);
+        addCount(counts, "curve_skeleton_points", obj.curveSkeletonPoints);
+        addCount(counts, "skeleton_points", obj.simplifiedSkeletonPoints);
+        addCount(counts, "junction_voxels", obj.junctionVoxels);
+        addCount(work, "objects_voxels_examined", obj.candidateStats.objectVoxels);
+        addCount(work, "candidates_searched", obj.candidateStats.candidates);
+        addCount(work, "dijkstra_searches", search.searches);
+        addCount(work, "heap_pops", search.heapPops + sigmaSearch.heapPops);
+        addCount(work, "nodes_settled", search.nodesSettled + sigmaSearch.nodesSettled);
+        addCount(work, "path_cache_hits", obj.measureStats.pathCacheHits);
+        addCount(work, "rim_tests", obj.measureStats.rimTests);
+        addCount(work, "component_growth_steps", obj.measureStats.componentGrowthSteps);
+        addCount(work, "sigma_evaluations", obj.measureStats.sigmaEvaluations);
+        addCount(work, "sigma_searches", sigmaSearch.searches);
+        addCount(work, "repeated_feature_sets", obj.measureStats.repeatedFeatureSets);
+        objects.push_back({{"index", o},
+                           {"voxels", obj.voxelCount},
+                           {"boundary_voxels", obj.boundaryArea},
+                           {"boundary_components", obj.boundaryComponents},
+                           {"bbox_min", toJson(obj.bboxMin)},
+                           {"bbox_max", toJson(obj.bboxMax)},
+                           {"tau_area", obj.tauArea},
+                           {"noise_area", obj.noiseArea},
+                           {"candidates", obj.candidateStats.candidates},
+                           {"curve_skeleton_points", obj.curveSkeletonPoints},
+                           {"skeleton_points", obj.simplifiedSkeletonPoints},
+                           {"junction_voxels", obj.junctionVoxels},
+                           {"handle_points", obj.handlePoints},
+                           {"skeleton_bridges", obj.skeletonBridges},
+                           {"cuts", obj.cutLoops.size()},
+                           {"segments", obj.labels}});
+        for (const auto& j : obj.junctions)
+            junctions.push_back(
+                {{"object", o},
+                 {"voxel", toJson(j.voxel)},
+                 {"position", toJson(geometry.indexToWorld(j.voxel[0], j.voxel[1], j.voxel[2]))},
+                 {"branches", j.branches},
+                 {"cuts", j.cuts},
+                 {"rho_s", j.rhoS},
+                 {"core_voxels", j.coreVoxels}});
+        for (const auto& c : obj.criticalPoints)
+            critical.push_back(
+                {{"object", o},
+                 {"voxel", toJson(c.voxel)},
+                 {"position", toJson(geometry.indexToWorld(c.voxel[0], c.voxel[1], c.voxel[2]))},
+                 {"junction", c.junction},
+                 {"sigma", c.sigma},
+                 {"rho_s", c.rhoS},
+                 {"rho_c", areaJson(c.rhoC)},
+                 {"body_similarity", c.similarity},
+                 {"is_cut", c.isCut}});
+    }
+    report["counts"] = counts;
+    report["work"] = work;
+    report["objects"] = objects;
+    report["junctions"] = junctions;
+    report["critical_points"] = critical;
+    json segments = json::array();
+    for (const auto& s : result.segments)
+        segments.push_back({{"id", s.label},
+                            {"object", s.object},
+                            {"voxels", s.voxelCount},
+                            {"boundary_area", s.boundaryArea}});
+    report["segments"] = segments;
+    report["segment_count"] = result.segments.size();
+    if (context.faceSegments) report["face_segments"] = *context.faceSegments;
+    json stages = json::array();
+    double serialWall = 0.0;
+    for (const auto& s : context.stages) {
+        stages.push_back({{"name", s.name},
+                          {"parallel", s.parallel},
+                          {"wall_seconds", s.wallSeconds},
+                          {"cpu_seconds", s.cpuSeconds},
+                          {"calls", s.calls}});
+        if (!s.parallel) serialWall += s.wallSeconds;
+    }
+    report["stages"] = stages;
+    const double wall = context.wallSeconds;
+    report["timing"] = {{"wall_seconds", wall},
+                        {"cpu_seconds", context.cpuSeconds},
+                        {"serial_stage_seconds", serialWall},
+                        {"serial_share", wall > 0 ? serialWall / wall : 0.0}};
+    report["memory"] = {{"peak_resident_bytes", peakResidentBytes()},
+                        {"estimated_bytes", context.estimatedMemoryBytes},
+                        {"limit_bytes", context.memoryLimitBytes}};
+    report["warnings"] = context.warnings;
+    return report;
+}
+
+}  // namespace skelseg

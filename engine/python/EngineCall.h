@@ -1,0 +1,36 @@
+// skelseg: running the engine from Python without holding the interpreter.
+//
+// runEngineCall() runs the engine's work on a worker thread (inside a oneTBB
+// task_arena of `threads` threads when threads > 0, so one call's thread
+// count does not change any other's) while the calling thread releases the
+// GIL and waits. Every 50 ms the caller wakes, takes the GIL, and
+//   - checks for signals (PyErr_CheckSignals): Ctrl-C raises
+//     KeyboardInterrupt there, in the main thread, as Python expects;
+//   - calls progress(stage, fraction) when the stage or its fraction changed,
+//     at most every 100 ms, and once more with ("done", 1.0) at the end.
+// A Python exception from either cancels the engine through the interrupter;
+// the caller waits for the worker to stop (the kernels poll every few
+// milliseconds) and re-raises it, so the interpreter stays usable. Engine
+// exceptions from the worker are rethrown on the calling thread as they are
+// (Module.cpp maps them to Python exceptions).
+//
+// Why a worker thread rather than taking the GIL inside wasInterrupted():
+// the kernels poll from every TBB thread, and a poll that blocks on the GIL
+// stalls a parallel loop behind whatever Python code runs; here the engine's
+// threads never touch Python, and the callback runs on the caller's thread.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include <functional>
+
+#include "engine/python/CallerPolledInterrupter.h"
+
+namespace skelseg {
+
+/// Runs `work` as described above. Call with the GIL held. threads <= 0: the
+/// default concurrency. progress: a callable or None.
+void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& interrupter,
+                   int threads, const pybind11::object& progress);
+
+}  // namespace skelseg

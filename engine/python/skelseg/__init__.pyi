@@ -1,0 +1,96 @@
+# Type stubs of the skelseg package (the implementation is __init__.py over
+# the compiled _skelseg); editors show these signatures.
+import os
+from typing import Any, Callable, List, Literal, Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ProgressCallback = Callable[[str, Optional[float]], Any]
+PathLike = Union[str, os.PathLike[str]]
+
+class SkelsegWarning(UserWarning): ...
+
+class Skeleton:
+    points: npt.NDArray[np.float64]
+    voxels: npt.NDArray[np.int32]
+    edges: npt.NDArray[np.int64]
+    rho_s: npt.NDArray[np.float32]
+    rho_c: npt.NDArray[np.float64]
+    sigma: npt.NDArray[np.float32]
+    junction: npt.NDArray[np.bool_]
+    critical: npt.NDArray[np.bool_]
+    object: npt.NDArray[np.int32]
+    def __len__(self) -> int: ...
+
+class SegmentationResult:
+    labels: npt.NDArray[np.uint16]
+    skeleton: Skeleton
+    cuts: List[npt.NDArray[np.float64]]
+    report: dict[str, Any]
+    @property
+    def n_segments(self) -> int: ...
+
+class MeshSegmentationResult(SegmentationResult):
+    face_labels: npt.NDArray[np.int32]
+
+class Mesh:
+    vertices: npt.NDArray[np.float64]
+    faces: npt.NDArray[np.int64]
+    triangle_face: npt.NDArray[np.int64]
+    face_count: int
+    def face_areas(self) -> npt.NDArray[np.float64]: ...
+
+class Score:
+    rand_index_error: float
+    hamming_distance: float
+    missing_rate: float
+    false_alarm_rate: float
+    per_human: Tuple[Score, ...]
+
+def segment(
+    mask: npt.ArrayLike,
+    *,
+    tau: Union[str, float] = "3%",
+    sigma_min: float = 0.8,
+    body_ratio: float = 0.6,
+    mode: str = "junction-rule",
+    spacing: Sequence[float] = (1, 1, 1),
+    threads: Optional[int] = None,
+    time_limit: Optional[float] = None,
+    max_memory: Union[None, int, str] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> SegmentationResult: ...
+def segment_mesh(
+    vertices: npt.ArrayLike,
+    faces: npt.ArrayLike,
+    *,
+    resolution: int = 256,
+    triangle_face: Optional[npt.ArrayLike] = None,
+    tau: Union[str, float] = "3%",
+    sigma_min: float = 0.8,
+    body_ratio: float = 0.6,
+    mode: str = "junction-rule",
+    threads: Optional[int] = None,
+    time_limit: Optional[float] = None,
+    max_memory: Union[None, int, str] = None,
+    progress: Optional[ProgressCallback] = None,
+) -> MeshSegmentationResult: ...
+@overload
+def read_volume(
+    path: PathLike, *, grid: Optional[str] = None, with_spacing: Literal[False] = False
+) -> npt.NDArray[np.bool_]: ...
+@overload
+def read_volume(
+    path: PathLike, *, grid: Optional[str] = None, with_spacing: Literal[True]
+) -> Tuple[npt.NDArray[np.bool_], Tuple[float, float, float]]: ...
+def read_mesh(path: PathLike) -> Mesh: ...
+def read_seg(path: PathLike) -> npt.NDArray[np.int64]: ...
+def score(
+    labels: npt.ArrayLike,
+    human_labels: Union[npt.ArrayLike, Sequence[npt.ArrayLike]],
+    *,
+    face_areas: Optional[npt.ArrayLike] = None,
+) -> Score: ...

@@ -1,0 +1,101 @@
+"""Bad input: the documented exceptions, the engine's one-line messages,
+and nothing printed to stdout."""
+import numpy as np
+import pytest
+
+import skelseg
+
+
+def check_quiet(capfd):
+    out, _ = capfd.readouterr()
+    assert out == ""
+
+
+def test_a_2d_array_is_a_value_error(capfd):
+    with pytest.raises(ValueError, match=r"^mask: must be a 3-D array, got 2-D of shape \(4, 5\)$"):
+        skelseg.segment(np.ones((4, 5), dtype=bool))
+    check_quiet(capfd)
+
+
+def test_an_empty_array_is_a_value_error(capfd):
+    with pytest.raises(ValueError, match=r"^mask: grid size 0 along axis 1 is not positive$"):
+        skelseg.segment(np.ones((3, 0, 5), dtype=np.uint8))
+    check_quiet(capfd)
+
+
+def test_nan_is_a_value_error_naming_the_first_nan(capfd):
+    mask = np.zeros((6, 7, 8), dtype=np.float32)
+    mask[2:5, 2:5, 2:5] = 1.0
+    mask[4, 1, 3] = np.nan
+    mask[1, 5, 6] = np.nan
+    with pytest.raises(ValueError, match=r"^mask: NaN at index \[4, 1, 3\]"):
+        skelseg.segment(mask)
+    check_quiet(capfd)
+
+
+def test_a_mask_over_the_memory_limit_is_a_memory_error(capfd, figure_mask):
+    with pytest.raises(MemoryError, match=r"^mask: needs about .* over the limit of 1.00 MB "
+                                          r"\(max_memory\)$"):
+        skelseg.segment(figure_mask, max_memory="1M")
+    check_quiet(capfd)
+
+
+def test_a_grid_over_the_voxel_cap_is_a_value_error_without_reading_it(capfd):
+    # A broadcast array: 8.6e9 voxels, no memory behind them.
+    huge = np.broadcast_to(np.uint8(1), (2048, 2048, 2048))
+    with pytest.raises(ValueError, match=r"^mask: grid of 2048x2048x2048 voxels is over the limit"):
+        skelseg.segment(huge)
+    check_quiet(capfd)
+
+
+def test_the_time_limit_is_a_timeout_error(capfd, shapes):
+    mask = skelseg.read_volume(shapes.nrrd("figure", 128, 1))
+    with pytest.raises(TimeoutError, match=r"^time limit reached$"):
+        skelseg.segment(mask, time_limit=0.05)
+    check_quiet(capfd)
+
+
+@pytest.mark.parametrize("dtype", [np.complex64, object, "U3"])
+def test_unsupported_dtypes_are_type_errors(capfd, dtype):
+    with pytest.raises(TypeError, match=r"^mask: dtype .* is not supported"):
+        skelseg.segment(np.zeros((3, 3, 3), dtype=dtype))
+    check_quiet(capfd)
+
+
+@pytest.mark.parametrize("kwargs,message", [
+    ({"tau": "3x"}, r"--tau '3x' is not a number of voxels or a percentage"),
+    ({"tau": "150%"}, r"--tau '150%' is out of range"),
+    ({"sigma_min": 1.5}, r"sigma_min 1.5 is not in \[0, 1\]"),
+    ({"mode": "magic"}, r"mode 'magic' is not"),
+    ({"threads": 0}, r"threads must be None or a positive integer"),
+    ({"time_limit": -1}, r"time_limit must be None or a positive number"),
+    ({"spacing": (1, 0, 1)}, r"spacing must be three positive finite numbers"),
+    ({"max_memory": "4X"}, r"max_memory '4X' is not a size"),
+])
+def test_bad_parameters_are_value_errors(capfd, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        skelseg.segment(np.ones((5, 5, 5), dtype=bool), **kwargs)
+    check_quiet(capfd)
+
+
+def test_unreadable_files_are_value_errors_naming_the_file(capfd, tmp_path):
+    missing = tmp_path / "missing.nrrd"
+    with pytest.raises(ValueError, match=rf"^{missing}: no such file$"):
+        skelseg.read_volume(missing)
+    bad = tmp_path / "bad.off"
+    bad.write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")
+    with pytest.raises(ValueError, match=rf"^{bad}: "):
+        skelseg.read_mesh(bad)
+    check_quiet(capfd)
+
+
+def test_bad_mesh_arrays_are_value_errors(capfd):
+    vertices = np.zeros((3, 3))
+    with pytest.raises(ValueError, match=r"^mesh: face 0 uses vertex 7 of 3$"):
+        skelseg.segment_mesh(vertices, np.array([[0, 1, 7]]))
+    with pytest.raises(ValueError, match=r"^mesh: vertex 1 has a coordinate that is not finite$"):
+        skelseg.segment_mesh(np.array([[0, 0, 0], [np.inf, 0, 0], [0, 1, 0]]),
+                             np.array([[0, 1, 2]]))
+    with pytest.raises(ValueError, match=r"faces must have shape \(F, k\) with k >= 3"):
+        skelseg.segment_mesh(vertices, np.array([[0, 1]]))
+    check_quiet(capfd)

@@ -1,0 +1,116 @@
+"""segment_mesh, read_mesh, read_seg and score: equal to the CLI."""
+import json
+
+import numpy as np
+import pytest
+
+import skelseg
+from conftest import run_cli, shared_data
+
+
+def box(lo, hi, first):
+    """A closed box: 8 vertices, 6 outward quads (vertex indices from `first`)."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    vertices = [(x, y, z) for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)]
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    return vertices, [[first + i for i in q] for q in quads]
+
+
+@pytest.fixture(scope="module")
+def body_and_limb(tmp_path_factory):
+    """A thick box with a thin box through its top: two overlapping closed pieces,
+    as quads, and the same mesh as an OFF file."""
+    body_v, body_f = box((0, 0, 0), (4, 4, 4), 0)
+    limb_v, limb_f = box((1.5, 1.5, 3), (2.5, 2.5, 10), 8)
+    vertices = np.array(body_v + limb_v, dtype=float)
+    quads = np.array(body_f + limb_f)
+    path = tmp_path_factory.mktemp("mesh") / "body-limb.off"
+    lines = ["OFF", f"{len(vertices)} {len(quads)} 0"]
+    lines += [" ".join(repr(c) for c in v) for v in vertices]
+    lines += ["4 " + " ".join(str(i) for i in q) for q in quads]
+    path.write_text("\n".join(lines) + "\n")
+    return vertices, quads, path
+
+
+def cli_face_labels(shapes, mesh_path, resolution, *extra):
+    outdir = shapes.directory / f"{mesh_path.stem}-{resolution}-out"
+    run_cli("segment", mesh_path, "-o", outdir, "-q", "--no-preview", "--force",
+            "--resolution", resolution, *extra)
+    return outdir, skelseg.read_seg(outdir / "segmentation.seg")
+
+
+def test_quad_mesh_face_labels_equal_the_cli_segmentation_seg(shapes, body_and_limb):
+    vertices, quads, path = body_and_limb
+    result = skelseg.segment_mesh(vertices, quads, resolution=48)
+    outdir, expected = cli_face_labels(shapes, path, 48)
+    assert result.face_labels.dtype == np.int32
+    assert result.face_labels.shape == (len(quads),)
+    np.testing.assert_array_equal(result.face_labels, expected)
+    assert len(np.unique(result.face_labels)) == 2  # the body and the limb
+    report = json.loads((outdir / "report.json").read_text())
+    assert result.report["face_segments"] == report["face_segments"] == 2
+    assert result.report["segment_count"] == report["segment_count"]
+    for key in ("faces", "vertices", "resolution", "mesh_closed", "mesh_pieces"):
+        assert result.report["input"][key] == report["input"][key], key
+
+
+def test_read_mesh_gives_triangles_and_their_faces(body_and_limb):
+    vertices, quads, path = body_and_limb
+    mesh = skelseg.read_mesh(path)
+    np.testing.assert_array_equal(mesh.vertices, vertices)
+    assert mesh.face_count == len(quads)
+    assert mesh.faces.shape == (2 * len(quads), 3)
+    np.testing.assert_array_equal(mesh.triangle_face, np.repeat(np.arange(len(quads)), 2))
+    from_file = skelseg.segment_mesh(mesh.vertices, mesh.faces, triangle_face=mesh.triangle_face,
+                                     resolution=48)
+    from_quads = skelseg.segment_mesh(vertices, quads, resolution=48)
+    np.testing.assert_array_equal(from_file.face_labels, from_quads.face_labels)
+    # Without triangle_face every triangle is a face; both halves of a quad agree.
+    per_triangle = skelseg.segment_mesh(mesh.vertices, mesh.faces, resolution=48).face_labels
+    np.testing.assert_array_equal(per_triangle, np.repeat(from_quads.face_labels, 2))
+
+
+def test_an_open_mesh_warns_and_still_segments(body_and_limb):
+    vertices, quads, _ = body_and_limb
+    with pytest.warns(skelseg.SkelsegWarning, match=r"^mesh: mesh is not closed"):
+        result = skelseg.segment_mesh(vertices, quads[1:], resolution=32)
+    assert result.face_labels.shape == (len(quads) - 1,)
+    assert any("not closed" in w for w in result.report["warnings"])
+
+
+def psb_model(number):
+    data = shared_data() / "psb"
+    off = data / "off" / f"{number}.off"
+    humans = sorted((data / "seg" / str(number)).glob("*.seg*"))
+    if not off.exists() or not humans:
+        pytest.skip(f"no PSB model {number} in {data}")
+    return off, humans
+
+
+def test_psb_model_labels_and_scores_equal_the_cli(shapes):
+    off, humans = psb_model(1)
+    mesh = skelseg.read_mesh(off)
+    result = skelseg.segment_mesh(mesh.vertices, mesh.faces, triangle_face=mesh.triangle_face,
+                                  resolution=64)
+    outdir, expected = cli_face_labels(shapes, off, 64)
+    np.testing.assert_array_equal(result.face_labels, expected)
+
+    human_labels = [skelseg.read_seg(h) for h in humans]
+    score = skelseg.score(result.face_labels, human_labels, face_areas=mesh.face_areas())
+    cli = json.loads(run_cli("score", off, outdir / "segmentation.seg", *humans, "--json").stdout)
+    for field in ("rand_index_error", "hamming_distance", "missing_rate", "false_alarm_rate"):
+        assert getattr(score, field) == pytest.approx(cli["mean"][field], abs=1e-12), field
+    assert len(score.per_human) == len(humans)
+    assert score.per_human[0].rand_index_error == \
+        pytest.approx(cli["humans"][0]["rand_index_error"], abs=1e-12)
+
+
+def test_score_of_identical_partitions_is_zero_and_of_one_segment_is_not():
+    labels = np.array([0, 0, 1, 1, 2, 2, 2])
+    same = skelseg.score(labels + 5, labels)  # label values do not matter
+    assert same.rand_index_error == 0 and same.hamming_distance == 0
+    whole = skelseg.score(np.zeros(7, int), [labels, labels])
+    assert whole.rand_index_error > 0 and whole.missing_rate == 0
+    assert len(whole.per_human) == 2
+    with pytest.raises(ValueError):
+        skelseg.score(labels, labels[:3])

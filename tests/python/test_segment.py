@@ -1,0 +1,147 @@
+"""skelseg.segment on numpy arrays: equal to the CLI, any layout and dtype."""
+import json
+
+import numpy as np
+import pytest
+
+import skelseg
+from conftest import read_nrrd
+
+# Generated shapes and sizes: small enough for a quick suite, each with parts.
+CLI_CASES = [("figure", 64, 1), ("y-arms", 48, 0), ("torus-limb", 48, 0), ("box-tubes", 48, 0)]
+
+
+@pytest.mark.parametrize("name,size,pose", CLI_CASES)
+def test_labels_equal_the_cli_labels_nrrd_byte_for_byte(shapes, name, size, pose):
+    mask = skelseg.read_volume(shapes.nrrd(name, size, pose))
+    result = skelseg.segment(mask)
+    fields, data = read_nrrd(shapes.cli_output(name, size, pose) / "labels.nrrd")
+    assert fields["type"] in ("uint16", "unsigned short", "ushort")
+    assert [int(s) for s in fields["sizes"].split()] == list(mask.shape)
+    assert result.labels.dtype == np.uint16
+    assert result.labels.shape == mask.shape
+    assert result.n_segments >= 2
+    assert result.labels.tobytes(order="F") == data
+
+
+def test_report_has_the_cli_report_content(shapes):
+    mask = skelseg.read_volume(shapes.nrrd("figure", 64, 1))
+    result = skelseg.segment(mask)
+    cli = json.loads((shapes.cli_output("figure", 64, 1) / "report.json").read_text())
+    assert set(cli) == set(result.report)
+
+    # World positions differ: the file has its own geometry, the array unit spacing.
+    def without_positions(items):
+        return [{k: v for k, v in item.items() if k != "position"} for item in items]
+
+    for key in ("counts", "work", "objects", "segments", "segment_count", "status",
+                "skelseg_version"):
+        assert result.report[key] == cli[key], key
+    for key in ("junctions", "critical_points"):
+        assert without_positions(result.report[key]) == without_positions(cli[key]), key
+    assert result.report["grid"]["size"] == cli["grid"]["size"] == list(mask.shape)
+    assert {k: v for k, v in result.report["parameters"].items() if k != "threads"} == \
+        {k: v for k, v in cli["parameters"].items() if k != "threads"}
+    assert {s["name"] for s in result.report["stages"]} <= {s["name"] for s in cli["stages"]}
+    assert result.report["input"] == {"kind": "array", "shape": list(mask.shape), "dtype": "bool",
+                                      "spacing": [1.0, 1.0, 1.0]}
+    assert result.n_segments == cli["segment_count"] == len(np.unique(result.labels)) - 1
+
+
+def test_skeleton_and_cuts_match_the_report(figure_mask):
+    result = skelseg.segment(figure_mask)
+    skeleton = result.skeleton
+    n = len(skeleton)
+    assert n == result.report["counts"]["skeleton_points"]
+    assert skeleton.points.shape == (n, 3) and skeleton.voxels.shape == (n, 3)
+    for field in ("rho_s", "rho_c", "sigma", "junction", "critical", "object"):
+        assert getattr(skeleton, field).shape == (n,), field
+    assert skeleton.edges.ndim == 2 and skeleton.edges.shape[1] == 2
+    assert skeleton.edges.min() >= 0 and skeleton.edges.max() < n
+    assert skeleton.junction.sum() == result.report["counts"]["junction_voxels"]
+    # Skeleton voxels lie inside the object (unit spacing: points are voxels).
+    np.testing.assert_array_equal(skeleton.points, skeleton.voxels)
+    x, y, z = skeleton.voxels.T
+    assert figure_mask[x, y, z].all()
+    assert len(result.cuts) == sum(o["cuts"] for o in result.report["objects"]) > 0
+    assert all(c.ndim == 2 and c.shape[1] == 3 and len(c) > 2 for c in result.cuts)
+
+
+def test_c_and_fortran_order_give_the_same_labels_in_the_callers_axis_order(figure_mask):
+    fortran = np.asfortranarray(figure_mask)
+    c_order = np.ascontiguousarray(figure_mask)
+    assert fortran.flags.f_contiguous and c_order.flags.c_contiguous
+    from_fortran = skelseg.segment(fortran).labels
+    from_c = skelseg.segment(c_order).labels
+    assert from_c.shape == from_fortran.shape == figure_mask.shape
+    np.testing.assert_array_equal(from_c, from_fortran)
+    # A strided, reversed view is read in place and labels follow its axes.
+    view = figure_mask[::-1, :, ::-1]
+    np.testing.assert_array_equal(skelseg.segment(view).labels,
+                                  skelseg.segment(np.ascontiguousarray(view)).labels)
+
+
+def test_labels_follow_the_callers_axes_for_a_c_order_volume(figure_mask):
+    zyx = np.ascontiguousarray(figure_mask.transpose(2, 1, 0))  # scikit-image's (z, y, x)
+    labels = skelseg.segment(zyx).labels
+    assert labels.shape == zyx.shape
+    assert (labels[zyx] > 0).all()
+    assert (labels[~zyx] == 0).all()
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.int32, np.int64, np.uint16, np.float32,
+                                   np.float64, np.float16])
+def test_bool_and_numeric_dtypes_agree(figure_mask, dtype):
+    expected = skelseg.segment(figure_mask).labels
+    values = figure_mask.astype(dtype)
+    if np.issubdtype(dtype, np.signedinteger):
+        values *= -3  # any nonzero value is object
+    np.testing.assert_array_equal(skelseg.segment(values).labels, expected)
+
+
+def test_big_endian_integers_and_floats_agree(figure_mask):
+    expected = skelseg.segment(figure_mask).labels
+    for dtype in (">i4", ">f8"):
+        np.testing.assert_array_equal(skelseg.segment(figure_mask.astype(dtype)).labels,
+                                      expected)
+
+
+def test_spacing_scales_world_coordinates_only(figure_mask):
+    plain = skelseg.segment(figure_mask)
+    spaced = skelseg.segment(figure_mask, spacing=(0.5, 2.0, 1.5))
+    np.testing.assert_array_equal(spaced.labels, plain.labels)
+    np.testing.assert_allclose(spaced.skeleton.points,
+                               plain.skeleton.voxels * np.array([0.5, 2.0, 1.5]))
+    assert spaced.report["input"]["spacing"] == [0.5, 2.0, 1.5]
+
+
+def test_parameters_reach_the_engine(figure_mask):
+    result = skelseg.segment(figure_mask, tau=250, sigma_min=0.7, body_ratio=0.5,
+                             mode="junctions", threads=1)
+    parameters = result.report["parameters"]
+    assert parameters["tau"] == "250"
+    assert parameters["sigma_min"] == 0.7 and parameters["body_ratio"] == 0.5
+    assert parameters["mode"] == "junctions" and parameters["threads"] == 1
+
+
+def test_an_empty_mask_has_no_segments():
+    result = skelseg.segment(np.zeros((8, 9, 10), dtype=bool))
+    assert result.n_segments == 0
+    assert result.labels.shape == (8, 9, 10) and not result.labels.any()
+    assert len(result.skeleton) == 0 and result.cuts == []
+
+
+def test_results_pickle(figure_mask):
+    import pickle
+    result = skelseg.segment(figure_mask)
+    copy = pickle.loads(pickle.dumps(result))
+    np.testing.assert_array_equal(copy.labels, result.labels)
+    np.testing.assert_array_equal(copy.skeleton.edges, result.skeleton.edges)
+    assert copy.report == result.report and copy.n_segments == result.n_segments
+
+
+def test_help_shows_the_signature_and_parameters():
+    doc = skelseg.segment.__doc__
+    for word in ("tau", "sigma_min", "body_ratio", "spacing", "threads", "time_limit",
+                 "progress", "ValueError", "MemoryError", "TimeoutError"):
+        assert word in doc, word

@@ -1,0 +1,60 @@
+"""The GIL is released: Python threads segment at once, with the same labels."""
+import threading
+import time
+
+import numpy as np
+
+import skelseg
+
+
+def test_four_threads_at_once_give_the_labels_of_one_and_overlap(shapes):
+    mask = skelseg.read_volume(shapes.nrrd("figure", 96, 1))
+    expected = skelseg.segment(mask, threads=1).labels
+
+    # The same four calls one after the other, then on four threads at once.
+    start = time.perf_counter()
+    for _ in range(4):
+        skelseg.segment(mask, threads=1)
+    sequential_wall = time.perf_counter() - start
+
+    barrier = threading.Barrier(4)
+    labels = [None] * 4
+    # While the engine runs, progress is called on the calling thread: the
+    # first and last calls bracket the time each engine run was under way.
+    running = [[None, None] for _ in range(4)]
+
+    def work(i):
+        def progress(stage, fraction):
+            now = time.perf_counter()
+            if running[i][0] is None:
+                running[i][0] = now
+            running[i][1] = now
+
+        barrier.wait()
+        labels[i] = skelseg.segment(mask, threads=1, progress=progress).labels
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(4)]
+    start = time.perf_counter()
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    concurrent_wall = time.perf_counter() - start
+
+    for result in labels:
+        np.testing.assert_array_equal(result, expected)
+    # Every run was under way while every other one was: no call waited for
+    # another to finish (a held GIL would serialise them).
+    latest_start = max(begin for begin, _ in running)
+    earliest_end = min(end for _, end in running)
+    assert latest_start < earliest_end, running
+    # And they shared the cores: lenient, the machine may be busy.
+    assert concurrent_wall < 0.9 * sequential_wall, (concurrent_wall, sequential_wall)
+
+
+def test_threads_do_not_change_the_labels(figure_mask):
+    one = skelseg.segment(figure_mask, threads=1)
+    two = skelseg.segment(figure_mask, threads=2)
+    np.testing.assert_array_equal(one.labels, two.labels)
+    assert one.report["parameters"]["threads"] == 1
+    assert two.report["parameters"]["threads"] == 2
