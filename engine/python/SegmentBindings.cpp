@@ -1,4 +1,5 @@
 // segment() and segment_mesh(): the engine on numpy arrays, off the GIL.
+#include <pybind11/stl.h>
 #include <tbb/info.h>
 
 #include <chrono>

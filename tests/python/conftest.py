@@ -84,4 +84,4 @@ def shapes(tmp_path_factory) -> Shapes:
 def figure_mask(shapes) -> np.ndarray:
     """A small figure (six parts) as read_volume gives it: (nx, ny, nz), Fortran order."""
     import skelseg
-    return skelseg.read_volume(shapes.nrrd("figure", 64, 1))
+    return skelseg.read_volume(shapes.nrrd("figure", 96, 1))

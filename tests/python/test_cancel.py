@@ -17,7 +17,7 @@ STOP_SECONDS = 2.0
 @pytest.fixture(scope="module")
 def slow_case(shapes):
     """A figure that takes seconds to segment, and how long a whole run takes."""
-    mask = skelseg.read_volume(shapes.nrrd("figure", 160, 1))
+    mask = skelseg.read_volume(shapes.nrrd("figure", 224, 1))
     start = time.perf_counter()
     skelseg.segment(mask)
     return mask, time.perf_counter() - start

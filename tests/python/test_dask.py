@@ -9,8 +9,8 @@ import skelseg
 
 distributed = pytest.importorskip("distributed")
 
-SHAPES = [("figure", 64, 0), ("figure", 64, 1), ("figure", 64, 2), ("y-arms", 48, 0),
-          ("torus-limb", 48, 0), ("box-tubes", 48, 0)]
+SHAPES = [("figure", 96, 0), ("figure", 96, 1), ("figure", 96, 2), ("y-arms", 48, 0),
+          ("y-arms", 64, 0), ("box-tubes", 48, 0)]
 
 
 def test_client_map_over_six_shapes_on_a_local_cluster_equals_direct_calls(shapes):

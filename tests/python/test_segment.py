@@ -8,7 +8,7 @@ import skelseg
 from conftest import read_nrrd
 
 # Generated shapes and sizes: small enough for a quick suite, each with parts.
-CLI_CASES = [("figure", 64, 1), ("y-arms", 48, 0), ("torus-limb", 48, 0), ("box-tubes", 48, 0)]
+CLI_CASES = [("figure", 96, 1), ("figure", 96, 2), ("y-arms", 48, 0), ("box-tubes", 48, 0)]
 
 
 @pytest.mark.parametrize("name,size,pose", CLI_CASES)
@@ -25,18 +25,19 @@ def test_labels_equal_the_cli_labels_nrrd_byte_for_byte(shapes, name, size, pose
 
 
 def test_report_has_the_cli_report_content(shapes):
-    mask = skelseg.read_volume(shapes.nrrd("figure", 64, 1))
+    mask = skelseg.read_volume(shapes.nrrd("figure", 96, 1))
     result = skelseg.segment(mask)
-    cli = json.loads((shapes.cli_output("figure", 64, 1) / "report.json").read_text())
+    cli = json.loads((shapes.cli_output("figure", 96, 1) / "report.json").read_text())
     assert set(cli) == set(result.report)
 
     # World positions differ: the file has its own geometry, the array unit spacing.
     def without_positions(items):
         return [{k: v for k, v in item.items() if k != "position"} for item in items]
 
-    for key in ("counts", "work", "objects", "segments", "segment_count", "status",
-                "skelseg_version"):
+    for key in ("counts", "objects", "segments", "segment_count", "status", "skelseg_version"):
         assert result.report[key] == cli[key], key
+    # Work counters depend on how threads share the path caches; the keys do not.
+    assert set(result.report["work"]) == set(cli["work"])
     for key in ("junctions", "critical_points"):
         assert without_positions(result.report[key]) == without_positions(cli[key]), key
     assert result.report["grid"]["size"] == cli["grid"]["size"] == list(mask.shape)
@@ -125,7 +126,8 @@ def test_parameters_reach_the_engine(figure_mask):
 
 
 def test_an_empty_mask_has_no_segments():
-    result = skelseg.segment(np.zeros((8, 9, 10), dtype=bool))
+    with pytest.warns(skelseg.SkelsegWarning, match="no object voxels"):
+        result = skelseg.segment(np.zeros((8, 9, 10), dtype=bool))
     assert result.n_segments == 0
     assert result.labels.shape == (8, 9, 10) and not result.labels.any()
     assert len(result.skeleton) == 0 and result.cuts == []
