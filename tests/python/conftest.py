@@ -1,8 +1,8 @@
 """Fixtures for the Python module's tests: the CLI, generated shapes, NRRD.
 
-The module under test is the one on PYTHONPATH (ctest points it at the
-build tree: build/python); the CLI is SKELSEG_BINARY (ctest sets it) or
-build/skelseg. Shapes are generated with `skelseg generate`, once per
+The module under test is the one on PYTHONPATH (ctest points it at its
+build tree's python/ folder), else build/python; the CLI is SKELSEG_BINARY
+(ctest sets it) or build/skelseg. Shapes are generated with `skelseg generate`, once per
 session, into a temporary directory.
 """
 import gzip
@@ -16,12 +16,11 @@ import pytest
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 
-try:
-    import skelseg  # noqa: F401
-except ImportError:  # run by hand from the repository: use the build tree
+# Run by hand without PYTHONPATH: test the build tree's module, not an
+# installed copy that may be older (Dask's worker processes inherit the path).
+if not os.environ.get("PYTHONPATH") and (REPO / "build" / "python" / "skelseg").is_dir():
     sys.path.insert(0, str(REPO / "build" / "python"))
-    os.environ["PYTHONPATH"] = os.pathsep.join(
-        [str(REPO / "build" / "python")] + os.environ.get("PYTHONPATH", "").split(os.pathsep))
+    os.environ["PYTHONPATH"] = str(REPO / "build" / "python")
 
 
 def cli_binary() -> pathlib.Path:

@@ -13,6 +13,8 @@ SHAPES = [("figure", 96, 0), ("figure", 96, 1), ("figure", 96, 2), ("y-arms", 48
           ("y-arms", 64, 0), ("box-tubes", 48, 0)]
 
 
+# Debian's tornado and distributed 2022.12 disagree on event loop set-up; harmless.
+@pytest.mark.filterwarnings("ignore:make_current is deprecated:DeprecationWarning")
 def test_client_map_over_six_shapes_on_a_local_cluster_equals_direct_calls(shapes):
     masks = [skelseg.read_volume(shapes.nrrd(*shape)) for shape in SHAPES]
     expected = [skelseg.segment(mask) for mask in masks]
