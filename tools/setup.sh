@@ -11,7 +11,7 @@ cmake --build build -j"$(nproc)" --target skelseg
 # The Python module (when pybind11 is installed): built, then installed into
 # /usr/bin/python3's site-packages so that `python3 -c "import skelseg"` works
 # (docs/python.md).
-if ninja -C build -t targets all | grep -q '^skelseg_python:'; then
+if ninja -C build -t targets all | grep '^skelseg_python:' > /dev/null; then  # not -q: pipefail
   cmake --build build -j"$(nproc)" --target skelseg_python
   SUDO=""
   [ -w "$(sed -n 's/^SKELSEG_PYTHON_INSTALL_DIR:PATH=//p' build/CMakeCache.txt)" ] || SUDO="sudo"
