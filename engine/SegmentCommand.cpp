@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "engine/SegmentViews.h"
 #include "engine/Version.h"
 #include "io/files/OutputDirectory.h"
 #include "io/mesh/FaceLabels.h"
@@ -33,9 +34,9 @@ using json = nlohmann::json;
 namespace skelseg {
 
 const std::vector<std::string>& segmentOutputNames() {
-    static const std::vector<std::string> names = {"labels.nrrd", "labels.vdb",      "skeleton.ply",
-                                                   "cuts.ply",    "segments.ply",    "preview.png",
-                                                   "report.json", "segmentation.seg"};
+    static const std::vector<std::string> names = {
+        "labels.nrrd", "labels.vdb",  "skeleton.ply",     "cuts.ply",     "segments.ply",
+        "preview.png", "report.json", "segmentation.seg", "segments.glb", "viewer.html"};
     return names;
 }
 
@@ -81,6 +82,18 @@ json toJson(const std::array<int, 3>& p) {
 /// JSON has no infinity: handle loops report null for rho_C.
 json areaJson(double value) {
     return std::isfinite(value) ? json(value) : json(nullptr);
+}
+
+/// The lines under viewer.html's title.
+std::vector<std::string> viewerFacts(const SegmentCommandOptions& options,
+                                     const SegmentationResult& result) {
+    const Dims d = result.labels.dims();
+    std::vector<std::string> facts = {
+        std::to_string(result.segments.size()) + " parts",
+        "tau " + options.parameters.tau.toString(),
+        "grid " + std::to_string(d.x) + " x " + std::to_string(d.y) + " x " + std::to_string(d.z)};
+    if (!options.gridName.empty()) facts.push_back("grid name " + options.gridName);
+    return facts;
 }
 
 }  // namespace
@@ -276,6 +289,10 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
             scene.triangles = std::move(surface.triangles);
             scene.triangleLabels = std::move(surface.triangleLabels);
         }
+        writeSegmentViews(
+            out, {&result, &scene.vertices, &scene.triangles, &scene.triangleLabels,
+                  &skeletonPoints, &skeletonEdges, &cutLoops, options.input.filename().string(),
+                  viewerFacts(options, result), options.parameters.tau.toString()});
         if (!options.writePreview) return;
         for (const auto& p : skeletonPoints) scene.skeletonPoints.push_back(p.position);
         scene.skeletonEdges = skeletonEdges;

@@ -4,7 +4,8 @@
 // (.off, .obj, .stl, .ply) voxelised at `resolution`. Output, staged and
 // moved into OUTDIR only when everything succeeded (OutputDirectory):
 //   labels.nrrd, labels.vdb, skeleton.ply, cuts.ply, segments.ply,
-//   preview.png, report.json, and for meshes segmentation.seg.
+//   segments.glb, viewer.html, preview.png, report.json, and for meshes
+//   segmentation.seg.
 // The stages run as a oneTBB flow graph: read -> (memory check) -> segment ->
 // the writers in parallel -> report -> commit.
 #pragma once

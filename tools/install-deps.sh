@@ -6,10 +6,11 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libtbb-dev libopenvdb-dev libboost-iostreams-dev zlib1g-dev libeigen3-dev
   libgtest-dev libbenchmark-dev libbenchmark-tools
-  libcli11-dev nlohmann-json3-dev libfmt-dev libstb-dev
+  libcli11-dev nlohmann-json3-dev libfmt-dev libstb-dev libtinygltf-dev libmeshoptimizer-dev
   clang libclang-rt-14-dev clang-format
-  python3-numpy python3-scipy python3-matplotlib python3-pytest
+  python3-numpy python3-scipy python3-matplotlib python3-pil python3-pytest
   pybind11-dev python3-dev python3-dask python3-distributed
+  chromium
 )
 missing=()
 for p in "${packages[@]}"; do

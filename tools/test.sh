@@ -5,6 +5,7 @@
 #   unit   kernels, readers/writers, scoring          (label unit)
 #   scene  generated shapes end to end                (label scene)
 #   python the Python module with pytest, Dask included (label python)
+#   browser viewer.html in headless Chromium           (label browser)
 #   bench  every benchmark at its smallest size, compared with the baseline
 #   asan   unit tests under AddressSanitizer + UBSan, built with clang (SKELSEG_CI_ASAN=0 skips)
 #   fuzz   each parser under libFuzzer for a bounded time, JOBS targets at a time
@@ -35,6 +36,8 @@ stamp "scene tests"
 ctest --test-dir build-ci -L scene --output-on-failure
 stamp "python tests"
 ctest --test-dir build-ci -L python --output-on-failure
+stamp "browser tests"
+ctest --test-dir build-ci -L browser --output-on-failure
 
 stamp "benchmarks (smallest size) vs baseline"
 tools/run-benchmarks.sh build-ci

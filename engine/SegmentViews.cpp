@@ -1,0 +1,41 @@
+#include "engine/SegmentViews.h"
+
+#include <tbb/parallel_invoke.h>
+
+#include "io/render/GltfWriter.h"
+#include "io/render/SegmentMeshes.h"
+#include "io/render/ViewerWriter.h"
+
+namespace skelseg {
+
+void writeSegmentViews(OutputDirectory& out, const SegmentViewInputs& inputs) {
+    const auto writeGlb = [&] {
+        GltfScene scene;
+        scene.segments =
+            splitSegmentMeshes(*inputs.vertices, *inputs.triangles, *inputs.triangleLabels);
+        for (const auto& p : *inputs.skeletonPoints) scene.skeletonPoints.push_back(p.position);
+        scene.skeletonEdges = *inputs.skeletonEdges;
+        scene.cutLoops = *inputs.cutLoops;
+        writeSegmentsGlb(out.stagingPath("segments.glb"), scene);
+    };
+    const auto writeViewer = [&] {
+        ViewerScene scene;
+        scene.title = inputs.title;
+        scene.facts = inputs.facts;
+        scene.vertices = *inputs.vertices;
+        scene.triangles = *inputs.triangles;
+        scene.skeletonPoints = *inputs.skeletonPoints;
+        scene.skeletonEdges = *inputs.skeletonEdges;
+        ViewerLevel level;
+        level.tau = inputs.tau;
+        level.triangleLabels = *inputs.triangleLabels;
+        for (const SegmentInfo& s : inputs.result->segments)
+            level.segments.push_back({s.label, s.voxelCount, 0});
+        level.cutLoops = *inputs.cutLoops;
+        scene.levels.push_back(std::move(level));
+        writeViewerHtml(out.stagingPath("viewer.html"), scene);
+    };
+    tbb::parallel_invoke(writeGlb, writeViewer);
+}
+
+}  // namespace skelseg
