@@ -38,8 +38,9 @@ nlohmann::json expectConsistentVolumeRun(const CliResult& result,
                                          const MaskVolume& mask) {
     EXPECT_EQ(result.exitCode, 0) << result.describe();
     EXPECT_EQ(warningLines(result).size(), result.errLines().size()) << result.describe();
-    for (const char* name : {"labels.nrrd", "labels.vdb", "skeleton.ply", "cuts.ply",
-                             "segments.ply", "preview.png", "report.json"})
+    for (const char* name :
+         {"labels.nrrd", "labels.vdb", "skeleton.ply", "cuts.ply", "segments.ply", "preview.png",
+          "report.json", "segments.glb", "viewer.html"})
         EXPECT_TRUE(std::filesystem::exists(outdir / name))
             << name << " missing; " << result.describe();
     for (const auto& entry : directoryEntries(outdir))
@@ -256,8 +257,9 @@ nlohmann::json runMesh(const TempDir& dir, const TriangleMesh& mesh, CliResult& 
     result = runSegment(dir / "input.off", dir / "out", {"--resolution", "32"});
     EXPECT_EQ(result.exitCode, 0) << result.describe();
     EXPECT_EQ(warningLines(result).size(), result.errLines().size()) << result.describe();
-    for (const char* name : {"labels.nrrd", "labels.vdb", "skeleton.ply", "cuts.ply",
-                             "segments.ply", "preview.png", "report.json", "segmentation.seg"})
+    for (const char* name :
+         {"labels.nrrd", "labels.vdb", "skeleton.ply", "cuts.ply", "segments.ply", "preview.png",
+          "report.json", "segmentation.seg", "segments.glb", "viewer.html"})
         EXPECT_TRUE(fs::exists(dir / "out" / name)) << name << " missing; " << result.describe();
     if (!fs::exists(dir / "out" / "report.json")) return {};
     EXPECT_EQ(lineCount(dir / "out" / "segmentation.seg"), mesh.faceCount)
