@@ -289,6 +289,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
             scene.triangles = std::move(surface.triangles);
             scene.triangleLabels = std::move(surface.triangleLabels);
         }
+        auto views = timer.stage("write segments.glb, viewer.html", true);
         writeSegmentViews(
             out, {&result, &scene.vertices, &scene.triangles, &scene.triangleLabels,
                   &skeletonPoints, &skeletonEdges, &cutLoops, options.input.filename().string(),

@@ -127,13 +127,15 @@ std::string viewerHtml(const ViewerScene& scene, const ViewerOptions& options) {
 
     const std::size_t fullTriangles = scene.triangles.size();
     simplifyForDisplay(meshes, options.maxTriangles);
+    // Base segment s owns vertices [vertexStarts[s], vertexStarts[s + 1]).
     std::vector<float> positions;
-    std::vector<std::uint32_t> indices, baseSegment;
+    std::vector<std::uint32_t> indices;
+    json vertexStarts = json::array();
     for (std::size_t s = 0; s < meshes.size(); ++s) {
         const auto first = std::uint32_t(positions.size() / 3);
+        vertexStarts.push_back(first);
         for (const auto& p : meshes[s].positions)
             positions.insert(positions.end(), p.begin(), p.end());
-        baseSegment.insert(baseSegment.end(), meshes[s].positions.size(), std::uint32_t(s));
         for (const auto& t : meshes[s].triangles)
             for (std::uint32_t v : t) indices.push_back(first + v);
     }
@@ -152,7 +154,7 @@ std::string viewerHtml(const ViewerScene& scene, const ViewerOptions& options) {
                        {"surface",
                         {{"positions", base64Of(positions)},
                          {"indices", base64Of(indices)},
-                         {"baseSegment", base64Of(baseSegment)},
+                         {"vertexStarts", vertexStarts},
                          {"fullTriangles", fullTriangles},
                          {"shownTriangles", indices.size() / 3}}},
                        {"skeleton",

@@ -69,7 +69,7 @@ struct ViewerScene {
 
 struct ViewerOptions {
     /// The surface is simplified to at most about this many triangles.
-    std::size_t maxTriangles = 150000;
+    std::size_t maxTriangles = 100000;
 };
 
 /// The bytes of viewer.html for `scene`.

@@ -5,7 +5,8 @@
 // and this script are inlined, nothing is fetched. Text from the input (file
 // name, grid name) only ever reaches the page through textContent.
 //
-// State can be set from the URL hash, e.g. viewer.html#level=1&skeleton=rho_c,
+// State can be set from the URL hash, e.g. viewer.html#level=1&skeleton=rho_c
+// (and pick=x,y clicks at a canvas pixel),
 // and from window.skelsegViewer (setLevel, setSkeletonColouring); the page
 // sets document.body.dataset.rendered to the number of frames drawn, which
 // the headless-browser test reads back.
@@ -27,9 +28,11 @@
   const surface = {
     positions: decode(data.surface.positions, Float32Array),
     indices: decode(data.surface.indices, Uint32Array),
-    // Per vertex: index of its base segment (a segment of the finest level).
-    baseSegment: decode(data.surface.baseSegment, Uint32Array),
   };
+  // Per vertex: index of its base segment (a segment of the finest level);
+  // base segment s owns the vertices from vertexStarts[s] to the next start.
+  surface.baseSegment = new Uint32Array(surface.positions.length / 3);
+  data.surface.vertexStarts.forEach((start, s) => surface.baseSegment.fill(s, start));
   const skeleton = {
     positions: decode(data.skeleton.positions, Float32Array),
     edges: decode(data.skeleton.edges, Uint32Array),
@@ -392,6 +395,11 @@
     const parameters = new URLSearchParams(location.hash.slice(1));
     if (parameters.has('skeleton')) setSkeletonColouring(parameters.get('skeleton'));
     if (parameters.has('level')) setLevel(Number(parameters.get('level')));
+    if (parameters.has('pick')) {  // "x,y" in canvas pixels: a click without a mouse
+      const [x, y] = parameters.get('pick').split(',').map(Number);
+      const id = pick(x, y);
+      if (id === null) byId('picked').textContent = ''; else showPicked(id);
+    }
   }
   window.addEventListener('hashchange', applyHash);
 

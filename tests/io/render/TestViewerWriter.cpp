@@ -140,10 +140,9 @@ TEST(ViewerWriter, DataDescribesLevelsSurfaceAndSkeleton) {
     const json data = pageData(viewerHtml(twoSquares("shape.off")));
     const auto positions = decode<float>(data["surface"]["positions"]);
     const auto indices = decode<std::uint32_t>(data["surface"]["indices"]);
-    const auto baseSegment = decode<std::uint32_t>(data["surface"]["baseSegment"]);
     // Split by level-0 segment: 4 + 4 vertices (the shared edge is copied).
     EXPECT_EQ(positions.size(), 8u * 3);
-    EXPECT_EQ(baseSegment, (std::vector<std::uint32_t>{0, 0, 0, 0, 1, 1, 1, 1}));
+    EXPECT_EQ(data["surface"]["vertexStarts"], json({0, 4}));
     EXPECT_EQ(indices.size(), 4u * 3);
     for (std::uint32_t i : indices) EXPECT_LT(i, 8u);
     EXPECT_EQ(data["surface"]["fullTriangles"], 4);
@@ -210,11 +209,17 @@ TEST(ViewerWriter, LargeSurfacesAreSimplifiedToTheBudget) {
     EXPECT_GT(data["surface"]["shownTriangles"].get<std::size_t>(), 1000u);
     // About 50 bytes of base64 per shown triangle and the script: well under 4 MB.
     EXPECT_LT(html.size(), std::size_t(4) << 20);
-    // Every segment is still there.
-    const auto baseSegment = decode<std::uint32_t>(data["surface"]["baseSegment"]);
-    std::vector<bool> seen(4, false);
-    for (std::uint32_t s : baseSegment) seen.at(s) = true;
-    EXPECT_EQ(seen, std::vector<bool>(4, true));
+    // Every segment is still there, with vertices of its own, and the
+    // triangles stay inside the vertex list.
+    const json& starts = data["surface"]["vertexStarts"];
+    const std::size_t vertexCount = decode<float>(data["surface"]["positions"]).size() / 3;
+    ASSERT_EQ(starts.size(), 4u);
+    for (std::size_t s = 0; s < 4; ++s) {
+        const std::size_t end = s + 1 < 4 ? starts[s + 1].get<std::size_t>() : vertexCount;
+        EXPECT_LT(starts[s].get<std::size_t>(), end) << "segment " << s + 1 << " lost";
+    }
+    for (std::uint32_t i : decode<std::uint32_t>(data["surface"]["indices"]))
+        EXPECT_LT(i, vertexCount);
 }
 
 TEST(ViewerWriter, WritesTheFile) {

@@ -12,6 +12,7 @@ Run by ctest (label browser) as `python3 test_viewer_browser.py`: exits 77
 (ctest's SKIP_RETURN_CODE) when Chromium is absent. Also runs under pytest.
 Environment: SKELSEG_BINARY (the skelseg executable), CHROMIUM (optional).
 """
+import base64
 import json
 import os
 import pathlib
@@ -115,16 +116,56 @@ def test_skeleton_colouring_switch_changes_the_picture(work, figure_run):
     assert changed >= 50, f"only {changed} pixels changed"
 
 
+DATA_START = '<script type="application/json" id="skelseg-data">'
+
+
+def page_data(page):
+    text = pathlib.Path(page).read_text()
+    start = text.index(DATA_START) + len(DATA_START)
+    return text, start, text.index("</script>", start)
+
+
 def test_level_slider_changes_the_picture(work, figure_run):
-    text = (figure_run / "viewer.html").read_text()
-    start = text.index('id="skelseg-data">') + len('id="skelseg-data">')
-    data = json.loads(text[start:text.index("</script>", start)])
-    if len(data["levels"]) < 2:
-        pytest.skip("this run has one level: nothing to slide")
+    """A run with one --tau has one level; then the page is given a second,
+    coarser level in which all segments are one (as a hierarchy run would
+    write it), to check that the slider recolours the surface."""
+    text, start, end = page_data(figure_run / "viewer.html")
+    data = json.loads(text[start:end])
     page = figure_run / "viewer.html"
-    first = screenshot(work, page, "#level=0")
-    last = screenshot(work, page, f"#level={len(data['levels']) - 1}")
-    assert (np.abs(first - last).sum(axis=2) > 30).sum() >= 200
+    if len(data["levels"]) < 2:
+        fine = data["levels"][0]
+        base_count = len(data["surface"]["vertexStarts"])
+        for segment in fine["segments"]:
+            segment["parent"] = 1
+        data["levels"].append({
+            "tau": "90%",
+            "segments": [{"id": 1, "voxels": sum(s["voxels"] for s in fine["segments"]),
+                          "parent": None, "colour": list(PALETTE[0])}],
+            "baseLabel": base64.b64encode(np.ones(base_count, "<u4").tobytes()).decode(),
+            "cuts": {"positions": "", "loopStarts": []}})
+        block = json.dumps(data).replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
+        page = work / "two-levels.html"
+        page.write_text(text[:start] + block + text[end:])
+    fine = screenshot(work, page, "#level=0")
+    coarse = screenshot(work, page, f"#level={len(data['levels']) - 1}")
+    changed = (np.abs(fine - coarse).sum(axis=2) > 30).sum()
+    assert changed >= 2000, f"only {changed} pixels changed"
+    # At the coarsest level every segment shows the colour of label 1.
+    others = sum((np.abs(coarse - np.array(c)).max(axis=2) <= 24).sum() for c in PALETTE[1:6])
+    assert others < 50, f"{others} pixels keep the colours of finer segments"
+
+
+def test_click_names_segment_size_and_parent(work, figure_run):
+    picture = screenshot(work, figure_run / "viewer.html", "#skeleton=sigma")
+    # A pixel of segment 1 (the body) well right of the panel.
+    distance = np.abs(picture - np.array(PALETTE[0])).max(axis=2)
+    distance[:, :400] = 255
+    y, x = np.unravel_index(np.argmin(distance), distance.shape)
+    assert distance[y, x] <= 24, "segment 1 not on screen"
+    dom = browser(work, figure_run / "viewer.html", "--dump-dom", fragment=f"#pick={x},{y}")
+    report = json.loads((figure_run / "report.json").read_text())
+    voxels = report["segments"][0]["voxels"]
+    assert f'<div id="picked" class="row">segment 1: {voxels} voxels, parent none (coarsest level)</div>' in dom
 
 
 def test_file_name_is_shown_as_text_and_runs_nothing(work, figure_run):
