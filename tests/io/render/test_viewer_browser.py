@@ -10,7 +10,8 @@ viewer.html it wrote in headless Chromium and checks what a user would see:
 
 Run by ctest (label browser) as `python3 test_viewer_browser.py`: exits 77
 (ctest's SKIP_RETURN_CODE) when Chromium is absent. Also runs under pytest.
-Environment: SKELSEG_BINARY (the skelseg executable), CHROMIUM (optional).
+Environment: SKELSEG_BINARY (the skelseg executable), SKELSEG_SHARED_DATA_DIR
+(the shared shapes; the mesh case skips without them), CHROMIUM (optional).
 """
 import base64
 import json
@@ -168,18 +169,33 @@ def test_click_names_segment_size_and_parent(work, figure_run):
     assert f'<div id="picked" class="row">segment 1: {voxels} voxels, parent none (coarsest level)</div>' in dom
 
 
-def test_file_name_is_shown_as_text_and_runs_nothing(work, figure_run):
-    hostile = work / (HOSTILE_STEM + ".nrrd")
-    shutil.copyfile(work / "figure.nrrd", hostile)
-    out = work / "hostile-out"
-    run([skelseg(), "segment", str(hostile), "-o", str(out), "--no-preview"])
+# ../shared/data beside the repository, as CMake passes it to every test.
+SHARED_DATA = pathlib.Path(os.environ.get(
+    "SKELSEG_SHARED_DATA_DIR", pathlib.Path(__file__).resolve().parents[3].parent / "shared" / "data"))
+
+
+@pytest.mark.parametrize("extension", [".nrrd", ".off"])
+def test_file_name_is_shown_as_text_and_runs_nothing(work, figure_run, extension):
+    """The issue's example name, with a handler that would leave a mark."""
+    hostile = work / (HOSTILE_STEM + extension)
+    if extension == ".off":
+        mesh = SHARED_DATA / "psb" / "off" / "1.off"
+        if not mesh.exists():
+            pytest.skip(f"{mesh} absent")
+        shutil.copyfile(mesh, hostile)
+        options = ["--resolution", "64"]
+    else:
+        shutil.copyfile(work / "figure.nrrd", hostile)
+        options = []
+    out = work / f"hostile-out{extension}"
+    run([skelseg(), "segment", str(hostile), "-o", str(out), "--no-preview", *options])
     dom = browser(work, out / "viewer.html", "--dump-dom")
     assert 'data-rendered="' in dom, "the viewer script did not run"
     assert "data-injected" not in dom, "markup from the file name ran"
     assert "<img" not in dom
     escaped = HOSTILE_STEM.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-    assert f'<h1 id="title">{escaped}.nrrd</h1>' in dom
-    assert f"<title>skelseg: {escaped}.nrrd</title>" in dom
+    assert f'<h1 id="title">{escaped}{extension}</h1>' in dom
+    assert f"<title>skelseg: {escaped}{extension}</title>" in dom
 
 
 if __name__ == "__main__":
