@@ -127,6 +127,12 @@ TEST(ViewerWriter, InputTextCannotBreakOutOfTheDataBlock) {
     EXPECT_EQ(html.find("innerHTML"), std::string::npos);
 }
 
+TEST(ViewerWriter, FileNamesThatAreNotUtf8StillGiveAPage) {
+    // Linux file names are bytes: an invalid sequence shows as U+FFFD.
+    const json data = pageData(viewerHtml(twoSquares("bad\xFFname.off")));
+    EXPECT_EQ(data["title"], "bad\xEF\xBF\xBDname.off");
+}
+
 TEST(ViewerWriter, PageIsSelfContained) {
     const std::string html = viewerHtml(twoSquares("shape.off"));
     EXPECT_EQ(html.find("http://"), std::string::npos);
