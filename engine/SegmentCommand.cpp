@@ -18,6 +18,7 @@
 #include "io/files/OutputDirectory.h"
 #include "io/mesh/FaceLabels.h"
 #include "io/mesh/MeshCheck.h"
+#include "io/mesh/MeshGenus.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "io/mesh/SegFile.h"
@@ -27,6 +28,7 @@
 #include "io/volume/NrrdIO.h"
 #include "io/volume/VdbIO.h"
 #include "io/volume/VolumeReader.h"
+#include "kernels/VoxelGenus.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -136,6 +138,10 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
 
     std::optional<TriangleMesh> mesh;
     MeshDiagnostics meshDiagnostics{};
+    // Mesh input: genus of the mesh and of its voxel model, contacts separated.
+    MeshTopology meshGenus{};
+    VoxelTopology voxelGenus{};
+    ContactSeparation contacts{};
     MaskVolume mask;
     SegmentationResult result;
     std::vector<std::string> warnings;
@@ -186,10 +192,14 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
                                        formatBytes(memoryLimit) + " (--max-memory)");
             auto t = timer.stage("voxelise", true);
             try {
-                mask = voxelizeMesh(*mesh, vo, progress);
+                MeshVoxelization voxelised = voxelizeMeshWithContacts(*mesh, vo, progress);
+                mask = std::move(voxelised.mask);
+                contacts = voxelised.contacts;
             } catch (const UsageError& error) {
                 throw nameTheFile(error);
             }
+            meshGenus = meshTopology(*mesh);
+            voxelGenus = voxelTopology(mask, {}, progress);
             // Warned only now: a mesh that is refused costs one line, the error.
             for (const auto& w : meshWarnings(meshDiagnostics, options.input.string())) warn(w);
         } else {
@@ -332,6 +342,11 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         report["input"]["mesh_pieces"] = meshDiagnostics.pieces;
         report["input"]["mesh_boundary_edges"] = meshDiagnostics.boundaryEdges;
         report["input"]["mesh_degenerate_faces"] = meshDiagnostics.degenerateFaces;
+        report["input"]["mesh_genus"] = meshGenus.genus;
+        report["input"]["mesh_closed_pieces"] = meshGenus.closedPieces;
+        report["input"]["voxel_genus"] = voxelGenus.genus;
+        report["input"]["contacts_separated"] = contacts.contacts;
+        report["input"]["contact_voxels_cleared"] = contacts.voxelsCleared;
     }
     const Dims d = result.labels.dims();
     report["grid"] = {{"size", {d.x, d.y, d.z}},

@@ -71,9 +71,9 @@ openvdb::math::Transform::Ptr transformFor(const VolumeGeometry& geometry) {
 /// Calls visit(x, y, z, value) for every voxel of the box [offset, offset+dims)
 /// of `grid`, a z-slab per task. Whole 8-voxel runs inside one OpenVDB leaf
 /// are read from the leaf, runs without a leaf from one tile lookup.
-template <typename Visit>
-void forEachGridValue(const openvdb::FloatGrid& grid, const Dims& dims,
-                      const std::array<int, 3>& offset, Interrupter& interrupter, Visit visit) {
+template <typename Grid, typename Visit>
+void forEachGridValue(const Grid& grid, const Dims& dims, const std::array<int, 3>& offset,
+                      Interrupter& interrupter, Visit visit) {
     tbb::parallel_for(
         tbb::blocked_range<int>(0, dims.z), [&](const tbb::blocked_range<int>& slabs) {
             auto accessor = grid.getConstAccessor();
@@ -92,7 +92,7 @@ void forEachGridValue(const openvdb::FloatGrid& grid, const Dims& dims,
                             for (int i = 0; i < runLength; ++i)
                                 visit(x + i, y, z, leaf->getValue(coord.offsetBy(i, 0, 0)));
                         } else {
-                            const float value = accessor.getValue(coord);
+                            const auto value = accessor.getValue(coord);
                             for (int i = 0; i < runLength; ++i) visit(x + i, y, z, value);
                         }
                         x += runLength;
@@ -102,15 +102,38 @@ void forEachGridValue(const openvdb::FloatGrid& grid, const Dims& dims,
         });
 }
 
+/// nearestTriangle: when not null, filled with the index of the triangle
+/// nearest to each voxel of the narrow band (-1 elsewhere).
 MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid,
-                              Interrupter& interrupter) {
+                              Interrupter& interrupter,
+                              std::vector<std::int32_t>* nearestTriangle = nullptr) {
     VdbInterrupter vdbInterrupter(interrupter);
     const MeshAdapter adapter(mesh, grid.geometry);
     // A narrow band of 2 voxels is enough: only the sign is used; the deep
-    // inside is filled with negative tiles by OpenVDB's sign flood fill.
+    // inside is filled with negative tiles by OpenVDB's sign flood fill. It
+    // also covers every voxel a contact between two surfaces can involve.
+    openvdb::Int32Grid polygonIndex;
     auto distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        vdbInterrupter, adapter, *transformFor(grid.geometry), 2.0f, 2.0f, 0);
+        vdbInterrupter, adapter, *transformFor(grid.geometry), 2.0f, 2.0f, 0,
+        nearestTriangle ? &polygonIndex : nullptr);
     throwIfInterrupted(interrupter);
+    if (nearestTriangle) {
+        // Outside the band the index grid holds its background; voxels whose
+        // distance OpenVDB did not compute get -1.
+        nearestTriangle->assign(grid.dims.voxelCount(), -1);
+        const std::int32_t polygons = std::int32_t(mesh.triangles.size());
+        std::int32_t* out = nearestTriangle->data();
+        const Dims dims = grid.dims;
+        forEachGridValue(polygonIndex, dims, {0, 0, 0}, interrupter,
+                         [&](int x, int y, int z, std::int32_t value) {
+                             if (value >= 0 && value < polygons)
+                                 out[std::size_t(x) +
+                                     std::size_t(dims.x) *
+                                         (std::size_t(y) + std::size_t(dims.y) * std::size_t(z))] =
+                                     value;
+                         });
+        throwIfInterrupted(interrupter);
+    }
     MaskVolume mask(grid.dims, 0);
     mask.geometry = grid.geometry;
     std::uint8_t* out = mask.data();
@@ -283,6 +306,11 @@ VoxelGrid voxelGridFor(const TriangleMesh& mesh, const VoxelizeOptions& options)
 
 MaskVolume voxelizeMesh(const TriangleMesh& mesh, const VoxelizeOptions& options,
                         Interrupter& interrupter) {
+    return voxelizeMeshWithContacts(mesh, options, interrupter).mask;
+}
+
+MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const VoxelizeOptions& options,
+                                          Interrupter& interrupter) {
     const VoxelGrid grid = voxelGridFor(mesh, options);
     InterrupterScope scope(interrupter, "voxelize");
     openvdb::initialize();
@@ -290,17 +318,27 @@ MaskVolume voxelizeMesh(const TriangleMesh& mesh, const VoxelizeOptions& options
     throwIfInterrupted(interrupter, 0.0);
 
     MaskVolume mask;
+    ContactSeparation contacts;
     // OpenVDB's tools have no serial switch; a one-thread arena makes every
     // TBB loop inside (theirs and ours) run on this thread.
     tbb::task_arena arena(options.threaded ? tbb::task_arena::automatic : 1);
     arena.execute([&] {
         if (closed) {
-            mask = signedVoxelization(mesh, grid, interrupter);
+            std::vector<std::int32_t> nearestTriangle;
+            mask = signedVoxelization(mesh, grid, interrupter,
+                                      options.keepMeshTopology ? &nearestTriangle : nullptr);
             // The sign computation can fail on badly broken "closed" meshes
             // (nothing comes out inside): fall back to the shell method.
             if (std::find(mask.values().begin(), mask.values().end(), std::uint8_t(1)) !=
-                mask.values().end())
+                mask.values().end()) {
+                if (options.keepMeshTopology) {
+                    ContactSeparationOptions contactOptions = options.contactOptions;
+                    contactOptions.threaded = options.threaded;
+                    contacts =
+                        separateContacts(mesh, mask, nearestTriangle, contactOptions, interrupter);
+                }
                 return;
+            }
         }
         // A hole wider than the closing lets the flood fill in, and leaves
         // little more than the surface layer: retry with twice the closing
@@ -315,7 +353,7 @@ MaskVolume voxelizeMesh(const TriangleMesh& mesh, const VoxelizeOptions& options
         }
     });
     throwIfInterrupted(interrupter, 1.0);
-    return mask;
+    return MeshVoxelization{std::move(mask), contacts};
 }
 
 WorldToIndex::WorldToIndex(const VolumeGeometry& geometry) : mOrigin(geometry.origin) {

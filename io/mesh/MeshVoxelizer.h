@@ -24,6 +24,10 @@
 //    When a wider hole lets the outside in (the solid is then hardly more
 //    than the surface layer), holeClosing is doubled, up to 16 voxels, and
 //    the pass repeated. A single open sheet becomes a thin plate.
+// Mesh topology (closed meshes only; see ContactSeparation.h): surfaces far
+// apart on the mesh but closer than a voxel or two in space are separated
+// again by clearing a one-voxel seam, using the nearest triangle OpenVDB
+// reports for every voxel of its narrow band.
 // Degenerate faces are harmless (OpenVDB ignores their area). Several pieces
 // are voxelised together; overlapping closed pieces give their union.
 #pragma once
@@ -31,6 +35,7 @@
 #include <array>
 #include <optional>
 
+#include "io/mesh/ContactSeparation.h"
 #include "io/mesh/MeshIO.h"
 #include "kernels/base/Interrupter.h"
 #include "kernels/base/Volume.h"
@@ -53,6 +58,10 @@ struct VoxelizeOptions {
     /// already checked it; unset: voxelizeMesh() checks (a full edge count,
     /// so a caller that runs checkMesh() for its warnings passes the answer).
     std::optional<bool> meshIsClosed;
+    /// Closed meshes: separate surfaces that touch in the voxel model but are
+    /// far apart on the mesh (ContactSeparation.h).
+    bool keepMeshTopology = true;
+    ContactSeparationOptions contactOptions;
 };
 
 /// Size and placement of the grid voxelizeMesh() makes, without voxelising.
@@ -70,6 +79,17 @@ VoxelGrid voxelGridFor(const TriangleMesh& mesh, const VoxelizeOptions& options)
 /// @throw UsageError (see voxelGridFor), InterruptedError.
 MaskVolume voxelizeMesh(const TriangleMesh& mesh, const VoxelizeOptions& options,
                         Interrupter& interrupter = nullInterrupter());
+
+/// The mask and what keeping the mesh's topology changed.
+struct MeshVoxelization {
+    MaskVolume mask;
+    /// Zero unless the mesh is closed and keepMeshTopology is set.
+    ContactSeparation contacts;
+};
+
+/// voxelizeMesh() that also reports the contacts it separated.
+MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const VoxelizeOptions& options,
+                                          Interrupter& interrupter = nullInterrupter());
 
 /// World point -> continuous voxel index (voxel centres at integers) for any
 /// VolumeGeometry; the inverse of VolumeGeometry::indexToWorld. The matrix is

@@ -1,0 +1,212 @@
+#!/usr/bin/python3
+"""Pose and resolution invariance of skelseg's segmentations (issue 12).
+
+Pose sequences: every mesh DATA/poses/NAME_FRAME.obj (grouped by the prefix
+before the last "_", frames in numeric order) is segmented with
+
+    skelseg segment MESH -o OUT/... --resolution R -q --no-preview --force
+
+(defaults otherwise, as a new user would). All frames of a sequence have the
+same faces in the same order, so their face labels compare directly: the
+table gives the parts per frame (distinct labels in segmentation.seg) and the
+mean Rand Index error over all pairs of frames (1 - RI, face pairs counted
+once each, as `skelseg score` does).
+
+Resolutions: a few meshes of DATA/shapes are segmented at 128, 192, 256 and
+320; the same measures compare the resolutions of one mesh (the faces are
+the same, only the voxel model changes).
+
+    /usr/bin/python3 bench/invariance.py                      # markdown table
+    /usr/bin/python3 bench/invariance.py --json out.json      # and every number
+    /usr/bin/python3 bench/invariance.py --skelseg /tmp/old/skelseg --shapes hand.off
+
+Where DATA is absent it says so and exits 0. Needs numpy.
+"""
+
+import argparse
+import itertools
+import json
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parent.parent
+DEFAULT_SHAPES = ["camel.off", "hand.off", "horse.off", "octopus.off"]
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog=__doc__.split("\n\n", 1)[1])
+    p.add_argument("--skelseg", default=str(REPO / "build" / "skelseg"),
+                   help="the skelseg binary (default: build/skelseg in the repository)")
+    p.add_argument("--data", default=str(REPO.parent / "shared" / "data"),
+                   help="the shared data folder (default: ../shared/data next to the repository)")
+    p.add_argument("--pose-resolution", type=int, default=192,
+                   help="resolution for the pose sequences (default 192)")
+    p.add_argument("--resolutions", default="128,192,256,320",
+                   help="comma-separated resolutions for the shapes (default 128,192,256,320)")
+    p.add_argument("--shapes", default=",".join(DEFAULT_SHAPES),
+                   help="comma-separated files of DATA/shapes (default %(default)s); empty: none")
+    p.add_argument("--sequences", default="",
+                   help="comma-separated pose sequence names (default: every one)")
+    p.add_argument("--workdir", default=None,
+                   help="keep the segmentations here (default: a temporary folder)")
+    p.add_argument("--json", default=None, help="write every number to this JSON file")
+    return p.parse_args(argv)
+
+
+def read_labels(path):
+    """A .seg file: one integer label per line (line i = face i)."""
+    return np.loadtxt(path, dtype=np.int64, ndmin=1)
+
+
+def rand_index_error(a, b):
+    """1 - Rand Index of two labelings of the same faces, every face once."""
+    if a.shape != b.shape:
+        raise ValueError(f"different face counts: {a.size} and {b.size}")
+    n = a.size
+    if n < 2:
+        return 0.0
+    _, ia = np.unique(a, return_inverse=True)
+    _, ib = np.unique(b, return_inverse=True)
+    pairs = lambda c: float(np.sum(c.astype(np.float64) * (c - 1)) / 2.0)
+    joint = np.unique(ia.astype(np.int64) * (ib.max() + 1) + ib, return_counts=True)[1]
+    disagree = pairs(np.bincount(ia)) + pairs(np.bincount(ib)) - 2.0 * pairs(joint)
+    return disagree / (n * (n - 1) / 2.0)
+
+
+def segment(skelseg, mesh, out, resolution):
+    cmd = [skelseg, "segment", str(mesh), "-o", str(out), "--resolution", str(resolution),
+           "-q", "--no-preview", "--force"]
+    start = time.monotonic()
+    run = subprocess.run(cmd, capture_output=True, text=True)
+    seconds = time.monotonic() - start
+    if run.returncode != 0:
+        lines = (run.stderr or run.stdout).strip().splitlines()
+        raise RuntimeError(f"{mesh}: skelseg exited {run.returncode}: "
+                           f"{lines[-1] if lines else 'no message'}")
+    labels = read_labels(out / "segmentation.seg")
+    report = json.loads((out / "report.json").read_text())
+    return {"labels": labels, "parts": int(np.unique(labels).size), "seconds": seconds,
+            "segment_count": report.get("segment_count"),
+            "mesh_genus": report.get("input", {}).get("mesh_genus"),
+            "voxel_genus": report.get("input", {}).get("voxel_genus"),
+            "contacts_separated": report.get("input", {}).get("contacts_separated")}
+
+
+def compare(runs):
+    """Parts per run and the mean pairwise Rand Index error."""
+    errors = [rand_index_error(a["labels"], b["labels"]) for a, b in itertools.combinations(runs, 2)]
+    return {"parts": [r["parts"] for r in runs],
+            "same_parts": len({r["parts"] for r in runs}) == 1,
+            "mean_ri_error": float(np.mean(errors)) if errors else 0.0,
+            "max_ri_error": float(np.max(errors)) if errors else 0.0,
+            "voxel_genus": [r["voxel_genus"] for r in runs],
+            "mesh_genus": [r["mesh_genus"] for r in runs],
+            "contacts_separated": [r["contacts_separated"] for r in runs],
+            "seconds": [round(r["seconds"], 2) for r in runs]}
+
+
+def pose_sequences(poses):
+    groups = {}
+    for path in sorted(poses.glob("*.obj")) + sorted(poses.glob("*.off")):
+        name, _, frame = path.stem.rpartition("_")
+        if not name:
+            continue
+        key = int(frame) if re.fullmatch(r"\d+", frame) else frame
+        groups.setdefault(name, []).append((key, path))
+    return {name: [p for _, p in sorted(frames, key=lambda f: (str(type(f[0])), f[0]))]
+            for name, frames in sorted(groups.items())}
+
+
+def fmt_list(values):
+    return ", ".join("?" if v is None else str(v) for v in values)
+
+
+def main(argv):
+    args = parse_args(argv)
+    skelseg = Path(args.skelseg)
+    data = Path(args.data)
+    if not skelseg.exists():
+        print(f"invariance.py: error: {skelseg}: no such binary", file=sys.stderr)
+        return 2
+    if not data.is_dir():
+        print(f"invariance.py: {data}: no shared data; nothing measured")
+        return 0
+    workdir_holder = None
+    if args.workdir:
+        work = Path(args.workdir)
+        work.mkdir(parents=True, exist_ok=True)
+    else:
+        workdir_holder = tempfile.TemporaryDirectory(prefix="skelseg-invariance-")
+        work = Path(workdir_holder.name)
+
+    results = {"skelseg": str(skelseg), "pose_resolution": args.pose_resolution,
+               "sequences": {}, "resolutions": {}}
+    wanted = {s for s in args.sequences.split(",") if s}
+    for name, frames in pose_sequences(data / "poses").items() if (data / "poses").is_dir() else []:
+        if wanted and name not in wanted:
+            continue
+        runs = [segment(skelseg, f, work / "poses" / f.stem, args.pose_resolution) for f in frames]
+        entry = compare(runs)
+        entry["frames"] = [f.stem.rpartition("_")[2] for f in frames]
+        results["sequences"][name] = entry
+        print(f"{name}: parts {fmt_list(entry['parts'])}, mean RI error "
+              f"{entry['mean_ri_error']:.3f}", file=sys.stderr)
+
+    resolutions = [int(r) for r in args.resolutions.split(",") if r]
+    for shape in [s for s in args.shapes.split(",") if s]:
+        mesh = data / "shapes" / shape
+        if not mesh.exists():
+            print(f"invariance.py: {mesh}: missing, skipped", file=sys.stderr)
+            continue
+        runs = [segment(skelseg, mesh, work / "shapes" / f"{mesh.stem}-{r}", r) for r in resolutions]
+        entry = compare(runs)
+        entry["resolution"] = resolutions
+        results["resolutions"][shape] = entry
+        print(f"{shape}: parts {fmt_list(entry['parts'])}, mean RI error "
+              f"{entry['mean_ri_error']:.3f}", file=sys.stderr)
+
+    lines = []
+    if results["sequences"]:
+        lines += [f"Pose sequences (resolution {args.pose_resolution}):", "",
+                  "| sequence | frames | parts per frame | mean RI error between frames "
+                  "| voxel genus per frame (mesh genus) | contacts separated |",
+                  "| --- | --- | --- | --- | --- | --- |"]
+        for name, e in results["sequences"].items():
+            lines.append(f"| {name} | {fmt_list(e['frames'])} | {fmt_list(e['parts'])} | "
+                         f"{e['mean_ri_error']:.3f} | {fmt_list(e['voxel_genus'])} "
+                         f"({fmt_list(sorted(set(map(str, e['mesh_genus']))))}) | "
+                         f"{fmt_list(e['contacts_separated'])} |")
+        same = sum(e["same_parts"] for e in results["sequences"].values())
+        mean = np.mean([e["mean_ri_error"] for e in results["sequences"].values()])
+        lines += ["", f"Same part count in every frame: {same} of {len(results['sequences'])} "
+                  f"sequences; mean RI error between frames {mean:.3f}.", ""]
+    if results["resolutions"]:
+        lines += [f"Resolutions {fmt_list(resolutions)}:", "",
+                  "| mesh | parts per resolution | mean RI error between resolutions "
+                  "| voxel genus (mesh genus) | contacts separated |",
+                  "| --- | --- | --- | --- | --- |"]
+        for name, e in results["resolutions"].items():
+            lines.append(f"| {name} | {fmt_list(e['parts'])} | {e['mean_ri_error']:.3f} | "
+                         f"{fmt_list(e['voxel_genus'])} "
+                         f"({fmt_list(sorted(set(map(str, e['mesh_genus']))))}) | "
+                         f"{fmt_list(e['contacts_separated'])} |")
+        same = sum(e["same_parts"] for e in results["resolutions"].values())
+        mean = np.mean([e["mean_ri_error"] for e in results["resolutions"].values()])
+        lines += ["", f"Same part count at every resolution: {same} of "
+                  f"{len(results['resolutions'])} meshes; mean RI error {mean:.3f}."]
+    print("\n".join(lines))
+    if args.json:
+        Path(args.json).write_text(json.dumps(results, indent=2) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

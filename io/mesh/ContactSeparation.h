@@ -1,0 +1,81 @@
+// skelseg: keeping a mesh's topology when it is voxelised: surfaces that are
+// far apart on the mesh but closer than a voxel or two in space (a hand
+// resting on a hip, a leg folded against the body) are separated again in
+// the voxel model (docs/meshes.md, "Mesh topology is kept").
+//
+// Input: the solid mask and, for the voxels near the surface, the mesh
+// triangle nearest to each voxel centre (OpenVDB's closest-primitive index,
+// see MeshVoxelizer.cpp). Two 26-neighbouring object voxels a and b with
+// nearest triangles ta, tb are a contact when
+//  1. each lies beyond the other's surface: with pa the point of ta nearest
+//     to a, (b - pa) . (a - pa) < 0, and the same with a and b swapped. Inside
+//     a thin part (both voxels under one wall, or under two walls facing away
+//     from each other) this never holds; across a gap between two walls that
+//     face each other it always does;
+//  2. the surface points pa and pb are far apart on the mesh: no path along
+//     mesh edges joins them within farOnMesh + farOnMeshRatio * |pa - pb|
+//     (voxels). Concave creases pass test 1 but fail this one: their walls
+//     meet a short way off. Triangles that share a vertex, or whose vertices
+//     are joined by an edge, count as near whatever their size;
+//  3. ta and tb lie on the same mesh piece. Separate pieces that overlap are
+//     meant to be voxelised as their union (MeshVoxelizer.h); the buried walls
+//     inside such an overlap would otherwise pass 1 and 2 everywhere.
+// For each contact pair, the one of a, b nearer to its surface is to be
+// cleared (both on a tie): a gap of about one voxel between the two walls,
+// which removes every contact pair found, and takes the thinner side of the
+// seam. The voxels to clear form groups (26-connected), one per place where
+// surfaces touch; a group is cleared only if that adds no topology in the box
+// around it (its genus must not grow, no cavity may appear): a contact of
+// which some pairs were missed would otherwise get a hole punched through
+// it instead of being separated.
+//
+// Limits: a mesh that intersects itself can have contacts detected where it
+// crosses itself; pieces that merely touch stay joined (rule 3); a contact
+// whose walls are parallel to a voxel diagonal may leave single corner links
+// that no pair found (the genus check in the report shows them).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "io/mesh/MeshIO.h"
+#include "kernels/base/Interrupter.h"
+#include "kernels/base/Volume.h"
+
+namespace skelseg {
+
+struct ContactSeparationOptions {
+    /// Surface points closer than this along the mesh (voxels), plus
+    /// farOnMeshRatio times their distance in space, are near on the mesh.
+    double farOnMesh = 3.0;
+    double farOnMeshRatio = 2.0;
+    /// false: everything runs on the calling thread (same result).
+    bool threaded = true;
+};
+
+struct ContactSeparation {
+    /// Places where surfaces touched that were separated (26-connected groups
+    /// of cleared voxels).
+    std::size_t contacts = 0;
+    /// Places found but left joined: clearing them would have added topology.
+    std::size_t contactsKept = 0;
+    /// Object voxels cleared.
+    std::size_t voxelsCleared = 0;
+    /// Neighbouring voxel pairs found to be contacts.
+    std::size_t contactPairs = 0;
+};
+
+/// Clears the voxels of `mask` that join surfaces far apart on `mesh` (see
+/// above). `nearestTriangle` has one entry per voxel of the mask (x fastest):
+/// the index into mesh.triangles of the triangle nearest to the voxel centre,
+/// or -1 where unknown (far from the surface). The mask's geometry must be the
+/// uniform grid the mesh was voxelised on (voxelGridFor).
+/// @throw UsageError when nearestTriangle does not match the mask,
+/// InterruptedError.
+ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
+                                   const std::vector<std::int32_t>& nearestTriangle,
+                                   const ContactSeparationOptions& options = {},
+                                   Interrupter& interrupter = nullInterrupter());
+
+}  // namespace skelseg
