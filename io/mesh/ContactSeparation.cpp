@@ -62,16 +62,19 @@ Vec3 closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const V
 struct CandidatePair {
     std::uint32_t a, b;     // voxel indices
     std::int32_t ta, tb;    // nearest triangles, ta < tb
-    double depthA, depthB;  // distance of each voxel centre to its surface point
+    double depthA, depthB;  // signed depth of each voxel centre (negative: outside)
     double spaceDistance;   // |pa - pb|
     Vec3 pa, pb;            // surface points (index space), pa on ta
 };
 
 /// The mesh as a graph over canonical vertices, in voxel index space.
 struct SurfaceGraph {
-    std::vector<Vec3> points;                               // per vertex
-    std::vector<std::array<std::uint32_t, 3>> triangles;    // canonical corners
-    std::vector<std::uint32_t> piece;                       // per triangle
+    std::vector<Vec3> points;                             // per vertex
+    std::vector<std::array<std::uint32_t, 3>> triangles;  // canonical corners
+    std::vector<std::uint32_t> piece;                     // per triangle
+    /// Per triangle: +1 when its normal (right hand rule) points out of the
+    /// solid, -1 when in, 0 when its piece is not consistently oriented.
+    std::vector<std::int8_t> orientation;
     std::vector<std::uint32_t> firstNeighbour, neighbours;  // CSR
 
     bool adjacent(std::uint32_t u, std::uint32_t v) const {
@@ -161,6 +164,28 @@ SurfaceGraph buildSurfaceGraph(const TriangleMesh& mesh, const VolumeGeometry& g
     for (const auto& e : edges) graph.neighbours.push_back(e.second);
     graph.piece.reserve(graph.triangles.size());
     for (const auto& c : graph.triangles) graph.piece.push_back(find(c[0]));
+
+    // Orientation per piece: consistent when no directed edge is used twice;
+    // outward when the enclosed signed volume is positive.
+    std::unordered_map<std::uint64_t, std::uint32_t> directedUses;
+    directedUses.reserve(graph.triangles.size() * 3);
+    std::unordered_map<std::uint32_t, std::pair<bool, double>> pieceOrientation;
+    for (std::size_t t = 0; t < graph.triangles.size(); ++t) {
+        const auto& c = graph.triangles[t];
+        auto& [consistent, volume] =
+            pieceOrientation.try_emplace(graph.piece[t], true, 0.0).first->second;
+        for (std::size_t k = 0; k < 3; ++k)
+            if (++directedUses[(std::uint64_t(c[k]) << 32) | c[(k + 1) % 3]] > 1)
+                consistent = false;
+        const Vec3 &p0 = graph.points[c[0]], &p1 = graph.points[c[1]], &p2 = graph.points[c[2]];
+        volume += p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) -
+                  p0[1] * (p1[0] * p2[2] - p1[2] * p2[0]) + p0[2] * (p1[0] * p2[1] - p1[1] * p2[0]);
+    }
+    graph.orientation.reserve(graph.triangles.size());
+    for (std::size_t t = 0; t < graph.triangles.size(); ++t) {
+        const auto& [consistent, volume] = pieceOrientation.at(graph.piece[t]);
+        graph.orientation.push_back(!consistent || volume == 0.0 ? 0 : volume > 0.0 ? 1 : -1);
+    }
     return graph;
 }
 
@@ -187,6 +212,29 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
         return closestPointOnTriangle(p, graph.points[c[0]], graph.points[c[1]],
                                       graph.points[c[2]]);
     };
+    // Direction into the solid at a voxel's surface point, and the voxel's
+    // depth (negative when its centre lies outside the surface). OpenVDB's
+    // sign fill marks the voxels in a gap narrower than a voxel as inside;
+    // where the mesh is consistently oriented, the nearest triangle's normal
+    // tells them apart, so they turn to face the wall across the gap and
+    // are the first to be cleared.
+    auto inwardAt = [&](std::int32_t t, const Vec3& v, const Vec3& pv, double& depth) {
+        Vec3 inward = sub(v, pv);
+        depth = std::sqrt(dot(inward, inward));
+        const std::int8_t orientation = graph.orientation[std::size_t(t)];
+        if (orientation != 0) {
+            const auto& c = graph.triangles[std::size_t(t)];
+            const Vec3 e1 = sub(graph.points[c[1]], graph.points[c[0]]);
+            const Vec3 e2 = sub(graph.points[c[2]], graph.points[c[0]]);
+            const Vec3 normal{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                              e1[0] * e2[1] - e1[1] * e2[0]};
+            if (orientation * dot(normal, inward) > 0) {
+                inward = {-inward[0], -inward[1], -inward[2]};
+                depth = -depth;
+            }
+        }
+        return inward;
+    };
 
     // 1. Pairs of neighbouring object voxels whose surfaces face each other
     //    (the 13 forward neighbours of each voxel: every pair once).
@@ -212,9 +260,9 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
                         if (!mask.data()[ia] || ta < 0) continue;
                         const Vec3 a{double(x), double(y), double(z)};
                         const Vec3 pa = surfacePoint(ta, a);
-                        const Vec3 inA = sub(a, pa);
-                        const double depthA = std::sqrt(dot(inA, inA));
-                        if (depthA < kOnSurface) continue;
+                        double depthA = 0;
+                        const Vec3 inA = inwardAt(ta, a, pa, depthA);
+                        if (std::abs(depthA) < kOnSurface) continue;
                         for (const auto& o : kForward) {
                             const int bx = x + o[0], by = y + o[1], bz = z + o[2];
                             if (!mask.contains(bx, by, bz)) continue;
@@ -226,9 +274,10 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
                             const Vec3 b{double(bx), double(by), double(bz)};
                             if (dot(sub(b, pa), inA) >= 0) continue;
                             const Vec3 pb = surfacePoint(tb, b);
-                            const Vec3 inB = sub(b, pb);
-                            const double depthB = std::sqrt(dot(inB, inB));
-                            if (depthB < kOnSurface || dot(sub(a, pb), inB) >= 0) continue;
+                            double depthB = 0;
+                            const Vec3 inB = inwardAt(tb, b, pb, depthB);
+                            if (std::abs(depthB) < kOnSurface || dot(sub(a, pb), inB) >= 0)
+                                continue;
                             CandidatePair pair{std::uint32_t(ia),
                                                std::uint32_t(ib),
                                                ta,

@@ -20,6 +20,11 @@
 //  3. ta and tb lie on the same mesh piece. Separate pieces that overlap are
 //     meant to be voxelised as their union (MeshVoxelizer.h); the buried walls
 //     inside such an overlap would otherwise pass 1 and 2 everywhere.
+// OpenVDB's sign fill marks voxels inside a gap narrower than a voxel as
+// solid. Where a piece is consistently oriented (no directed edge used twice),
+// the nearest triangle's normal shows such a voxel to lie outside its
+// surface: it then counts as facing the wall across the gap (its inward
+// direction is reversed) and with a negative depth, so it is cleared first.
 // For each contact pair, the one of a, b nearer to its surface is to be
 // cleared (both on a tie): a gap of about one voxel between the two walls,
 // which removes every contact pair found, and takes the thinner side of the

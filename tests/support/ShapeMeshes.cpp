@@ -1,0 +1,69 @@
+#include "tests/support/ShapeMeshes.h"
+
+#include <cmath>
+
+#include "io/render/SegmentSurfaces.h"
+
+namespace skelseg::test {
+
+TriangleMesh meshOfShape(const Shape& shape, const std::array<int, 3>& lo,
+                         const std::array<int, 3>& hi) {
+    // One empty voxel around the box so that every surface closes.
+    const Dims dims{hi[0] - lo[0] + 3, hi[1] - lo[1] + 3, hi[2] - lo[2] + 3};
+    LabelVolume labels(dims, 0);
+    labels.geometry =
+        VolumeGeometry::uniform(1.0, {double(lo[0] - 1), double(lo[1] - 1), double(lo[2] - 1)});
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x)
+                if (shape.contains(
+                        {double(x + lo[0] - 1), double(y + lo[1] - 1), double(z + lo[2] - 1)}))
+                    labels(x, y, z) = 1;
+    SegmentSurfaceOptions options;
+    options.smoothingIterations = 0;
+    const LabelledSurface surface = extractSegmentSurfaces(labels, options);
+    TriangleMesh mesh;
+    mesh.vertices = surface.vertices;
+    mesh.triangles = surface.triangles;
+    mesh.triangleFace.resize(mesh.triangles.size());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) mesh.triangleFace[t] = std::uint32_t(t);
+    mesh.faceCount = mesh.triangles.size();
+    return mesh;
+}
+
+Shape figureWithHand(bool handOnHip) {
+    Shape s;
+    // Body faces at half-integers: x = -45.5 is the body's left side.
+    s.box({0, 0, 0}, {45.5, 30.5, 72.5}, 9.0);
+    s.capsule({0, 0, 60}, {0, 0, 95}, 12);  // neck
+    s.sphere({0, 0, 122}, 30);              // head
+    for (double sign : {-1.0, 1.0}) s.capsule({sign * 22, 0, -60}, {sign * 32, 0, -200}, 17);
+    // Left arm, held away.
+    s.capsule({36, 0, 50}, {88, 0, 5}, 13.5);
+    s.capsule({88, 0, 5}, {110, 0, -35}, 13.5);
+    s.box({114.5, 0, -45}, {6, 9, 12});
+    // Right arm: elbow out; the hand's flat face at x = -46.5 leaves the
+    // voxel column x = -46 empty between it and the body.
+    s.capsule({-36, 0, 50}, {-88, 0, 5}, 13.5);
+    if (handOnHip) {
+        s.capsule({-88, 0, 5}, {-63, 0, -25}, 13.5);
+        s.box({-52.5, 0, -25}, {6, 9, 12});
+    } else {
+        s.capsule({-88, 0, 5}, {-110, 0, -35}, 13.5);
+        s.box({-114.5, 0, -45}, {6, 9, 12});
+    }
+    return s;
+}
+
+TriangleMesh figureMesh(bool handOnHip) {
+    const Shape shape = figureWithHand(handOnHip);
+    const auto bounds = shape.bounds();
+    std::array<int, 3> lo{}, hi{};
+    for (std::size_t c = 0; c < 3; ++c) {
+        lo[c] = int(std::floor(bounds[0][c])) - 1;
+        hi[c] = int(std::ceil(bounds[1][c])) + 1;
+    }
+    return meshOfShape(shape, lo, hi);
+}
+
+}  // namespace skelseg::test

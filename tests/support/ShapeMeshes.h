@@ -1,0 +1,33 @@
+// Closed triangle meshes of synthetic shapes, for tests that must exercise
+// the mesh voxeliser (scene tests of mesh topology, genus tests).
+//
+// A shape given in fine-voxel units (voxel centres at integer coordinates)
+// is sampled at the voxel centres of a fine grid and meshed with
+// extractSegmentSurfaces (no smoothing): every surface lies on voxel faces,
+// so two parts of the shape separated by exactly one empty voxel are exactly
+// one fine voxel apart in the mesh, whatever the coarse grid it is voxelised
+// on later. The result is a single closed surface per connected solid.
+#pragma once
+
+#include <array>
+
+#include "io/mesh/MeshIO.h"
+#include "io/shapes/SyntheticShapes.h"
+
+namespace skelseg::test {
+
+/// Mesh of the voxels of the box [lo, hi] (inclusive integer corners, fine
+/// voxel units) whose centres lie inside `shape`. World units = fine voxels.
+TriangleMesh meshOfShape(const Shape& shape, const std::array<int, 3>& lo,
+                         const std::array<int, 3>& hi);
+
+/// A standing figure (body box, neck, head, two legs, two arms bent at the
+/// elbow) in fine voxels, about 360 tall. handOnHip: the right hand (a flat
+/// box at the end of the forearm) rests against the side of the body with a
+/// gap of exactly one fine voxel; otherwise it is held away from the body.
+Shape figureWithHand(bool handOnHip);
+
+/// meshOfShape over the bounding box of figureWithHand.
+TriangleMesh figureMesh(bool handOnHip);
+
+}  // namespace skelseg::test
