@@ -1,0 +1,83 @@
+#include "io/mesh/ContactSeparation.h"
+
+#include <gtest/gtest.h>
+
+#include "io/mesh/MeshGenus.h"
+#include "io/mesh/MeshVoxelizer.h"
+#include "kernels/VoxelGenus.h"
+#include "tests/support/ShapeMeshes.h"
+
+namespace skelseg {
+namespace {
+
+/// A square ring cut open on one side, its two ends facing each other across
+/// exactly one fine voxel (the layer z = 0), 61 fine voxels wide: at
+/// resolution 20 the gap is a third of a voxel.
+TriangleMesh cutRing() {
+    Shape s;
+    s.box({0, 0, 24.5}, {30.5, 12.5, 6});
+    s.box({0, 0, -24.5}, {30.5, 12.5, 6});
+    s.box({-24.5, 0, 0}, {6, 12.5, 30.5});
+    s.box({24.5, 0, 15.5}, {6, 12.5, 15});
+    s.box({24.5, 0, -15.5}, {6, 12.5, 15});
+    return test::meshOfShape(s, {-32, -14, -32}, {32, 14, 32});
+}
+
+VoxelizeOptions coarse(bool keepTopology, bool threaded = true) {
+    VoxelizeOptions options;
+    options.resolution = 20;
+    options.keepMeshTopology = keepTopology;
+    options.threaded = threaded;
+    return options;
+}
+
+TEST(ContactSeparation, CutRingStaysOpen) {
+    const TriangleMesh mesh = cutRing();
+    ASSERT_EQ(meshTopology(mesh).genus, 0);
+    ASSERT_EQ(voxelTopology(voxelizeMesh(mesh, coarse(false))).genus, 1)
+        << "the ring's ends must fuse without the separation";
+    const MeshVoxelization kept = voxelizeMeshWithContacts(mesh, coarse(true));
+    EXPECT_EQ(kept.contacts.contacts, 1u);
+    EXPECT_GT(kept.contacts.voxelsCleared, 0u);
+    const VoxelTopology topology = voxelTopology(kept.mask);
+    EXPECT_EQ(topology.genus, 0);
+    EXPECT_EQ(topology.objects, 1u);
+}
+
+TEST(ContactSeparation, ThinPlateAndTorusAreLeftAlone) {
+    Shape plate;
+    plate.box({0, 0, 0}, {60.5, 40.5, 2.5});  // 5 fine voxels: under 2 voxels thick
+    const TriangleMesh plateMesh = test::meshOfShape(plate, {-62, -42, -4}, {62, 42, 4});
+    VoxelizeOptions options = coarse(true);
+    options.resolution = 48;
+    const MeshVoxelization voxelised = voxelizeMeshWithContacts(plateMesh, options);
+    EXPECT_EQ(voxelised.contacts.voxelsCleared, 0u);
+    EXPECT_EQ(voxelTopology(voxelised.mask).genus, 0);
+
+    Shape torus;
+    torus.torus({0, 0, 0}, {0, 0, 1}, 30, 10);
+    const TriangleMesh torusMesh = test::meshOfShape(torus, {-42, -42, -12}, {42, 42, 12});
+    options.resolution = 24;
+    const MeshVoxelization torusVoxels = voxelizeMeshWithContacts(torusMesh, options);
+    EXPECT_EQ(torusVoxels.contacts.voxelsCleared, 0u);
+    EXPECT_EQ(voxelTopology(torusVoxels.mask).genus, 1);
+}
+
+TEST(ContactSeparation, SerialEqualsParallel) {
+    const TriangleMesh mesh = cutRing();
+    const MeshVoxelization serial = voxelizeMeshWithContacts(mesh, coarse(true, false));
+    const MeshVoxelization parallel = voxelizeMeshWithContacts(mesh, coarse(true, true));
+    EXPECT_EQ(serial.mask.values(), parallel.mask.values());
+    EXPECT_EQ(serial.contacts.contacts, parallel.contacts.contacts);
+    EXPECT_EQ(serial.contacts.voxelsCleared, parallel.contacts.voxelsCleared);
+    EXPECT_EQ(serial.contacts.contactPairs, parallel.contacts.contactPairs);
+}
+
+TEST(ContactSeparation, RefusesAMismatchedTriangleGrid) {
+    MaskVolume mask(Dims{4, 4, 4}, 1);
+    const std::vector<std::int32_t> tooShort(10, -1);
+    EXPECT_THROW(separateContacts(cutRing(), mask, tooShort), UsageError);
+}
+
+}  // namespace
+}  // namespace skelseg
