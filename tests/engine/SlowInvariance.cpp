@@ -1,0 +1,82 @@
+// Slow: every pose sequence of ../shared/data/poses keeps its part count in
+// all its frames (issue 12), segmented as a new user would
+// (`skelseg segment MESH -o OUT --resolution 192`, defaults otherwise).
+// Skipped where the data is absent. bench/invariance.py measures the same and
+// more (Rand Index error between frames, resolution sweeps).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "tests/support/CliRunner.h"
+#include "tests/support/TempDir.h"
+#include "tests/support/TestPaths.h"
+
+namespace skelseg {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Pose files grouped by the name before the last '_', frames in numeric order.
+std::map<std::string, std::vector<fs::path>> poseSequences(const fs::path& poses) {
+    std::map<std::string, std::vector<std::pair<long, fs::path>>> frames;
+    for (const auto& entry : fs::directory_iterator(poses)) {
+        const std::string stem = entry.path().stem().string();
+        const auto cut = stem.rfind('_');
+        if (cut == std::string::npos || entry.path().extension() != ".obj") continue;
+        const std::string frame = stem.substr(cut + 1);
+        if (frame.empty() || !std::all_of(frame.begin(), frame.end(), ::isdigit)) continue;
+        frames[stem.substr(0, cut)].emplace_back(std::stol(frame), entry.path());
+    }
+    std::map<std::string, std::vector<fs::path>> sequences;
+    for (auto& [name, list] : frames) {
+        std::sort(list.begin(), list.end());
+        for (const auto& f : list) sequences[name].push_back(f.second);
+    }
+    return sequences;
+}
+
+/// Distinct labels of a .seg file (one label per line).
+std::size_t partCount(const fs::path& seg) {
+    std::ifstream in(seg);
+    std::set<long> labels;
+    long label = 0;
+    while (in >> label) labels.insert(label);
+    return labels.size();
+}
+
+// Disabled until the islands, geodesicness and topology parts of issue 12 are
+// all in: with the engine of this branch (contact separation only) the parts
+// per frame at resolution 192 are dance 6, 6, 6, 6; samba 6, 5, 4, 5;
+// elephantgallop 71, 76, 71, 76 (stray islands count as parts), so two of
+// the three sequences fail. See docs/quality.md, "Pose and resolution
+// invariance", for the current figures.
+TEST(Invariance, DISABLED_EveryPoseSequenceKeepsItsPartCount) {
+    const fs::path poses = test::sharedDataDir() / "poses";
+    if (!fs::is_directory(poses)) GTEST_SKIP() << "no pose data at " << poses << ": skipped";
+    const auto sequences = poseSequences(poses);
+    if (sequences.empty()) GTEST_SKIP() << "no pose sequence in " << poses;
+    test::TempDir dir;
+    for (const auto& [name, frames] : sequences) {
+        std::vector<std::size_t> parts;
+        for (const auto& frame : frames) {
+            const fs::path out = dir / (frame.stem().string());
+            const auto run = test::runSkelseg({"segment", frame.string(), "-o", out.string(),
+                                               "--resolution", "192", "-q", "--no-preview"});
+            ASSERT_EQ(run.exitCode, 0) << frame << ": " << run.describe();
+            parts.push_back(partCount(out / "segmentation.seg"));
+        }
+        std::string list;
+        for (std::size_t p : parts) list += (list.empty() ? "" : ", ") + std::to_string(p);
+        EXPECT_EQ(std::set<std::size_t>(parts.begin(), parts.end()).size(), 1u)
+            << name << ": parts per frame " << list;
+    }
+}
+
+}  // namespace
+}  // namespace skelseg
