@@ -184,7 +184,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
             }
             estimatedMemory =
                 estimateSegmentationMemory(grid.dims, grid.dims.voxelCount() / 4, threads) +
-                grid.dims.voxelCount() * 8;  // level set + dense copy while voxelising
+                grid.dims.voxelCount() * 12;  // level set, dense copy, nearest-triangle grid
             if (estimatedMemory > memoryLimit)
                 throw MemoryLimitError(options.input.string() + ": needs about " +
                                        formatBytes(estimatedMemory) + " at resolution " +
