@@ -129,6 +129,11 @@ def fmt_list(values):
     return ", ".join("?" if v is None else str(v) for v in values)
 
 
+def fmt_set(values):
+    """The distinct values (the mesh genus is the same for every frame)."""
+    return fmt_list(sorted({v for v in values if v is not None}) or [None])
+
+
 def main(argv):
     args = parse_args(argv)
     skelseg = Path(args.skelseg)
@@ -182,7 +187,7 @@ def main(argv):
         for name, e in results["sequences"].items():
             lines.append(f"| {name} | {fmt_list(e['frames'])} | {fmt_list(e['parts'])} | "
                          f"{e['mean_ri_error']:.3f} | {fmt_list(e['voxel_genus'])} "
-                         f"({fmt_list(sorted(set(map(str, e['mesh_genus']))))}) | "
+                         f"({fmt_set(e['mesh_genus'])}) | "
                          f"{fmt_list(e['contacts_separated'])} |")
         same = sum(e["same_parts"] for e in results["sequences"].values())
         mean = np.mean([e["mean_ri_error"] for e in results["sequences"].values()])
@@ -196,7 +201,7 @@ def main(argv):
         for name, e in results["resolutions"].items():
             lines.append(f"| {name} | {fmt_list(e['parts'])} | {e['mean_ri_error']:.3f} | "
                          f"{fmt_list(e['voxel_genus'])} "
-                         f"({fmt_list(sorted(set(map(str, e['mesh_genus']))))}) | "
+                         f"({fmt_set(e['mesh_genus'])}) | "
                          f"{fmt_list(e['contacts_separated'])} |")
         same = sum(e["same_parts"] for e in results["resolutions"].values())
         mean = np.mean([e["mean_ri_error"] for e in results["resolutions"].values()])
