@@ -448,6 +448,9 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
                             {"boundary_area", s.boundaryArea}});
     report["segments"] = segments;
     report["segment_count"] = result.segments.size();
+    report["islands"] = {{"count", result.islands.count},
+                         {"voxels", result.islands.voxels},
+                         {"noise_area", result.islands.noiseArea}};
     if (meshInput) {
         std::uint32_t faceSegments = 0;
         for (std::uint32_t l : faceLabels) faceSegments = std::max(faceSegments, l + 1);

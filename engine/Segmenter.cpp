@@ -11,6 +11,7 @@
 #include "kernels/BoundaryGraph.h"
 #include "kernels/ConnectedObjects.h"
 #include "kernels/FeatureTransform.h"
+#include "kernels/Islands.h"
 #include "kernels/PathSearch.h"
 #include "kernels/RimCount.h"
 #include "kernels/SkeletonGraph.h"
@@ -83,6 +84,13 @@ std::vector<std::uint32_t> orderLoop(const BoundaryGraph& graph,
     return arc1;
 }
 
+/// Components below this area never make a rim count in an object of
+/// boundary area `boundaryArea` (SegmentationParameters::noiseAreaMin).
+double noiseAreaFor(const SegmentationParameters& p, double boundaryArea) {
+    return std::min(std::max(p.noiseAreaMin, p.noiseAreaFraction * boundaryArea),
+                    std::max(p.tau.areaFor(std::uint64_t(boundaryArea)), 1.0));
+}
+
 }  // namespace
 
 std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels,
@@ -116,6 +124,20 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
         auto t = timer.stage("objects", true);
         InterrupterScope scope(interrupter, "objects");
         ConnectedObjects found = findConnectedObjects(mask, {p.threaded}, interrupter);
+        // Islands: objects whose boundary area is below the largest object's
+        // noise area are no parts (kernels/Islands.h).
+        const std::vector<std::uint64_t> areas = objectBoundaryAreas(mask, found, {p.threaded});
+        if (!areas.empty()) {
+            const double largestArea = double(areas[largestObject(areas)]);
+            result.islands.noiseArea = noiseAreaFor(p, largestArea);
+            const Islands islands = findIslands(found.objects, areas, result.islands.noiseArea);
+            result.islands.count = islands.count;
+            result.islands.voxels = islands.voxels;
+            found.objects.erase(
+                std::remove_if(found.objects.begin(), found.objects.end(),
+                               [&](const ObjectExtent& o) { return islands.isIsland[o.id] != 0; }),
+                found.objects.end());
+        }
         objects = std::move(found.objects);
         component = std::move(found.component);
     }
@@ -186,9 +208,7 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
         out.boundaryArea = graph.nodeCount();
         out.boundaryComponents = graph.componentSize.size();
         out.tauArea = p.tau.areaFor(out.boundaryArea);
-        out.noiseArea =
-            std::min(std::max(p.noiseAreaMin, p.noiseAreaFraction * double(out.boundaryArea)),
-                     std::max(out.tauArea, 1.0));
+        out.noiseArea = noiseAreaFor(p, double(out.boundaryArea));
 
         std::vector<std::vector<std::uint32_t>> cutLoops;
         if (extent.voxels >= p.minObjectVoxels) {

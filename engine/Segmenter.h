@@ -111,9 +111,17 @@ struct SegmentInfo {
     std::uint64_t boundaryArea = 0;
 };
 
+/// Objects too small to be parts (kernels/Islands.h): not segmented, label 0.
+struct IslandSummary {
+    std::uint64_t count = 0;
+    std::uint64_t voxels = 0;
+    double noiseArea = 0.0;  // the island threshold: the largest object's noise area
+};
+
 struct SegmentationResult {
-    LabelVolume labels;  // same grid and geometry as the input
-    std::vector<ObjectSegmentation> objects;
+    LabelVolume labels;                       // same grid and geometry as the input
+    std::vector<ObjectSegmentation> objects;  // islands excluded
+    IslandSummary islands;
     std::vector<SegmentInfo> segments;  // by label
     std::vector<std::string> warnings;
 };

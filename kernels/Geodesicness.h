@@ -32,6 +32,12 @@ struct GeodesicnessResult {
     float loopLength = 0.0f;
 };
 
+/// Length of the node path nodes[0..count) measured along chords that join
+/// every `stride`-th node (and the last node): see docs/algorithm.md,
+/// "Geodesicness on digital surfaces".
+float chordLength(const BoundaryGraph& graph, const std::uint32_t* nodes, std::size_t count,
+                  std::size_t stride);
+
 /// Per-thread workspace.
 class GeodesicnessEvaluator {
 public:
@@ -45,10 +51,32 @@ private:
     /// Nodes of Gamma' within `radius` hops of `seed` (inside Gamma').
     void markBlob(const RimCounter& rims, std::uint32_t seed, int radius);
 
+    /// The two arcs of a simple loop: mFirstArc = a shortest a-b path in
+    /// Gamma, mSecondArc = a shortest b-a path that keeps one step away from
+    /// it except next to a and b. False when there is no such second path
+    /// (an open path set).
+    bool splitLoop(const RimCounter& rims, std::uint32_t a, std::uint32_t b,
+                   GeodesicSearch& search);
+    /// The arcs of any annulus: removing growing neighbourhoods of a and b
+    /// from Gamma' leaves one piece per arc. Adds up to four arcs to mArcs;
+    /// returns the number of pieces found.
+    std::uint32_t splitAnnulus(const RimCounter& rims, std::uint32_t a, std::uint32_t b,
+                               GeodesicSearch& search);
+    /// Appends an arc (its nodes from a to b; `reversed`: path runs from b
+    /// to a) to mArcs.
+    void addArc(const std::vector<std::uint32_t>& path, bool reversed);
+
+    struct ArcNodes {
+        std::size_t begin, count;  // range in mArcPool, from a to b
+        std::size_t midpoint;      // position of the chord-length midpoint
+    };
+
     const BoundaryGraph& mGraph;
     GenerationMarks mBlob;
     GenerationMap<std::uint32_t> mHops, mArcOf;
-    std::vector<std::uint32_t> mQueue, mPath;
+    std::vector<std::uint32_t> mQueue, mPath, mFirstArc, mSecondArc;
+    std::vector<ArcNodes> mArcs;
+    std::vector<std::uint32_t> mArcPool, mHalf;
 };
 
 }  // namespace skelseg

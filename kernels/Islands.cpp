@@ -1,0 +1,64 @@
+#include "kernels/Islands.h"
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include "kernels/base/ParallelFor.h"
+
+namespace skelseg {
+
+std::vector<std::uint64_t> objectBoundaryAreas(const MaskVolume& mask,
+                                               const ConnectedObjects& objects,
+                                               const IslandOptions& options) {
+    const std::size_t objectCount = objects.objects.size();
+    const Dims d = mask.dims();
+    if (objectCount == 0 || mask.size() == 0) return std::vector<std::uint64_t>(objectCount, 0);
+    // Counts per thread, summed at the end: integer sums, so the result does
+    // not depend on how the planes were shared out.
+    tbb::enumerable_thread_specific<std::vector<std::uint64_t>> partial(
+        [&] { return std::vector<std::uint64_t>(objectCount, 0); });
+    const std::size_t nx = std::size_t(d.x), plane = nx * std::size_t(d.y);
+    auto planes = [&](int z0, int z1) {
+        std::vector<std::uint64_t>& area = partial.local();
+        const std::uint8_t* m = mask.data();
+        for (int z = z0; z < z1; ++z)
+            for (int y = 0; y < d.y; ++y)
+                for (int x = 0; x < d.x; ++x) {
+                    const std::size_t i = mask.index(x, y, z);
+                    if (!m[i]) continue;
+                    const bool boundary = x == 0 || x + 1 == d.x || y == 0 || y + 1 == d.y ||
+                                          z == 0 || z + 1 == d.z || !m[i - 1] || !m[i + 1] ||
+                                          !m[i - nx] || !m[i + nx] || !m[i - plane] ||
+                                          !m[i + plane];
+                    if (boundary) ++area[objects.component[i] - 1];
+                }
+    };
+    parallelFor(d.z, planes, options.threaded);
+    std::vector<std::uint64_t> total(objectCount, 0);
+    for (const std::vector<std::uint64_t>& area : partial)
+        for (std::size_t o = 0; o < objectCount; ++o) total[o] += area[o];
+    return total;
+}
+
+std::uint32_t largestObject(const std::vector<std::uint64_t>& boundaryAreas) {
+    std::uint32_t best = 0;
+    for (std::uint32_t o = 1; o < boundaryAreas.size(); ++o)
+        if (boundaryAreas[o] > boundaryAreas[best]) best = o;
+    return best;
+}
+
+Islands findIslands(const std::vector<ObjectExtent>& objects,
+                    const std::vector<std::uint64_t>& boundaryAreas, double noiseArea) {
+    Islands islands;
+    islands.isIsland.assign(objects.size(), 0);
+    if (objects.empty()) return islands;
+    const std::uint32_t largest = largestObject(boundaryAreas);
+    for (std::uint32_t o = 0; o < objects.size(); ++o) {
+        if (o == largest || !(double(boundaryAreas[o]) < noiseArea)) continue;
+        islands.isIsland[o] = 1;
+        ++islands.count;
+        islands.voxels += objects[o].voxels;
+    }
+    return islands;
+}
+
+}  // namespace skelseg
