@@ -148,8 +148,11 @@ TEST(SkeletonMeasures, SigmaIsLowNextToTheTJunction) {
     for (const SkeletonPoint& s :
          measureSkeleton(cylinder.graph, cylinder.candidates, cylinder.options(0.03)))
         cylinderSigma = std::max(cylinderSigma, s.sigma);
-    EXPECT_LT(nearMin, 0.8f);
-    EXPECT_GE(cylinderSigma - nearMin, 0.15f);
+    // With lengths measured independently of the digitisation (Geodesicness.h)
+    // straight loops read about 1 and the loop around the limb's base about
+    // 0.87; the contrast, not a fixed level, is what marks the kink.
+    EXPECT_LT(nearMin, 0.9f);
+    EXPECT_GE(cylinderSigma - nearMin, 0.1f);
     EXPECT_GT(farMax, nearMin + 0.05f) << "sigma should rise into the limb";
 }
 
