@@ -46,8 +46,8 @@ TEST(SceneIslands, StrayVoxelsInAVolumeAddNoSegments) {
 void addBox(TriangleMesh& mesh, std::array<double, 3> lo, std::array<double, 3> hi) {
     const auto base = std::uint32_t(mesh.vertices.size());
     for (int k = 0; k < 8; ++k)
-        mesh.vertices.push_back({(k & 1) ^ ((k >> 1) & 1) ? hi[0] : lo[0],
-                                 (k & 2) ? hi[1] : lo[1], (k & 4) ? hi[2] : lo[2]});
+        mesh.vertices.push_back({(k & 1) ^ ((k >> 1) & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1],
+                                 (k & 4) ? hi[2] : lo[2]});
     // Vertices 0..3 go around the bottom (z = lo), 4..7 around the top.
     static const std::uint32_t faces[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
                                                {0, 1, 5}, {0, 5, 4}, {3, 7, 6}, {3, 6, 2},
