@@ -5,14 +5,20 @@
 //     sigma = |gamma(c, d)| / (loop length from c over a to d),
 // which is 1 when the loop is itself a geodesic and drops where it kinks.
 //
-// How the arcs are found (a choice of ours, see docs/algorithm.md): the
-// dilated path set Gamma' is an annulus; removing small neighbourhoods of a
-// and b from it leaves one piece per arc. Each arc's length is the shortest
-// path from a to b through Gamma restricted to that piece (plus the two
-// neighbourhoods). A loop with no second arc (e.g. inside the "web" at a
-// disc's centre) gets sigma = 0, as docs/algorithm.md §7 explains. For a
-// junction, whose annulus splits into more than two arcs, sigma is the
-// minimum over pairs of arcs.
+// How the arcs are found (choices of ours, docs/algorithm.md §7): a simple
+// loop (two rim pieces) is split directly: a shortest a-b path in Gamma, and
+// the way back that keeps one step away from it. Any other annulus (a
+// junction's several loops) is cut at a and b by removing small
+// neighbourhoods of them from Gamma', which leaves one piece per arc; sigma
+// is then the minimum over pairs of arcs. A loop with no second arc (e.g.
+// inside the "web" at a disc's centre) gets sigma = 0.
+//
+// How lengths are measured (§7.1): along chords over three graph steps, so
+// that the one-voxel pips and the 1/sqrt2/sqrt3 staircase of a digital
+// surface do not decide the value; d is moved by up to two nodes to split
+// the loop evenly, and the two halves and the direct path are all c-d paths
+// measured alike. Straight tubes then read 0.92 to 1 from radius 2 voxels
+// up, at any angle to the grid.
 #pragma once
 
 #include <cstdint>
