@@ -74,13 +74,27 @@ TEST(Segmenter, BoxFillingTheGridSerialAndParallelAgree) {
 
 TEST(Segmenter, ObjectsInOppositeCornersKeepTheirVoxels) {
     // Two boxes, each in a corner of the grid (touching three faces), plus a
-    // single voxel in a third corner.
+    // 2x2x2 cube in a third corner. (A single voxel would be an island,
+    // kernels/Islands.h: below the boxes' noise area of 7.5 voxels.)
     const Dims dims{20, 16, 12};
-    const MaskVolume mask = makeMask(dims, [](int x, int y, int z) {
+    auto objects = [](int x, int y, int z) {
         return (x <= 5 && y <= 5 && z <= 5) || (x >= 12 && y >= 9 && z >= 6) ||
-               (x == 19 && y == 0 && z == 0);
-    });
-    const SegmentationResult result = segmentWith(mask, true);
-    expectLabelsCoverTheObject(mask, result);
+               (x >= 18 && y <= 1 && z <= 1);
+    };
+    const SegmentationResult result = segmentWith(makeMask(dims, objects), true);
+    expectLabelsCoverTheObject(makeMask(dims, objects), result);
     EXPECT_EQ(result.objects.size(), 3u);
+    EXPECT_EQ(result.islands.count, 0u);
+
+    // The same with a single voxel in a fourth corner: an island, label 0,
+    // and everything else labelled as before.
+    const MaskVolume withIsland = makeMask(dims, [&](int x, int y, int z) {
+        return objects(x, y, z) || (x == 19 && y == 15 && z == 0);
+    });
+    const SegmentationResult islanded = segmentWith(withIsland, true);
+    EXPECT_EQ(islanded.objects.size(), 3u);
+    EXPECT_EQ(islanded.islands.count, 1u);
+    EXPECT_EQ(islanded.islands.voxels, 1u);
+    EXPECT_EQ(islanded.labels(19, 15, 0), 0);
+    EXPECT_EQ(islanded.labels.values(), result.labels.values());
 }
