@@ -3,14 +3,19 @@
 //   skelseg segment INPUT -o OUTDIR [options]   segment a volume or a mesh
 //   skelseg generate SHAPE -o FILE [options]    write a synthetic test shape
 //   skelseg score MESH CANDIDATE.seg HUMAN.seg...  compare face segmentations
+//   skelseg batch MANIFEST -o OUTROOT [segment options]  segment many inputs
+//   skelseg batch --merge OUTROOT               combine the shard summaries
 //
 // Exit codes: 0 ok, 1 internal error, 2 bad input or usage, 3 time limit or
-// interrupted, 4 over the memory limit. Errors are one line on stderr.
+// interrupted, 4 over the memory limit, 5 batch: some inputs failed or are
+// missing. Errors are one line on stderr.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cstdlib>
 #include <iostream>
 #include <string>
 
+#include "engine/BatchCommand.h"
 #include "engine/ProgressReporter.h"
 #include "engine/ScoreCommand.h"
 #include "engine/SegmentCommand.h"
@@ -44,46 +49,50 @@ std::uint64_t parseBytes(const std::string& text) {
     return std::uint64_t(value * scale);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    CLI::App app{"skelseg: part-type segmentation of 3D shapes with the junction rule"};
-    app.set_version_flag("--version", std::string("skelseg ") + skelseg::versionString());
-    app.require_subcommand(1);
-
-    // segment
-    skelseg::SegmentCommandOptions seg;
+/// The `segment` options other than the input and the output; `batch`
+/// takes the same ones, defined once here.
+struct SegmentCli {
+    skelseg::SegmentCommandOptions options;
     std::string tauText = "3%", modeText = "junction-rule", maxMemoryText;
     bool quiet = false;
-    auto* segment = app.add_subcommand(
-        "segment", "Segment a volume (.nrrd .binvox .vdb) or a mesh (.off .obj .stl .ply)");
-    segment->add_option("input", seg.input, "Input file")->required();
-    segment->add_option("-o,--output", seg.outdir, "Output directory")->required();
-    segment
+
+    /// Turns the texts into options. Throws UsageError.
+    void finish() {
+        options.parameters.tau = skelseg::TauSpec::parse(tauText);
+        options.parameters.mode =
+            modeText == "junctions" ? skelseg::CutMode::Junctions : skelseg::CutMode::JunctionRule;
+        if (!maxMemoryText.empty()) options.maxMemoryBytes = parseBytes(maxMemoryText);
+    }
+};
+
+void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
+    skelseg::SegmentCommandOptions& seg = cli.options;
+    command
         ->add_option(
-            "--tau", tauText,
+            "--tau", cli.tauText,
             "Skeleton simplification: voxel area, or percent of the boundary area (e.g. 3%)")
         ->capture_default_str();
-    segment
+    command
         ->add_option("--sigma-min", seg.parameters.sigmaMin, "Minimum geodesicness of a cut point")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
-    segment
+    command
         ->add_option("--body-ratio", seg.parameters.bodyRatio,
                      "Circumference similarity above which a candidate is on the body")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
-    segment
-        ->add_option("--mode", modeText, "junction-rule (default) or junctions (the RT07 baseline)")
+    command
+        ->add_option("--mode", cli.modeText,
+                     "junction-rule (default) or junctions (the RT07 baseline)")
         ->check(CLI::IsMember({"junction-rule", "junctions"}));
-    segment->add_option("--threads", seg.threads, "Worker threads (default: all cores)")
+    command->add_option("--threads", seg.threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
-    segment->add_option("--resolution", seg.resolution, "Meshes: voxels along the longest side")
+    command->add_option("--resolution", seg.resolution, "Meshes: voxels along the longest side")
         ->capture_default_str()
         ->check(CLI::Range(8, 2048));
-    segment->add_option("--grid", seg.gridName,
+    command->add_option("--grid", seg.gridName,
                         "VDB input: name of the grid to read (default: the first)");
-    segment
+    command
         ->add_option("--time-limit", seg.timeLimitSeconds,
                      "Stop after this many seconds (exit code 3, no output)")
         ->check(CLI::Validator(
@@ -97,13 +106,57 @@ int main(int argc, char** argv) {
                 return "'" + text + "' is not a positive number of seconds";
             },
             "SECONDS"));
-    segment->add_option("--max-memory", maxMemoryText,
+    command->add_option("--max-memory", cli.maxMemoryText,
                         "Refuse runs estimated to need more (e.g. 4G; default 75% of RAM)");
-    segment->add_flag("--force", seg.force,
+    command->add_flag("--force", seg.force,
                       "Replace results of an earlier run in the output directory");
-    segment->add_flag("--quiet,-q", quiet,
+    command->add_flag("--quiet,-q", cli.quiet,
                       "No progress output (warnings and errors are still printed)");
-    segment->add_flag("!--no-preview", seg.writePreview, "Skip preview.png");
+    command->add_flag("!--no-preview", seg.writePreview, "Skip preview.png");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"skelseg: part-type segmentation of 3D shapes with the junction rule"};
+    app.set_version_flag("--version", std::string("skelseg ") + skelseg::versionString());
+    app.require_subcommand(1);
+
+    // segment
+    SegmentCli segmentCli;
+    auto* segment = app.add_subcommand(
+        "segment", "Segment a volume (.nrrd .binvox .vdb) or a mesh (.off .obj .stl .ply)");
+    segment->add_option("input", segmentCli.options.input, "Input file")->required();
+    segment->add_option("-o,--output", segmentCli.options.outdir, "Output directory")->required();
+    addSegmentOptions(segment, segmentCli);
+
+    // batch
+    SegmentCli batchCli;
+    std::string manifestText, outrootText, shardText, mergeText;
+    int shards = 0, shapesInFlight = 0;
+    auto* batch = app.add_subcommand(
+        "batch", "Segment every input of a manifest (or a folder) into OUTROOT/<name>/, resumably");
+    batch->add_option("manifest", manifestText,
+                      "Text file with one input path per line (# comments; relative to the "
+                      "manifest), or a folder of inputs");
+    batch->add_option("-o,--output", outrootText, "Output root: one folder per input");
+    batch->add_option("--shard", shardText,
+                      "Process share I of N (0 <= I < N), e.g. 0/4; default: from "
+                      "SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX, else all");
+    batch
+        ->add_option("--shards", shards,
+                     "Number of shares when the index comes from JOB_COMPLETION_INDEX "
+                     "(Kubernetes Indexed Job)")
+        ->check(CLI::Range(1, 1000000));
+    batch
+        ->add_option("--shapes-in-flight", shapesInFlight,
+                     "Most shapes in flight at once (default: threads + 1; --max-memory bounds "
+                     "them too)")
+        ->check(CLI::Range(1, 1024));
+    batch->add_option("--merge", mergeText,
+                      "Combine the shard summaries in this output root into summary.json/csv and "
+                      "report missing inputs");
+    addSegmentOptions(batch, batchCli);
 
     // generate
     std::string shapeName, generateOut;
@@ -150,10 +203,9 @@ int main(int argc, char** argv) {
 
     try {
         if (*segment) {
-            seg.parameters.tau = skelseg::TauSpec::parse(tauText);
-            seg.parameters.mode = modeText == "junctions" ? skelseg::CutMode::Junctions
-                                                          : skelseg::CutMode::JunctionRule;
-            if (!maxMemoryText.empty()) seg.maxMemoryBytes = parseBytes(maxMemoryText);
+            segmentCli.finish();
+            const skelseg::SegmentCommandOptions& seg = segmentCli.options;
+            const bool quiet = segmentCli.quiet;
             skelseg::ProgressReporter::installSignalHandlers();
             skelseg::ProgressReporter progress(quiet ? skelseg::ProgressReporter::Display::Quiet
                                                      : skelseg::ProgressReporter::Display::Auto,
@@ -162,6 +214,50 @@ int main(int argc, char** argv) {
             if (!quiet)
                 progress.message("skelseg: wrote " + seg.outdir.string() + " in " +
                                  std::to_string(progress.elapsedSeconds()).substr(0, 5) + " s");
+        } else if (*batch) {
+            if (!mergeText.empty()) {
+                if (!manifestText.empty() || !outrootText.empty())
+                    throw skelseg::UsageError("batch --merge OUTROOT takes no manifest and no -o");
+                return skelseg::runBatchMerge(mergeText);
+            }
+            if (manifestText.empty() || outrootText.empty())
+                throw skelseg::UsageError(
+                    "batch needs a MANIFEST and -o OUTROOT (or --merge OUTROOT)");
+            batchCli.finish();
+            skelseg::BatchCommandOptions options;
+            options.manifest = manifestText;
+            options.outroot = outrootText;
+            options.segment = batchCli.options;
+            options.shapesInFlight = shapesInFlight;
+            options.display = batchCli.quiet ? skelseg::BatchProgress::Display::Quiet
+                                             : skelseg::BatchProgress::Display::Auto;
+            if (!shardText.empty())
+                options.shard = skelseg::ShardSpec::parse(shardText);
+            else if (const auto fromScheduler = skelseg::shardFromEnvironment(
+                         [](const char* name) { return std::getenv(name); }, shards))
+                options.shard = *fromScheduler;
+            else if (shards > 0)
+                throw skelseg::UsageError(
+                    "--shards N needs JOB_COMPLETION_INDEX (or use --shard I/N)");
+            skelseg::ProgressReporter::installSignalHandlers();
+            const skelseg::BatchOutcome outcome = skelseg::runBatchCommand(options);
+            if (!batchCli.quiet)
+                std::cerr << "skelseg batch: " << outcome.inputs << " inputs: " << outcome.done
+                          << " done, " << outcome.skipped << " already done, " << outcome.failed
+                          << " failed" << (outcome.pending ? ", " : "")
+                          << (outcome.pending ? std::to_string(outcome.pending) + " not started"
+                                              : std::string())
+                          << "; summary in " << outcome.summaryJson.string() << "\n";
+            if (outcome.interrupted) {
+                std::cerr << "skelseg: error: batch interrupted; run it again to finish\n";
+                return 3;
+            }
+            if (outcome.failed > 0) {
+                std::cerr << "skelseg: error: " << outcome.failed << " of " << outcome.inputs
+                          << " inputs failed:\n";
+                for (const auto& line : outcome.failedNames) std::cerr << "  " << line << "\n";
+                return skelseg::kExitSomeInputsFailed;
+            }
         } else if (*generate) {
             skelseg::MaskVolume mask =
                 skelseg::rasterise(skelseg::makeShape(shapeName, pose), {size, 3});

@@ -1,0 +1,331 @@
+#include "engine/BatchCommand.h"
+
+#include <tbb/flow_graph.h>
+#include <tbb/info.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <sstream>
+#include <thread>
+
+#include "engine/Version.h"
+#include "engine/batch/BatchSummary.h"
+#include "engine/batch/DoneMarker.h"
+#include "engine/batch/InputMemoryEstimate.h"
+#include "engine/batch/MemoryBudget.h"
+#include "engine/batch/StagingCleanup.h"
+#include "kernels/base/Error.h"
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace skelseg {
+
+namespace {
+
+/// One input on its way through the graph.
+struct BatchJob {
+    std::size_t slot = 0;  // index into the shard's entries
+    ManifestEntry input;
+    std::uint64_t estimatedBytes = 0;
+};
+
+struct FinishedJob {
+    BatchJob job;
+    BatchEntry entry;
+    DoneMarker marker;     // valid when entry.status == "done"
+    std::string warnings;  // what the segment command printed, lines
+    bool userInterrupt = false;
+};
+
+/// The figures of a finished run, from its report.json.
+void readReportFigures(const fs::path& outdir, BatchEntry& entry) {
+    std::ifstream in(outdir / "report.json", std::ios::binary);
+    if (!in) return;
+    try {
+        const json report = json::parse(in);
+        entry.parts = report.value("segment_count", std::uint64_t(0));
+        entry.wallSeconds = report.at("timing").value("wall_seconds", 0.0);
+        entry.cpuSeconds = report.at("timing").value("cpu_seconds", 0.0);
+        entry.peakMemoryBytes = report.at("memory").value("peak_resident_bytes", std::uint64_t(0));
+    } catch (const std::exception&) {
+        // The outputs are committed; a report we cannot parse only loses figures.
+    }
+}
+
+/// Runs `segment` for one input: the body of the parallel node. Never throws.
+FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
+                       const std::string& optionsText) {
+    FinishedJob finished;
+    finished.job = job;
+    BatchEntry& entry = finished.entry;
+    entry.name = job.input.name;
+    entry.input = job.input.input;
+    entry.estimatedMemoryBytes = job.estimatedBytes;
+    const fs::path outdir = options.outroot / job.input.name;
+    const auto start = std::chrono::steady_clock::now();
+    char* captured = nullptr;
+    std::size_t capturedSize = 0;
+    std::FILE* messages = ::open_memstream(&captured, &capturedSize);
+    try {
+        // The marker goes first: a run killed from here on leaves the input
+        // not done, whatever outputs it replaced.
+        removeDoneMarker(outdir);
+        removeStagingLeftovers(outdir);
+        const InputFingerprint fingerprint = fingerprintFile(job.input.input);
+        SegmentCommandOptions segment = options.segment;
+        segment.input = job.input.input;
+        segment.outdir = outdir;
+        segment.force = true;  // the folder is the batch's; earlier outputs are redone
+        {
+            ProgressReporter reporter(ProgressReporter::Display::Quiet, segment.timeLimitSeconds,
+                                      messages ? messages : stderr);
+            tbb::this_task_arena::isolate([&] { runSegmentCommand(segment, reporter); });
+        }
+        entry.status = "done";
+        readReportFigures(outdir, entry);
+        DoneMarker& marker = finished.marker;
+        marker.skelsegVersion = versionString();
+        marker.input = job.input.input;
+        marker.fingerprint = fingerprint;
+        marker.options = optionsText;
+        marker.run = runIdentity();
+        marker.parts = entry.parts;
+        marker.wallSeconds = entry.wallSeconds;
+        marker.cpuSeconds = entry.cpuSeconds;
+        marker.peakMemoryBytes = entry.peakMemoryBytes;
+    } catch (const InterruptedError& error) {
+        entry.status = "failed";
+        entry.error = error.what();
+        finished.userInterrupt = error.reason() == InterruptedError::Reason::UserInterrupt;
+    } catch (const Error& error) {
+        entry.status = "failed";
+        entry.error = error.what();
+    } catch (const std::bad_alloc&) {
+        entry.status = "failed";
+        entry.error = job.input.input.string() + ": out of memory";
+    } catch (const std::exception& error) {
+        entry.status = "failed";
+        entry.error = job.input.input.string() + ": internal error: " + error.what();
+    }
+    if (entry.status == "failed")
+        entry.wallSeconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (messages) {
+        std::fclose(messages);
+        finished.warnings.assign(captured, capturedSize);
+        std::free(captured);
+    }
+    return finished;
+}
+
+}  // namespace
+
+BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stream) {
+    const auto wallStart = std::chrono::steady_clock::now();
+    const Manifest manifest = readManifest(options.manifest);
+    const ShardSpec shard = options.shard;
+    std::vector<std::uint64_t> sizes;
+    for (const auto& e : manifest.entries) sizes.push_back(e.fileBytes);
+    const std::vector<int> shardOf = assignShards(sizes, shard.count);
+
+    std::error_code ec;
+    fs::create_directories(options.outroot, ec);
+    if (ec || !fs::is_directory(options.outroot))
+        throw OutputError(options.outroot.string() + ": cannot create the output directory" +
+                          (ec ? ": " + ec.message() : std::string()));
+    const std::string stem = shard.summaryStem();
+    for (const auto& item : fs::directory_iterator(options.outroot, ec)) {
+        const std::string file = item.path().filename().string();
+        if (file.rfind("." + stem + ".", 0) == 0 && isStagingLeftoverName(file))
+            fs::remove(item.path(), ec);
+    }
+
+    const std::string optionsText = outputAffectingOptions(options.segment);
+    const int threads =
+        options.segment.threads > 0 ? options.segment.threads : tbb::info::default_concurrency();
+    BatchSummary summary;
+    summary.skelsegVersion = versionString();
+    summary.manifest = options.manifest;
+    summary.shard = shard;
+    summary.options = optionsText;
+    summary.run = runIdentity();
+    summary.startedAt = utcTimestamp();
+    std::vector<ManifestEntry> mine;
+    for (std::size_t i = 0; i < manifest.entries.size(); ++i) {
+        summary.manifestNames.push_back(manifest.entries[i].name);
+        if (shardOf[i] != shard.index) continue;
+        mine.push_back(manifest.entries[i]);
+        BatchEntry entry;
+        entry.name = manifest.entries[i].name;
+        entry.input = manifest.entries[i].input;
+        summary.entries.push_back(entry);
+    }
+
+    // Done earlier, with the same input, options and skelseg: skipped.
+    std::vector<BatchJob> jobs;
+    for (std::size_t slot = 0; slot < mine.size(); ++slot) {
+        const fs::path outdir = options.outroot / mine[slot].name;
+        if (!options.segment.force && mine[slot].exists) {
+            if (const auto marker = readDoneMarker(outdir)) {
+                bool matches = false;
+                try {
+                    matches = marker->matches(fingerprintFile(mine[slot].input), optionsText);
+                } catch (const InputError&) {
+                    // Unreadable now: the run reports it.
+                }
+                if (matches) {
+                    BatchEntry& entry = summary.entries[slot];
+                    entry.status = "skipped";
+                    entry.parts = marker->parts;
+                    entry.wallSeconds = marker->wallSeconds;
+                    entry.cpuSeconds = marker->cpuSeconds;
+                    entry.peakMemoryBytes = marker->peakMemoryBytes;
+                    entry.finishedAt = marker->finishedAt;
+                    removeStagingLeftovers(outdir);
+                    continue;
+                }
+            }
+        }
+        BatchJob job;
+        job.slot = slot;
+        job.input = mine[slot];
+        job.estimatedBytes = estimateInputMemory(mine[slot].input, options.segment, threads);
+        jobs.push_back(job);
+    }
+    // Largest first: the long ones start early, the small ones fill the gaps
+    // at the end.
+    std::stable_sort(jobs.begin(), jobs.end(), [](const BatchJob& a, const BatchJob& b) {
+        return a.estimatedBytes > b.estimatedBytes;
+    });
+
+    BatchProgress progress(mine.size(), mine.size() - jobs.size(), options.display, stream);
+    for (const auto& warning : manifest.warnings) progress.message("skelseg: warning: " + warning);
+    if (shard.count > 1)
+        progress.message("skelseg batch: shard " + shard.toString() + ": " +
+                         std::to_string(mine.size()) + " of " +
+                         std::to_string(manifest.entries.size()) + " inputs");
+    summary.updatedAt = utcTimestamp();
+    writeBatchSummary(options.outroot, stem, summary);
+
+    const std::uint64_t memoryLimit =
+        options.segment.maxMemoryBytes ? options.segment.maxMemoryBytes : defaultMemoryLimit();
+    const std::size_t inFlight =
+        options.shapesInFlight > 0 ? std::size_t(options.shapesInFlight) : std::size_t(threads) + 1;
+    MemoryBudget budget(memoryLimit, inFlight);
+    ProgressReporter interruptWatch(ProgressReporter::Display::Quiet);
+    std::atomic<bool> interrupted{false};
+    auto stopRequested = [&] { return interrupted.load() || interruptWatch.wasInterrupted(); };
+
+    tbb::flow::graph graph;
+    tbb::flow::function_node<BatchJob, FinishedJob> segmentNode(
+        graph, tbb::flow::unlimited,
+        [&](const BatchJob& job) { return segmentOne(job, options, optionsText); });
+    auto lastSummaryWrite = std::chrono::steady_clock::now();
+    std::string recordError;
+    tbb::flow::function_node<FinishedJob> recordNode(
+        graph, tbb::flow::serial, [&](FinishedJob finished) {
+            BatchEntry& entry = finished.entry;
+            if (finished.userInterrupt) interrupted = true;
+            if (entry.status == "done") {
+                finished.marker.finishedAt = utcTimestamp();
+                try {
+                    writeDoneMarker(options.outroot / entry.name, finished.marker);
+                } catch (const Error& error) {
+                    entry.status = "failed";
+                    entry.error = error.what();
+                }
+            }
+            entry.finishedAt = utcTimestamp();
+            std::istringstream lines(finished.warnings);
+            for (std::string line; std::getline(lines, line);)
+                if (!line.empty()) progress.message(line);
+            // An interrupted shape is not a failed one: it stays pending.
+            if (finished.userInterrupt) {
+                BatchEntry pending;
+                pending.name = entry.name;
+                pending.input = entry.input;
+                entry = pending;
+            }
+            summary.entries[finished.job.slot] = entry;
+            if (!finished.userInterrupt) progress.shapeFinished(entry);
+            budget.release(finished.job.estimatedBytes);
+            const auto now = std::chrono::steady_clock::now();
+            if (now - lastSummaryWrite > std::chrono::seconds(1)) {
+                summary.updatedAt = utcTimestamp();
+                summary.wallSeconds = std::chrono::duration<double>(now - wallStart).count();
+                try {
+                    writeBatchSummary(options.outroot, stem, summary);
+                } catch (const Error& error) {
+                    recordError = error.what();
+                }
+                lastSummaryWrite = now;
+            }
+        });
+    tbb::flow::make_edge(segmentNode, recordNode);
+
+    // The feeder waits for memory on its own thread, so no TBB worker (nor
+    // the thread below, which works in wait_for_all) sits idle in a wait.
+    graph.reserve_wait();
+    std::thread feeder([&] {
+        for (const auto& job : jobs) {
+            if (!budget.acquire(job.estimatedBytes, stopRequested)) {
+                interrupted = true;
+                break;
+            }
+            segmentNode.try_put(job);
+        }
+        graph.release_wait();
+    });
+    graph.wait_for_all();
+    feeder.join();
+
+    BatchOutcome outcome;
+    outcome.interrupted = interrupted.load() || interruptWatch.wasInterrupted();
+    summary.complete = !outcome.interrupted;
+    summary.updatedAt = utcTimestamp();
+    summary.wallSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+    writeBatchSummary(options.outroot, stem, summary);
+    if (!recordError.empty()) throw OutputError(recordError);
+
+    outcome.inputs = mine.size();
+    outcome.done = summary.count("done");
+    outcome.skipped = summary.count("skipped");
+    outcome.failed = summary.count("failed");
+    outcome.pending = summary.count("pending");
+    for (const auto& e : summary.entries)
+        if (e.status == "failed") outcome.failedNames.push_back(e.name + ": " + e.error);
+    outcome.peakShapesInFlight = budget.peakShapesInFlight();
+    outcome.summaryJson = options.outroot / (stem + ".json");
+    return outcome;
+}
+
+int runBatchMerge(const fs::path& outroot, std::FILE* stream) {
+    const MergeResult result = mergeBatchSummaries(outroot);
+    const BatchSummary& merged = result.merged;
+    std::fprintf(stream,
+                 "skelseg batch --merge: %zu shard summaries, %zu inputs: %zu done, %zu failed, "
+                 "%zu missing; wrote %s\n",
+                 result.shardFiles.size(), merged.entries.size(),
+                 merged.entries.size() - result.missing.size(), result.failed.size(),
+                 result.missing.size() - result.failed.size(),
+                 (outroot / "summary.json").string().c_str());
+    for (const auto& shard : result.missingShards)
+        std::fprintf(stream, "skelseg batch --merge: no summary from shard %s\n", shard.c_str());
+    for (const auto& e : merged.entries) {
+        if (e.isDone()) continue;
+        std::fprintf(stream, "skelseg batch --merge: %s: %s%s%s\n", e.name.c_str(),
+                     e.status.c_str(), e.error.empty() ? "" : ": ", e.error.c_str());
+    }
+    return result.missing.empty() && result.missingShards.empty() ? 0 : kExitSomeInputsFailed;
+}
+
+}  // namespace skelseg

@@ -1,0 +1,130 @@
+#include "engine/batch/DoneMarker.h"
+
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "engine/Version.h"
+#include "io/files/OutputDirectory.h"
+#include "kernels/base/Error.h"
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace skelseg {
+
+InputFingerprint fingerprintFile(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+        throw InputError(file.string(), std::string("cannot be read: ") + std::strerror(errno));
+    InputFingerprint fingerprint;
+    uLong crc = ::crc32(0L, Z_NULL, 0);
+    std::vector<char> block(std::size_t(1) << 20);
+    while (in) {
+        in.read(block.data(), std::streamsize(block.size()));
+        const auto got = in.gcount();
+        if (got <= 0) break;
+        crc = ::crc32(crc, reinterpret_cast<const Bytef*>(block.data()), uInt(got));
+        fingerprint.bytes += std::uint64_t(got);
+    }
+    if (in.bad()) throw InputError(file.string(), "read error");
+    fingerprint.crc32 = std::uint32_t(crc);
+    return fingerprint;
+}
+
+std::string outputAffectingOptions(const SegmentCommandOptions& options) {
+    const SegmentationParameters& p = options.parameters;
+    // nlohmann::json objects keep keys sorted: the text is canonical.
+    const json j = {{"tau", p.tau.toString()},
+                    {"sigma_min", p.sigmaMin},
+                    {"body_ratio", p.bodyRatio},
+                    {"mode", p.mode == CutMode::Junctions ? "junctions" : "junction-rule"},
+                    {"noise_area_min", p.noiseAreaMin},
+                    {"noise_area_fraction", p.noiseAreaFraction},
+                    {"region_radius", p.regionRadius},
+                    {"bridge_gap", p.bridgeGap},
+                    {"consecutive_levels", p.consecutiveLevels},
+                    {"min_object_voxels", p.minObjectVoxels},
+                    {"resolution", options.resolution},
+                    {"grid", options.gridName},
+                    {"preview", options.writePreview},
+                    {"vdb", options.writeVdb}};
+    return j.dump();
+}
+
+bool DoneMarker::matches(const InputFingerprint& current, const std::string& currentOptions) const {
+    return skelsegVersion == versionString() && fingerprint == current && options == currentOptions;
+}
+
+std::optional<DoneMarker> readDoneMarker(const fs::path& directory) {
+    std::ifstream in(directory / kDoneMarkerName, std::ios::binary);
+    if (!in) return std::nullopt;
+    try {
+        const json j = json::parse(in);
+        DoneMarker marker;
+        marker.skelsegVersion = j.at("skelseg_version").get<std::string>();
+        marker.input = j.at("input").at("path").get<std::string>();
+        marker.fingerprint.bytes = j.at("input").at("bytes").get<std::uint64_t>();
+        marker.fingerprint.crc32 =
+            std::uint32_t(std::stoul(j.at("input").at("crc32").get<std::string>(), nullptr, 16));
+        marker.options = j.at("options").dump();
+        marker.finishedAt = j.at("finished_at").get<std::string>();
+        marker.run = j.at("run").get<std::string>();
+        marker.parts = j.at("parts").get<std::uint64_t>();
+        marker.wallSeconds = j.at("wall_seconds").get<double>();
+        marker.cpuSeconds = j.at("cpu_seconds").get<double>();
+        marker.peakMemoryBytes = j.at("peak_memory_bytes").get<std::uint64_t>();
+        return marker;
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+
+void writeDoneMarker(const fs::path& directory, const DoneMarker& marker) {
+    char crc[16];
+    std::snprintf(crc, sizeof crc, "%08x", marker.fingerprint.crc32);
+    const json j = {
+        {"skelseg_version", marker.skelsegVersion},
+        {"input",
+         {{"path", marker.input.string()}, {"bytes", marker.fingerprint.bytes}, {"crc32", crc}}},
+        {"options", json::parse(marker.options)},
+        {"finished_at", marker.finishedAt},
+        {"run", marker.run},
+        {"parts", marker.parts},
+        {"wall_seconds", marker.wallSeconds},
+        {"cpu_seconds", marker.cpuSeconds},
+        {"peak_memory_bytes", marker.peakMemoryBytes}};
+    writeFileAtomically(directory / kDoneMarkerName, j.dump(2) + "\n");
+}
+
+void removeDoneMarker(const fs::path& directory) {
+    std::error_code ec;
+    fs::remove(directory / kDoneMarkerName, ec);
+    if (ec)
+        throw OutputError((directory / kDoneMarkerName).string() +
+                          ": cannot remove: " + ec.message());
+}
+
+std::string utcTimestamp() {
+    const std::time_t now = std::time(nullptr);
+    std::tm utc{};
+    ::gmtime_r(&now, &utc);
+    char text[32];
+    std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+    return text;
+}
+
+std::string runIdentity() {
+    char host[256] = {};
+    if (::gethostname(host, sizeof host - 1) != 0) std::strcpy(host, "unknown");
+    return std::string(host) + ":" + std::to_string(::getpid());
+}
+
+}  // namespace skelseg

@@ -1,0 +1,237 @@
+#include "engine/batch/Manifest.h"
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <set>
+
+#include "kernels/base/Error.h"
+
+namespace fs = std::filesystem;
+
+namespace skelseg {
+
+namespace {
+
+std::string lowerExtension(const fs::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+std::string trim(const std::string& text) {
+    const auto first = text.find_first_not_of(" \t\r\n");
+    if (first == std::string::npos) return {};
+    const auto last = text.find_last_not_of(" \t\r\n");
+    return text.substr(first, last - first + 1);
+}
+
+/// The identity of a file for duplicate detection: the canonical path when
+/// the file exists (links and "a/../b" spellings agree), the lexically
+/// normal absolute path otherwise.
+std::string identityOf(const fs::path& path) {
+    std::error_code ec;
+    fs::path canonical = fs::weakly_canonical(path, ec);
+    if (ec) canonical = fs::absolute(path, ec).lexically_normal();
+    return canonical.string();
+}
+
+int parseIntegerVariable(const char* name, const char* text) {
+    try {
+        std::size_t used = 0;
+        const long value = std::stol(text, &used);
+        if (used == std::string(text).size() && value >= 0 && value < (1L << 30)) return int(value);
+    } catch (const std::exception&) {
+    }
+    throw UsageError(std::string(name) + "='" + text + "' is not a non-negative integer");
+}
+
+}  // namespace
+
+bool isSupportedInputPath(const fs::path& path) {
+    static const std::set<std::string> extensions = {".nrrd", ".nhdr", ".binvox", ".vdb",
+                                                     ".off",  ".obj",  ".stl",    ".ply"};
+    return extensions.count(lowerExtension(path)) != 0;
+}
+
+std::vector<std::string> uniqueOutputNames(const std::vector<fs::path>& inputs) {
+    std::vector<std::string> names(inputs.size());
+    std::map<std::string, int> stemCount;
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        names[i] = inputs[i].stem().string();
+        if (names[i].empty() || names[i] == "." || names[i] == "..") names[i] = "input";
+        ++stemCount[names[i]];
+    }
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        if (stemCount[names[i]] < 2) continue;
+        const std::string parent = inputs[i].parent_path().filename().string();
+        if (!parent.empty() && parent != "." && parent != "..") names[i] = parent + "-" + names[i];
+    }
+    // Still equal (same folder name, or no folder): the first keeps the name,
+    // later ones get a counter in manifest order, skipping names that
+    // another input has.
+    std::set<std::string> firstPass(names.begin(), names.end()), taken;
+    for (auto& name : names) {
+        if (!taken.count(name)) {
+            taken.insert(name);
+            continue;
+        }
+        std::string candidate;
+        for (int counter = 2;; ++counter) {
+            candidate = name + "-" + std::to_string(counter);
+            if (!taken.count(candidate) && !firstPass.count(candidate)) break;
+        }
+        taken.insert(candidate);
+        name = candidate;
+    }
+    return names;
+}
+
+Manifest readManifest(const fs::path& source) {
+    Manifest manifest;
+    manifest.source = source;
+    std::error_code ec;
+    std::vector<std::pair<fs::path, int>> listed;
+    if (fs::is_directory(source, ec)) {
+        std::vector<fs::path> files;
+        for (const auto& item : fs::directory_iterator(source, ec))
+            if (item.is_regular_file(ec) && isSupportedInputPath(item.path()))
+                files.push_back(item.path());
+        if (ec) throw InputError(source.string(), "cannot list the directory: " + ec.message());
+        std::sort(files.begin(), files.end());
+        for (const auto& file : files) listed.emplace_back(file, 0);
+    } else {
+        std::ifstream in(source);
+        if (!fs::exists(source, ec)) throw InputError(source.string(), "no such file");
+        if (!in) throw InputError(source.string(), "cannot be read");
+        const fs::path base = source.parent_path();
+        std::string text;
+        for (int line = 1; std::getline(in, text); ++line) {
+            const std::string path = trim(text);
+            if (path.empty() || path[0] == '#') continue;
+            const fs::path input(path);
+            listed.emplace_back(input.is_absolute() ? input : base / input, line);
+        }
+        if (in.bad()) throw InputError(source.string(), "read error");
+    }
+    std::map<std::string, int> firstLine;
+    std::vector<fs::path> inputs;
+    for (const auto& [path, line] : listed) {
+        const auto [at, inserted] = firstLine.emplace(identityOf(path), line);
+        if (!inserted) {
+            manifest.warnings.push_back(source.string() + ":" + std::to_string(line) + ": " +
+                                        path.string() + " is listed again (first on line " +
+                                        std::to_string(at->second) + "); processed once");
+            continue;
+        }
+        ManifestEntry entry;
+        entry.input = path.lexically_normal();
+        entry.line = line;
+        entry.exists = fs::is_regular_file(path, ec);
+        entry.fileBytes = entry.exists ? fs::file_size(path, ec) : 0;
+        if (ec) entry.fileBytes = 0;
+        inputs.push_back(entry.input);
+        manifest.entries.push_back(std::move(entry));
+    }
+    if (manifest.entries.empty())
+        throw InputError(source.string(), fs::is_directory(source, ec)
+                                              ? "the directory holds no supported input file"
+                                              : "the manifest lists no input");
+    const std::vector<std::string> names = uniqueOutputNames(inputs);
+    for (std::size_t i = 0; i < names.size(); ++i) manifest.entries[i].name = names[i];
+    return manifest;
+}
+
+std::vector<int> assignShards(const std::vector<std::uint64_t>& sizes, int shardCount) {
+    if (shardCount < 1) throw UsageError("the number of shards must be at least 1");
+    std::vector<std::size_t> order(sizes.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
+    // Counts break ties between equal loads, so zero-size inputs (missing
+    // files) spread too.
+    std::vector<std::uint64_t> load(std::size_t(shardCount), 0);
+    std::vector<std::size_t> count(std::size_t(shardCount), 0);
+    std::vector<int> shard(sizes.size(), 0);
+    for (std::size_t i : order) {
+        std::size_t best = 0;
+        for (std::size_t s = 1; s < load.size(); ++s)
+            if (load[s] < load[best] || (load[s] == load[best] && count[s] < count[best])) best = s;
+        shard[i] = int(best);
+        load[best] += sizes[i];
+        ++count[best];
+    }
+    return shard;
+}
+
+ShardSpec ShardSpec::parse(const std::string& text) {
+    const auto slash = text.find('/');
+    ShardSpec spec;
+    try {
+        if (slash == std::string::npos) throw std::invalid_argument("no slash");
+        std::size_t usedIndex = 0, usedCount = 0;
+        spec.index = std::stoi(text.substr(0, slash), &usedIndex);
+        spec.count = std::stoi(text.substr(slash + 1), &usedCount);
+        if (usedIndex != slash || usedCount != text.size() - slash - 1)
+            throw std::invalid_argument("trailing text");
+    } catch (const std::exception&) {
+        throw UsageError("--shard '" + text + "' is not I/N (e.g. 0/4: the first of four shares)");
+    }
+    if (spec.count < 1 || spec.index < 0 || spec.index >= spec.count)
+        throw UsageError("--shard '" + text + "': need 0 <= I < N");
+    return spec;
+}
+
+std::string ShardSpec::toString() const {
+    return std::to_string(index) + "/" + std::to_string(count);
+}
+
+std::string ShardSpec::summaryStem() const {
+    if (count == 1) return "summary";
+    return "summary.shard-" + std::to_string(index) + "-of-" + std::to_string(count);
+}
+
+std::optional<ShardSpec> shardFromEnvironment(
+    const std::function<const char*(const char*)>& environment, int shardsOption) {
+    auto value = [&](const char* name) -> std::optional<int> {
+        const char* text = environment(name);
+        if (!text || !*text) return std::nullopt;
+        return parseIntegerVariable(name, text);
+    };
+    if (const auto task = value("SLURM_ARRAY_TASK_ID")) {
+        const int minimum = value("SLURM_ARRAY_TASK_MIN").value_or(0);
+        const int step = std::max(1, value("SLURM_ARRAY_TASK_STEP").value_or(1));
+        std::optional<int> count = value("SLURM_ARRAY_TASK_COUNT");
+        if (!count) {
+            const auto maximum = value("SLURM_ARRAY_TASK_MAX");
+            if (!maximum)
+                throw UsageError(
+                    "SLURM_ARRAY_TASK_ID is set but neither SLURM_ARRAY_TASK_COUNT nor "
+                    "SLURM_ARRAY_TASK_MAX is; pass --shard I/N");
+            count = (*maximum - minimum) / step + 1;
+        }
+        ShardSpec spec;
+        spec.index = (*task - minimum) / step;
+        spec.count = *count;
+        if (*task < minimum || spec.index >= spec.count)
+            throw UsageError("Slurm array task " + std::to_string(*task) +
+                             " is outside the array (min " + std::to_string(minimum) + ", count " +
+                             std::to_string(*count) + ")");
+        return spec;
+    }
+    if (const auto index = value("JOB_COMPLETION_INDEX")) {
+        if (shardsOption < 1)
+            throw UsageError(
+                "JOB_COMPLETION_INDEX is set: pass --shards N (the Job's completions) too");
+        if (*index >= shardsOption)
+            throw UsageError("JOB_COMPLETION_INDEX=" + std::to_string(*index) +
+                             " is not below --shards " + std::to_string(shardsOption));
+        return ShardSpec{*index, shardsOption};
+    }
+    return std::nullopt;
+}
+
+}  // namespace skelseg

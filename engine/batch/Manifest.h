@@ -1,0 +1,86 @@
+// skelseg: the list of inputs of a batch, their output names and shards.
+//
+// A manifest is a text file with one input path per line. Blank lines and
+// lines whose first non-blank character is '#' are skipped (a '#' later in a
+// line is part of the path: file names may hold one); surrounding blanks are
+// trimmed; relative paths are relative to the manifest's folder, so a
+// manifest can travel with its data. A directory instead of a file means every
+// supported input file directly in it (not its subfolders), by name.
+//
+// Each input gets an output name, the folder OUTROOT/<name>/: the file name
+// without its extension. Inputs that share it get their parent folder's name
+// in front ("chairs-1", "tables-1"); if that still collides, a counter in
+// manifest order ("1-2"). The names depend only on the manifest, so every
+// shard of a cluster job computes the same ones.
+//
+// Shards: assignShards() splits the inputs into N shares of about equal total
+// file size (largest first, each to the lightest shard so far; ties by
+// manifest order). File size is the cost proxy that needs no reading: the
+// work grows with the voxel count, which grows with the file for volumes and
+// with the resolution (the same for all) for meshes. The split depends only on
+// the manifest and the sizes, so independent processes agree on it.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace skelseg {
+
+struct ManifestEntry {
+    std::filesystem::path input;  // as resolved (relative ones joined to the manifest's folder)
+    std::string name;             // output folder name, unique in the manifest
+    std::uint64_t fileBytes = 0;  // 0 when the file is missing
+    bool exists = false;          // a regular file at read time
+    int line = 0;                 // 1-based line in the manifest (0 for a directory listing)
+};
+
+struct Manifest {
+    std::filesystem::path source;
+    std::vector<ManifestEntry> entries;  // in manifest order
+    std::vector<std::string> warnings;   // duplicates dropped, one line each
+};
+
+/// True for the extensions `skelseg segment` reads (.nrrd .nhdr .binvox .vdb
+/// .off .obj .stl .ply, any case).
+bool isSupportedInputPath(const std::filesystem::path& path);
+
+/// Reads a manifest file or lists a directory. An input listed twice (the
+/// same file by any path) is kept once, with a warning. Missing files are
+/// kept (exists = false): the batch records them as failed.
+/// @throw InputError if `source` cannot be read, or lists no input at all.
+Manifest readManifest(const std::filesystem::path& source);
+
+/// Output names for `inputs` by the rule above (exposed for tests).
+std::vector<std::string> uniqueOutputNames(const std::vector<std::filesystem::path>& inputs);
+
+/// Shard of each input (0..shardCount-1), size-balanced and deterministic.
+/// @throw UsageError if shardCount < 1.
+std::vector<int> assignShards(const std::vector<std::uint64_t>& sizes, int shardCount);
+
+/// One share of a batch: index in 0..count-1.
+struct ShardSpec {
+    int index = 0;
+    int count = 1;
+    /// "I/N" with 0 <= I < N. @throw UsageError otherwise.
+    static ShardSpec parse(const std::string& text);
+    std::string toString() const;  // "I/N"
+    /// Summary file stem: "summary" for 0/1, "summary.shard-I-of-N" otherwise.
+    std::string summaryStem() const;
+};
+
+/// The shard a cluster scheduler asks for, read through `environment`
+/// (getenv in the CLI):
+///   Slurm job arrays: SLURM_ARRAY_TASK_ID with SLURM_ARRAY_TASK_COUNT, or
+///   with SLURM_ARRAY_TASK_MIN and _MAX (and _STEP): index = (ID - MIN) / STEP;
+///   Kubernetes Indexed Jobs: JOB_COMPLETION_INDEX, with `shardsOption`
+///   (--shards N) giving the count (the Job's completions).
+/// Returns nullopt when neither is set. @throw UsageError for inconsistent
+/// values (an index outside the count, JOB_COMPLETION_INDEX without --shards).
+std::optional<ShardSpec> shardFromEnvironment(
+    const std::function<const char*(const char*)>& environment, int shardsOption);
+
+}  // namespace skelseg
