@@ -11,6 +11,7 @@ packages=(
   python3-numpy python3-scipy python3-matplotlib python3-pil python3-pytest
   pybind11-dev python3-dev python3-dask python3-distributed
   chromium
+  slurm-wlm munge  # tests/cluster: a one-node Slurm for the job-array test
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -10,6 +10,8 @@
 #   asan   unit tests under AddressSanitizer + UBSan, built with clang (SKELSEG_CI_ASAN=0 skips)
 #   fuzz   each parser under libFuzzer for a bounded time, JOBS targets at a time
 #          (SKELSEG_FUZZ_SECONDS per target, default 60; 0 skips)
+#   cluster  `skelseg batch` as a Slurm job array on a one-node Slurm it starts
+#          (label cluster; skipped without slurm-wlm/munge or root)
 #   slow   robustness on real data and degenerate shapes (label slow)
 # The fuzz targets are built in the background while the sanitizer build runs
 # (both are CPU-bound; together they keep the cores busy); its log is
@@ -68,6 +70,9 @@ if [ "$fuzz_seconds" != "0" ]; then
   stamp "fuzzing"
   JOBS="$jobs" tools/run-fuzzers.sh "$fuzz_seconds"
 fi
+
+stamp "cluster tests (a one-node Slurm)"
+ctest --test-dir build-ci -L cluster --output-on-failure
 
 stamp "slow tests"
 ctest --test-dir build-ci -L slow --output-on-failure

@@ -83,7 +83,8 @@ void BatchProgress::shapeFinished(const BatchEntry& entry) {
     ++mFinished;
     if (entry.status == "done") ++mSegmented;
     const bool failed = entry.status == "failed";
-    if (mDisplay == Display::Quiet && !failed) return;
+    // Quiet: the caller lists the failures at the end.
+    if (mDisplay == Display::Quiet) return;
     clearBarLocked();
     if (failed)
         std::fprintf(mStream, "skelseg batch: %s failed: %s\n", entry.name.c_str(),

@@ -3,7 +3,7 @@
 // On a terminal, one bar on stderr redrawn as shapes finish: shapes finished
 // of the total, shapes per minute, estimated time left; failures and warnings
 // print as lines above it. Otherwise (a log file, a cluster job's output) one
-// line per finished shape, with the same figures. Quiet: failures only.
+// line per finished shape, with the same figures. Quiet: nothing per shape.
 // The rate counts shapes this run segmented (not skipped ones), over the
 // run's wall time so far. All members are safe to call from any thread.
 #pragma once

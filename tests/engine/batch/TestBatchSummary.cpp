@@ -1,0 +1,155 @@
+// Batch summaries, their merge, and the memory admission rule
+// (engine/batch/BatchSummary.h, engine/batch/MemoryBudget.h).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
+
+#include "engine/Version.h"
+#include "engine/batch/BatchSummary.h"
+#include "engine/batch/DoneMarker.h"
+#include "engine/batch/MemoryBudget.h"
+#include "kernels/base/Error.h"
+#include "tests/support/CliRunner.h"
+#include "tests/support/TempDir.h"
+
+namespace fs = std::filesystem;
+using namespace skelseg;
+using namespace skelseg::test;
+
+namespace {
+
+BatchEntry entry(const std::string& name, const std::string& status) {
+    BatchEntry e;
+    e.name = name;
+    e.input = "/in/" + name + ".off";
+    e.status = status;
+    e.parts = status == "done" ? 4 : 0;
+    if (status == "failed") e.error = "/in/" + name + ".off: bad header, \"quoted\"";
+    return e;
+}
+
+BatchSummary shardSummary(int index, int count, std::vector<BatchEntry> entries) {
+    BatchSummary s;
+    s.skelsegVersion = versionString();
+    s.manifest = "/in/list.txt";
+    s.shard = {index, count};
+    s.options = outputAffectingOptions({});
+    s.updatedAt = "2026-11-30T06:0" + std::to_string(index) + ":00Z";
+    s.complete = true;
+    s.manifestNames = {"a", "b", "c", "d", "e"};
+    s.entries = std::move(entries);
+    return s;
+}
+
+void markDone(const fs::path& outroot, const std::string& name) {
+    fs::create_directories(outroot / name);
+    DoneMarker marker;
+    marker.skelsegVersion = versionString();
+    marker.input = "/in/" + name + ".off";
+    marker.options = outputAffectingOptions({});
+    marker.finishedAt = "2026-11-30T06:00:00Z";
+    marker.parts = 3;
+    writeDoneMarker(outroot / name, marker);
+}
+
+}  // namespace
+
+TEST(BatchSummary, WritesJsonAndCsvThatReadBack) {
+    TempDir dir;
+    BatchSummary s = shardSummary(1, 2, {entry("a", "done"), entry("b", "failed")});
+    writeBatchSummary(dir.path(), s.shard.summaryStem(), s);
+    const BatchSummary read = readBatchSummary(dir / "summary.shard-1-of-2.json");
+    ASSERT_EQ(read.entries.size(), 2u);
+    EXPECT_EQ(read.entries[1].status, "failed");
+    EXPECT_EQ(read.entries[1].error, s.entries[1].error);
+    EXPECT_EQ(read.manifestNames, s.manifestNames);
+    EXPECT_EQ(read.shard.index, 1);
+    const std::string csv = fileBytes(dir / "summary.shard-1-of-2.csv");
+    EXPECT_EQ(csv.rfind("name,input,status,parts,", 0), 0u);
+    // The error holds a comma and quotes: one quoted CSV field.
+    EXPECT_NE(csv.find("\"/in/b.off: bad header, \"\"quoted\"\"\""), std::string::npos) << csv;
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
+    writeBytes(dir / "other.json", "{\"not\": \"a summary\"}");
+    EXPECT_THROW(readBatchSummary(dir / "other.json"), InputError);
+}
+
+TEST(BatchSummary, MergeTakesTheMarkersAsTruthAndListsWhatIsMissing) {
+    TempDir dir;
+    // Shard 0 finished a, b; shard 1 was killed after c (its summary still
+    // says pending), failed d; e belongs to shard 2, which never ran.
+    writeBatchSummary(dir.path(), "summary.shard-0-of-3",
+                      shardSummary(0, 3, {entry("a", "done"), entry("b", "skipped")}));
+    writeBatchSummary(dir.path(), "summary.shard-1-of-3",
+                      shardSummary(1, 3, {entry("c", "pending"), entry("d", "failed")}));
+    // A file from an earlier split into two is ignored.
+    writeBatchSummary(dir.path(), "summary.shard-0-of-2", shardSummary(0, 2, {entry("e", "done")}));
+    for (const char* name : {"a", "b", "c"}) markDone(dir.path(), name);
+    const MergeResult result = mergeBatchSummaries(dir.path());
+    EXPECT_EQ(result.shardFiles.size(), 2u);
+    EXPECT_EQ(result.missingShards, std::vector<std::string>{"2/3"});
+    EXPECT_EQ(result.failed, std::vector<std::string>{"d"});
+    EXPECT_EQ(result.missing, (std::vector<std::string>{"d", "e"}));
+    ASSERT_EQ(result.merged.entries.size(), 5u);
+    EXPECT_EQ(result.merged.entries[2].status, "done");  // from its marker
+    EXPECT_EQ(result.merged.entries[2].parts, 3u);
+    EXPECT_EQ(result.merged.entries[4].status, "missing");
+    EXPECT_FALSE(result.merged.complete);
+    const BatchSummary written = readBatchSummary(dir / "summary.json");
+    EXPECT_EQ(written.entries.size(), 5u);
+    EXPECT_EQ(written.count("missing"), 1u);
+
+    // The missing shard runs; a done entry whose marker was deleted is missing again.
+    writeBatchSummary(dir.path(), "summary.shard-2-of-3", shardSummary(2, 3, {entry("e", "done")}));
+    markDone(dir.path(), "e");
+    markDone(dir.path(), "d");
+    fs::remove(dir / "a" / kDoneMarkerName);
+    const MergeResult again = mergeBatchSummaries(dir.path());
+    EXPECT_TRUE(again.missingShards.empty());
+    EXPECT_EQ(again.missing, std::vector<std::string>{"a"});
+    EXPECT_EQ(again.merged.entries[3].status, "done");
+}
+
+TEST(BatchSummary, MergeWithoutSummariesIsAnInputError) {
+    TempDir dir;
+    EXPECT_THROW(mergeBatchSummaries(dir.path()), InputError);
+}
+
+TEST(MemoryBudget, AdmitsWhatFitsAndOneOversizedShapeAlone) {
+    MemoryBudget budget(100, 3);
+    EXPECT_TRUE(budget.acquire(60));
+    EXPECT_TRUE(budget.acquire(40));
+    EXPECT_EQ(budget.bytesInFlight(), 100u);
+    // Does not fit: with a stop request, acquire gives up without acquiring.
+    EXPECT_FALSE(budget.acquire(1, [] { return true; }));
+    EXPECT_EQ(budget.shapesInFlight(), 2u);
+    budget.release(60);
+    budget.release(40);
+    EXPECT_TRUE(budget.acquire(500));  // alone: admitted, segment's own check reports it
+    EXPECT_FALSE(budget.acquire(1, [] { return true; }));
+    budget.release(500);
+    EXPECT_EQ(budget.peakShapesInFlight(), 2u);
+}
+
+TEST(MemoryBudget, BoundsTheShapesInFlightAcrossThreads) {
+    MemoryBudget budget(1000, 2);
+    std::atomic<int> inFlight{0}, peak{0};
+    std::vector<std::thread> workers;
+    for (int t = 0; t < 6; ++t)
+        workers.emplace_back([&] {
+            for (int i = 0; i < 20; ++i) {
+                ASSERT_TRUE(budget.acquire(10));
+                const int now = ++inFlight;
+                int seen = peak.load();
+                while (now > seen && !peak.compare_exchange_weak(seen, now)) {
+                }
+                std::this_thread::yield();
+                --inFlight;
+                budget.release(10);
+            }
+        });
+    for (auto& w : workers) w.join();
+    EXPECT_LE(peak.load(), 2);
+    EXPECT_EQ(budget.shapesInFlight(), 0u);
+    EXPECT_EQ(budget.bytesInFlight(), 0u);
+}

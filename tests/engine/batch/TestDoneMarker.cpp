@@ -1,0 +1,90 @@
+// Done markers, input fingerprints and staging leftovers (engine/batch/DoneMarker.h,
+// engine/batch/StagingCleanup.h).
+#include <gtest/gtest.h>
+
+#include "engine/Version.h"
+#include "engine/batch/DoneMarker.h"
+#include "engine/batch/StagingCleanup.h"
+#include "kernels/base/Error.h"
+#include "tests/support/CliRunner.h"
+#include "tests/support/TempDir.h"
+
+namespace fs = std::filesystem;
+using namespace skelseg;
+using namespace skelseg::test;
+
+TEST(DoneMarker, FingerprintSeesEveryByte) {
+    TempDir dir;
+    writeBytes(dir / "a", "0123456789");
+    const InputFingerprint first = fingerprintFile(dir / "a");
+    EXPECT_EQ(first.bytes, 10u);
+    EXPECT_EQ(first.crc32, 0xa684c7c6u);  // CRC-32 of "0123456789"
+    writeBytes(dir / "a", "0123456788");
+    EXPECT_FALSE(fingerprintFile(dir / "a") == first);
+    EXPECT_THROW(fingerprintFile(dir / "absent"), InputError);
+}
+
+TEST(DoneMarker, RoundTripsAndMatchesOnlyTheSameInputOptionsAndVersion) {
+    TempDir dir;
+    SegmentCommandOptions options;
+    DoneMarker marker;
+    marker.skelsegVersion = versionString();
+    marker.input = "/data/x.off";
+    marker.fingerprint = {1234, 0xdeadbeef};
+    marker.options = outputAffectingOptions(options);
+    marker.finishedAt = utcTimestamp();
+    marker.run = runIdentity();
+    marker.parts = 7;
+    marker.wallSeconds = 1.5;
+    writeDoneMarker(dir.path(), marker);
+    const auto read = readDoneMarker(dir.path());
+    ASSERT_TRUE(read);
+    EXPECT_EQ(read->input, marker.input);
+    EXPECT_EQ(read->fingerprint.crc32, 0xdeadbeefu);
+    EXPECT_EQ(read->parts, 7u);
+    EXPECT_EQ(read->finishedAt, marker.finishedAt);
+    EXPECT_TRUE(read->matches({1234, 0xdeadbeef}, outputAffectingOptions(options)));
+    EXPECT_FALSE(read->matches({1235, 0xdeadbeef}, outputAffectingOptions(options)));
+    EXPECT_FALSE(read->matches({1234, 0xdeadbeee}, outputAffectingOptions(options)));
+    SegmentCommandOptions other = options;
+    other.resolution = 128;
+    EXPECT_FALSE(read->matches({1234, 0xdeadbeef}, outputAffectingOptions(other)));
+    other = options;
+    other.parameters.tau = TauSpec::parse("250");
+    EXPECT_FALSE(read->matches({1234, 0xdeadbeef}, outputAffectingOptions(other)));
+    // Options that do not change the outputs do not redo anything.
+    other = options;
+    other.threads = 3;
+    other.timeLimitSeconds = 9;
+    other.maxMemoryBytes = 1 << 30;
+    EXPECT_TRUE(read->matches({1234, 0xdeadbeef}, outputAffectingOptions(other)));
+    DoneMarker older = *read;
+    older.skelsegVersion = "0.0.0-old";
+    EXPECT_FALSE(older.matches({1234, 0xdeadbeef}, outputAffectingOptions(options)));
+
+    removeDoneMarker(dir.path());
+    EXPECT_FALSE(readDoneMarker(dir.path()));
+    EXPECT_EQ(directoryEntries(dir.path()), std::vector<std::string>{});
+}
+
+TEST(DoneMarker, CorruptMarkerMeansNotDone) {
+    TempDir dir;
+    writeBytes(dir / kDoneMarkerName, "{\"skelseg_version\": \"0.1");
+    EXPECT_FALSE(readDoneMarker(dir.path()));
+    writeBytes(dir / kDoneMarkerName, "{}");
+    EXPECT_FALSE(readDoneMarker(dir.path()));
+}
+
+TEST(StagingCleanup, RemovesOnlyWhatAKilledRunLeaves) {
+    TempDir dir;
+    fs::create_directories(dir / ".skelseg-staging-123-0");
+    writeBytes(dir / ".skelseg-staging-123-0" / "labels.nrrd", "partial");
+    writeBytes(dir / ".report.json.tmp-123-4", "partial");
+    writeBytes(dir / "labels.nrrd", "final");
+    writeBytes(dir / "notes.tmp-keep", "user file");
+    writeBytes(dir / ".hidden-user-file", "user file");
+    EXPECT_EQ(removeStagingLeftovers(dir.path()), 2u);
+    EXPECT_EQ(directoryEntries(dir.path()),
+              (std::vector<std::string>{".hidden-user-file", "labels.nrrd", "notes.tmp-keep"}));
+    EXPECT_EQ(removeStagingLeftovers(dir / "absent"), 0u);
+}

@@ -1,0 +1,213 @@
+// Manifest parsing, output names and shards (engine/batch/Manifest.h).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+#include <random>
+#include <set>
+
+#include "engine/batch/Manifest.h"
+#include "kernels/base/Error.h"
+#include "tests/support/CliRunner.h"
+#include "tests/support/TempDir.h"
+
+namespace fs = std::filesystem;
+using namespace skelseg;
+using namespace skelseg::test;
+
+namespace {
+
+void touch(const fs::path& file, std::size_t bytes = 10) {
+    fs::create_directories(file.parent_path());
+    writeBytes(file, std::string(bytes, 'x'));
+}
+
+}  // namespace
+
+TEST(Manifest, SkipsCommentsAndBlankLinesAndTrims) {
+    TempDir dir;
+    touch(dir / "a.nrrd");
+    touch(dir / "b.off");
+    writeBytes(dir / "list.txt", "# a comment\n\n   a.nrrd  \n\t# indented comment\nb.off\r\n");
+    const Manifest m = readManifest(dir / "list.txt");
+    ASSERT_EQ(m.entries.size(), 2u);
+    EXPECT_EQ(m.entries[0].input, dir / "a.nrrd");
+    EXPECT_EQ(m.entries[0].line, 3);
+    EXPECT_EQ(m.entries[1].input, dir / "b.off");
+    EXPECT_EQ(m.entries[1].line, 5);
+    EXPECT_TRUE(m.warnings.empty());
+}
+
+TEST(Manifest, RelativePathsAreRelativeToTheManifest) {
+    TempDir dir;
+    touch(dir / "data" / "shapes" / "x.binvox", 33);
+    touch(dir / "elsewhere" / "y.nrrd");
+    writeBytes(dir / "data" / "list.txt",
+               "shapes/x.binvox\n" + (dir / "elsewhere" / "y.nrrd").string() + "\n");
+    const Manifest m = readManifest(dir / "data" / "list.txt");
+    ASSERT_EQ(m.entries.size(), 2u);
+    EXPECT_EQ(m.entries[0].input, dir / "data" / "shapes" / "x.binvox");
+    EXPECT_TRUE(m.entries[0].exists);
+    EXPECT_EQ(m.entries[0].fileBytes, 33u);
+    EXPECT_EQ(m.entries[1].input, dir / "elsewhere" / "y.nrrd");
+    EXPECT_EQ(m.entries[0].name, "x");
+    EXPECT_EQ(m.entries[1].name, "y");
+}
+
+TEST(Manifest, DuplicatesAreKeptOnceWithAWarning) {
+    TempDir dir;
+    touch(dir / "s" / "a.nrrd");
+    writeBytes(dir / "list.txt", "s/a.nrrd\ns/../s/a.nrrd\n" + (dir / "s" / "a.nrrd").string());
+    const Manifest m = readManifest(dir / "list.txt");
+    ASSERT_EQ(m.entries.size(), 1u);
+    ASSERT_EQ(m.warnings.size(), 2u);
+    EXPECT_NE(m.warnings[0].find("list.txt:2"), std::string::npos) << m.warnings[0];
+    EXPECT_NE(m.warnings[0].find("first on line 1"), std::string::npos) << m.warnings[0];
+}
+
+TEST(Manifest, MissingFilesAreKeptAndMarked) {
+    TempDir dir;
+    touch(dir / "here.nrrd");
+    writeBytes(dir / "list.txt", "gone.nrrd\nhere.nrrd\n");
+    const Manifest m = readManifest(dir / "list.txt");
+    ASSERT_EQ(m.entries.size(), 2u);
+    EXPECT_FALSE(m.entries[0].exists);
+    EXPECT_EQ(m.entries[0].fileBytes, 0u);
+    EXPECT_TRUE(m.entries[1].exists);
+}
+
+TEST(Manifest, EmptyOrUnreadableManifestIsAnInputError) {
+    TempDir dir;
+    writeBytes(dir / "empty.txt", "# nothing here\n\n");
+    try {
+        readManifest(dir / "empty.txt");
+        FAIL() << "an empty manifest was accepted";
+    } catch (const InputError& error) {
+        EXPECT_EQ(error.file(), (dir / "empty.txt").string());
+    }
+    EXPECT_THROW(readManifest(dir / "absent.txt"), InputError);
+    fs::create_directories(dir / "nothing");
+    touch(dir / "nothing" / "notes.txt");
+    EXPECT_THROW(readManifest(dir / "nothing"), InputError);
+}
+
+TEST(Manifest, DirectoryListsSupportedFilesByName) {
+    TempDir dir;
+    for (const char* name : {"c.OFF", "a.nrrd", "b.binvox", "readme.txt", "z.vdb", "m.nhdr"})
+        touch(dir / "in" / name);
+    fs::create_directories(dir / "in" / "sub.nrrd");  // a folder, not a file
+    const Manifest m = readManifest(dir / "in");
+    std::vector<std::string> names;
+    for (const auto& e : m.entries) names.push_back(e.input.filename().string());
+    EXPECT_EQ(names, (std::vector<std::string>{"a.nrrd", "b.binvox", "c.OFF", "m.nhdr", "z.vdb"}));
+}
+
+TEST(OutputNames, CollisionsGetTheFolderThenACounter) {
+    const std::vector<fs::path> inputs = {"chairs/1.off", "tables/1.off", "x/2.off",   "y/x/2.off",
+                                          "3.off",        "3.obj",        "solo.nrrd", "3-2.off"};
+    const auto names = uniqueOutputNames(inputs);
+    EXPECT_EQ(names[0], "chairs-1");
+    EXPECT_EQ(names[1], "tables-1");
+    EXPECT_EQ(names[2], "x-2");
+    EXPECT_EQ(names[3], "x-2-2");
+    EXPECT_EQ(names[4], "3");
+    EXPECT_EQ(names[5], "3-3");  // "3-2" belongs to another input
+    EXPECT_EQ(names[6], "solo");
+    EXPECT_EQ(names[7], "3-2");
+    EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
+}
+
+TEST(Shards, EveryInputInExactlyOneShardForOneToSevenShards) {
+    std::mt19937 random(11);
+    std::vector<std::uint64_t> sizes(41);
+    for (auto& s : sizes) s = 1000 + random() % 200000;
+    sizes[5] = sizes[6] = 0;  // missing files
+    const std::uint64_t largest = *std::max_element(sizes.begin(), sizes.end());
+    for (int n = 1; n <= 7; ++n) {
+        SCOPED_TRACE("N = " + std::to_string(n));
+        // The union over shards of each shard's share, as the shard processes compute it.
+        std::vector<int> seen(sizes.size(), 0);
+        std::vector<std::uint64_t> load(std::size_t(n), 0);
+        for (int index = 0; index < n; ++index) {
+            const std::vector<int> shardOf = assignShards(sizes, n);
+            for (std::size_t i = 0; i < sizes.size(); ++i)
+                if (shardOf[i] == index) {
+                    ++seen[i];
+                    load[std::size_t(index)] += sizes[i];
+                }
+        }
+        for (std::size_t i = 0; i < sizes.size(); ++i) EXPECT_EQ(seen[i], 1) << "input " << i;
+        const auto [lightest, heaviest] = std::minmax_element(load.begin(), load.end());
+        EXPECT_GT(*lightest, 0u);
+        // Largest-first greedy: no two shares differ by more than one input.
+        EXPECT_LE(*heaviest - *lightest, largest);
+    }
+}
+
+TEST(Shards, SplitIsDeterministicAndUsesOnlyTheSizes) {
+    const std::vector<std::uint64_t> sizes = {5, 9, 9, 1, 7, 3, 3, 8};
+    const auto first = assignShards(sizes, 3);
+    EXPECT_EQ(first, assignShards(sizes, 3));
+    // Equal sizes go to different shards, the earlier one to the lower index.
+    EXPECT_EQ(first[1], 0);
+    EXPECT_EQ(first[2], 1);
+    EXPECT_THROW(assignShards(sizes, 0), UsageError);
+    // More shards than inputs: each input alone, none twice.
+    const auto wide = assignShards({4, 4, 4}, 5);
+    EXPECT_EQ(std::set<int>(wide.begin(), wide.end()).size(), 3u);
+}
+
+TEST(ShardSpec, ParsesIndexOfCount) {
+    const ShardSpec spec = ShardSpec::parse("2/5");
+    EXPECT_EQ(spec.index, 2);
+    EXPECT_EQ(spec.count, 5);
+    EXPECT_EQ(spec.summaryStem(), "summary.shard-2-of-5");
+    EXPECT_EQ(ShardSpec::parse("0/1").summaryStem(), "summary");
+    for (const char* bad : {"5/5", "-1/3", "1", "a/b", "1/0", "1/3x", "/3"})
+        EXPECT_THROW(ShardSpec::parse(bad), UsageError) << bad;
+}
+
+TEST(ShardSpec, ComesFromSlurmOrKubernetes) {
+    std::map<std::string, std::string> env;
+    auto lookup = [&](const char* name) -> const char* {
+        const auto found = env.find(name);
+        return found == env.end() ? nullptr : found->second.c_str();
+    };
+    EXPECT_FALSE(shardFromEnvironment(lookup, 0).has_value());
+    env = {{"SLURM_ARRAY_TASK_ID", "3"},
+           {"SLURM_ARRAY_TASK_COUNT", "4"},
+           {"SLURM_ARRAY_TASK_MIN", "0"},
+           {"SLURM_ARRAY_TASK_MAX", "3"}};
+    auto spec = shardFromEnvironment(lookup, 0);
+    ASSERT_TRUE(spec);
+    EXPECT_EQ(spec->index, 3);
+    EXPECT_EQ(spec->count, 4);
+    // --array=1-4: ids start at 1.
+    env = {
+        {"SLURM_ARRAY_TASK_ID", "1"}, {"SLURM_ARRAY_TASK_MIN", "1"}, {"SLURM_ARRAY_TASK_MAX", "4"}};
+    spec = shardFromEnvironment(lookup, 0);
+    ASSERT_TRUE(spec);
+    EXPECT_EQ(spec->index, 0);
+    EXPECT_EQ(spec->count, 4);
+    // --array=0-6:2 -> ids 0 2 4 6.
+    env = {{"SLURM_ARRAY_TASK_ID", "4"},
+           {"SLURM_ARRAY_TASK_MIN", "0"},
+           {"SLURM_ARRAY_TASK_MAX", "6"},
+           {"SLURM_ARRAY_TASK_STEP", "2"}};
+    spec = shardFromEnvironment(lookup, 0);
+    ASSERT_TRUE(spec);
+    EXPECT_EQ(spec->index, 2);
+    EXPECT_EQ(spec->count, 4);
+    env = {{"SLURM_ARRAY_TASK_ID", "7"}, {"SLURM_ARRAY_TASK_COUNT", "4"}};
+    EXPECT_THROW(shardFromEnvironment(lookup, 0), UsageError);
+    env = {{"SLURM_ARRAY_TASK_ID", "x"}, {"SLURM_ARRAY_TASK_COUNT", "4"}};
+    EXPECT_THROW(shardFromEnvironment(lookup, 0), UsageError);
+    env = {{"JOB_COMPLETION_INDEX", "2"}};
+    EXPECT_THROW(shardFromEnvironment(lookup, 0), UsageError);  // --shards missing
+    spec = shardFromEnvironment(lookup, 3);
+    ASSERT_TRUE(spec);
+    EXPECT_EQ(spec->index, 2);
+    EXPECT_EQ(spec->count, 3);
+    EXPECT_THROW(shardFromEnvironment(lookup, 2), UsageError);
+}
