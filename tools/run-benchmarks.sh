@@ -41,3 +41,12 @@ if [ -f "$compare" ] && "$python" -c 'import scipy' 2>/dev/null; then
 else
   echo "run-benchmarks: $compare or python3-scipy missing; comparison skipped (results in $out)"
 fi
+
+# `skelseg batch` against a loop of `skelseg segment` on eight generated
+# shapes (bench/batch_throughput.py --small): shapes per minute beside
+# bench/batch_baseline.json. Reported, never failed on timing.
+if [ -x "$build/skelseg" ]; then
+  "$python" bench/batch_throughput.py --small --skelseg "$build/skelseg" --out "$build/batch-throughput"
+else
+  echo "run-benchmarks: $build/skelseg not found; batch throughput skipped"
+fi
