@@ -28,7 +28,7 @@ const std::vector<std::string> kShapes = {"disc-limbs", "y-arms",     "t-body", 
 
 /// Generates the twelve shapes (small, so the batch is quick) into dir/in
 /// and returns their paths.
-std::vector<fs::path> generateShapes(const TempDir& dir, int baseSize = 36) {
+std::vector<fs::path> generateShapes(const TempDir& dir, int baseSize = 32) {
     fs::create_directories(dir / "in");
     std::vector<fs::path> files;
     for (std::size_t i = 0; i < kShapes.size(); ++i) {
@@ -247,8 +247,8 @@ TEST(Batch, ShardsFromTheCommandLineAndSlurmMergeIntoOneSummary) {
     const json shard0 = readJson(out / "summary.shard-0-of-2.json");
     const json shard1 = readJson(out / "summary.shard-1-of-2.json");
     EXPECT_EQ(shard0.at("entries").size() + shard1.at("entries").size(), shapes.size());
-    EXPECT_GE(shard0.at("entries").size(), 2u);
-    EXPECT_GE(shard1.at("entries").size(), 2u);
+    EXPECT_FALSE(shard0.at("entries").empty());
+    EXPECT_FALSE(shard1.at("entries").empty());
 
     const CliResult merged = runSkelseg({"batch", "--merge", out.string()});
     EXPECT_EQ(merged.exitCode, 0) << merged.describe();
