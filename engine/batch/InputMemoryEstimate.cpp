@@ -42,7 +42,8 @@ std::uint64_t estimateInputMemory(const fs::path& input, const SegmentCommandOpt
         const int side = options.resolution + 2;
         const Dims dims{side, side, side};
         return estimateSegmentationMemory(dims, dims.voxelCount() / 4, threads) +
-               dims.voxelCount() * 8 + fileBytes * 4;
+               dims.voxelCount() * 12 +
+               fileBytes * 4;  // as segment: level set, dense copy, nearest-triangle grid
     }
     std::optional<Dims> dims = peekVolumeDims(input);
     if (!dims) {
