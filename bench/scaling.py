@@ -13,7 +13,7 @@ import argparse, json, math, os, subprocess, sys
 GROUPS = {
     "voxelise": ["voxelise"],
     "feature transform": ["feature transform"],
-    "graph + candidates": ["boundary graph", "skeleton candidates", "landmarks", "objects"],
+    "graph + candidates": ["boundary graph", "skeleton candidates", "landmarks", "objects", "crop"],
     "path sets, rims, areas, sigma": ["path sets, rims, areas, sigma"],
     "graph stages": ["skeleton graph", "cut placement", "labelling", "interior labels", "label volume"],
     "outputs": ["face labels", "write labels.nrrd", "write labels.vdb", "write skeleton.ply, cuts.ply",

@@ -46,6 +46,9 @@ double ProgressReporter::elapsedSeconds() const {
 
 void ProgressReporter::start(const char* name) {
     std::lock_guard<std::mutex> lock(mMutex);
+    // A kernel's own scope inside the engine's Stage of the same name: the
+    // stage is already on display.
+    if (mStage == name) return;
     mStage = name;
     mStageStart = std::chrono::steady_clock::now();
     if (mDisplay == Display::Lines) {

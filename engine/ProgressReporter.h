@@ -3,6 +3,8 @@
 // - On a terminal: a progress bar on stderr (stage, percent, elapsed, estimate),
 //   redrawn at most ten times a second; otherwise one line per stage start;
 //   quiet: no progress. message() lines (warnings) are printed in every mode.
+//   A start() with the name of the stage on display (a kernel's scope inside
+//   the engine's Stage) is not announced again.
 // - Time budget: wasInterrupted() turns true once the deadline has passed;
 //   kernels poll it every few milliseconds, so a run stops within about a
 //   second of the limit.

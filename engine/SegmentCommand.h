@@ -6,8 +6,28 @@
 //   labels.nrrd, labels.vdb, skeleton.ply, cuts.ply, segments.ply,
 //   segments.glb, viewer.html, preview.png, report.json, and for meshes
 //   segmentation.seg.
-// The stages run as a oneTBB flow graph: read -> (memory check) -> segment ->
-// the writers in parallel -> report -> commit.
+//
+// The run is a oneTBB flow graph whose edges carry values (shared pointers
+// to immutable results; the volume's mask is moved, not copied):
+//
+//   read ──SegmentSource──> mask ──SegmentMask──> segment ──SegmentedShape──┐
+//   (SegmentInput.h)        (SegmentInput.h)      (segmentVolume,           │
+//                                                  face labels,             │
+//                                                  world geometry)          │
+//        ┌──────────────────┬───────────────────┬───────────────────────────┤
+//        v                  v                   v                           v
+//   write labels.nrrd  write labels.vdb  write skeleton.ply,    segment surfaces,
+//                                        cuts.ply               views and preview
+//        └──────────────────┴─────────┬─────────┴───────────────────────────┘
+//                                     v  (join: all four done)
+//                                   report ──> report.json (SegmentReport.h)
+//
+// The four writers (SegmentOutput.h) run concurrently. Shared by every node
+// and thread-safe: the StageTimer, the ProgressReporter and the
+// OutputDirectory. The whole graph runs in a task arena of `threads` slots,
+// so concurrent calls (one per shape) each keep their own thread limit. An
+// exception in any node cancels the graph and comes out of wait_for_all();
+// then nothing is committed to OUTDIR.
 #pragma once
 
 #include <cstdint>
@@ -16,6 +36,7 @@
 #include <vector>
 
 #include "engine/ProgressReporter.h"
+#include "engine/SegmentInput.h"
 #include "engine/Segmenter.h"
 
 namespace skelseg {
@@ -41,10 +62,8 @@ const std::vector<std::string>& segmentOutputNames();
 std::uint64_t defaultMemoryLimit();
 
 /// Runs the command. Throws skelseg::Error subclasses (see kernels/base/Error.h).
-/// Warnings go to `progress.message()`.
+/// Warnings go to `progress.message()`. Re-entrant: calls from several
+/// threads at once share nothing but `progress` (if the caller passes the same).
 void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& progress);
-
-/// True if the file name has a mesh extension (.off .obj .stl .ply).
-bool isMeshPath(const std::filesystem::path& path);
 
 }  // namespace skelseg

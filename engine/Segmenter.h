@@ -1,15 +1,16 @@
 // skelseg: the whole method on one binary volume.
 //
-// segmentVolume() finds the objects (26-connected components) of a mask and
-// segments each on its own, in a crop padded by one background voxel (so an
-// object touching the grid border sees background beyond it), then gives
-// every segment of every object one global label 1..K by decreasing boundary
-// area (ties: object order, then segment order). The per-object pipeline:
-//   feature transform -> boundary graph -> candidates -> path sets, rims,
-//   rho_C, sigma (parallel) -> skeleton graph -> cut placement -> labelling.
-// Each stage polls the interrupter and is timed in the StageTimer.
+// segmentVolume() finds the objects (26-connected components) of a mask
+// (stage "objects"), segments each on its own in a crop padded by one
+// background voxel (engine/SegmentationStages.h: crop -> feature transform ->
+// boundary graph -> candidates -> landmarks -> path sets, rims, areas, sigma
+// -> skeleton graph -> cut placement -> labelling -> interior labels), then
+// gives every segment of every object one global label 1..K by decreasing
+// boundary area (ties: object order, then segment order; stage "label
+// volume"). Every stage polls the interrupter and is timed in the StageTimer.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -46,6 +47,11 @@ struct SegmentationParameters {
     /// noiseAreaFraction * boundary area), and at most tau.
     double noiseAreaMin = 10.0;
     double noiseAreaFraction = 0.002;
+    /// The noise area of an object whose boundary area is `boundaryArea`.
+    double noiseAreaFor(double boundaryArea) const {
+        return std::min(std::max(noiseAreaMin, noiseAreaFraction * boundaryArea),
+                        std::max(tau.areaFor(std::uint64_t(boundaryArea)), 1.0));
+    }
     int regionRadius = 3;
     double bridgeGap = 4.0;
     int consecutiveLevels = 3;

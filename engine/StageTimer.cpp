@@ -17,19 +17,6 @@ std::uint64_t peakResidentBytes() noexcept {
     return std::uint64_t(usage.ru_maxrss) * 1024u;  // Linux reports KiB
 }
 
-StageTimer::Scope::Scope(StageTimer& timer, std::string name, bool parallel)
-    : mTimer(timer),
-      mName(std::move(name)),
-      mParallel(parallel),
-      mStart(std::chrono::steady_clock::now()),
-      mCpuStart(processCpuSeconds()) {}
-
-StageTimer::Scope::~Scope() {
-    const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
-    mTimer.add(mName, mParallel, wall, processCpuSeconds() - mCpuStart);
-}
-
 void StageTimer::add(const std::string& name, bool parallel, double wall, double cpu) {
     std::lock_guard<std::mutex> lock(mMutex);
     for (auto& t : mTimings)

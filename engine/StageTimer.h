@@ -2,11 +2,12 @@
 //
 // Stages are named; the same name used several times (once per object)
 // accumulates. Each stage says whether its work runs in parallel loops, so
-// the report can state the serial share of the run (issue 4: it must stay
-// small for the engine to scale on many cores). Thread-safe.
+// the report can state the serial share of the run: the part that does not
+// get faster with more cores. Stages are timed by a Stage object
+// (engine/Stage.h). Thread-safe.
 #pragma once
 
-#include <chrono>
+#include <cstdint>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -28,22 +29,6 @@ std::uint64_t peakResidentBytes() noexcept;
 
 class StageTimer {
 public:
-    class Scope {
-    public:
-        Scope(StageTimer& timer, std::string name, bool parallel);
-        ~Scope();
-        Scope(const Scope&) = delete;
-        Scope& operator=(const Scope&) = delete;
-
-    private:
-        StageTimer& mTimer;
-        std::string mName;
-        bool mParallel;
-        std::chrono::steady_clock::time_point mStart;
-        double mCpuStart;
-    };
-
-    Scope stage(std::string name, bool parallel) { return Scope(*this, std::move(name), parallel); }
     void add(const std::string& name, bool parallel, double wall, double cpu);
     std::vector<StageTiming> timings() const;
 

@@ -1,9 +1,10 @@
 #include "kernels/PathSearch.h"
 
-#include <tbb/parallel_for.h>
+#include "kernels/base/ParallelFor.h"
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -132,10 +133,11 @@ void Landmarks::allocateRows(std::uint32_t nodes) {
     mRowsOffset = ((64 - address % 64) % 64) / sizeof(float);
 }
 
-Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
+Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded, Interrupter& interrupter) {
     Landmarks result;
     const std::uint32_t n = graph.nodeCount();
     if (n == 0) return result;
+    InterrupterScope scope(interrupter, "landmarks");
     static const int directions[14][3] = {
         {1, 0, 0},  {-1, 0, 0}, {0, 1, 0},   {0, -1, 0}, {0, 0, 1},   {0, 0, -1},  {1, 1, 1},
         {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
@@ -167,7 +169,9 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
         lowerDistancesFrom(graph, source, nearest.data(), buckets);
     };
     for (std::uint32_t landmark : result.node) claimCell(landmark);
+    // Progress: selection and the distance fields each count as half.
     while (result.node.size() < Landmarks::kStride) {
+        throwIfInterrupted(interrupter, 0.5 * double(result.node.size()) / Landmarks::kStride);
         std::uint32_t best = 0;
         for (std::uint32_t v = 1; v < n; ++v)
             if (nearest[v] > nearest[best]) best = v;
@@ -178,14 +182,16 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded) {
     result.count = std::uint32_t(result.node.size());
     result.allocateRows(n);
     GeodesicSearch plain(graph);
-    auto one = [&](std::uint32_t k) {
-        const std::vector<float> d = plain.distancesFrom(result.node[k]);
-        for (std::uint32_t v = 0; v < n; ++v) result.row(v)[k] = d[v];
-    };
-    if (threaded)
-        tbb::parallel_for(std::uint32_t(0), result.count, one);
-    else
-        for (std::uint32_t k = 0; k < result.count; ++k) one(k);
+    std::atomic<std::uint32_t> fieldsDone{0};
+    parallelForEach(
+        result.count,
+        [&](std::uint32_t k) {
+            throwIfInterrupted(interrupter, 0.5 + 0.5 * double(fieldsDone.load()) / result.count);
+            const std::vector<float> d = plain.distancesFrom(result.node[k]);
+            for (std::uint32_t v = 0; v < n; ++v) result.row(v)[k] = d[v];
+            ++fieldsDone;
+        },
+        threaded);
     return result;
 }
 

@@ -79,9 +79,12 @@ private:
 /// Landmarks: the boundary nodes that are extreme along 14 directions (the
 /// axes and the diagonals; ties by lowest id), then farthest-point landmarks
 /// (the node farthest from all landmarks so far) up to Landmarks::kStride.
-/// Distances by full Dijkstra, the direction landmarks one per task.
-/// Deterministic for any thread count.
-Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded = true);
+/// Distances by full Dijkstra, the landmarks one per task.
+/// Deterministic for any thread count. Costs about Landmarks::kStride full
+/// searches: polls `interrupter` once per landmark and throws
+/// InterruptedError when asked to stop.
+Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded = true,
+                           Interrupter& interrupter = nullInterrupter());
 
 class GeodesicSearch {
 public:

@@ -177,7 +177,7 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
                                            const std::vector<SkeletonCandidate>& candidates,
                                            const SkeletonMeasureOptions& options,
                                            SkeletonMeasureStats* stats, Interrupter& interrupter) {
-    InterrupterScope scope(interrupter, "path sets and rims");
+    InterrupterScope scope(interrupter, "path sets, rims, areas, sigma");
     const std::size_t n = candidates.size();
     std::vector<SkeletonPoint> slots(n);
     std::vector<std::uint8_t> isPoint(n, 0);

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "engine/SegmentCommand.h"
+#include "engine/Stage.h"
 #include "engine/python/ArrayMask.h"
 #include "engine/python/Bindings.h"
 #include "engine/python/CallReport.h"
@@ -26,19 +27,6 @@ namespace {
 // Names used in messages where the CLI names the input file.
 const std::string kMaskName = "mask";
 const std::string kMeshName = "mesh";
-
-std::string formatBytes(std::uint64_t bytes) {
-    char buffer[64];
-    if (bytes >= 1000000000)
-        std::snprintf(buffer, sizeof buffer, "%.2f GB", double(bytes) / 1e9);
-    else if (bytes >= 1000000)
-        std::snprintf(buffer, sizeof buffer, "%.2f MB", double(bytes) / 1e6);
-    else if (bytes >= 1000)
-        std::snprintf(buffer, sizeof buffer, "%.2f KB", double(bytes) / 1e3);
-    else
-        std::snprintf(buffer, sizeof buffer, "%llu bytes", static_cast<unsigned long long>(bytes));
-    return buffer;
-}
 
 SegmentationParameters parametersFrom(const CallOptions& options) {
     SegmentationParameters p;
@@ -270,7 +258,7 @@ py::dict segmentMeshArrays(const py::array_t<double>& vertices,
                                                             call.threads) +
                                      grid.dims.voxelCount() * 8,
                                  " at resolution " + std::to_string(resolution));
-                auto t = call.timer.stage("voxelise", true);
+                Stage t(call.timer, call.interrupter, "voxelise", true);
                 try {
                     mask = voxelizeMesh(mesh, vo, call.interrupter);
                 } catch (const UsageError& error) {
@@ -283,8 +271,7 @@ py::dict segmentMeshArrays(const py::array_t<double>& vertices,
             call.checkMemory(
                 kMeshName, estimateSegmentationMemory(mask.dims(), objectVoxels, call.threads), "");
             result = segmentVolume(mask, call.parameters, call.interrupter, &call.timer);
-            auto t = call.timer.stage("face labels", true);
-            InterrupterScope scope(call.interrupter, "face labels");
+            Stage t(call.timer, call.interrupter, "face labels", true);
             faceLabels = labelFaces(mesh, result.labels, {}, call.interrupter);
         },
         call.interrupter, options.threads, options.progress);

@@ -320,8 +320,9 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
     MaskVolume mask;
     ContactSeparation contacts;
     // OpenVDB's tools have no serial switch; a one-thread arena makes every
-    // TBB loop inside (theirs and ours) run on this thread.
-    tbb::task_arena arena(options.threaded ? tbb::task_arena::automatic : 1);
+    // TBB loop inside (theirs and ours) run on this thread. Threaded, the
+    // arena is as wide as the caller's, so a caller's thread limit holds.
+    tbb::task_arena arena(options.threaded ? tbb::this_task_arena::max_concurrency() : 1);
     arena.execute([&] {
         if (closed) {
             std::vector<std::int32_t> nearestTriangle;

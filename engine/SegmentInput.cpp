@@ -1,0 +1,141 @@
+#include "engine/SegmentInput.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+
+#include "engine/Segmenter.h"
+#include "engine/Stage.h"
+#include "io/mesh/MeshVoxelizer.h"
+#include "io/volume/VolumeReader.h"
+
+namespace fs = std::filesystem;
+
+namespace skelseg {
+
+bool isMeshPath(const fs::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".off" || ext == ".obj" || ext == ".stl" || ext == ".ply";
+}
+
+std::string formatBytes(std::uint64_t bytes) {
+    // A unit that shows the number: "--max-memory 1M" must not read "0.00 GB".
+    char buffer[64];
+    if (bytes >= 1000000000)
+        std::snprintf(buffer, sizeof buffer, "%.2f GB", double(bytes) / 1e9);
+    else if (bytes >= 1000000)
+        std::snprintf(buffer, sizeof buffer, "%.2f MB", double(bytes) / 1e6);
+    else if (bytes >= 1000)
+        std::snprintf(buffer, sizeof buffer, "%.2f KB", double(bytes) / 1e3);
+    else
+        std::snprintf(buffer, sizeof buffer, "%llu bytes", static_cast<unsigned long long>(bytes));
+    return buffer;
+}
+
+void checkInputFileSize(const fs::path& file, std::uint64_t memoryLimit) {
+    std::error_code ec;
+    const auto fileSize = fs::is_regular_file(file, ec) ? fs::file_size(file, ec) : 0;
+    // Files over kMaxInputFileBytes are bad input whatever the memory: the
+    // reader refuses them.
+    if (!ec && fileSize > memoryLimit && fileSize <= kMaxInputFileBytes)
+        throw MemoryLimitError(file.string() + ": reading the file needs at least " +
+                               formatBytes(fileSize) + ", over the limit of " +
+                               formatBytes(memoryLimit) + " (--max-memory)");
+}
+
+SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions& options,
+                                StageTimer& timer, Interrupter& interrupter) {
+    SegmentSource source;
+    source.file = file;
+    if (isMeshPath(file)) {
+        {
+            Stage stage(timer, interrupter, "read mesh", false);
+            checkReadableFile(file);
+            source.mesh = readMesh(file);
+        }
+        source.meshDiagnostics = checkMesh(*source.mesh);
+    } else {
+        Stage stage(timer, interrupter, "read volume", false);
+        VolumeReadOptions readOptions;
+        readOptions.gridName = options.gridName;
+        source.volumeMask = readVolume(file, readOptions);
+    }
+    return source;
+}
+
+namespace {
+
+MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions& options,
+                          StageTimer& timer, Interrupter& interrupter,
+                          std::uint64_t& estimatedMemory) {
+    const TriangleMesh& mesh = *source.mesh;
+    VoxelizeOptions voxelizeOptions;
+    voxelizeOptions.resolution = options.resolution;
+    voxelizeOptions.meshIsClosed = source.meshDiagnostics.closed;
+    // The voxeliser's refusals (a grid over the cap, a mesh collapsed to a
+    // point) do not know the file: name it, as every error must.
+    const auto nameTheFile = [&](const UsageError& error) {
+        return UsageError(source.file.string() + ": " + error.what());
+    };
+    VoxelGrid grid;
+    try {
+        grid = voxelGridFor(mesh, voxelizeOptions);
+    } catch (const UsageError& error) {
+        throw nameTheFile(error);
+    }
+    estimatedMemory =
+        estimateSegmentationMemory(grid.dims, grid.dims.voxelCount() / 4, options.threads) +
+        grid.dims.voxelCount() * 12;  // level set, dense copy, nearest-triangle grid
+    if (estimatedMemory > options.memoryLimit)
+        throw MemoryLimitError(source.file.string() + ": needs about " +
+                               formatBytes(estimatedMemory) + " at resolution " +
+                               std::to_string(options.resolution) + ", over the limit of " +
+                               formatBytes(options.memoryLimit) + " (--max-memory)");
+    Stage stage(timer, interrupter, "voxelise", true);
+    try {
+        return voxelizeMeshWithContacts(mesh, voxelizeOptions, interrupter);
+    } catch (const UsageError& error) {
+        throw nameTheFile(error);
+    }
+}
+
+}  // namespace
+
+SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
+                              const SegmentInputOptions& options, StageTimer& timer,
+                              Interrupter& interrupter,
+                              const std::function<void(const std::string&)>& warn) {
+    SegmentMask result;
+    if (source->isMesh()) {
+        MeshVoxelization voxelised =
+            voxelise(*source, options, timer, interrupter, result.estimatedMemory);
+        result.mask = std::move(voxelised.mask);
+        result.contacts = voxelised.contacts;
+        {
+            Stage stage(timer, interrupter, "genus", true);
+            result.meshGenus = meshTopology(*source->mesh);
+            result.voxelGenus = voxelTopology(result.mask, {}, interrupter);
+        }
+        for (const auto& w : meshWarnings(source->meshDiagnostics, source->file.string())) {
+            result.warnings.push_back(w);
+            warn(w);
+        }
+    } else {
+        result.mask = std::move(source->volumeMask);
+    }
+    std::uint64_t objectVoxels = 0;
+    for (std::uint8_t v : result.mask.values()) objectVoxels += v != 0;
+    result.estimatedMemory =
+        std::max(result.estimatedMemory,
+                 estimateSegmentationMemory(result.mask.dims(), objectVoxels, options.threads));
+    if (result.estimatedMemory > options.memoryLimit)
+        throw MemoryLimitError(source->file.string() + ": needs about " +
+                               formatBytes(result.estimatedMemory) + ", over the limit of " +
+                               formatBytes(options.memoryLimit) + " (--max-memory)");
+    result.source = std::move(source);
+    return result;
+}
+
+}  // namespace skelseg

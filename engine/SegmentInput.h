@@ -1,0 +1,87 @@
+// skelseg: the input of `skelseg segment`, read and made a mask.
+//
+// Two steps, two values, so the command's flow graph can pass them along:
+//   readSegmentSource(): the file as it is, a mesh (.off .obj .stl .ply) or
+//     a volume (.nrrd/.nhdr .binvox .vdb; its mask is read here);
+//   maskSegmentSource(): a mesh voxelised at the requested resolution (the
+//     grid is sized and its memory checked before any voxel is made), and for
+//     every input the memory estimate of the segmentation against the limit.
+// Errors name the input file: InputError for a file that cannot be read,
+// UsageError for a grid that cannot be made, MemoryLimitError for a run that
+// would need more than the limit. checkInputFileSize() refuses a file larger
+// than the limit before anything is read (readers load the whole file).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/StageTimer.h"
+#include "io/mesh/MeshCheck.h"
+#include "io/mesh/MeshGenus.h"
+#include "io/mesh/MeshIO.h"
+#include "io/mesh/MeshVoxelizer.h"
+#include "kernels/VoxelGenus.h"
+#include "kernels/base/Interrupter.h"
+#include "kernels/base/Volume.h"
+
+namespace skelseg {
+
+/// The input file as read.
+struct SegmentSource {
+    std::filesystem::path file;
+    std::optional<TriangleMesh> mesh;   // mesh inputs
+    MeshDiagnostics meshDiagnostics{};  // mesh inputs: closedness, pieces
+    MaskVolume volumeMask;              // volume inputs: the mask as read (moves on)
+    bool isMesh() const noexcept { return mesh.has_value(); }
+};
+
+/// The input as the mask to segment.
+struct SegmentMask {
+    std::shared_ptr<const SegmentSource> source;
+    MaskVolume mask;
+    std::uint64_t estimatedMemory = 0;  // bytes: voxelising and segmenting
+    std::vector<std::string> warnings;  // about the input (mesh check)
+    // Mesh inputs: genus of the mesh and of its voxel model, contacts separated.
+    MeshTopology meshGenus{};
+    VoxelTopology voxelGenus{};
+    ContactSeparation contacts{};
+};
+
+struct SegmentInputOptions {
+    std::string gridName;  // .vdb: grid to read (default: the first)
+    int resolution = 256;  // meshes: voxels along the longest side
+    int threads = 1;       // for the memory estimate (per-thread workspaces)
+    std::uint64_t memoryLimit = 0;
+};
+
+/// "1.50 GB", "12.00 MB", "512 bytes": a unit that shows the number.
+std::string formatBytes(std::uint64_t bytes);
+
+/// @throw MemoryLimitError when `file` is larger than `memoryLimit` (and
+/// small enough for the readers, which refuse larger files themselves).
+void checkInputFileSize(const std::filesystem::path& file, std::uint64_t memoryLimit);
+
+/// Reads a mesh (by extension, isMeshPath()) or a volume; times stage
+/// "read mesh" or "read volume". @throw InputError.
+SegmentSource readSegmentSource(const std::filesystem::path& file,
+                                const SegmentInputOptions& options, StageTimer& timer,
+                                Interrupter& interrupter);
+
+/// The mask of `source` (stage "voxelise" for meshes) after the memory
+/// checks; a volume's mask moves out of `source` (no copy of the grid). `warn` hears the mesh
+/// warnings as soon as the mesh is voxelised (a mesh that is refused costs one line, the error);
+/// they are also kept in the result. @throw UsageError, MemoryLimitError, InterruptedError.
+SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
+                              const SegmentInputOptions& options, StageTimer& timer,
+                              Interrupter& interrupter,
+                              const std::function<void(const std::string&)>& warn);
+
+/// True if the file name has a mesh extension (.off .obj .stl .ply).
+bool isMeshPath(const std::filesystem::path& path);
+
+}  // namespace skelseg

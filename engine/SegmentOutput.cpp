@@ -1,0 +1,136 @@
+#include "engine/SegmentOutput.h"
+
+#include <cmath>
+
+#include "engine/SegmentViews.h"
+#include "engine/Stage.h"
+#include "io/mesh/SegFile.h"
+#include "io/render/PreviewRenderer.h"
+#include "io/render/SegmentSurfaces.h"
+#include "io/volume/NrrdIO.h"
+#include "io/volume/VdbIO.h"
+
+namespace skelseg {
+
+namespace {
+
+/// The lines under viewer.html's title.
+std::vector<std::string> viewerFacts(const SegmentCommandOptions& options,
+                                     const SegmentationResult& result) {
+    const Dims d = result.labels.dims();
+    std::vector<std::string> facts = {
+        std::to_string(result.segments.size()) + " parts",
+        "tau " + options.parameters.tau.toString(),
+        "grid " + std::to_string(d.x) + " x " + std::to_string(d.y) + " x " + std::to_string(d.z)};
+    if (!options.gridName.empty()) facts.push_back("grid name " + options.gridName);
+    return facts;
+}
+
+}  // namespace
+
+WorldGeometry gatherWorldGeometry(const SegmentationResult& result) {
+    WorldGeometry world;
+    const VolumeGeometry& geometry = result.labels.geometry;
+    auto toWorld = [&](const std::array<int, 3>& v) {
+        return geometry.indexToWorld(v[0], v[1], v[2]);
+    };
+    for (const auto& object : result.objects) {
+        const std::uint32_t base = std::uint32_t(world.skeletonPoints.size());
+        for (const auto& v : object.skeleton) {
+            SkeletonPointRecord r;
+            r.position = toWorld(v.voxel);
+            r.rhoS = v.rhoS;
+            r.rhoC = std::isfinite(v.rhoC) ? float(v.rhoC) : float(object.boundaryArea);
+            r.sigma = v.sigma;
+            r.junction = v.junction;
+            r.critical = v.critical;
+            world.skeletonPoints.push_back(r);
+        }
+        for (const auto& e : object.skeletonEdges)
+            world.skeletonEdges.push_back({e[0] + base, e[1] + base});
+        for (const auto& loop : object.cutLoops) {
+            std::vector<std::array<double, 3>> points;
+            for (const auto& v : loop) points.push_back(toWorld(v));
+            world.cutLoops.push_back(std::move(points));
+        }
+    }
+    return world;
+}
+
+void writeLabelNrrd(OutputDirectory& out, const SegmentedShape& shape, StageTimer& timer,
+                    Interrupter& interrupter) {
+    Stage stage(timer, interrupter, "write labels.nrrd", false);
+    writeNrrdLabels(out.stagingPath("labels.nrrd"), shape.result.labels);
+}
+
+void writeLabelVdb(OutputDirectory& out, const SegmentedShape& shape, StageTimer& timer,
+                   Interrupter& interrupter) {
+    Stage stage(timer, interrupter, "write labels.vdb", false);
+    writeVdbLabels(out.stagingPath("labels.vdb"), shape.result.labels);
+}
+
+void writeSkeletonAndCuts(OutputDirectory& out, const SegmentedShape& shape, StageTimer& timer,
+                          Interrupter& interrupter) {
+    Stage stage(timer, interrupter, "write skeleton.ply, cuts.ply", false);
+    writeSkeletonPly(out.stagingPath("skeleton.ply"), shape.world.skeletonPoints,
+                     shape.world.skeletonEdges);
+    writeCutsPly(out.stagingPath("cuts.ply"), shape.world.cutLoops);
+}
+
+void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
+                             const SegmentCommandOptions& options, StageTimer& timer,
+                             Interrupter& interrupter) {
+    Stage stage(timer, interrupter, "segment surfaces and preview", true);
+    const SegmentSource& source = *shape.input->source;
+    const SegmentationResult& result = shape.result;
+    PreviewScene scene;
+    if (source.isMesh()) {
+        const TriangleMesh& mesh = *source.mesh;
+        std::vector<std::uint32_t> triangleLabels(mesh.triangles.size());
+        for (std::size_t i = 0; i < triangleLabels.size(); ++i)
+            triangleLabels[i] = shape.faceLabels[mesh.triangleFace[i]];
+        writeColouredMeshPly(out.stagingPath("segments.ply"), mesh.vertices, mesh.triangles,
+                             triangleLabels);
+        writeSeg(out.stagingPath("segmentation.seg"), shape.faceLabels);
+        scene.vertices = mesh.vertices;
+        scene.triangles = mesh.triangles;
+        scene.triangleLabels.resize(triangleLabels.size());
+        for (std::size_t i = 0; i < triangleLabels.size(); ++i)
+            scene.triangleLabels[i] = triangleLabels[i] + 1;
+    } else {
+        // A few smoothing passes take the voxel terraces off the picture
+        // and the meshes; the surfaces stay within a voxel of the labels.
+        SegmentSurfaceOptions surfaceOptions;
+        surfaceOptions.smoothingIterations = 10;
+        LabelledSurface surface =
+            extractSegmentSurfaces(result.labels, surfaceOptions, interrupter);
+        std::vector<std::uint32_t> zeroBased(surface.triangleLabels.size());
+        for (std::size_t i = 0; i < zeroBased.size(); ++i)
+            zeroBased[i] = surface.triangleLabels[i] - 1;
+        writeColouredMeshPly(out.stagingPath("segments.ply"), surface.vertices, surface.triangles,
+                             zeroBased);
+        scene.vertices = std::move(surface.vertices);
+        scene.triangles = std::move(surface.triangles);
+        scene.triangleLabels = std::move(surface.triangleLabels);
+    }
+    {
+        // Inside the surfaces stage (whose time includes it), as its own too.
+        Stage views(timer, interrupter, "write segments.glb, viewer.html", true);
+        writeSegmentViews(out, {&result, &scene.vertices, &scene.triangles, &scene.triangleLabels,
+                                &shape.world.skeletonPoints, &shape.world.skeletonEdges,
+                                &shape.world.cutLoops, options.input.filename().string(),
+                                viewerFacts(options, result), options.parameters.tau.toString()});
+    }
+    if (!options.writePreview) return;
+    for (const auto& p : shape.world.skeletonPoints) scene.skeletonPoints.push_back(p.position);
+    scene.skeletonEdges = shape.world.skeletonEdges;
+    scene.cutLoops = shape.world.cutLoops;
+    scene.title =
+        options.input.filename().string() + "   parts: " + std::to_string(result.segments.size()) +
+        "   tau: " + options.parameters.tau.toString() +
+        (options.parameters.mode == CutMode::Junctions ? "   mode: junctions (RT07)" : "");
+    PreviewOptions previewOptions;  // default: the longest side of the shape points up
+    renderPreviewPng(out.stagingPath("preview.png"), scene, previewOptions);
+}
+
+}  // namespace skelseg

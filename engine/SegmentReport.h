@@ -1,0 +1,33 @@
+// skelseg: report.json of `skelseg segment`.
+//
+// The report is the last output: it holds the input and grid, the
+// parameters, per-object counts and work counters, junctions and critical
+// points, the segments, every stage's time (the names of engine/Stage.h
+// scopes), the memory figures and the warnings. Field by field in
+// docs/outputs.md.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/SegmentCommand.h"
+#include "engine/SegmentOutput.h"
+#include "engine/StageTimer.h"
+
+namespace skelseg {
+
+/// Figures of the run as a whole, measured by the caller.
+struct SegmentRunFigures {
+    int threads = 1;
+    std::uint64_t memoryLimit = 0;
+    double wallSeconds = 0.0;  // from the start of the command
+    double cpuSeconds = 0.0;   // process CPU time since the start of the command
+};
+
+/// The text of report.json (indented, ending in a newline).
+std::string segmentReportJson(const SegmentCommandOptions& options, const SegmentedShape& shape,
+                              const std::vector<StageTiming>& timings,
+                              const SegmentRunFigures& figures);
+
+}  // namespace skelseg

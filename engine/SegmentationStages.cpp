@@ -1,0 +1,241 @@
+#include "engine/SegmentationStages.h"
+
+#include <algorithm>
+
+#include "engine/Stage.h"
+#include "kernels/CutLoopOrder.h"
+#include "kernels/FeatureTransform.h"
+#include "kernels/RimCount.h"
+#include "kernels/base/ParallelFor.h"
+
+namespace skelseg {
+
+std::array<int, 3> ObjectState::toGrid(std::uint32_t cropVoxel) const {
+    const Dims cropDims = crop.dims();
+    const std::uint32_t cx = std::uint32_t(cropDims.x), cy = std::uint32_t(cropDims.y);
+    return {int(cropVoxel % cx) + origin[0], int((cropVoxel / cx) % cy) + origin[1],
+            int(cropVoxel / (cx * cy)) + origin[2]};
+}
+
+SkeletonMeasureOptions ObjectState::measureOptions() const {
+    SkeletonMeasureOptions options;
+    options.landmarks = &landmarks;
+    options.tau = out.tauArea;
+    options.noiseArea = out.noiseArea;
+    options.threaded = parameters.threaded;
+    return options;
+}
+
+void cropObject(ObjectState& state, const MaskVolume& mask,
+                const std::vector<std::uint32_t>& component) {
+    Stage stage(state.timer, state.interrupter, "crop", true);
+    const ObjectExtent& extent = state.extent;
+    state.origin = {extent.lo[0] - 1, extent.lo[1] - 1, extent.lo[2] - 1};
+    const std::array<int, 3> origin = state.origin;
+    const Dims cropDims{extent.hi[0] - extent.lo[0] + 3, extent.hi[1] - extent.lo[1] + 3,
+                        extent.hi[2] - extent.lo[2] + 3};
+    state.crop = MaskVolume(cropDims, 0);
+    MaskVolume& crop = state.crop;
+    // Planes 1 .. cropDims.z - 2 of the crop (the outer ones stay background).
+    parallelFor(
+        cropDims.z - 2,
+        [&](int begin, int end) {
+            for (int z = begin + 1; z < end + 1; ++z)
+                for (int y = 1; y < cropDims.y - 1; ++y) {
+                    // Row start at the first object column (x = 1 in the crop): origin[0]
+                    // itself may be -1, and forming a pointer before the array is undefined.
+                    const std::uint32_t* in =
+                        component.data() + mask.index(origin[0] + 1, y + origin[1], z + origin[2]);
+                    for (int x = 1; x < cropDims.x - 1; ++x)
+                        crop(x, y, z) = in[x - 1] == extent.id + 1 ? 1 : 0;
+                }
+        },
+        state.parameters.threaded);
+}
+
+void computeObjectFeatureTransform(ObjectState& state) {
+    Stage stage(state.timer, state.interrupter, "feature transform", true);
+    const bool threaded = state.parameters.threaded;
+    const MaskVolume sites = boundaryVoxels(state.crop, {threaded});
+    state.featureTransform = featureTransform(sites, {threaded}, state.interrupter);
+}
+
+void buildObjectBoundaryGraph(ObjectState& state) {
+    Stage stage(state.timer, state.interrupter, "boundary graph", true);
+    const SegmentationParameters& p = state.parameters;
+    state.graph = buildBoundaryGraph(state.crop, {p.threaded}, state.interrupter);
+    ObjectSegmentation& out = state.out;
+    out.boundaryArea = state.graph.nodeCount();
+    out.boundaryComponents = state.graph.componentSize.size();
+    out.tauArea = p.tau.areaFor(out.boundaryArea);
+    out.noiseArea = p.noiseAreaFor(double(out.boundaryArea));
+}
+
+void selectObjectCandidates(ObjectState& state) {
+    Stage stage(state.timer, state.interrupter, "skeleton candidates", true);
+    CandidateOptions options;
+    options.threaded = state.parameters.threaded;
+    state.candidates =
+        selectSkeletonCandidates(state.crop, state.featureTransform, state.graph, options,
+                                 &state.out.candidateStats, state.interrupter);
+}
+
+void computeObjectLandmarks(ObjectState& state) {
+    Stage stage(state.timer, state.interrupter, "landmarks", true);
+    state.landmarks = computeLandmarks(state.graph, state.parameters.threaded, state.interrupter);
+}
+
+void measureObjectSkeleton(ObjectState& state) {
+    Stage stage(state.timer, state.interrupter, "path sets, rims, areas, sigma", true);
+    state.points = measureSkeleton(state.graph, state.candidates, state.measureOptions(),
+                                   &state.out.measureStats, state.interrupter);
+    state.out.curveSkeletonPoints = state.points.size();
+}
+
+void buildObjectSkeletonGraph(ObjectState& state) {
+    Stage stage(state.timer, state.interrupter, "skeleton graph", false);
+    SkeletonGraphOptions options;
+    options.tau = state.out.tauArea;
+    options.regionRadius = state.parameters.regionRadius;
+    options.bridgeGap = state.parameters.bridgeGap;
+    state.skeleton = buildSkeletonGraph(state.points, state.crop.dims(), options);
+    throwIfInterrupted(state.interrupter);
+}
+
+void placeObjectCuts(ObjectState& state) {
+    Stage stage(state.timer, state.interrupter, "cut placement", false);
+    const SegmentationParameters& p = state.parameters;
+    const BoundaryGraph& graph = state.graph;
+    CutOptions options;
+    options.sigmaMin = p.sigmaMin;
+    options.bodyRatio = p.bodyRatio;
+    options.consecutiveLevels = p.consecutiveLevels;
+    options.mode = p.mode;
+    SkeletonMeasureOptions exactOptions = state.measureOptions();
+    exactOptions.exactRhoC = true;
+    state.plan = placeCuts(state.skeleton, state.points, options, [&](std::uint32_t pointIndex) {
+        SkeletonPoint exact;
+        return measurePoint(graph, state.candidates[state.points[pointIndex].candidate],
+                            exactOptions, exact)
+                   ? exact.rhoC
+                   : 0.0;
+    });
+    // Every search of the run shares the landmarks, so the loops follow the
+    // same paths the measures saw.
+    GeodesicSearch search(graph, &state.landmarks);
+    RimCounter rims(graph);
+    for (std::uint32_t node : state.plan.cutNodes) {
+        const SkeletonPoint& sp = state.points[state.skeleton.point[node]];
+        std::uint32_t a = 0, b = 0;
+        state.cutLoops.push_back(
+            pathSet(graph, state.candidates[sp.candidate], search, nullptr, &a, &b));
+        std::vector<std::array<int, 3>> polyline;
+        for (std::uint32_t n : orderCutLoop(graph, state.cutLoops.back(), a, b, search, rims))
+            polyline.push_back(state.toGrid(graph.voxel[n]));
+        state.out.cutLoops.push_back(std::move(polyline));
+    }
+    throwIfInterrupted(state.interrupter);
+}
+
+namespace {
+
+/// The skeleton and the cut decisions as the outputs show them.
+void recordSkeleton(ObjectState& state) {
+    ObjectSegmentation& out = state.out;
+    const SkeletonGraph& skeleton = state.skeleton;
+    const CutPlan& plan = state.plan;
+    const std::vector<SkeletonPoint>& points = state.points;
+    out.simplifiedSkeletonPoints = skeleton.nodeCount();
+    out.skeletonBridges = skeleton.bridgeCount;
+    std::vector<std::uint8_t> critical(skeleton.nodeCount(), 0);
+    for (const CutCandidate& c : plan.candidates) critical[c.node] = 1;
+    for (std::uint32_t n = 0; n < skeleton.nodeCount(); ++n) {
+        const SkeletonPoint& sp = points[skeleton.point[n]];
+        SkeletonVertex v;
+        v.voxel = state.toGrid(sp.voxel);
+        v.rhoS = sp.rhoS;
+        v.rhoC = sp.rhoC;
+        v.sigma = sp.sigma;
+        v.junction = sp.robustRims >= 3;
+        v.critical = critical[n] != 0;
+        out.junctionVoxels += v.junction;
+        out.handlePoints += sp.isHandle;
+        out.skeleton.push_back(v);
+    }
+    out.skeletonEdges = skeleton.edges;
+    for (std::uint32_t j = 0; j < skeleton.junctions.size(); ++j) {
+        const SkeletonJunction& sj = skeleton.junctions[j];
+        JunctionInfo info;
+        info.voxel = state.toGrid(points[skeleton.point[sj.representative]].voxel);
+        info.branches = plan.junctions[j].branches;
+        info.cuts = plan.junctions[j].cuts;
+        info.rhoS = sj.rhoS;
+        info.coreVoxels = std::uint32_t(sj.core.size());
+        out.junctions.push_back(info);
+    }
+    for (const CutCandidate& c : plan.candidates) {
+        const SkeletonPoint& sp = points[skeleton.point[c.node]];
+        CriticalPointInfo info;
+        info.voxel = state.toGrid(sp.voxel);
+        info.junction = c.junction;
+        info.sigma = c.sigma;
+        info.rhoS = sp.rhoS;
+        info.rhoC = c.exactRhoC >= 0.0 ? c.exactRhoC : sp.rhoC;
+        info.similarity = c.similarity;
+        info.isCut = c.isCut;
+        out.criticalPoints.push_back(info);
+    }
+}
+
+/// The labelling stages need only the crop, the feature transform, the
+/// graph and the cut loops: the rest goes before they allocate.
+void releaseSkeletonData(ObjectState& state) {
+    state.candidates = {};
+    state.landmarks = {};
+    state.points = {};
+    state.skeleton = {};
+    state.plan = {};
+}
+
+}  // namespace
+
+void labelObjectSurface(ObjectState& state) {
+    Stage stage(state.timer, state.interrupter, "labelling", false);
+    state.segments =
+        labelSurface(state.graph, state.cutLoops, std::max(state.out.tauArea, state.out.noiseArea));
+    throwIfInterrupted(state.interrupter);
+}
+
+void labelObjectInterior(ObjectState& state) {
+    Stage stage(state.timer, state.interrupter, "interior labels", true);
+    const std::uint32_t segmentCount = state.segments.segmentCount;
+    std::vector<std::uint16_t> localId(segmentCount);
+    for (std::uint32_t s = 0; s < segmentCount; ++s)
+        localId[s] = std::uint16_t(std::min<std::uint32_t>(s + 1, 65535));
+    state.localLabels = Volume<std::uint16_t>(state.crop.dims(), 0);
+    labelInterior(state.crop, state.featureTransform, state.graph, state.segments, localId,
+                  state.localLabels, state.parameters.threaded);
+}
+
+void runObjectStages(ObjectState& state, const MaskVolume& mask,
+                     const std::vector<std::uint32_t>& component) {
+    state.out.voxelCount = state.extent.voxels;
+    state.out.bboxMin = state.extent.lo;
+    state.out.bboxMax = state.extent.hi;
+    cropObject(state, mask, component);
+    computeObjectFeatureTransform(state);
+    buildObjectBoundaryGraph(state);
+    if (state.extent.voxels >= state.parameters.minObjectVoxels) {
+        selectObjectCandidates(state);
+        computeObjectLandmarks(state);
+        measureObjectSkeleton(state);
+        buildObjectSkeletonGraph(state);
+        placeObjectCuts(state);
+        recordSkeleton(state);
+        releaseSkeletonData(state);
+    }
+    labelObjectSurface(state);
+    labelObjectInterior(state);
+}
+
+}  // namespace skelseg

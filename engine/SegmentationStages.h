@@ -1,0 +1,118 @@
+// skelseg: the stages that segment one object, one function each.
+//
+// segmentVolume() (Segmenter.h) finds the objects of a mask and runs, for
+// each, these stages in order over one ObjectState:
+//
+//   stage function               report.json stage               kernel(s)
+//   cropObject                   "crop"                          (here)
+//   computeObjectFeatureTransform "feature transform"            FeatureTransform.h
+//   buildObjectBoundaryGraph     "boundary graph"                BoundaryGraph.h
+//   selectObjectCandidates       "skeleton candidates"           SkeletonCandidates.h
+//   computeObjectLandmarks       "landmarks"                     PathSearch.h
+//   measureObjectSkeleton        "path sets, rims, areas, sigma" SkeletonMeasures.h
+//   buildObjectSkeletonGraph     "skeleton graph"                SkeletonGraph.h
+//   placeObjectCuts              "cut placement"                 CutPlacement.h, CutLoopOrder.h
+//   labelObjectSurface           "labelling"                     SurfaceLabelling.h
+//   labelObjectInterior          "interior labels"               SurfaceLabelling.h
+//
+// Each stage function runs under one Stage (engine/Stage.h): its time goes
+// to the StageTimer and the interrupter hears its name. Objects smaller than
+// SegmentationParameters::minObjectVoxels skip the skeleton stages (from the
+// candidates to the cuts) and become one segment each. A stage reads what
+// the stages before it left in the state and fills its own fields; it throws
+// InterruptedError when the interrupter asks to stop.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "engine/Segmenter.h"
+#include "engine/StageTimer.h"
+#include "kernels/BoundaryGraph.h"
+#include "kernels/ConnectedObjects.h"
+#include "kernels/CutPlacement.h"
+#include "kernels/PathSearch.h"
+#include "kernels/SkeletonCandidates.h"
+#include "kernels/SkeletonGraph.h"
+#include "kernels/SkeletonMeasures.h"
+#include "kernels/SurfaceLabelling.h"
+#include "kernels/base/Interrupter.h"
+#include "kernels/base/Volume.h"
+
+namespace skelseg {
+
+/// Everything known about one object, filled in stage order. Volumes and
+/// boundary nodes are in the object's crop: its bounding box padded by one
+/// background voxel on every side (so an object touching the grid border
+/// sees background beyond it).
+struct ObjectState {
+    ObjectState(const SegmentationParameters& runParameters, Interrupter& runInterrupter,
+                StageTimer& runTimer, const ObjectExtent& objectExtent)
+        : parameters(runParameters),
+          interrupter(runInterrupter),
+          timer(runTimer),
+          extent(objectExtent) {}
+    ObjectState(const ObjectState&) = delete;
+    ObjectState& operator=(const ObjectState&) = delete;
+
+    // The run: fixed for every stage.
+    const SegmentationParameters& parameters;
+    Interrupter& interrupter;
+    StageTimer& timer;
+    const ObjectExtent extent;  // in the input grid
+
+    std::array<int, 3> origin{};                // crop: input-grid voxel of crop voxel (0,0,0)
+    MaskVolume crop;                            // crop: 1 on the object's voxels
+    Volume<std::uint32_t> featureTransform;     // feature transform: nearest boundary voxel
+    BoundaryGraph graph;                        // boundary graph
+    std::vector<SkeletonCandidate> candidates;  // skeleton candidates
+    Landmarks landmarks;                        // landmarks
+    std::vector<SkeletonPoint> points;          // measures: the curve skeleton C
+    SkeletonGraph skeleton;                     // skeleton graph: C_tau
+    CutPlan plan;                               // cut placement: the decisions
+    std::vector<std::vector<std::uint32_t>> cutLoops;  // cut placement: Gamma of each cut
+    SurfaceSegments segments;                          // labelling: boundary segments
+    Volume<std::uint16_t> localLabels;  // interior labels: local segment + 1, 0 outside
+
+    /// The object's part of the result (counts, skeleton, cuts; global
+    /// labels are added by segmentVolume once every object is done).
+    ObjectSegmentation out;
+
+    /// Input-grid voxel of a linear crop voxel index.
+    std::array<int, 3> toGrid(std::uint32_t cropVoxel) const;
+    /// The measure options of this object: the same for the measures and
+    /// the exact re-measures of cut placement.
+    SkeletonMeasureOptions measureOptions() const;
+};
+
+/// Copies the object (its id in `component`, the per-voxel object ids of
+/// findConnectedObjects) out of the input grid into `state.crop`.
+void cropObject(ObjectState& state, const MaskVolume& mask,
+                const std::vector<std::uint32_t>& component);
+/// Exact Euclidean feature transform of the crop's boundary voxels.
+void computeObjectFeatureTransform(ObjectState& state);
+/// The boundary graph; sets the boundary area, tau and the noise area.
+void buildObjectBoundaryGraph(ObjectState& state);
+/// Candidate voxels for the curve skeleton.
+void selectObjectCandidates(ObjectState& state);
+/// Landmark distances for the A* bounds of every later search.
+void computeObjectLandmarks(ObjectState& state);
+/// Path sets, rims, rho_S, rho_C and sigma of every candidate: the points of C.
+void measureObjectSkeleton(ObjectState& state);
+/// The simplified skeleton C_tau as a graph, its junctions and bridges.
+void buildObjectSkeletonGraph(ObjectState& state);
+/// The junction rule's cuts, each as its path set and as an ordered loop.
+void placeObjectCuts(ObjectState& state);
+/// Boundary segments between the cut loops.
+void labelObjectSurface(ObjectState& state);
+/// Every object voxel takes the segment of its feature voxel.
+void labelObjectInterior(ObjectState& state);
+
+/// Runs every stage above in order (the skeleton stages only for objects of
+/// at least minObjectVoxels voxels) and records skeleton, junctions and
+/// critical points in `state.out`.
+void runObjectStages(ObjectState& state, const MaskVolume& mask,
+                     const std::vector<std::uint32_t>& component);
+
+}  // namespace skelseg

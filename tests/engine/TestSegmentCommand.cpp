@@ -1,0 +1,109 @@
+// runSegmentCommand() in process: the flow graph's stage names in
+// report.json, errors from inside the graph, and concurrent calls (as
+// `skelseg batch` makes them) writing what one call alone writes.
+#include "engine/SegmentCommand.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <thread>
+
+#include "io/shapes/SyntheticShapes.h"
+#include "io/volume/NrrdIO.h"
+#include "tests/support/TempDir.h"
+
+using namespace skelseg;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string fileBytes(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+SegmentCommandOptions optionsFor(const fs::path& input, const fs::path& outdir, int threads) {
+    SegmentCommandOptions options;
+    options.input = input;
+    options.outdir = outdir;
+    options.threads = threads;
+    options.writePreview = false;
+    return options;
+}
+
+void segment(const SegmentCommandOptions& options) {
+    ProgressReporter progress(ProgressReporter::Display::Quiet);
+    runSegmentCommand(options, progress);
+}
+
+/// A generated three-armed shape as a NRRD volume in `dir`.
+fs::path writeShape(const test::TempDir& dir) {
+    const fs::path input = dir / "y-arms.nrrd";
+    writeNrrdMask(input, rasterise(makeShape("y-arms"), {48, 2}));
+    return input;
+}
+
+}  // namespace
+
+TEST(SegmentCommand, ReportNamesEveryStageOnce) {
+    const test::TempDir dir;
+    const fs::path input = writeShape(dir);
+    segment(optionsFor(input, dir / "out", 2));
+    const auto report = nlohmann::json::parse(fileBytes(dir / "out" / "report.json"));
+    std::set<std::string> names;
+    for (const auto& stage : report["stages"]) {
+        EXPECT_TRUE(names.insert(stage["name"].get<std::string>()).second)
+            << "stage listed twice: " << stage["name"];
+        EXPECT_GE(stage["calls"].get<int>(), 1);
+    }
+    const std::set<std::string> expected = {"read volume",
+                                            "objects",
+                                            "crop",
+                                            "feature transform",
+                                            "boundary graph",
+                                            "skeleton candidates",
+                                            "landmarks",
+                                            "path sets, rims, areas, sigma",
+                                            "skeleton graph",
+                                            "cut placement",
+                                            "labelling",
+                                            "interior labels",
+                                            "label volume",
+                                            "write labels.nrrd",
+                                            "write labels.vdb",
+                                            "write skeleton.ply, cuts.ply",
+                                            "segment surfaces and preview"};
+    EXPECT_EQ(names, expected);
+    EXPECT_GT(report["segment_count"].get<int>(), 1);
+}
+
+TEST(SegmentCommand, AnErrorInsideTheGraphLeavesNoOutput) {
+    // The time limit trips at the first poll inside the graph's stages.
+    const test::TempDir dir;
+    const fs::path input = writeShape(dir);
+    SegmentCommandOptions options = optionsFor(input, dir / "out", 2);
+    ProgressReporter progress(ProgressReporter::Display::Quiet, 1e-9);
+    EXPECT_THROW(runSegmentCommand(options, progress), InterruptedError);
+    for (const auto& name : segmentOutputNames())
+        EXPECT_FALSE(fs::exists(dir / "out" / name)) << name;
+}
+
+TEST(SegmentCommand, ConcurrentCallsWriteWhatOneCallWrites) {
+    const test::TempDir dir;
+    const fs::path input = writeShape(dir);
+    segment(optionsFor(input, dir / "alone", 2));
+    std::thread first([&] { segment(optionsFor(input, dir / "first", 2)); });
+    std::thread second([&] { segment(optionsFor(input, dir / "second", 1)); });
+    first.join();
+    second.join();
+    for (const char* name : {"labels.nrrd", "skeleton.ply", "cuts.ply"}) {
+        const std::string alone = fileBytes(dir / "alone" / name);
+        ASSERT_FALSE(alone.empty()) << name;
+        EXPECT_EQ(fileBytes(dir / "first" / name), alone) << name;
+        EXPECT_EQ(fileBytes(dir / "second" / name), alone) << name;
+    }
+}
