@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <mutex>
 #include <random>
 #include <set>
+#include <string>
+#include <vector>
 
 #include "tests/kernels/KernelTestSupport.h"
 
@@ -337,6 +340,40 @@ TEST_F(PathSearchOnBlob, PathCacheStaysCorrectWhenItOverflows) {
         EXPECT_EQ(e.length, reference);
         ASSERT_EQ(e.count, path.size());
         EXPECT_TRUE(std::equal(path.begin(), path.end(), cache.nodes(e)));
+    }
+}
+
+namespace {
+/// Says stop after `allowed` polls; records the stage and the fractions.
+class StopAfter final : public Interrupter {
+public:
+    explicit StopAfter(int allowed) : mAllowed(allowed) {}
+    void start(const char* name) override { stage = name; }
+    bool wasInterrupted(double fraction) override {
+        std::lock_guard<std::mutex> lock(mMutex);
+        fractions.push_back(fraction);
+        return ++mPolls > mAllowed;
+    }
+    std::string stage;
+    std::vector<double> fractions;
+
+private:
+    std::mutex mMutex;
+    int mAllowed, mPolls = 0;
+};
+TEST_F(PathSearchOnBlob, LandmarksPollTheInterrupterAndStopWhenAsked) {
+    for (bool threaded : {false, true}) {
+        StopAfter never(1 << 30);
+        const Landmarks landmarks = computeLandmarks(graph, threaded, never);
+        EXPECT_EQ(never.stage, "landmarks");
+        // One poll per farthest-point landmark and one per distance field.
+        EXPECT_GE(never.fractions.size(), std::size_t(landmarks.count));
+        for (double f : never.fractions) {
+            EXPECT_GE(f, 0.0);
+            EXPECT_LE(f, 1.0);
+        }
+        StopAfter soon(3);
+        EXPECT_THROW(computeLandmarks(graph, threaded, soon), InterruptedError);
     }
 }
 
