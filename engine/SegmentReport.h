@@ -3,8 +3,9 @@
 // The report is the last output: it holds the input and grid, the
 // parameters, per-object counts and work counters, junctions and critical
 // points, the segments, every stage's time (the names of engine/Stage.h
-// scopes), the memory figures and the warnings. Field by field in
-// docs/outputs.md.
+// scopes), the memory figures and the warnings (stages: docs/outputs.md).
+// The process CPU time and the peak resident size are the
+// process's: when several runs share a process at once, they count all of them.
 #pragma once
 
 #include <cstdint>

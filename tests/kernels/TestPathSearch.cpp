@@ -343,7 +343,6 @@ TEST_F(PathSearchOnBlob, PathCacheStaysCorrectWhenItOverflows) {
     }
 }
 
-namespace {
 /// Says stop after `allowed` polls; records the stage and the fractions.
 class StopAfter final : public Interrupter {
 public:
@@ -361,6 +360,7 @@ private:
     std::mutex mMutex;
     int mAllowed, mPolls = 0;
 };
+
 TEST_F(PathSearchOnBlob, LandmarksPollTheInterrupterAndStopWhenAsked) {
     for (bool threaded : {false, true}) {
         StopAfter never(1 << 30);
