@@ -76,6 +76,7 @@ TEST(SegmentCommand, ReportNamesEveryStageOnce) {
                                             "write labels.nrrd",
                                             "write labels.vdb",
                                             "write skeleton.ply, cuts.ply",
+                                            "write segments.glb, viewer.html",
                                             "segment surfaces and preview"};
     EXPECT_EQ(names, expected);
     EXPECT_GT(report["segment_count"].get<int>(), 1);
