@@ -1,24 +1,13 @@
 #include "kernels/BoundaryGraph.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <numeric>
+
+#include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
 
 namespace {
-
-template <typename Body>
-void forSlices(bool threaded, int count, const Body& body) {
-    if (threaded)
-        tbb::parallel_for(tbb::blocked_range<int>(0, count), [&](const tbb::blocked_range<int>& r) {
-            for (int z = r.begin(); z < r.end(); ++z) body(z);
-        });
-    else
-        for (int z = 0; z < count; ++z) body(z);
-}
 
 bool isObject(const MaskVolume& mask, int x, int y, int z) {
     return mask.contains(x, y, z) && mask(x, y, z) != 0;
@@ -37,10 +26,13 @@ MaskVolume boundaryVoxels(const MaskVolume& mask, const BoundaryGraphOptions& op
     const Dims d = mask.dims();
     MaskVolume boundary(d, 0);
     boundary.geometry = mask.geometry;
-    forSlices(options.threaded, d.z, [&](int z) {
-        for (int y = 0; y < d.y; ++y)
-            for (int x = 0; x < d.x; ++x) boundary(x, y, z) = isBoundary(mask, x, y, z) ? 1 : 0;
-    });
+    parallelForEach(
+        d.z,
+        [&](int z) {
+            for (int y = 0; y < d.y; ++y)
+                for (int x = 0; x < d.x; ++x) boundary(x, y, z) = isBoundary(mask, x, y, z) ? 1 : 0;
+        },
+        options.threaded);
     return boundary;
 }
 
@@ -56,7 +48,7 @@ BoundaryGraph buildBoundaryGraph(const MaskVolume& mask, const BoundaryGraphOpti
     // search then finds most of a node's 26 neighbours among nearby ids, so
     // the per-node search state and landmark rows it touches share cache
     // lines and pages. Scanline order put every z-neighbour a whole slice of
-    // boundary voxels away; bricks made the path-set stage 15 to 20% faster.
+    // boundary voxels away (docs/performance.md has the measured gain).
     // Count per slab of bricks, then number each slab in parallel.
     constexpr int kBrick = 8;
     const int slabs = (d.z + kBrick - 1) / kBrick;
@@ -64,37 +56,43 @@ BoundaryGraph buildBoundaryGraph(const MaskVolume& mask, const BoundaryGraphOpti
     const MaskVolume boundary = boundaryVoxels(mask, options);
     throwIfInterrupted(interrupter, 0.2);
     const std::size_t sliceSize = std::size_t(d.x) * std::size_t(d.y);
-    forSlices(options.threaded, slabs, [&](int slab) {
-        std::uint32_t count = 0;
-        const int z1 = std::min(d.z, (slab + 1) * kBrick);
-        for (int z = slab * kBrick; z < z1; ++z) {
-            const std::uint8_t* b = boundary.data() + std::size_t(z) * sliceSize;
-            for (std::size_t i = 0; i < sliceSize; ++i) count += b[i];
-        }
-        perSlab[std::size_t(slab) + 1] = count;
-    });
+    parallelForEach(
+        slabs,
+        [&](int slab) {
+            std::uint32_t count = 0;
+            const int z1 = std::min(d.z, (slab + 1) * kBrick);
+            for (int z = slab * kBrick; z < z1; ++z) {
+                const std::uint8_t* b = boundary.data() + std::size_t(z) * sliceSize;
+                for (std::size_t i = 0; i < sliceSize; ++i) count += b[i];
+            }
+            perSlab[std::size_t(slab) + 1] = count;
+        },
+        options.threaded);
     std::partial_sum(perSlab.begin(), perSlab.end(), perSlab.begin());
     const std::uint32_t nodes = perSlab.back();
     graph.voxel.resize(nodes);
     graph.coord.resize(nodes);
     graph.nodeOfVoxel.assign(mask.size(), kNoNode);
-    forSlices(options.threaded, slabs, [&](int slab) {
-        std::uint32_t id = perSlab[std::size_t(slab)];
-        const int z0 = slab * kBrick, z1 = std::min(d.z, z0 + kBrick);
-        for (int y0 = 0; y0 < d.y; y0 += kBrick)
-            for (int x0 = 0; x0 < d.x; x0 += kBrick) {
-                const int y1 = std::min(d.y, y0 + kBrick), x1 = std::min(d.x, x0 + kBrick);
-                for (int z = z0; z < z1; ++z)
-                    for (int y = y0; y < y1; ++y)
-                        for (int x = x0; x < x1; ++x) {
-                            const std::size_t v = mask.index(x, y, z);
-                            if (!boundary[v]) continue;
-                            graph.voxel[id] = std::uint32_t(v);
-                            graph.coord[id] = Coord{x, y, z};
-                            graph.nodeOfVoxel[v] = id++;
-                        }
-            }
-    });
+    parallelForEach(
+        slabs,
+        [&](int slab) {
+            std::uint32_t id = perSlab[std::size_t(slab)];
+            const int z0 = slab * kBrick, z1 = std::min(d.z, z0 + kBrick);
+            for (int y0 = 0; y0 < d.y; y0 += kBrick)
+                for (int x0 = 0; x0 < d.x; x0 += kBrick) {
+                    const int y1 = std::min(d.y, y0 + kBrick), x1 = std::min(d.x, x0 + kBrick);
+                    for (int z = z0; z < z1; ++z)
+                        for (int y = y0; y < y1; ++y)
+                            for (int x = x0; x < x1; ++x) {
+                                const std::size_t v = mask.index(x, y, z);
+                                if (!boundary[v]) continue;
+                                graph.voxel[id] = std::uint32_t(v);
+                                graph.coord[id] = Coord{x, y, z};
+                                graph.nodeOfVoxel[v] = id++;
+                            }
+                }
+        },
+        options.threaded);
     throwIfInterrupted(interrupter, 0.4);
 
     // 26-neighbourhood in a fixed order: the CSR order is part of the
@@ -112,40 +110,37 @@ BoundaryGraph buildBoundaryGraph(const MaskVolume& mask, const BoundaryGraphOpti
             }
 
     std::vector<std::uint32_t> degree(std::size_t(nodes) + 1, 0);
-    auto forNodes = [&](const auto& body) {
-        if (options.threaded)
-            tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, nodes, 1024),
-                              [&](const tbb::blocked_range<std::uint32_t>& r) {
-                                  for (std::uint32_t n = r.begin(); n < r.end(); ++n) body(n);
-                              });
-        else
-            for (std::uint32_t n = 0; n < nodes; ++n) body(n);
-    };
     auto neighbourNode = [&](std::uint32_t n, const Step& s) -> std::uint32_t {
         const Coord c = graph.coord[n];
         const int x = c.x + s.dx, y = c.y + s.dy, z = c.z + s.dz;
         if (!mask.contains(x, y, z)) return kNoNode;
         return graph.nodeOfVoxel[mask.index(x, y, z)];
     };
-    forNodes([&](std::uint32_t n) {
-        std::uint32_t k = 0;
-        for (const Step& s : steps) k += neighbourNode(n, s) != kNoNode;
-        degree[std::size_t(n) + 1] = k;
-    });
+    parallelForEach(
+        nodes,
+        [&](std::uint32_t n) {
+            std::uint32_t k = 0;
+            for (const Step& s : steps) k += neighbourNode(n, s) != kNoNode;
+            degree[std::size_t(n) + 1] = k;
+        },
+        options.threaded, 1024);
     std::partial_sum(degree.begin(), degree.end(), degree.begin());
     graph.offset = std::move(degree);
     graph.neighbour.resize(graph.offset.back());
     graph.weight.resize(graph.offset.back());
-    forNodes([&](std::uint32_t n) {
-        std::uint32_t e = graph.offset[n];
-        for (const Step& s : steps) {
-            const std::uint32_t m = neighbourNode(n, s);
-            if (m == kNoNode) continue;
-            graph.neighbour[e] = m;
-            graph.weight[e] = s.length;
-            ++e;
-        }
-    });
+    parallelForEach(
+        nodes,
+        [&](std::uint32_t n) {
+            std::uint32_t e = graph.offset[n];
+            for (const Step& s : steps) {
+                const std::uint32_t m = neighbourNode(n, s);
+                if (m == kNoNode) continue;
+                graph.neighbour[e] = m;
+                graph.weight[e] = s.length;
+                ++e;
+            }
+        },
+        options.threaded, 1024);
     throwIfInterrupted(interrupter, 0.8);
 
     // Connected components (serial BFS: linear and small next to the rest).

@@ -1,11 +1,10 @@
 #include "kernels/ConnectedObjects.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <atomic>
 #include <numeric>
+
+#include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
 
@@ -55,11 +54,7 @@ ConnectedObjects findConnectedObjects(const MaskVolume& mask,
                 body(slab * kSlabDepth, std::min(d.z, (slab + 1) * kSlabDepth));
             }
         };
-        if (options.threaded)
-            tbb::parallel_for(tbb::blocked_range<int>(0, slabs, 1),
-                              [&](const tbb::blocked_range<int>& r) { range(r.begin(), r.end()); });
-        else
-            range(0, slabs);
+        parallelFor(slabs, range, options.threaded);
         if (stop) throwIfInterrupted(interrupter);
     };
     auto rowOf = [&](int y, int z) { return std::size_t(z) * std::size_t(d.y) + std::size_t(y); };

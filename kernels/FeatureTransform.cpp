@@ -1,12 +1,12 @@
 #include "kernels/FeatureTransform.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 
 #include <atomic>
 #include <limits>
 #include <vector>
+
+#include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
 
@@ -62,16 +62,6 @@ struct LineScratch {
     std::vector<std::uint32_t> features;
 };
 
-template <typename Body>
-void forRange(bool threaded, int count, int grain, const Body& body) {
-    if (threaded) {
-        tbb::parallel_for(tbb::blocked_range<int>(0, count, std::size_t(grain)),
-                          [&](const tbb::blocked_range<int>& r) { body(r.begin(), r.end()); });
-    } else {
-        body(0, count);
-    }
-}
-
 }  // namespace
 
 Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
@@ -87,34 +77,37 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
     std::atomic<bool> stop{false};
 
     // Pass 1, along x: nearest site in the same row (two sweeps).
-    forRange(options.threaded, nz, 1, [&](int z0, int z1) {
-        for (int z = z0; z < z1; ++z) {
-            if (stop.load(std::memory_order_relaxed)) return;
-            if (interrupter.wasInterrupted(double(z) / (3.0 * nz))) {
-                stop = true;
-                return;
-            }
-            for (int y = 0; y < ny; ++y) {
-                const std::size_t row =
-                    std::size_t(z) * sliceSize + std::size_t(y) * std::size_t(nx);
-                const std::uint8_t* s = sites.data() + row;
-                std::uint32_t* f = feature + row;
-                int last = -1;
-                for (int x = 0; x < nx; ++x) {
-                    if (s[x]) last = x;
-                    if (last >= 0) f[x] = std::uint32_t(row + std::size_t(last));
+    parallelFor(
+        nz,
+        [&](int z0, int z1) {
+            for (int z = z0; z < z1; ++z) {
+                if (stop.load(std::memory_order_relaxed)) return;
+                if (interrupter.wasInterrupted(double(z) / (3.0 * nz))) {
+                    stop = true;
+                    return;
                 }
-                last = -1;
-                for (int x = nx - 1; x >= 0; --x) {
-                    if (s[x]) last = x;
-                    if (last < 0) continue;
-                    // Strictly nearer on the right only: ties keep the left site.
-                    if (f[x] == kNoFeature || (last - x) < (x - int(f[x] - row)))
-                        f[x] = std::uint32_t(row + std::size_t(last));
+                for (int y = 0; y < ny; ++y) {
+                    const std::size_t row =
+                        std::size_t(z) * sliceSize + std::size_t(y) * std::size_t(nx);
+                    const std::uint8_t* s = sites.data() + row;
+                    std::uint32_t* f = feature + row;
+                    int last = -1;
+                    for (int x = 0; x < nx; ++x) {
+                        if (s[x]) last = x;
+                        if (last >= 0) f[x] = std::uint32_t(row + std::size_t(last));
+                    }
+                    last = -1;
+                    for (int x = nx - 1; x >= 0; --x) {
+                        if (s[x]) last = x;
+                        if (last < 0) continue;
+                        // Strictly nearer on the right only: ties keep the left site.
+                        if (f[x] == kNoFeature || (last - x) < (x - int(f[x] - row)))
+                            f[x] = std::uint32_t(row + std::size_t(last));
+                    }
                 }
             }
-        }
-    });
+        },
+        options.threaded);
     throwIfInterrupted(interrupter);
 
     // Passes 2 and 3 along y and z: per line, cost(i) = squared distance from
@@ -125,60 +118,62 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
         const int lineLength = axis == 1 ? ny : nz;
         const int outer = axis == 1 ? nz : ny;  // one slab per outer index
         tbb::enumerable_thread_specific<LineScratch> scratchPerThread;
-        forRange(options.threaded, outer, 1, [&](int o0, int o1) {
-            LineScratch& scratch = scratchPerThread.local();
-            scratch.cost.resize(std::size_t(lineLength));
-            scratch.nearest.resize(std::size_t(lineLength));
-            scratch.features.resize(std::size_t(lineLength) * std::size_t(nx));
-            for (int o = o0; o < o1; ++o) {
-                if (stop.load(std::memory_order_relaxed)) return;
-                if (interrupter.wasInterrupted((double(axis) + double(o) / outer) / 3.0)) {
-                    stop = true;
-                    return;
-                }
-                // Gather the slab: features[i * nx + x] for line position i.
-                auto voxelIndex = [&](int i, int x) -> std::size_t {
-                    return axis == 1 ? std::size_t(o) * sliceSize +
-                                           std::size_t(i) * std::size_t(nx) + std::size_t(x)
-                                     : std::size_t(i) * sliceSize +
-                                           std::size_t(o) * std::size_t(nx) + std::size_t(x);
-                };
-                for (int i = 0; i < lineLength; ++i) {
-                    const std::uint32_t* src = feature + voxelIndex(i, 0);
-                    std::copy(src, src + nx, scratch.features.begin() + std::ptrdiff_t(i) * nx);
-                }
-                for (int x = 0; x < nx; ++x) {
+        parallelFor(
+            outer,
+            [&](int o0, int o1) {
+                LineScratch& scratch = scratchPerThread.local();
+                scratch.cost.resize(std::size_t(lineLength));
+                scratch.nearest.resize(std::size_t(lineLength));
+                scratch.features.resize(std::size_t(lineLength) * std::size_t(nx));
+                for (int o = o0; o < o1; ++o) {
+                    if (stop.load(std::memory_order_relaxed)) return;
+                    if (interrupter.wasInterrupted((double(axis) + double(o) / outer) / 3.0)) {
+                        stop = true;
+                        return;
+                    }
+                    // Gather the slab: features[i * nx + x] for line position i.
+                    auto voxelIndex = [&](int i, int x) -> std::size_t {
+                        return axis == 1 ? std::size_t(o) * sliceSize +
+                                               std::size_t(i) * std::size_t(nx) + std::size_t(x)
+                                         : std::size_t(i) * sliceSize +
+                                               std::size_t(o) * std::size_t(nx) + std::size_t(x);
+                    };
                     for (int i = 0; i < lineLength; ++i) {
-                        const std::uint32_t f =
-                            scratch.features[std::size_t(i) * std::size_t(nx) + std::size_t(x)];
-                        if (f == kNoFeature) {
-                            scratch.cost[std::size_t(i)] = kInfiniteCost;
-                            continue;
-                        }
-                        const std::int64_t fx = std::int64_t(f % std::uint32_t(nx));
-                        const std::int64_t dx = fx - x;
-                        std::int64_t c = dx * dx;
-                        if (axis == 2) {
-                            const std::int64_t fy =
-                                std::int64_t((f / std::uint32_t(nx)) % std::uint32_t(ny));
-                            const std::int64_t dy = fy - o;
-                            c += dy * dy;
-                        }
-                        scratch.cost[std::size_t(i)] = c;
+                        const std::uint32_t* src = feature + voxelIndex(i, 0);
+                        std::copy(src, src + nx, scratch.features.begin() + std::ptrdiff_t(i) * nx);
                     }
-                    nearestAlongLine(scratch.cost.data(), lineLength, scratch.nearest.data(),
-                                     scratch.apex, scratch.boundary);
-                    for (int j = 0; j < lineLength; ++j) {
-                        const int i = scratch.nearest[std::size_t(j)];
-                        feature[voxelIndex(j, x)] =
-                            i < 0
-                                ? kNoFeature
-                                : scratch
-                                      .features[std::size_t(i) * std::size_t(nx) + std::size_t(x)];
+                    for (int x = 0; x < nx; ++x) {
+                        for (int i = 0; i < lineLength; ++i) {
+                            const std::uint32_t f =
+                                scratch.features[std::size_t(i) * std::size_t(nx) + std::size_t(x)];
+                            if (f == kNoFeature) {
+                                scratch.cost[std::size_t(i)] = kInfiniteCost;
+                                continue;
+                            }
+                            const std::int64_t fx = std::int64_t(f % std::uint32_t(nx));
+                            const std::int64_t dx = fx - x;
+                            std::int64_t c = dx * dx;
+                            if (axis == 2) {
+                                const std::int64_t fy =
+                                    std::int64_t((f / std::uint32_t(nx)) % std::uint32_t(ny));
+                                const std::int64_t dy = fy - o;
+                                c += dy * dy;
+                            }
+                            scratch.cost[std::size_t(i)] = c;
+                        }
+                        nearestAlongLine(scratch.cost.data(), lineLength, scratch.nearest.data(),
+                                         scratch.apex, scratch.boundary);
+                        for (int j = 0; j < lineLength; ++j) {
+                            const int i = scratch.nearest[std::size_t(j)];
+                            feature[voxelIndex(j, x)] =
+                                i < 0 ? kNoFeature
+                                      : scratch.features[std::size_t(i) * std::size_t(nx) +
+                                                         std::size_t(x)];
+                        }
                     }
                 }
-            }
-        });
+            },
+            options.threaded);
         throwIfInterrupted(interrupter);
     };
     pass(1);

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <limits>
 
+#include "kernels/base/ParallelFor.h"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -155,8 +157,8 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded, Interrupte
     // Farthest-point landmarks fill the row up to Landmarks::kStride: each is
     // the node farthest from every landmark so far. Extremes sit on the tips
     // of a shape; the farthest points land in the middle of broad faces (a
-    // palm, a torso), which bound the long searches around a flat part (on
-    // hand.off they halved the nodes settled). Choosing them needs only the
+    // palm, a torso), which bound the long searches around a flat part.
+    // Choosing them needs only the
     // distance to the nearest landmark, which a new landmark changes only in
     // its own Voronoi cell: a Dijkstra pruned to that cell is exact (the
     // nearest-landmark distance is 1-Lipschitz, so the cell is closed under

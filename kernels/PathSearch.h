@@ -45,11 +45,9 @@ struct SearchCounters {
 /// tighten exactly those bounds.
 struct Landmarks {
     /// Row width: at most this many landmarks (14 extremes, the rest by
-    /// farthest-point selection). 48 floats are three cache lines per node.
-    /// On elephant.obj at 256, 48 landmarks settled 48% fewer nodes than 32
-    /// (path-set stage 25% faster), 64 only 13% fewer than 48 and slower
-    /// overall (longer selection, four cache lines); the thick-bodied shapes
-    /// gain most, hand.off and armadillo.obj at 400 about 7% and 2% (one run each).
+    /// farthest-point selection). 48 floats are three cache lines per node;
+    /// more landmarks tighten the bound less than a fourth cache line and a
+    /// longer selection cost (measurements in docs/performance.md).
     static constexpr std::uint32_t kStride = 48;
 
     std::uint32_t count = 0;
@@ -104,7 +102,9 @@ public:
     float shortestPathWithin(std::uint32_t from, std::uint32_t to, const Allowed& allowed,
                              std::vector<std::uint32_t>* path = nullptr);
 
-    /// Plain single-source Dijkstra over the whole graph (reference for tests).
+    /// Single-source Dijkstra over the whole graph: the distance from `source`
+    /// to every node (kUnreachable in other components). computeLandmarks()
+    /// fills the landmark rows with it; tests also use it as the reference.
     std::vector<float> distancesFrom(std::uint32_t source) const;
 
     const BoundaryGraph& graph() const noexcept { return mGraph; }

@@ -1,12 +1,10 @@
 #include "kernels/SkeletonCandidates.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <atomic>
 
 #include "kernels/FeatureTransform.h"
+#include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
 
@@ -83,12 +81,7 @@ std::vector<SkeletonCandidate> selectSkeletonCandidates(
         objectVoxels += objects;
         withThree += three;
     };
-    if (options.threaded)
-        tbb::parallel_for(tbb::blocked_range<int>(0, d.z), [&](const tbb::blocked_range<int>& r) {
-            for (int z = r.begin(); z < r.end(); ++z) slice(z);
-        });
-    else
-        for (int z = 0; z < d.z; ++z) slice(z);
+    parallelForEach(d.z, slice, options.threaded);
     throwIfInterrupted(interrupter);
 
     std::vector<SkeletonCandidate> all;

@@ -1,8 +1,6 @@
 #include "kernels/SkeletonMeasures.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
@@ -13,6 +11,7 @@
 #include "kernels/ComponentGrowth.h"
 #include "kernels/Geodesicness.h"
 #include "kernels/RimCount.h"
+#include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
 
@@ -37,14 +36,13 @@ struct Workspace {
     GeodesicnessEvaluator geodesicness;
     GenerationMarks inSet;
     std::vector<std::uint32_t> gamma;
-    std::uint64_t rimTests = 0, growthSteps = 0, sigmaEvaluations = 0, points = 0, repeats = 0;
+    std::uint64_t rimTests = 0, growthSteps = 0, sigmaEvaluations = 0, repeats = 0;
 
     /// Measures by feature set. Everything measure() computes is a function
-    /// of the candidate's feature set alone, and about a quarter of all
-    /// candidates repeat the set of a nearby voxel (hand.off, armadillo.obj
-    /// at 256): those copy the answer instead of redoing path sets, rims,
-    /// areas and sigma. Direct-mapped (a new set evicts the slot's old one),
-    /// so memory stays fixed; the cache changes cost, never results.
+    /// of the candidate's feature set alone, and many candidates repeat the
+    /// set of a nearby voxel (docs/performance.md has the share): those copy
+    /// the answer instead of redoing path sets, rims, areas and sigma. Direct-mapped (a new set
+    /// evicts the slot's old one), so memory stays fixed; the cache changes cost, never results.
     struct Remembered {
         std::uint8_t featureCount = 0;  // 0: empty slot
         bool isPoint = false;
@@ -94,9 +92,10 @@ float collectPathSet(Workspace& ws, const SkeletonCandidate& c, std::uint32_t& a
     return rhoS;
 }
 
-/// The measures of one candidate. Returns true when p is in C.
+/// The measures of one candidate (rho_C exact when options.exactRhoC).
+/// Returns true when p is in C.
 bool measure(Workspace& ws, const SkeletonCandidate& c, std::uint32_t candidateIndex,
-             const SkeletonMeasureOptions& options, bool exact, SkeletonPoint& out) {
+             const SkeletonMeasureOptions& options, SkeletonPoint& out) {
     std::uint32_t a, b;
     const float rhoS = collectPathSet(ws, c, a, b);
     if (rhoS <= 0.0f) return false;
@@ -106,7 +105,8 @@ bool measure(Workspace& ws, const SkeletonCandidate& c, std::uint32_t candidateI
 
     const std::uint64_t noise = std::uint64_t(std::ceil(std::max(1.0, options.noiseArea)));
     const std::uint64_t tauArea = std::uint64_t(std::ceil(std::max(0.0, options.tau)));
-    const std::uint64_t cap = exact ? ComponentGrower::kExactArea : std::max(noise, tauArea);
+    const std::uint64_t cap =
+        options.exactRhoC ? ComponentGrower::kExactArea : std::max(noise, tauArea);
     const ComponentAreas& areas = ws.grower.grow(ws.rims, cap);
     ws.growthSteps += areas.growthSteps;
 
@@ -138,7 +138,6 @@ bool measure(Workspace& ws, const SkeletonCandidate& c, std::uint32_t candidateI
         ++ws.sigmaEvaluations;
         out.sigma = ws.geodesicness.evaluate(ws.rims, a, b, ws.sigmaSearch).sigma;
     }
-    ++ws.points;
     return true;
 }
 
@@ -170,7 +169,9 @@ std::vector<std::uint32_t> pathSet(const BoundaryGraph& graph, const SkeletonCan
 bool measurePoint(const BoundaryGraph& graph, const SkeletonCandidate& candidate,
                   const SkeletonMeasureOptions& options, SkeletonPoint& out) {
     Workspace ws(graph, options.landmarks);
-    return measure(ws, candidate, 0, options, true, out);
+    SkeletonMeasureOptions exact = options;
+    exact.exactRhoC = true;
+    return measure(ws, candidate, 0, exact, out);
 }
 
 std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
@@ -212,8 +213,7 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
                 }
                 continue;
             }
-            isPoint[i] =
-                measure(ws, c, std::uint32_t(i), options, options.exactRhoC, slots[i]) ? 1 : 0;
+            isPoint[i] = measure(ws, c, std::uint32_t(i), options, slots[i]) ? 1 : 0;
             memo.featureCount = c.featureCount;
             std::copy(c.feature.begin(), c.feature.begin() + c.featureCount, memo.feature.begin());
             memo.isPoint = isPoint[i] != 0;
@@ -221,12 +221,7 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
         }
         done += end - begin;
     };
-    if (options.threaded)
-        tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(0, n, 64),
-            [&](const tbb::blocked_range<std::size_t>& r) { range(r.begin(), r.end()); });
-    else
-        range(0, n);
+    parallelFor(n, range, options.threaded, 64);
     throwIfInterrupted(interrupter);
 
     std::vector<SkeletonPoint> points;

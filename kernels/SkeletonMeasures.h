@@ -89,9 +89,9 @@ std::vector<std::uint32_t> pathSet(const BoundaryGraph& graph, const SkeletonCan
                                    GeodesicSearch& search, float* rhoS = nullptr,
                                    std::uint32_t* a = nullptr, std::uint32_t* b = nullptr);
 
-/// Full measures of one candidate with exact rho_C (used for the few cut
-/// candidates where rho_C must be compared exactly). Returns false when the
-/// candidate is not a point of C.
+/// Full measures of one candidate with exact rho_C, whatever
+/// options.exactRhoC says (used for the few cut candidates where rho_C must
+/// be compared exactly). Returns false when the candidate is not a point of C.
 bool measurePoint(const BoundaryGraph& graph, const SkeletonCandidate& candidate,
                   const SkeletonMeasureOptions& options, SkeletonPoint& out);
 

@@ -1,12 +1,10 @@
 #include "kernels/SurfaceLabelling.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <numeric>
 
 #include "kernels/FeatureTransform.h"
+#include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
 
@@ -141,12 +139,7 @@ void labelInterior(const MaskVolume& mask, const Volume<std::uint32_t>& featureT
             out[v] = labelOfSegment[segments.nodeLabel[node]];
         }
     };
-    if (threaded)
-        tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(0, n, 1 << 16),
-            [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
-    else
-        body(0, n);
+    parallelFor(n, body, threaded, std::size_t(1) << 16);
 }
 
 }  // namespace skelseg

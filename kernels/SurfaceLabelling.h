@@ -33,7 +33,10 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph,
                              double minSegmentArea);
 
 /// Labels every object voxel of `mask` by the segment of its feature voxel:
-/// out[v] = firstLabel + nodeLabel(F(v)); background voxels are left alone.
+/// out[v] = labelOfSegment[nodeLabel(F(v))] (labelOfSegment: one output label
+/// per segment, segmentCount entries); background voxels, and object voxels
+/// whose feature voxel is not a boundary node, are left alone.
+/// threaded: TBB over blocks of voxels (same output).
 void labelInterior(const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
                    const BoundaryGraph& graph, const SurfaceSegments& segments,
                    const std::vector<std::uint16_t>& labelOfSegment, Volume<std::uint16_t>& out,

@@ -8,6 +8,12 @@
 #   e.g. profiles/profile_run.sh ../shared/data/shapes/armadillo.obj 256 armadillo
 # Writes profiles/NAME-RESOLUTION.md (stage table + top functions).
 set -euo pipefail
+usage="usage: profiles/profile_run.sh INPUT RESOLUTION [NAME]"
+case "${1:-}" in
+  -h|--help) echo "$usage"; exit 0 ;;
+  -*) echo "profile_run: unknown option '$1' ($usage)" >&2; exit 2 ;;
+esac
+if [[ $# -lt 2 || $# -gt 3 ]]; then echo "profile_run: expected 2 or 3 arguments, got $# ($usage)" >&2; exit 2; fi
 cd "$(dirname "$0")/.."
 input=$1; resolution=$2; name=${3:-$(basename "${input%.*}")}
 exe=${SKELSEG:-build/skelseg}

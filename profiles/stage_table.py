@@ -5,9 +5,12 @@ Usage: profiles/stage_table.py OUTDIR/report.json [...]
 Prints a Markdown table: stage, parallel?, wall s, CPU s, share of the wall
 time; then total wall, CPU, serial share, peak memory and the work counters.
 """
-import json, sys
+import argparse
+import json
 
-for path in sys.argv[1:]:
+parser = argparse.ArgumentParser(description="Per-stage breakdown of skelseg report.json files (Markdown).")
+parser.add_argument("reports", nargs="+", metavar="REPORT", help="a report.json written by skelseg segment")
+for path in parser.parse_args().reports:
     with open(path) as f:
         r = json.load(f)
     wall = r["timing"]["wall_seconds"]

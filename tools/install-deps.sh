@@ -2,6 +2,12 @@
 # Installs skelseg's build and test dependencies from Debian's packages.
 # Idempotent and quick when everything is already there.
 set -euo pipefail
+usage="usage: tools/install-deps.sh   (installs the missing Debian packages; takes no arguments)"
+case "${1:-}" in
+  -h|--help) echo "$usage"; exit 0 ;;
+  "") ;;
+  *) echo "install-deps: unknown argument '$1' ($usage)" >&2; exit 2 ;;
+esac
 packages=(
   build-essential cmake ninja-build pkg-config
   libtbb-dev libopenvdb-dev libboost-iostreams-dev zlib1g-dev libeigen3-dev

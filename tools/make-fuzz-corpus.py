@@ -7,14 +7,24 @@ re-running it reproduces the committed files exactly.
 
     tools/make-fuzz-corpus.py [OUTDIR]     (default: tests/fuzz/corpus)
 """
+import argparse
 import gzip
 import os
 import struct
-import sys
 import zlib
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OUT = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "tests", "fuzz", "corpus")
+
+
+def parse_args():
+    parser = argparse.ArgumentParser(
+        description="Write the seed corpus of the fuzz targets (deterministic bytes).")
+    parser.add_argument("outdir", nargs="?", default=os.path.join(ROOT, "tests", "fuzz", "corpus"),
+                        help="output folder (default: tests/fuzz/corpus)")
+    return parser.parse_args()
+
+
+OUT = parse_args().outdir
 
 
 def write(fmt, name, data):

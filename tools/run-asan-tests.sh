@@ -18,7 +18,15 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD_DIR="${BUILD_DIR:-$ROOT/build-asan}"
 JOBS="${JOBS:-1}"
 BUILD_ONLY=0
-if [[ "${1:-}" == "--build-only" ]]; then BUILD_ONLY=1; shift; fi
+usage="usage: tools/run-asan-tests.sh [--build-only | CTEST ARGS...]"
+case "${1:-}" in
+  -h|--help) echo "$usage"; exit 0 ;;
+  --build-only)
+    BUILD_ONLY=1
+    shift
+    if [[ $# -gt 0 ]]; then echo "run-asan-tests: --build-only takes no further arguments ($usage)" >&2; exit 2; fi
+    ;;
+esac
 
 if [[ ! -f "$BUILD_DIR/build.ninja" ]]; then
   if [[ -z "${CXX:-}" ]] && command -v clang++ >/dev/null; then export CXX=clang++; fi

@@ -7,6 +7,12 @@
 # benchmark of the baseline no longer exists (renamed or removed: regenerate
 # the baseline, see bench/README.md).
 set -euo pipefail
+usage="usage: tools/run-benchmarks.sh [BUILD_DIR]   (default: build)"
+case "${1:-}" in
+  -h|--help) echo "$usage"; exit 0 ;;
+  -*) echo "run-benchmarks: unknown option '$1' ($usage)" >&2; exit 2 ;;
+esac
+if [[ $# -gt 1 ]]; then echo "run-benchmarks: too many arguments ($usage)" >&2; exit 2; fi
 cd "$(dirname "$0")/.."
 build="${1:-build}"
 bench="$build/skelseg_bench"

@@ -21,6 +21,12 @@ set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD_ONLY=0
+usage="usage: tools/run-fuzzers.sh [SECONDS] [TARGET...] | --build-only [TARGET...]"
+case "${1:-}" in
+  -h|--help) echo "$usage"; exit 0 ;;
+  --build-only) ;;
+  -*) echo "run-fuzzers: unknown option '$1' ($usage)" >&2; exit 2 ;;
+esac
 if [[ "${1:-}" == "--build-only" ]]; then
   BUILD_ONLY=1
   shift
@@ -34,6 +40,12 @@ JOBS="${JOBS:-1}"
 PARALLEL="${PARALLEL:-$JOBS}"
 ALL_TARGETS=(FuzzNrrd FuzzBinvox FuzzVdb FuzzOff FuzzObj FuzzStl FuzzPly FuzzSeg)
 if [[ $# -gt 0 ]]; then TARGETS=("$@"); else TARGETS=("${ALL_TARGETS[@]}"); fi
+for target in "${TARGETS[@]}"; do
+  if [[ " ${ALL_TARGETS[*]} " != *" $target "* ]]; then
+    echo "run-fuzzers: unknown target '$target' (known: ${ALL_TARGETS[*]})" >&2
+    exit 2
+  fi
+done
 
 if ! [[ "$SECONDS_PER_TARGET" =~ ^[0-9]+$ ]] || [[ "$SECONDS_PER_TARGET" -lt 1 ]]; then
   echo "run-fuzzers: SECONDS must be a positive integer, got '$SECONDS_PER_TARGET'" >&2

@@ -4,6 +4,12 @@
 # figure. Results land in out/figure/ (preview.png, labels.nrrd,
 # skeleton.ply, cuts.ply, report.json).
 set -euo pipefail
+usage="usage: tools/setup.sh   (install dependencies, build, segment the example; no arguments)"
+case "${1:-}" in
+  -h|--help) echo "$usage"; exit 0 ;;
+  "") ;;
+  *) echo "setup: unknown argument '$1' ($usage)" >&2; exit 2 ;;
+esac
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release

@@ -17,6 +17,12 @@
 # (both are CPU-bound; together they keep the cores busy); its log is
 # build-ci/fuzz-build.log.
 set -euo pipefail
+usage="usage: tools/test.sh   (build and run every suite as CI does; settings via SKELSEG_* variables)"
+case "${1:-}" in
+  -h|--help) echo "$usage"; exit 0 ;;
+  "") ;;
+  *) echo "test: unknown argument '$1' ($usage)" >&2; exit 2 ;;
+esac
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
 jobs="${SKELSEG_JOBS:-2}"

@@ -69,8 +69,8 @@ OutputDirectory::~OutputDirectory() {
 }
 
 fs::path OutputDirectory::stagingPath(const std::string& name) {
-    // Writers run concurrently in the output flow graph; an unguarded
-    // push_back here crashed one run in 45 (PSB model 143).
+    // Writers run concurrently in the output flow graph: an unguarded
+    // push_back here is a data race (it crashed PSB runs, docs/performance.md).
     const std::lock_guard<std::mutex> lock(mStagedMutex);
     if (std::find(mStaged.begin(), mStaged.end(), name) == mStaged.end()) mStaged.push_back(name);
     return mStaging / name;

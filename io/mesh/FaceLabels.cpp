@@ -1,8 +1,5 @@
 #include "io/mesh/FaceLabels.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -11,6 +8,7 @@
 
 #include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshVoxelizer.h"
+#include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
 
@@ -226,13 +224,7 @@ std::vector<std::uint32_t> labelFaces(const TriangleMesh& mesh, const LabelVolum
             voxelLabel[face] = winner(votes);
         }
     };
-    if (options.threaded)
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faceCount, 256),
-                          [&](const tbb::blocked_range<std::size_t>& range) {
-                              labelRange(range.begin(), range.end());
-                          });
-    else
-        labelRange(0, faceCount);
+    parallelFor(faceCount, labelRange, options.threaded, 256);
     throwIfInterrupted(interrupter, 0.9);
 
     FaceLabelStatistics stats;

@@ -50,17 +50,6 @@ private:
     std::vector<std::uint32_t> mParent;
 };
 
-double triangleArea(const TriangleMesh& mesh, std::size_t t) {
-    const auto& a = mesh.vertices[mesh.triangles[t][0]];
-    const auto& b = mesh.vertices[mesh.triangles[t][1]];
-    const auto& c = mesh.vertices[mesh.triangles[t][2]];
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                         u[0] * v[1] - u[1] * v[0]};
-    return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-}
-
 }  // namespace
 
 std::vector<std::uint32_t> canonicalVertices(const TriangleMesh& mesh) {

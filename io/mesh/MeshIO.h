@@ -71,6 +71,9 @@ TriangleMesh readMeshFromMemory(const std::string& name, MeshFormat format,
 /// Atomic: a temporary file renamed into place. @throw OutputError.
 void writeOff(const std::filesystem::path& path, const TriangleMesh& mesh);
 
+/// Area of triangle t (half the length of its edges' cross product).
+double triangleArea(const TriangleMesh& mesh, std::size_t t);
+
 /// Area of every input face (sum of its triangles' areas): faceCount entries.
 /// Used to weight faces when scoring segmentations.
 std::vector<double> faceAreas(const TriangleMesh& mesh);

@@ -11,7 +11,8 @@
 #include <string_view>
 
 #include "io/files/OutputDirectory.h"
-#include "io/volume/VolumeReader.h"
+#include "io/files/TextFile.h"
+#include "io/files/TextTokenizer.h"
 #include "kernels/base/Error.h"
 
 namespace skelseg {
@@ -92,39 +93,22 @@ std::string gzipCompress(const std::string& text, const std::filesystem::path& p
 std::vector<std::int64_t> parseLabels(const std::string& name, std::string_view text) {
     std::vector<std::int64_t> labels;
     labels.reserve(text.size() / 2);
-    std::size_t position = 0, lineNumber = 0;
+    TextTokenizer lines(text);
+    std::string_view line;
     std::size_t blankLine = 0;  // first blank line seen, 0 if none
-    while (position < text.size()) {
-        std::size_t end = text.find('\n', position);
-        if (end == std::string_view::npos) end = text.size();
-        std::string_view line = text.substr(position, end - position);
-        position = end + 1;
-        ++lineNumber;
-        while (!line.empty() && std::isspace(static_cast<unsigned char>(line.front())))
-            line.remove_prefix(1);
-        while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back())))
-            line.remove_suffix(1);
+    while (lines.nextLine(line, false)) {
+        line = trim(line);
         if (line.empty()) {
-            if (blankLine == 0) blankLine = lineNumber;
+            if (blankLine == 0) blankLine = lines.lineNumber();
             continue;
         }
         if (blankLine != 0)
             throw InputError(name, "line " + std::to_string(blankLine) +
                                        " is blank (one label per face expected)");
-        std::string_view digits = line;
-        if (digits.front() == '+') digits.remove_prefix(1);
         std::int64_t value = 0;
-        const auto result = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-        if (digits.empty() || result.ec != std::errc() ||
-            result.ptr != digits.data() + digits.size()) {
-            std::string shown(line.substr(0, 40));
-            for (char& c : shown)
-                if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) >= 127)
-                    c = '?';  // printable ASCII only
-            throw InputError(name, "line " + std::to_string(lineNumber) +
-                                       " is not an integer label: '" + shown +
-                                       (line.size() > 40 ? "...'" : "'"));
-        }
+        if (!parseInteger(line, value))
+            throw InputError(name, "line " + std::to_string(lines.lineNumber()) +
+                                       " is not an integer label: " + quote(line));
         labels.push_back(value);
     }
     if (labels.empty()) throw InputError(name, "no labels (empty segmentation file)");

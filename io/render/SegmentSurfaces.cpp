@@ -2,8 +2,6 @@
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/VolumeToMesh.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
@@ -13,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
 
@@ -45,18 +44,6 @@ struct VoxelBox {
         }
     }
 };
-
-/// Runs `body(begin, end)` over [0, count), in parallel when `threaded`.
-template <typename Body>
-void forRange(std::size_t count, bool threaded, const Body& body) {
-    if (!threaded) {
-        body(std::size_t(0), count);
-        return;
-    }
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, count, 1),
-        [&](const tbb::blocked_range<std::size_t>& range) { body(range.begin(), range.end()); });
-}
 
 /// Bounding box of each voxel value (index = value), from one pass over the
 /// volume: far cheaper than one pass per label on a 400^3 volume.
@@ -314,17 +301,22 @@ LabelledSurface extractSegmentSurfaces(const LabelVolume& labels,
         std::atomic<std::size_t> labelsDone{0};
         // One task per label; labels differ a lot in size, so grain 1 lets
         // TBB balance them. Index 0 (background) has an empty box.
-        forRange(boxes.size(), options.threaded, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t label = begin; label < end; ++label) {
-                if (label == 0 || boxes[label].empty()) continue;
-                throwIfInterrupted(interrupter, double(labelsDone.load()) / double(boxes.size()));
-                const auto value = LabelVolume::ValueType(label);
-                meshes[label] = meshRegion(
-                    labels, boxes[label], [value](LabelVolume::ValueType v) { return v == value; },
-                    options.smoothingIterations, interrupter);
-                ++labelsDone;
-            }
-        });
+        parallelFor(
+            boxes.size(),
+            [&](std::size_t begin, std::size_t end) {
+                for (std::size_t label = begin; label < end; ++label) {
+                    if (label == 0 || boxes[label].empty()) continue;
+                    throwIfInterrupted(interrupter,
+                                       double(labelsDone.load()) / double(boxes.size()));
+                    const auto value = LabelVolume::ValueType(label);
+                    meshes[label] = meshRegion(
+                        labels, boxes[label],
+                        [value](LabelVolume::ValueType v) { return v == value; },
+                        options.smoothingIterations, interrupter);
+                    ++labelsDone;
+                }
+            },
+            options.threaded);
         LabelledSurface surface;
         for (std::size_t label = 1; label < meshes.size(); ++label)
             appendRegion(surface, meshes[label], labels.geometry,

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Core>
+
 #include "kernels/BoundaryGraph.h"
 #include "kernels/base/Error.h"
 
@@ -11,78 +13,71 @@ namespace skelseg {
 namespace {
 
 using Vec = std::array<double, 3>;
-Vec sub(Vec a, Vec b) {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
-double dot(Vec a, Vec b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-double norm(Vec a) {
-    return std::sqrt(dot(a, a));
+
+Eigen::Vector3d point(const Vec& p) {
+    return {p[0], p[1], p[2]};
 }
 
-double segmentDistance(const Vec& p, const Vec& a, const Vec& b, double* tOut = nullptr) {
-    const Vec ab = sub(b, a), ap = sub(p, a);
-    const double len2 = dot(ab, ab);
-    double t = len2 > 0 ? std::clamp(dot(ap, ab) / len2, 0.0, 1.0) : 0.0;
-    if (tOut) *tOut = len2 > 0 ? dot(ap, ab) / len2 : 0.0;
-    const Vec q = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]};
-    return norm(sub(p, q));
+double segmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                       const Eigen::Vector3d& b) {
+    const Eigen::Vector3d ab = b - a, ap = p - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0 ? std::clamp(ap.dot(ab) / len2, 0.0, 1.0) : 0.0;
+    return (p - (a + t * ab)).norm();
 }
 
-bool inside(const ShapePrimitive& s, const Vec& p) {
+bool inside(const ShapePrimitive& s, const Vec& position) {
+    const Eigen::Vector3d p = point(position), a = point(s.a);
     switch (s.kind) {
         case ShapePrimitive::Kind::Sphere:
-            return norm(sub(p, s.a)) <= s.radius;
+            return (p - a).norm() <= s.radius;
         case ShapePrimitive::Kind::Ellipsoid: {
             double sum = 0;
             for (int i = 0; i < 3; ++i)
-                sum += (p[i] - s.a[i]) * (p[i] - s.a[i]) / (s.axes[i] * s.axes[i]);
+                sum += (p[i] - a[i]) * (p[i] - a[i]) / (s.axes[i] * s.axes[i]);
             return sum <= 1.0;
         }
         case ShapePrimitive::Kind::Capsule:
-            return segmentDistance(p, s.a, s.b) <= s.radius;
+            return segmentDistance(p, a, point(s.b)) <= s.radius;
         case ShapePrimitive::Kind::Cylinder: {
-            double t = 0;
-            const Vec ab = sub(s.b, s.a);
-            const double len = norm(ab);
-            const Vec ap = sub(p, s.a);
-            t = dot(ap, ab) / (len * len);
+            const Eigen::Vector3d ab = point(s.b) - a;
+            const double len = ab.norm();
+            const double t = (p - a).dot(ab) / (len * len);
             if (t < 0 || t > 1) return false;
-            const Vec q = {s.a[0] + t * ab[0], s.a[1] + t * ab[1], s.a[2] + t * ab[2]};
-            return norm(sub(p, q)) <= s.radius;
+            return (p - (a + t * ab)).norm() <= s.radius;
         }
         case ShapePrimitive::Kind::Box: {
-            const Vec d = {std::fabs(p[0] - s.a[0]), std::fabs(p[1] - s.a[1]),
-                           std::fabs(p[2] - s.a[2])};
-            if (d[0] > s.b[0] || d[1] > s.b[1] || d[2] > s.b[2]) return false;
+            const Eigen::Vector3d d = (p - a).cwiseAbs();
+            const Eigen::Vector3d halfSize = point(s.b);
+            if (d[0] > halfSize[0] || d[1] > halfSize[1] || d[2] > halfSize[2]) return false;
             // Chamfer: cut each edge where the distances to two faces sum below c.
             const double c = s.radius2;
             if (c <= 0) return true;
-            const Vec m = {s.b[0] - d[0], s.b[1] - d[1],
-                           s.b[2] - d[2]};  // distance to each face pair
+            const Eigen::Vector3d m = halfSize - d;  // distance to each face pair
             return m[0] + m[1] >= c && m[1] + m[2] >= c && m[0] + m[2] >= c;
         }
         case ShapePrimitive::Kind::Torus: {
-            const Vec q = sub(p, s.a);
-            const double h = dot(q, s.axes);
-            const Vec inPlane = {q[0] - h * s.axes[0], q[1] - h * s.axes[1], q[2] - h * s.axes[2]};
-            const double r = norm(inPlane) - s.radius2;
+            const Eigen::Vector3d q = p - a, normal = point(s.axes);
+            const double h = q.dot(normal);
+            const double r = (q - h * normal).norm() - s.radius2;
             return r * r + h * h <= s.radius * s.radius;
         }
     }
     return false;
 }
 
-Vec rotateZ(Vec v, double degrees) {
-    const double a = degrees * M_PI / 180.0, c = std::cos(a), s = std::sin(a);
+/// `v` turned by `degrees` about +z.
+Vec rotateZ(const Vec& v, double degrees) {
+    const double angle = degrees * M_PI / 180.0, c = std::cos(angle), s = std::sin(angle);
     return {c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]};
 }
-Vec add(Vec a, Vec b) {
-    return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+Vec add(const Vec& a, const Vec& b) {
+    const Eigen::Vector3d sum = point(a) + point(b);
+    return {sum[0], sum[1], sum[2]};
 }
-Vec scale(Vec a, double k) {
-    return {a[0] * k, a[1] * k, a[2] * k};
+Vec scale(const Vec& a, double k) {
+    const Eigen::Vector3d scaled = point(a) * k;
+    return {scaled[0], scaled[1], scaled[2]};
 }
 
 }  // namespace
@@ -119,7 +114,8 @@ Shape& Shape::box(Vec centre, Vec halfSize, double chamfer) {
 }
 Shape& Shape::torus(Vec centre, Vec normal, double ringRadius, double tubeRadius) {
     ShapePrimitive p;
-    p.kind = ShapePrimitive::Kind::Torus, p.a = centre, p.axes = scale(normal, 1.0 / norm(normal));
+    p.kind = ShapePrimitive::Kind::Torus, p.a = centre,
+    p.axes = scale(normal, 1.0 / point(normal).norm());
     p.radius = tubeRadius, p.radius2 = ringRadius;
     mPrimitives.push_back(p);
     return *this;

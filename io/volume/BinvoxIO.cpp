@@ -12,7 +12,8 @@
 #include <fmt/format.h>
 
 #include "io/files/OutputDirectory.h"
-#include "io/volume/VolumeReader.h"
+#include "io/files/TextFile.h"
+#include "io/files/TextTokenizer.h"
 #include "kernels/base/Error.h"
 
 namespace fs = std::filesystem;
@@ -20,31 +21,6 @@ namespace fs = std::filesystem;
 namespace skelseg {
 
 namespace {
-
-std::vector<std::string> splitWhitespace(const std::string& text) {
-    std::vector<std::string> tokens;
-    std::size_t i = 0;
-    while (i < text.size()) {
-        while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
-        const std::size_t start = i;
-        while (i < text.size() && !std::isspace(static_cast<unsigned char>(text[i]))) ++i;
-        if (i > start) tokens.push_back(text.substr(start, i - start));
-    }
-    return tokens;
-}
-
-/// Printable, shortened text for a one-line message.
-std::string quote(const std::string& text) {
-    std::string shown;
-    for (char c : text) {
-        if (shown.size() >= 40) {
-            shown += "...";
-            break;
-        }
-        shown += (c >= 0x20 && c < 0x7f) ? c : '?';
-    }
-    return "'" + shown + "'";
-}
 
 struct BinvoxHeader {
     std::array<std::int64_t, 3> dim{};  // as listed: extents of x, z, y
@@ -56,7 +32,7 @@ struct BinvoxHeader {
 class BinvoxHeaderParser {
 public:
     BinvoxHeaderParser(const std::string& name, const std::uint8_t* bytes, std::size_t size)
-        : mName(name), mText(reinterpret_cast<const char*>(bytes)), mSize(size) {}
+        : mName(name), mSize(size), mLines(reinterpret_cast<const char*>(bytes), size) {}
 
     BinvoxHeader parse() {
         if (mSize == 0) fail("file is empty");
@@ -68,7 +44,7 @@ public:
             fail("unsupported binvox version " + quote(magic.size() > 1 ? magic[1] : "") +
                  " (supported: 1, 2)");
         bool hasDim = false, hasData = false;
-        while (mPosition < mSize) {
+        while (mLines.bytesLeft() > 0) {
             const auto tokens = splitWhitespace(nextLine());
             if (tokens.empty()) continue;
             const std::string& keyword = tokens[0];
@@ -95,20 +71,18 @@ public:
         }
         if (!hasDim) fail("missing 'dim' line in the header");
         if (!hasData) fail("missing 'data' line: the header never ends");
-        mHeader.dataOffset = mPosition;
+        mHeader.dataOffset = mSize - mLines.bytesLeft();
         return mHeader;
     }
 
 private:
     [[noreturn]] void fail(const std::string& problem) const { throw InputError(mName, problem); }
 
+    /// The next line without its "\n"; empty at the end of the bytes.
     std::string nextLine() {
-        const char* begin = mText + mPosition;
-        const void* newline = std::memchr(begin, '\n', mSize - mPosition);
-        const std::size_t length =
-            newline ? std::size_t(static_cast<const char*>(newline) - begin) : mSize - mPosition;
-        mPosition += length + (newline ? 1 : 0);
-        return std::string(begin, length);
+        std::string_view line;
+        mLines.nextLine(line, false);
+        return std::string(line);
     }
 
     std::int64_t parseInteger(const std::string& text) const {
@@ -130,9 +104,8 @@ private:
     }
 
     const std::string& mName;
-    const char* mText;
     std::size_t mSize;
-    std::size_t mPosition = 0;
+    TextTokenizer mLines;
     BinvoxHeader mHeader;
 };
 

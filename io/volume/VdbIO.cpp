@@ -17,7 +17,7 @@
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/LevelSetUtil.h>
 
-#include "io/volume/VolumeReader.h"
+#include "io/files/TextFile.h"
 #include "kernels/base/Error.h"
 
 namespace fs = std::filesystem;
@@ -39,21 +39,6 @@ std::string oneLine(const char* text) {
     for (char& c : line)  // other control characters (from names in the file)
         if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
     return line;
-}
-
-/// A grid name (any bytes in a file) quoted for a one-line message:
-/// printable ASCII only, shortened.
-std::string quoteName(const std::string& name) {
-    std::string shown;
-    for (char c : name) {
-        if (shown.size() >= 40) {
-            shown += "...";
-            break;
-        }
-        const auto byte = static_cast<unsigned char>(c);
-        shown += (byte >= 0x20 && byte < 0x7f) ? c : '?';
-    }
-    return "'" + shown + "'";
 }
 
 /// A read-only std::streambuf over a memory block, so that
@@ -158,7 +143,7 @@ MaskVolume denseFromReal(const std::string& name, const GridT& grid) {
 
 MaskVolume maskFromGrid(const std::string& name, const openvdb::GridBase::Ptr& grid) {
     if (!grid->transform().isLinear())
-        throw InputError(name, "grid " + quoteName(grid->getName()) + " has a non-linear (" +
+        throw InputError(name, "grid " + quote(grid->getName()) + " has a non-linear (" +
                                    grid->transform().mapType() +
                                    ") transform, which is not supported");
     if (auto boolGrid = openvdb::GridBase::grid<openvdb::BoolGrid>(grid))
@@ -170,8 +155,7 @@ MaskVolume maskFromGrid(const std::string& name, const openvdb::GridBase::Ptr& g
     if (auto doubleGrid = openvdb::GridBase::grid<openvdb::DoubleGrid>(grid))
         return denseFromReal(name, *doubleGrid);
     throw InputError(name, "unsupported grid type " + grid->valueType() + " (grid " +
-                               quoteName(grid->getName()) +
-                               "; supported: bool, mask, float, double)");
+                               quote(grid->getName()) + "; supported: bool, mask, float, double)");
 }
 
 openvdb::math::Transform::Ptr transformFor(const VolumeGeometry& geometry) {
@@ -238,10 +222,9 @@ MaskVolume readVdbMaskFromMemory(const std::string& name, const std::uint8_t* by
             if (!chosen) {
                 std::string available;
                 for (const auto& grid : *grids)
-                    if (grid)
-                        available += (available.empty() ? "" : ", ") + quoteName(grid->getName());
-                throw InputError(name, "no grid named " + quoteName(gridName) +
-                                           "; grids in the file: " + available);
+                    if (grid) available += (available.empty() ? "" : ", ") + quote(grid->getName());
+                throw InputError(
+                    name, "no grid named " + quote(gridName) + "; grids in the file: " + available);
             }
         }
         if (!chosen) throw InputError(name, "the file holds no grids");

@@ -4,20 +4,19 @@
 // returns a binary mask plus the geometry that maps its voxels to the file's
 // world space. Every failure is an InputError whose what() reads
 // "FILE: PROBLEM" on one line. The per-format readers live in NrrdIO.h,
-// BinvoxIO.h and VdbIO.h; docs/formats.md describes what each accepts.
+// BinvoxIO.h and VdbIO.h; docs/formats.md describes what each accepts. The
+// file checks every reader shares (checkReadableFile, readFileBytes) live in
+// io/files/TextFile.h.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <string>
 
+#include "io/files/TextFile.h"  // checkReadableFile, readFileBytes, kMaxInputFileBytes
 #include "kernels/base/Volume.h"
 
 namespace skelseg {
-
-/// Largest input file readFileBytes() accepts. A bound, so that a wrong path
-/// (a disk image, a device) fails at once instead of filling memory.
-constexpr std::uint64_t kMaxInputFileBytes = std::uint64_t(16) << 30;  // 16 GiB
 
 enum class VolumeFormat { Nrrd, Binvox, Vdb, Unknown };
 
@@ -36,14 +35,5 @@ VolumeFormat volumeFormatFromPath(const std::filesystem::path& file);
 ///        lists the supported ones), or any problem the format's reader finds.
 /// @throw UsageError if options.gridName is set for a file that is not .vdb.
 MaskVolume readVolume(const std::filesystem::path& file, const VolumeReadOptions& options = {});
-
-/// Throws the InputError readVolume() would for a path that does not name a
-/// readable regular file; returns normally otherwise.
-void checkReadableFile(const std::filesystem::path& file);
-
-/// The whole content of `file`, after checkReadableFile().
-/// @throw InputError as checkReadableFile(), for files over kMaxInputFileBytes
-///        and for read errors.
-std::string readFileBytes(const std::filesystem::path& file);
 
 }  // namespace skelseg

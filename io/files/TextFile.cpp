@@ -1,0 +1,88 @@
+#include "io/files/TextFile.h"
+
+#include <cerrno>
+#include <fstream>
+#include <system_error>
+
+#include "kernels/base/Error.h"
+
+namespace fs = std::filesystem;
+
+namespace skelseg {
+
+std::string describeErrno(int errorNumber) {
+    if (errorNumber == EACCES || errorNumber == EPERM) return "permission denied";
+    std::string text = std::generic_category().message(errorNumber);
+    if (!text.empty() && text[0] >= 'A' && text[0] <= 'Z') text[0] = char(text[0] - 'A' + 'a');
+    return text;
+}
+
+void checkReadableFile(const fs::path& file) {
+    const std::string name = file.string();
+    std::error_code ec;
+    const fs::file_status status = fs::status(file, ec);
+    if (status.type() == fs::file_type::not_found) throw InputError(name, "no such file");
+    if (ec) throw InputError(name, "cannot be read: " + describeErrno(ec.value()));
+    if (status.type() == fs::file_type::directory)
+        throw InputError(name, "is a directory, not a file");
+    if (status.type() != fs::file_type::regular) throw InputError(name, "is not a regular file");
+    // Permissions are only known for sure by trying (ACLs, root, read-only mounts).
+    std::ifstream probe(file, std::ios::binary);
+    if (!probe) throw InputError(name, "cannot be read: " + describeErrno(errno));
+}
+
+std::string readFileBytes(const fs::path& file) {
+    checkReadableFile(file);
+    const std::string name = file.string();
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (ec) throw InputError(name, "cannot be read: " + describeErrno(ec.value()));
+    if (size > kMaxInputFileBytes)
+        throw InputError(name,
+                         "file is " + std::to_string(size) + " bytes, over the limit of 16 GiB");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw InputError(name, "cannot be read: " + describeErrno(errno));
+    std::string bytes(std::size_t(size), '\0');
+    in.read(bytes.data(), std::streamsize(size));
+    if (std::uintmax_t(in.gcount()) != size)
+        throw InputError(name, "read failed after " + std::to_string(in.gcount()) + " of " +
+                                   std::to_string(size) + " bytes (file changed while reading?)");
+    return bytes;
+}
+
+std::string quote(std::string_view text) {
+    std::string shown;
+    for (char c : text.substr(0, 40)) {
+        const auto byte = static_cast<unsigned char>(c);
+        shown += (byte >= 0x20 && byte < 0x7f) ? c : '?';
+    }
+    if (text.size() > 40) shown += "...";
+    return "'" + shown + "'";
+}
+
+std::string lowercase(std::string_view text) {
+    std::string out(text);
+    for (char& c : out)
+        if (c >= 'A' && c <= 'Z') c = char(c - 'A' + 'a');
+    return out;
+}
+
+std::string_view trim(std::string_view text) noexcept {
+    while (!text.empty() && isSpace(text.front())) text.remove_prefix(1);
+    while (!text.empty() && isSpace(text.back())) text.remove_suffix(1);
+    return text;
+}
+
+std::vector<std::string> splitWhitespace(std::string_view text) {
+    std::vector<std::string> tokens;
+    std::size_t i = 0;
+    while (i < text.size()) {
+        while (i < text.size() && isSpace(text[i])) ++i;
+        const std::size_t start = i;
+        while (i < text.size() && !isSpace(text[i])) ++i;
+        if (i > start) tokens.emplace_back(text.substr(start, i - start));
+    }
+    return tokens;
+}
+
+}  // namespace skelseg

@@ -1,0 +1,60 @@
+// skelseg: reading input files whole, and the small text helpers every reader
+// shares.
+//
+// Every reader (NRRD, binvox, OpenVDB, the four mesh formats, .seg) loads its
+// file with readFileBytes() and parses the bytes in memory, so the same code
+// is fuzzed. The text helpers exist once, here, so that every reader quotes
+// garbage input the same way in its one-line error messages.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace skelseg {
+
+/// Largest input file readFileBytes() accepts. A bound, so that a wrong path
+/// (a disk image, a device) fails at once instead of filling memory.
+constexpr std::uint64_t kMaxInputFileBytes = std::uint64_t(16) << 30;  // 16 GiB
+
+/// Throws the InputError a reader would for a path that does not name a
+/// readable regular file ("no such file", "is a directory, not a file", "is not
+/// a regular file", "cannot be read: permission denied"); returns otherwise.
+void checkReadableFile(const std::filesystem::path& file);
+
+/// The whole content of `file`, after checkReadableFile().
+/// @throw InputError as checkReadableFile(), for files over kMaxInputFileBytes
+///        and for read errors.
+std::string readFileBytes(const std::filesystem::path& file);
+
+/// errno as a message that fits after "cannot be read: " ("permission denied",
+/// otherwise the system's text starting with a lower-case letter).
+std::string describeErrno(int errorNumber);
+
+/// `text` in single quotes for a one-line message: printable ASCII only (any
+/// other byte shows as '?'), shortened to 40 characters and "..." (garbage
+/// input can hold anything, and it must not reach the terminal raw).
+std::string quote(std::string_view text);
+
+/// ASCII lower case (file extensions, keywords).
+std::string lowercase(std::string_view text);
+
+/// True for ' ', '\t', '\r', '\v', '\f': whitespace inside one line.
+constexpr bool isBlank(char c) noexcept {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+/// isBlank() or '\n' (the C locale's isspace).
+constexpr bool isSpace(char c) noexcept {
+    return isBlank(c) || c == '\n';
+}
+
+/// `text` without leading and trailing whitespace (a view into `text`).
+std::string_view trim(std::string_view text) noexcept;
+
+/// The whitespace-separated tokens of `text`.
+std::vector<std::string> splitWhitespace(std::string_view text);
+
+}  // namespace skelseg

@@ -1,0 +1,123 @@
+#include "io/mesh/OffReader.h"
+
+#include <vector>
+
+#include "io/files/TextFile.h"
+#include "io/files/TextTokenizer.h"
+#include "io/mesh/MeshBuilder.h"
+#include "kernels/base/Error.h"
+
+namespace skelseg {
+
+TriangleMesh readOff(const std::string& name, const char* data, std::size_t size) {
+    MeshBuilder builder(name, 0);
+    TextTokenizer lines(data, size);
+    std::string_view line;
+    if (!lines.nextSignificantLine(line)) builder.fail("empty file");
+
+    // Header keyword: [ST][C][N][4][n]OFF, optionally followed by the counts on
+    // the same line. Some writers leave the keyword out and start with counts.
+    TextTokenizer headerTokens(line);
+    std::string_view keyword = headerTokens.nextToken();
+    std::vector<std::int64_t> counts;
+    auto collectCounts = [&](TextTokenizer& tokens, std::string_view first) {
+        for (std::string_view token = first; !token.empty(); token = tokens.nextToken()) {
+            std::int64_t value = 0;
+            if (!parseInteger(token, value) || value < 0)
+                builder.fail("line " + std::to_string(lines.lineNumber()) +
+                             ": expected vertex, face and edge counts, found " + quote(token));
+            counts.push_back(value);
+        }
+    };
+    const std::string lowerKeyword = lowercase(keyword);
+    if (lowerKeyword.size() >= 3 && lowerKeyword.compare(lowerKeyword.size() - 3, 3, "off") == 0) {
+        // The prefix is case-sensitive: 'N' = normals, 'n' = dimension given.
+        const std::string_view prefix = keyword.substr(0, keyword.size() - 3);
+        if (prefix.find('4') != std::string_view::npos ||
+            prefix.find('n') != std::string_view::npos)
+            builder.fail("OFF files with other than 3 dimensions (" + quote(keyword) +
+                         ") are not supported");
+        for (char c : prefix)
+            if (c != 'S' && c != 'T' && c != 'C' && c != 'N')
+                builder.fail("not an OFF file (header " + quote(keyword) + ")");
+        std::string_view token = headerTokens.nextToken();
+        if (lowercase(token) == "binary") builder.fail("binary OFF files are not supported");
+        collectCounts(headerTokens, token);
+        if (counts.empty()) {
+            if (!lines.nextSignificantLine(line))
+                builder.fail("file ends before the vertex and face counts");
+            TextTokenizer countTokens(line);
+            collectCounts(countTokens, countTokens.nextToken());
+        }
+    } else if (std::int64_t value = 0; parseInteger(keyword, value)) {
+        collectCounts(headerTokens, keyword);
+    } else {
+        builder.fail("not an OFF file (it starts with " + quote(keyword) + ")");
+    }
+    if (counts.size() < 2 || counts.size() > 3)
+        builder.fail("line " + std::to_string(lines.lineNumber()) +
+                     ": expected vertex, face and edge counts, found " +
+                     std::to_string(counts.size()) + " numbers");
+
+    const std::uint64_t vertexCount = std::uint64_t(counts[0]);
+    const std::uint64_t faceCount = std::uint64_t(counts[1]);
+    // The shortest vertex line is "0 0 0\n" (6 bytes), the shortest face line
+    // "3 0 0 0\n" (8 bytes): refuse counts the rest of the file cannot hold
+    // before reserving memory for them.
+    const std::uint64_t bytesLeft = lines.bytesLeft() + 1;
+    if (vertexCount > kMaxElementCount || faceCount > kMaxElementCount ||
+        vertexCount * 6 + faceCount * 8 > bytesLeft)
+        builder.fail("header says " + std::to_string(vertexCount) + " vertices and " +
+                     std::to_string(faceCount) + " faces but only " +
+                     std::to_string(lines.bytesLeft()) + " bytes follow");
+    if (faceCount == 0) builder.fail("the mesh has no faces");
+    builder.reserve(vertexCount, faceCount);
+
+    for (std::uint64_t v = 0; v < vertexCount; ++v) {
+        if (!lines.nextSignificantLine(line))
+            builder.fail("file ends after " + std::to_string(v) + " of " +
+                         std::to_string(vertexCount) + " vertices");
+        TextTokenizer tokens(line);
+        double xyz[3];
+        for (double& coordinate : xyz) {
+            const std::string_view token = tokens.nextToken();
+            if (!parseReal(token, coordinate))
+                builder.fail("line " + std::to_string(lines.lineNumber()) + ": vertex " +
+                             std::to_string(v) +
+                             (token.empty() ? " has fewer than 3 coordinates"
+                                            : " has a bad coordinate " + quote(token)));
+        }
+        builder.addVertex(xyz[0], xyz[1], xyz[2]);
+    }
+
+    std::vector<std::int64_t> polygon;
+    for (std::uint64_t f = 0; f < faceCount; ++f) {
+        if (!lines.nextSignificantLine(line))
+            builder.fail("file ends after " + std::to_string(f) + " of " +
+                         std::to_string(faceCount) + " faces");
+        TextTokenizer tokens(line);
+        const std::string_view countToken = tokens.nextToken();
+        std::int64_t corners = 0;
+        if (!parseInteger(countToken, corners) || corners < 0)
+            builder.fail("line " + std::to_string(lines.lineNumber()) + ": face " +
+                         std::to_string(f) + " has a bad vertex count " + quote(countToken));
+        polygon.clear();
+        // Read at most what the line holds, whatever the count claims.
+        for (std::int64_t c = 0; c < corners; ++c) {
+            const std::string_view token = tokens.nextToken();
+            std::int64_t index = 0;
+            if (token.empty())
+                builder.fail("line " + std::to_string(lines.lineNumber()) + ": face " +
+                             std::to_string(f) + " lists " + std::to_string(c) + " of its " +
+                             std::to_string(corners) + " vertex indices");
+            if (!parseInteger(token, index))
+                builder.fail("line " + std::to_string(lines.lineNumber()) + ": face " +
+                             std::to_string(f) + " has a bad vertex index " + quote(token));
+            polygon.push_back(index);
+        }
+        builder.addFace(polygon, vertexCount);
+    }
+    return builder.finish();
+}
+
+}  // namespace skelseg

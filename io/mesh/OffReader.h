@@ -1,0 +1,19 @@
+// skelseg: the OFF reader (internal to io/mesh/; readMesh() in MeshIO.h
+// dispatches to it by extension). Accepts the [ST][C][N]OFF
+// variants with 3 dimensions, counts on the keyword line or the next one, and
+// files that leave the keyword out.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "io/mesh/MeshIO.h"
+
+namespace skelseg {
+
+/// Reads an ASCII OFF file held in `size` bytes at `data`; `name` is used in
+/// messages. @throw InputError(name, problem).
+TriangleMesh readOff(const std::string& name, const char* data, std::size_t size);
+
+}  // namespace skelseg
