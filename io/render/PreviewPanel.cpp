@@ -1,5 +1,7 @@
 #include "io/render/PreviewPanel.h"
 
+#include <Eigen/Geometry>  // cross products
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
