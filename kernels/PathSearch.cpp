@@ -1,7 +1,5 @@
 #include "kernels/PathSearch.h"
 
-#include "kernels/base/ParallelFor.h"
-
 #include <algorithm>
 #include <array>
 #include <atomic>
