@@ -131,6 +131,9 @@ json callReport(const SegmentationResult& result, const CallReportContext& conte
                             {"boundary_area", s.boundaryArea}});
     report["segments"] = segments;
     report["segment_count"] = result.segments.size();
+    report["islands"] = {{"count", result.islands.count},
+                         {"voxels", result.islands.voxels},
+                         {"noise_area", result.islands.noiseArea}};
     if (context.faceSegments) report["face_segments"] = *context.faceSegments;
     json stages = json::array();
     double serialWall = 0.0;

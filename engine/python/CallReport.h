@@ -3,7 +3,7 @@
 // The same keys and values the CLI writes to report.json (docs/outputs.md),
 // built from the engine's result: status, skelseg_version, input, grid,
 // parameters, counts, work, objects, junctions, critical_points, segments,
-// segment_count, face_segments (meshes), stages, timing, memory, warnings.
+// segment_count, islands, face_segments (meshes), stages, timing, memory, warnings.
 // Only "input" differs: a Python call has no file, so it describes the array
 // or the mesh passed in ({"kind": "array", "shape": ..., "dtype": ...} or
 // {"kind": "mesh", "faces": ..., ...}).
