@@ -12,8 +12,7 @@ CallerPolledInterrupter::CallerPolledInterrupter(double timeLimitSeconds)
 
 void CallerPolledInterrupter::start(const char* name) {
     std::lock_guard<std::mutex> lock(mStageMutex);
-    mStage = name;
-    ++mStageNumber;
+    mStages.push_back(name);
     mFraction = -1.0;
 }
 
@@ -33,7 +32,15 @@ InterruptedError::Reason CallerPolledInterrupter::reason() const {
 
 CallerPolledInterrupter::Progress CallerPolledInterrupter::progress() const {
     std::lock_guard<std::mutex> lock(mStageMutex);
-    return {mStage, mFraction.load(std::memory_order_relaxed), mStageNumber};
+    if (mStages.empty()) return {};
+    return {mStages.back(), mFraction.load(std::memory_order_relaxed),
+            static_cast<unsigned>(mStages.size())};
+}
+
+std::vector<std::string> CallerPolledInterrupter::stagesSince(unsigned alreadySeen) const {
+    std::lock_guard<std::mutex> lock(mStageMutex);
+    if (alreadySeen >= mStages.size()) return {};
+    return {mStages.begin() + alreadySeen, mStages.end()};
 }
 
 }  // namespace skelseg

@@ -4,8 +4,9 @@
 // any of their threads, thousands of times a second. Those calls must not
 // touch Python (taking the GIL there would stall the kernels and can
 // deadlock against a caller that waits for them), so this interrupter only
-// keeps atomics: the stage and fraction for the caller to read, a cancel flag
-// for the caller to raise, and the time limit. The calling thread, which
+// keeps atomics and a short list: every stage started, in order, and the
+// fraction of the current one for the caller to read, a cancel flag for the
+// caller to raise, and the time limit. The calling thread, which
 // waits for the worker with the GIL released, wakes every few tens of
 // milliseconds, takes the GIL, checks for Ctrl-C and calls the progress
 // callback (EngineCall.h); it cancels through cancel().
@@ -15,6 +16,7 @@
 #include <chrono>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "kernels/base/Interrupter.h"
 
@@ -40,6 +42,11 @@ public:
     /// The stage started last and the fraction of it done, as last polled.
     Progress progress() const;
 
+    /// The names of the stages started after the first `alreadySeen` ones, in
+    /// order: a caller that polls less often than stages start still sees
+    /// every stage once.
+    std::vector<std::string> stagesSince(unsigned alreadySeen) const;
+
 private:
     std::chrono::steady_clock::time_point mDeadline;
     bool mHasDeadline = false;
@@ -47,8 +54,7 @@ private:
     std::atomic<bool> mTimedOut{false};
     std::atomic<double> mFraction{-1.0};
     mutable std::mutex mStageMutex;
-    const char* mStage = "";
-    unsigned mStageNumber = 0;
+    std::vector<std::string> mStages;
 };
 
 }  // namespace skelseg

@@ -7,7 +7,9 @@
 #include <exception>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
+#include <vector>
 
 namespace py = pybind11;
 
@@ -33,6 +35,38 @@ void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& i
     std::optional<py::error_already_set> pythonError;
     const bool reportProgress = !progress.is_none();
 
+    unsigned reportedStages = 0;
+    double reportedFraction = -2.0;
+    auto lastReport = std::chrono::steady_clock::now() - kProgressInterval;
+    // Calls progress once for every stage started since the last report, in
+    // order (the fraction known only for the current stage), and within a
+    // stage when its fraction moved and kProgressInterval has passed. So a
+    // run shorter than one poll still reports each of its stages.
+    const auto report = [&](bool finalFlush) {
+        const std::vector<std::string> started = interrupter.stagesSince(reportedStages);
+        const CallerPolledInterrupter::Progress p = interrupter.progress();
+        const unsigned seen = reportedStages + static_cast<unsigned>(started.size());
+        // A stage started between the two reads: its fraction belongs to none of
+        // `started`; the next poll reports it.
+        const bool pCurrent = p.stageNumber == seen;
+        const auto now = std::chrono::steady_clock::now();
+        const bool due = !started.empty() || (pCurrent && p.fraction != reportedFraction &&
+                                              now - lastReport >= kProgressInterval);
+        if (seen == 0 || !due) return;
+        try {
+            for (std::size_t i = 0; i < started.size(); ++i) {
+                const bool last = i + 1 == started.size() && pCurrent && !finalFlush;
+                progress(started[i], last ? fractionObject(p.fraction) : py::none());
+            }
+            if (started.empty()) progress(p.stage, fractionObject(p.fraction));
+        } catch (py::error_already_set& error) {
+            pythonError.emplace(std::move(error));
+            interrupter.cancel();
+        }
+        reportedStages = seen;
+        reportedFraction = pCurrent ? p.fraction : -1.0;
+        lastReport = now;
+    };
     {
         py::gil_scoped_release release;
         std::thread worker([&] {
@@ -51,9 +85,6 @@ void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& i
             finished.notify_all();
         });
 
-        unsigned reportedStage = 0;
-        double reportedFraction = -2.0;
-        auto lastReport = std::chrono::steady_clock::now() - kProgressInterval;
         for (;;) {
             {
                 std::unique_lock<std::mutex> lock(mutex);
@@ -66,28 +97,17 @@ void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& i
                 interrupter.cancel();
                 continue;
             }
-            if (!reportProgress) continue;
-            const auto now = std::chrono::steady_clock::now();
-            const CallerPolledInterrupter::Progress p = interrupter.progress();
-            const bool newStage = p.stageNumber != reportedStage;
-            if (p.stageNumber == 0 || (!newStage && p.fraction == reportedFraction) ||
-                (!newStage && now - lastReport < kProgressInterval))
-                continue;
-            try {
-                progress(p.stage, fractionObject(p.fraction));
-            } catch (py::error_already_set& error) {
-                pythonError.emplace(std::move(error));
-                interrupter.cancel();
-            }
-            reportedStage = p.stageNumber;
-            reportedFraction = p.fraction;
-            lastReport = now;
+            if (reportProgress) report(false);
         }
         worker.join();
     }
     if (pythonError) throw std::move(*pythonError);
     if (engineError) std::rethrow_exception(engineError);
-    if (reportProgress) progress("done", 1.0);
+    if (reportProgress) {
+        report(true);  // the stages a short run started between two polls
+        if (pythonError) throw std::move(*pythonError);
+        progress("done", 1.0);
+    }
 }
 
 }  // namespace skelseg

@@ -6,8 +6,10 @@
 // GIL and waits. Every 50 ms the caller wakes, takes the GIL, and
 //   - checks for signals (PyErr_CheckSignals): Ctrl-C raises
 //     KeyboardInterrupt there, in the main thread, as Python expects;
-//   - calls progress(stage, fraction) when the stage or its fraction changed,
-//     at most every 100 ms, and once more with ("done", 1.0) at the end.
+//   - calls progress(stage, fraction) once for every stage started since the
+//     last wake, in order, and when the current stage's fraction changed, at
+//     most every 100 ms; at the end, for the stages not reported yet, then
+//     once with ("done", 1.0).
 // A Python exception from either cancels the engine through the interrupter;
 // the caller waits for the worker to stop (the kernels poll every few
 // milliseconds) and re-raises it, so the interpreter stays usable. Engine

@@ -49,9 +49,10 @@ def test_a_grid_over_the_voxel_cap_is_a_value_error_without_reading_it(capfd):
 
 
 def test_the_time_limit_is_a_timeout_error(capfd, shapes):
-    mask = skelseg.read_volume(shapes.nrrd("figure", 128, 1))
+    # A whole run takes 0.5 s on a fast machine: far longer than the limit.
+    mask = skelseg.read_volume(shapes.nrrd("figure", 224, 1))
     with pytest.raises(TimeoutError, match=r"^time limit reached$"):
-        skelseg.segment(mask, time_limit=0.05)
+        skelseg.segment(mask, time_limit=0.02)
     check_quiet(capfd)
 
 

@@ -8,7 +8,9 @@ import skelseg
 
 
 def test_four_threads_at_once_give_the_labels_of_one_and_overlap(shapes):
-    mask = skelseg.read_volume(shapes.nrrd("figure", 96, 1))
+    # Long enough (0.2 s a call on a fast machine) that the four runs overlap
+    # by several of the caller's 50 ms polls.
+    mask = skelseg.read_volume(shapes.nrrd("figure", 128, 1))
     expected = skelseg.segment(mask, threads=1).labels
 
     # The same four calls one after the other, then on four threads at once.
