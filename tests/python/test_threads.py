@@ -13,12 +13,8 @@ def test_four_threads_at_once_give_the_labels_of_one_and_overlap(shapes):
     mask = skelseg.read_volume(shapes.nrrd("figure", 128, 1))
     expected = skelseg.segment(mask, threads=1).labels
 
-    # The same four calls one after the other, then on four threads at once.
-    start = time.perf_counter()
-    for _ in range(4):
-        skelseg.segment(mask, threads=1)
-    sequential_wall = time.perf_counter() - start
-
+    # No wall-time ratio is asserted: on a shared machine it measures the
+    # load; the overlap of the four runs below is what a held GIL would break.
     barrier = threading.Barrier(4)
     labels = [None] * 4
     # While the engine runs, progress is called on the calling thread: the
@@ -36,12 +32,10 @@ def test_four_threads_at_once_give_the_labels_of_one_and_overlap(shapes):
         labels[i] = skelseg.segment(mask, threads=1, progress=progress).labels
 
     threads = [threading.Thread(target=work, args=(i,)) for i in range(4)]
-    start = time.perf_counter()
     for t in threads:
         t.start()
     for t in threads:
         t.join()
-    concurrent_wall = time.perf_counter() - start
 
     for result in labels:
         np.testing.assert_array_equal(result, expected)
@@ -50,10 +44,6 @@ def test_four_threads_at_once_give_the_labels_of_one_and_overlap(shapes):
     latest_start = max(begin for begin, _ in running)
     earliest_end = min(end for _, end in running)
     assert latest_start < earliest_end, running
-    # Running them at once costs no more than running them in turn (lenient).
-    # No speed-up is asserted: on a shared machine whose scheduler caps this
-    # process's CPU share, four threads get no more CPU than one.
-    assert concurrent_wall < 1.5 * sequential_wall, (concurrent_wall, sequential_wall)
 
 
 def test_threads_do_not_change_the_labels(figure_mask):
