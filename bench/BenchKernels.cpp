@@ -16,6 +16,7 @@
 #include "kernels/ComponentGrowth.h"
 #include "kernels/Geodesicness.h"
 #include "kernels/RimCount.h"
+#include "kernels/SkeletonBand.h"
 
 namespace skelseg::bench {
 namespace {
@@ -211,6 +212,28 @@ void geodesicnessBench(benchmark::State& state, const std::string& shape) {
 }
 
 /// Path sets, rims, rho_C and sigma for every candidate (the dominant stage).
+/// The band search (kernels/SkeletonBand.h) on the same inputs as
+/// BM_MeasureSkeleton: compare the two rows and their work counters.
+void measureSkeletonInBandBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    const SkeletonMeasureOptions options = in.measureOptions();
+    SkeletonMeasureStats total;
+    SkeletonBandStats band;
+    std::uint64_t measured = 0;
+    for (auto _ : state) {
+        SkeletonMeasureStats stats;
+        std::vector<SkeletonPoint> result = measureSkeletonInBand(
+            in.graph, in.candidates, in.mask, in.featureTransform, options, {}, &band, &stats);
+        benchmark::DoNotOptimize(result.data());
+        total.search += stats.search;
+        measured += band.candidatesMeasured;
+    }
+    state.counters["candidates"] = double(in.candidates.size());
+    state.counters["candidatesMeasured"] = perIteration(double(measured));
+    state.counters["coarseCandidates"] = double(band.coarseCandidates);
+    state.counters["heapPops"] = perIteration(double(total.search.heapPops));
+}
+
 void measureSkeletonBench(benchmark::State& state, const std::string& shape) {
     const ShapeInput& in = shapeInput(shape, int(state.range(0)));
     const SkeletonMeasureOptions options = in.measureOptions();
@@ -256,6 +279,7 @@ void measureSkeletonBench(benchmark::State& state, const std::string& shape) {
     registerForShapes("ComponentGrowth", kSizes, componentGrowthBench);
     registerForShapes("Geodesicness", kSizes, geodesicnessBench);
     registerForShapes("MeasureSkeleton", kSizes, measureSkeletonBench);
+    registerForShapes("MeasureSkeletonInBand", kSizes, measureSkeletonInBandBench);
     return true;
 }();
 

@@ -18,12 +18,13 @@ TARGETS = {256: 5.0, 400: 20.0}  # seconds of wall time (issue 4)
 MEMORY_TARGET_GB = 2.0
 
 
-def run_once(skelseg, mesh, resolution, threads, out):
+def run_once(skelseg, mesh, resolution, threads, out, extra=()):
     if out.exists():
         subprocess.run(["rm", "-rf", str(out)], check=True)
     cmd = [str(skelseg), "segment", str(mesh), "-o", str(out), "--resolution", str(resolution), "-q"]
     if threads:
         cmd += ["--threads", str(threads)]
+    cmd += list(extra)
     start = time.monotonic()
     proc = subprocess.run(["/usr/bin/time", "-f", "%M"] + cmd, capture_output=True, text=True)
     wall = time.monotonic() - start
@@ -38,6 +39,9 @@ def run_once(skelseg, mesh, resolution, threads, out):
         "peak_gb": peak_kb / 1024 / 1024,
         "segments": report["segment_count"],
         "stages": {s["name"]: s["wall_seconds"] for s in report["stages"]},
+        "path_set_share": sum(s["wall_seconds"] for s in report["stages"]
+                              if s["name"] == "path sets, rims, areas, sigma") / max(wall, 1e-9),
+        "nodes_settled": report["work"]["nodes_settled"],
     }
 
 
@@ -49,9 +53,16 @@ def main():
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--threads", type=int, default=0, help="passed as --threads (default: all cores)")
     ap.add_argument("--out", default=str(REPO / "out" / "reference"))
+    ap.add_argument("--models", default="armadillo.obj,hand.off",
+                    help="file names in DATA/shapes, comma-separated, or 'all'")
+    ap.add_argument("--compare-exhaustive", action="store_true",
+                    help="run each model with --skeleton-search band and, alternating in the same "
+                         "session, with the exhaustive search (the default), and add the "
+                         "comparison columns (without this flag: the default only)")
     args = ap.parse_args()
     shapes = Path(args.data) / "shapes"
-    meshes = [shapes / "armadillo.obj", shapes / "hand.off"]
+    meshes = (sorted(p for p in shapes.iterdir() if p.is_file()) if args.models == "all"
+              else [shapes / m for m in args.models.split(",")])
     if not all(m.is_file() for m in meshes):
         print(f"reference_runs: {shapes} lacks armadillo.obj or hand.off; skipping.")
         return 0
@@ -62,21 +73,39 @@ def main():
     load_before = os.getloadavg()[0]
     for mesh in meshes:
         for resolution in resolutions:
-            runs = [run_once(args.skelseg, mesh, resolution, args.threads, out / f"{mesh.stem}-{resolution}")
-                    for _ in range(args.repeat)]
+            runs, exhaustive = [], []
+            for _ in range(args.repeat):
+                band = ["--skeleton-search", "band"] if args.compare_exhaustive else []
+                runs.append(run_once(args.skelseg, mesh, resolution, args.threads, out / f"{mesh.stem}-{resolution}", band))
+                if args.compare_exhaustive:
+                    exhaustive.append(run_once(args.skelseg, mesh, resolution, args.threads,
+                                               out / f"{mesh.stem}-{resolution}-exhaustive", ["--skeleton-search", "exhaustive"]))
             med = {k: statistics.median(r[k] for r in runs) for k in ("wall", "cpu", "serial_share", "peak_gb")}
-            record.append({"mesh": mesh.name, "resolution": resolution, "runs": runs, "median": med})
+            record.append({"mesh": mesh.name, "resolution": resolution, "runs": runs, "median": med,
+                           "exhaustive_runs": exhaustive})
+            compare = ""
+            if exhaustive:
+                ew = statistics.median(r["wall"] for r in exhaustive)
+                ec = statistics.median(r["cpu"] for r in exhaustive)
+                compare = (f" {statistics.median(r['path_set_share'] for r in runs) * 100:.0f}% | "
+                           f"{ew:.2f} / {ec:.2f} | {statistics.median(r['path_set_share'] for r in exhaustive) * 100:.0f}% | "
+                           f"{runs[0]['nodes_settled'] / max(exhaustive[0]['nodes_settled'], 1):.2f} |")
             target = TARGETS.get(resolution)
             verdict = "" if target is None else ("met" if med["wall"] <= target else f"not met ({med['wall'] / target:.1f}x)")
             rows.append(f"| {mesh.name} | {resolution} | {med['wall']:.2f} | "
                         f"{min(r['wall'] for r in runs):.2f} to {max(r['wall'] for r in runs):.2f} | {med['cpu']:.2f} | "
                         f"{med['serial_share'] * 100:.1f}% | {med['peak_gb']:.2f} | {runs[0]['segments']} | "
-                        f"{'<= %g s: %s' % (target, verdict) if target else ''} |")
+                        f"{'<= %g s: %s' % (target, verdict) if target else ''} |" + compare)
     (out / "reference.json").write_text(json.dumps(record, indent=2) + "\n")
     print(f"{args.repeat} runs each, {os.cpu_count()} vCPUs, 1-minute load average {load_before:.2f} before "
           f"and {os.getloadavg()[0]:.2f} after (our own runs add about 2); medians.\n")
-    print("| model | resolution | wall s (median) | wall s (range) | CPU s | serial share | peak GB | segments | target |")
-    print("| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | --- |")
+    head = "| model | resolution | wall s (median) | wall s (range) | CPU s | serial share | peak GB | segments | target |"
+    rule = "| --- | ---: | ---: | --- | ---: | ---: | ---: | ---: | --- |"
+    if args.compare_exhaustive:
+        head += " path-set share | exhaustive wall / CPU s | exhaustive path-set share | nodes settled, band / exhaustive |"
+        rule += " ---: | --- | ---: | ---: |"
+    print(head)
+    print(rule)
     print("\n".join(rows))
     return 0
 

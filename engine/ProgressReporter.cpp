@@ -64,7 +64,8 @@ void ProgressReporter::end() {}
 bool ProgressReporter::wasInterrupted(double fraction) {
     if (gInterruptRequested.load(std::memory_order_relaxed)) return true;
     if (mTimedOut.load(std::memory_order_relaxed)) return true;
-    if (mTimeLimit > 0.0 && elapsedSeconds() > mTimeLimit) {
+    const double limit = mTimeLimit.load(std::memory_order_relaxed);
+    if (limit > 0.0 && elapsedSeconds() > limit) {
         mTimedOut.store(true);
         return true;
     }

@@ -40,6 +40,9 @@ public:
     /// when the display is Quiet.
     void message(const std::string& line);
     double elapsedSeconds() const;
+    /// Sets the time limit (seconds from the start; <= 0: none) after
+    /// construction: --time-budget falls back to it when nothing fits.
+    void setTimeLimit(double seconds) { mTimeLimit = seconds; }
 
     /// SIGINT and SIGTERM set a process-wide flag that every reporter sees.
     static void installSignalHandlers();
@@ -54,7 +57,7 @@ private:
     Display mDisplay;
     std::FILE* mStream;
     std::chrono::steady_clock::time_point mStart, mStageStart;
-    double mTimeLimit;
+    std::atomic<double> mTimeLimit;
     std::atomic<bool> mTimedOut{false};
     std::mutex mMutex;
     std::string mStage;

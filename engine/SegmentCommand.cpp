@@ -36,6 +36,8 @@ namespace {
 
 using SourceMessage = std::shared_ptr<SegmentSource>;  // the mask node moves a volume out
 using MaskMessage = std::shared_ptr<const SegmentMask>;
+using SegmentingMessage =
+    std::shared_ptr<SegmentedShape>;  // filled in by segment, refine, complete
 using ShapeMessage = std::shared_ptr<const SegmentedShape>;
 
 /// Never replace the input: with --force, an input stored in OUTDIR under an
@@ -67,17 +69,42 @@ struct RunContext {
     }
 };
 
-ShapeMessage segmentShape(const RunContext& run, MaskMessage input) {
+MaskMessage maskShape(const RunContext& run, SourceMessage source) {
+    auto mask = std::make_shared<SegmentMask>(
+        maskSegmentSource(std::move(source), run.inputOptions, run.timer, run.progress,
+                          [&](const std::string& w) { run.warn(w); }));
+    // Nothing fits the budget: it becomes a time limit, as --time-limit.
+    if (mask->budget && !mask->budget->fits)
+        run.progress.setTimeLimit(run.options.timeBudgetSeconds);
+    return mask;
+}
+
+SegmentingMessage segmentShape(const RunContext& run, MaskMessage input) {
     auto shape = std::make_shared<SegmentedShape>();
     shape->result = segmentVolume(input->mask, run.options.parameters, run.progress, &run.timer);
     for (const auto& w : shape->result.warnings) run.warn(w);
-    const SegmentSource& source = *input->source;
+    shape->input = std::move(input);
+    return shape;
+}
+
+/// A volume coarsened for --time-budget: its result back on the input grid.
+SegmentingMessage refineShape(const RunContext& run, SegmentingMessage shape) {
+    const SegmentMask& input = *shape->input;
+    if (input.budget && input.budget->coarsening > 1) {
+        Stage stage(run.timer, run.progress, "refine labels", true);
+        refineSegmentationResult(shape->result, input.fineMask, input.budget->coarsening);
+    }
+    return shape;
+}
+
+/// What the writers need besides the result: face labels, world geometry.
+ShapeMessage completeShape(const RunContext& run, SegmentingMessage shape) {
+    const SegmentSource& source = *shape->input->source;
     if (source.isMesh()) {
         Stage stage(run.timer, run.progress, "face labels", true);
         shape->faceLabels = labelFaces(*source.mesh, shape->result.labels, {}, run.progress);
     }
     shape->world = gatherWorldGeometry(shape->result);
-    shape->input = std::move(input);
     return shape;
 }
 
@@ -104,14 +131,17 @@ void runGraph(const RunContext& run) {
                 readSegmentSource(run.options.input, run.inputOptions, run.timer, run.progress));
         });
     flow::function_node<SourceMessage, MaskMessage> mask(
-        graph, flow::serial, [&](SourceMessage source) -> MaskMessage {
-            return std::make_shared<SegmentMask>(
-                maskSegmentSource(std::move(source), run.inputOptions, run.timer, run.progress,
-                                  [&](const std::string& w) { run.warn(w); }));
-        });
-    flow::function_node<MaskMessage, ShapeMessage> segment(
+        graph, flow::serial,
+        [&](SourceMessage source) { return maskShape(run, std::move(source)); });
+    flow::function_node<MaskMessage, SegmentingMessage> segment(
         graph, flow::serial,
         [&](MaskMessage input) { return segmentShape(run, std::move(input)); });
+    flow::function_node<SegmentingMessage, SegmentingMessage> refine(
+        graph, flow::serial,
+        [&](SegmentingMessage shape) { return refineShape(run, std::move(shape)); });
+    flow::function_node<SegmentingMessage, ShapeMessage> complete(
+        graph, flow::serial,
+        [&](SegmentingMessage shape) { return completeShape(run, std::move(shape)); });
 
     // The writers pass the shape on, so the join below hears when each is done.
     auto writer = [&](auto write) {
@@ -143,10 +173,12 @@ void runGraph(const RunContext& run) {
 
     flow::make_edge(read, mask);
     flow::make_edge(mask, segment);
-    flow::make_edge(segment, writeNrrd);
-    flow::make_edge(segment, writeVdb);
-    flow::make_edge(segment, writeSkeleton);
-    flow::make_edge(segment, writeSurfaces);
+    flow::make_edge(segment, refine);
+    flow::make_edge(refine, complete);
+    flow::make_edge(complete, writeNrrd);
+    flow::make_edge(complete, writeVdb);
+    flow::make_edge(complete, writeSkeleton);
+    flow::make_edge(complete, writeSurfaces);
     flow::make_edge(writeNrrd, flow::input_port<0>(written));
     flow::make_edge(writeVdb, flow::input_port<1>(written));
     flow::make_edge(writeSkeleton, flow::input_port<2>(written));
@@ -166,6 +198,8 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     inputOptions.gridName = options.gridName;
     inputOptions.resolution = options.resolution;
     inputOptions.threads = threads;
+    inputOptions.timeBudgetSeconds = options.timeBudgetSeconds;
+    inputOptions.start = wallStart;
     inputOptions.memoryLimit =
         options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit();
 

@@ -10,10 +10,14 @@
 // The run is a oneTBB flow graph whose edges carry values (shared pointers
 // to immutable results; the volume's mask is moved, not copied):
 //
-//   read ──SegmentSource──> mask ──SegmentMask──> segment ──SegmentedShape──┐
-//   (SegmentInput.h)        (SegmentInput.h)      (segmentVolume,           │
-//                                                  face labels,             │
-//                                                  world geometry)          │
+//   read ──SegmentSource──> mask ──SegmentMask──> segment ──SegmentedShape──>
+//   (SegmentInput.h)        (SegmentInput.h;      (segmentVolume)
+//                            --time-budget probe
+//                            and choice)
+//   ──> refine ──SegmentedShape──> complete ──SegmentedShape─────────────────┐
+//       (a volume coarsened        (face labels,                            │
+//        for --time-budget:        world geometry)                          │
+//        TimeBudget.h)                                                      │
 //        ┌──────────────────┬───────────────────┬───────────────────────────┤
 //        v                  v                   v                           v
 //   write labels.nrrd  write labels.vdb  write skeleton.ply,    segment surfaces,
@@ -49,6 +53,7 @@ struct SegmentCommandOptions {
     SegmentationParameters parameters;
     int threads = 0;                   // 0: all cores
     double timeLimitSeconds = 0;       // 0: none
+    double timeBudgetSeconds = 0;      // 0: none; engine/TimeBudget.h
     bool force = false;                // replace earlier results in OUTDIR
     std::uint64_t maxMemoryBytes = 0;  // 0: default share of physical memory
     bool writePreview = true;

@@ -101,6 +101,39 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
     }
 }
 
+double secondsLeft(const SegmentInputOptions& options) {
+    return options.timeBudgetSeconds -
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - options.start).count();
+}
+
+/// Chooses the resolution (meshes) before voxelising; budget of the user,
+/// not what is left after reading, in the choice's budgetSeconds.
+BudgetChoice planMeshBudget(const SegmentSource& source, const SegmentInputOptions& options,
+                            StageTimer& timer, Interrupter& interrupter) {
+    Stage stage(timer, interrupter, "time budget probe", true);
+    VoxelizeOptions voxelizeOptions;
+    voxelizeOptions.resolution = options.resolution;
+    voxelizeOptions.meshIsClosed = source.meshDiagnostics.closed;
+    BudgetChoice choice = planMeshRun(*source.mesh, voxelizeOptions, secondsLeft(options),
+                                      CostModel::fitted(), interrupter);
+    choice.budgetSeconds = options.timeBudgetSeconds;
+    return choice;
+}
+
+/// Chooses the coarsening (volumes) and coarsens `result.mask`, keeping the
+/// input mask for the refinement.
+void planVolumeBudget(SegmentMask& result, const SegmentInputOptions& options, StageTimer& timer,
+                      Interrupter& interrupter) {
+    Stage stage(timer, interrupter, "time budget probe", true);
+    result.budget =
+        planVolumeRun(result.mask, secondsLeft(options), CostModel::fitted(), interrupter);
+    result.budget->budgetSeconds = options.timeBudgetSeconds;
+    if (result.budget->coarsening > 1) {
+        result.fineMask = std::move(result.mask);
+        result.mask = coarsenMask(result.fineMask, result.budget->coarsening);
+    }
+}
+
 }  // namespace
 
 SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
@@ -109,8 +142,14 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
                               const std::function<void(const std::string&)>& warn) {
     SegmentMask result;
     if (source->isMesh()) {
+        SegmentInputOptions chosen = options;
+        if (options.timeBudgetSeconds > 0) {
+            result.budget = planMeshBudget(*source, options, timer, interrupter);
+            chosen.resolution = result.budget->resolution;
+        }
+        result.resolution = chosen.resolution;
         MeshVoxelization voxelised =
-            voxelise(*source, options, timer, interrupter, result.estimatedMemory);
+            voxelise(*source, chosen, timer, interrupter, result.estimatedMemory);
         result.mask = std::move(voxelised.mask);
         result.contacts = voxelised.contacts;
         {
@@ -124,6 +163,7 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         }
     } else {
         result.mask = std::move(source->volumeMask);
+        if (options.timeBudgetSeconds > 0) planVolumeBudget(result, options, timer, interrupter);
     }
     std::uint64_t objectVoxels = 0;
     for (std::uint8_t v : result.mask.values()) objectVoxels += v != 0;

@@ -6,12 +6,16 @@
 //   maskSegmentSource(): a mesh voxelised at the requested resolution (the
 //     grid is sized and its memory checked before any voxel is made), and for
 //     every input the memory estimate of the segmentation against the limit.
+//     With a time budget (--time-budget, engine/TimeBudget.h) it first probes
+//     the work and chooses the mesh resolution or the volume coarsening; the
+//     choice travels in the SegmentMask.
 // Errors name the input file: InputError for a file that cannot be read,
 // UsageError for a grid that cannot be made, MemoryLimitError for a run that
 // would need more than the limit. checkInputFileSize() refuses a file larger
 // than the limit before anything is read (readers load the whole file).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -21,6 +25,7 @@
 #include <vector>
 
 #include "engine/StageTimer.h"
+#include "engine/TimeBudget.h"
 #include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshGenus.h"
 #include "io/mesh/MeshIO.h"
@@ -50,6 +55,11 @@ struct SegmentMask {
     MeshTopology meshGenus{};
     VoxelTopology voxelGenus{};
     ContactSeparation contacts{};
+    int resolution = 0;  // meshes: the voxelisation's resolution (the budget may lower it)
+    // --time-budget: what it chose. A volume segmented `coarsening` times
+    // coarser keeps its input mask in `fineMask` for the refinement.
+    std::optional<BudgetChoice> budget;
+    MaskVolume fineMask;
 };
 
 struct SegmentInputOptions {
@@ -57,6 +67,8 @@ struct SegmentInputOptions {
     int resolution = 256;  // meshes: voxels along the longest side
     int threads = 1;       // for the memory estimate (per-thread workspaces)
     std::uint64_t memoryLimit = 0;
+    double timeBudgetSeconds = 0;  // 0: none; counted from `start`
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 };
 
 /// "1.50 GB", "12.00 MB", "512 bytes": a unit that shows the number.

@@ -1,6 +1,7 @@
 #include "engine/SegmentOutput.h"
 
 #include <cmath>
+#include <optional>
 
 #include "engine/SegmentViews.h"
 #include "engine/Stage.h"
@@ -125,9 +126,13 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
     for (const auto& p : shape.world.skeletonPoints) scene.skeletonPoints.push_back(p.position);
     scene.skeletonEdges = shape.world.skeletonEdges;
     scene.cutLoops = shape.world.cutLoops;
+    const std::optional<BudgetChoice>& budget = shape.input->budget;
     scene.title =
         options.input.filename().string() + "   parts: " + std::to_string(result.segments.size()) +
         "   tau: " + options.parameters.tau.toString() +
+        (budget && budget->coarsened
+             ? "   coarsened for --time-budget: " + describeBudgetChoice(*budget)
+             : std::string()) +
         (options.parameters.mode == CutMode::Junctions ? "   mode: junctions (RT07)" : "");
     PreviewOptions previewOptions;  // default: the longest side of the shape points up
     renderPreviewPng(out.stagingPath("preview.png"), scene, previewOptions);

@@ -42,7 +42,7 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
     if (source.isMesh()) {
         report["input"]["faces"] = source.mesh->faceCount;
         report["input"]["vertices"] = source.mesh->vertices.size();
-        report["input"]["resolution"] = options.resolution;
+        report["input"]["resolution"] = shape.input->resolution;
         report["input"]["mesh_closed"] = source.meshDiagnostics.closed;
         report["input"]["mesh_pieces"] = source.meshDiagnostics.pieces;
         report["input"]["mesh_boundary_edges"] = source.meshDiagnostics.boundaryEdges;
@@ -65,20 +65,16 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
         {"threads", figures.threads},
         {"region_radius", options.parameters.regionRadius},
         {"bridge_gap", options.parameters.bridgeGap},
-        {"consecutive_levels", options.parameters.consecutiveLevels}};
+        {"consecutive_levels", options.parameters.consecutiveLevels},
+        {"skeleton_search", skeletonSearchName(options.parameters.skeletonSearch)}};
     json counts = {{"object_voxels", 0},         {"boundary_voxels", 0}, {"candidates", 0},
                    {"curve_skeleton_points", 0}, {"skeleton_points", 0}, {"junction_voxels", 0}};
-    json work = {{"objects_voxels_examined", 0},
-                 {"candidates_searched", 0},
-                 {"dijkstra_searches", 0},
-                 {"heap_pops", 0},
-                 {"nodes_settled", 0},
-                 {"path_cache_hits", 0},
-                 {"rim_tests", 0},
-                 {"component_growth_steps", 0},
-                 {"sigma_evaluations", 0},
-                 {"sigma_searches", 0},
-                 {"repeated_feature_sets", 0}};
+    json work = {
+        {"objects_voxels_examined", 0}, {"candidates_searched", 0}, {"candidates_measured", 0},
+        {"closure_rounds", 0},          {"dijkstra_searches", 0},   {"heap_pops", 0},
+        {"nodes_settled", 0},           {"path_cache_hits", 0},     {"rim_tests", 0},
+        {"component_growth_steps", 0},  {"sigma_evaluations", 0},   {"sigma_searches", 0},
+        {"repeated_feature_sets", 0}};
     json objects = json::array(), junctions = json::array(), critical = json::array();
     for (std::size_t o = 0; o < result.objects.size(); ++o) {
         const ObjectSegmentation& obj = result.objects[o];
@@ -93,6 +89,8 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
         add(counts, "junction_voxels", obj.junctionVoxels);
         add(work, "objects_voxels_examined", obj.candidateStats.objectVoxels);
         add(work, "candidates_searched", obj.candidateStats.candidates);
+        add(work, "candidates_measured", obj.bandStats.candidatesMeasured);
+        add(work, "closure_rounds", obj.bandStats.closureRounds);
         add(work, "dijkstra_searches", obj.measureStats.search.searches);
         add(work, "heap_pops",
             obj.measureStats.search.heapPops + obj.measureStats.sigmaSearch.heapPops);
@@ -180,6 +178,18 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
     report["memory"] = {{"peak_resident_bytes", peakResidentBytes()},
                         {"estimated_bytes", shape.input->estimatedMemory},
                         {"limit_bytes", figures.memoryLimit}};
+    if (const auto& budget = shape.input->budget)
+        report["time_budget"] = {
+            {"budget_seconds", budget->budgetSeconds},
+            {"probe_seconds", budget->probeSeconds},
+            {"predicted_seconds", budget->predictedSeconds},
+            {"actual_seconds", wall},
+            {"resolution", source.isMesh() ? json(budget->resolution) : json(nullptr)},
+            {"requested_resolution", source.isMesh() ? json(options.resolution) : json(nullptr)},
+            {"coarsening", budget->coarsening},
+            {"coarsened", budget->coarsened},
+            {"fits", budget->fits},
+            {"chosen", describeBudgetChoice(*budget)}};
     std::vector<std::string> warnings = shape.input->warnings;
     warnings.insert(warnings.end(), result.warnings.begin(), result.warnings.end());
     report["warnings"] = warnings;

@@ -1,11 +1,13 @@
 #include "engine/SegmentationStages.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "engine/Stage.h"
 #include "kernels/CutLoopOrder.h"
 #include "kernels/FeatureTransform.h"
 #include "kernels/RimCount.h"
+#include "kernels/SkeletonBand.h"
 #include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
@@ -87,8 +89,18 @@ void computeObjectLandmarks(ObjectState& state) {
 
 void measureObjectSkeleton(ObjectState& state) {
     Stage stage(state.timer, state.interrupter, "path sets, rims, areas, sigma", true);
-    state.points = measureSkeleton(state.graph, state.candidates, state.measureOptions(),
-                                   &state.out.measureStats, state.interrupter);
+    if (state.parameters.skeletonSearch == SkeletonSearch::Band) {
+        SkeletonBandOptions band;
+        band.closureRadius = std::max(1, int(std::ceil(state.parameters.bridgeGap)));
+        state.points =
+            measureSkeletonInBand(state.graph, state.candidates, state.crop, state.featureTransform,
+                                  state.measureOptions(), band, &state.out.bandStats,
+                                  &state.out.measureStats, state.interrupter);
+    } else {
+        state.points = measureSkeleton(state.graph, state.candidates, state.measureOptions(),
+                                       &state.out.measureStats, state.interrupter);
+        state.out.bandStats.candidatesMeasured = state.candidates.size();
+    }
     state.out.curveSkeletonPoints = state.points.size();
 }
 

@@ -9,7 +9,8 @@
 //   buildObjectBoundaryGraph     "boundary graph"                BoundaryGraph.h
 //   selectObjectCandidates       "skeleton candidates"           SkeletonCandidates.h
 //   computeObjectLandmarks       "landmarks"                     PathSearch.h
-//   measureObjectSkeleton        "path sets, rims, areas, sigma" SkeletonMeasures.h
+//   measureObjectSkeleton        "path sets, rims, areas, sigma" SkeletonMeasures.h,
+//                                                                 SkeletonBand.h (band search)
 //   buildObjectSkeletonGraph     "skeleton graph"                SkeletonGraph.h
 //   placeObjectCuts              "cut placement"                 CutPlacement.h, CutLoopOrder.h
 //   labelObjectSurface           "labelling"                     SurfaceLabelling.h

@@ -38,6 +38,10 @@ std::string TauSpec::toString() const {
     return buffer;
 }
 
+const char* skeletonSearchName(SkeletonSearch search) {
+    return search == SkeletonSearch::Band ? "band" : "exhaustive";
+}
+
 std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels,
                                          int threads) {
     const std::uint64_t voxels = dims.voxelCount();

@@ -18,6 +18,7 @@
 
 #include "engine/StageTimer.h"
 #include "kernels/CutPlacement.h"
+#include "kernels/SkeletonBand.h"
 #include "kernels/SkeletonCandidates.h"
 #include "kernels/SkeletonMeasures.h"
 #include "kernels/base/Interrupter.h"
@@ -37,12 +38,25 @@ struct TauSpec {
     }
 };
 
+/// How the measures stage finds the curve skeleton C.
+enum class SkeletonSearch {
+    /// Measure every candidate: the reference, and the default.
+    Exhaustive,
+    /// Measure only a band around the skeleton (kernels/SkeletonBand.h):
+    /// loses whole skeleton pieces on thin plates (docs/algorithm.md §3.5).
+    Band,
+};
+
+/// "exhaustive" or "band", as on the command line and in report.json.
+const char* skeletonSearchName(SkeletonSearch search);
+
 struct SegmentationParameters {
     TauSpec tau;
     double sigmaMin = 0.8;
     double bodyRatio = 0.6;
     CutMode mode = CutMode::JunctionRule;
     bool threaded = true;
+    SkeletonSearch skeletonSearch = SkeletonSearch::Exhaustive;
     /// Components below this never make a rim count: max(noiseAreaMin,
     /// noiseAreaFraction * boundary area), and at most tau.
     double noiseAreaMin = 10.0;
@@ -96,6 +110,7 @@ struct ObjectSegmentation {
     double noiseArea = 0.0;
     CandidateStats candidateStats;
     SkeletonMeasureStats measureStats;
+    SkeletonBandStats bandStats;                 // exhaustive: every candidate measured
     std::uint64_t curveSkeletonPoints = 0;       // |C|
     std::uint64_t simplifiedSkeletonPoints = 0;  // |C_tau|
     std::uint64_t junctionVoxels = 0;            // |J_tau|

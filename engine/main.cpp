@@ -53,7 +53,8 @@ std::uint64_t parseBytes(const std::string& text) {
 /// takes the same ones, defined once here.
 struct SegmentCli {
     skelseg::SegmentCommandOptions options;
-    std::string tauText = "3%", modeText = "junction-rule", maxMemoryText;
+    std::string tauText = "3%", modeText = "junction-rule", maxMemoryText,
+                skeletonSearchText = "exhaustive";
     bool quiet = false;
 
     /// Turns the texts into options. Throws UsageError.
@@ -61,6 +62,9 @@ struct SegmentCli {
         options.parameters.tau = skelseg::TauSpec::parse(tauText);
         options.parameters.mode =
             modeText == "junctions" ? skelseg::CutMode::Junctions : skelseg::CutMode::JunctionRule;
+        options.parameters.skeletonSearch = skeletonSearchText == "band"
+                                                ? skelseg::SkeletonSearch::Band
+                                                : skelseg::SkeletonSearch::Exhaustive;
         if (!maxMemoryText.empty()) options.maxMemoryBytes = parseBytes(maxMemoryText);
     }
 };
@@ -106,6 +110,16 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
                 return "'" + text + "' is not a positive number of seconds";
             },
             "SECONDS"));
+    command
+        ->add_option("--skeleton-search", cli.skeletonSearchText,
+                     "exhaustive (default: every candidate) or band (measures a band around the "
+                     "skeleton; misses skeleton pieces on thin plates, docs/algorithm.md 3.5)")
+        ->check(CLI::IsMember({"exhaustive", "band"}));
+    command
+        ->add_option("--time-budget", seg.timeBudgetSeconds,
+                     "Choose the resolution (meshes) or coarsening (volumes) predicted to finish "
+                     "within this many seconds; stops like --time-limit only when nothing fits")
+        ->check(CLI::PositiveNumber);
     command->add_option("--max-memory", cli.maxMemoryText,
                         "Refuse runs estimated to need more (e.g. 4G; default 75% of RAM)");
     command->add_flag("--force", seg.force,

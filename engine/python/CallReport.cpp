@@ -45,7 +45,8 @@ json callReport(const SegmentationResult& result, const CallReportContext& conte
                             {"threads", context.threads},
                             {"region_radius", p.regionRadius},
                             {"bridge_gap", p.bridgeGap},
-                            {"consecutive_levels", p.consecutiveLevels}};
+                            {"consecutive_levels", p.consecutiveLevels},
+                            {"skeleton_search", skeletonSearchName(p.skeletonSearch)}};
     json counts = {{"object_voxels", 0},         {"boundary_voxels", 0}, {"candidates", 0},
                    {"curve_skeleton_points", 0}, {"skeleton_points", 0}, {"junction_voxels", 0}};
     json work = {{"objects_voxels_examined", 0},

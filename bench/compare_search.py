@@ -1,0 +1,126 @@
+#!/usr/bin/python3
+"""The band search (--skeleton-search band) against the exhaustive search (the default),
+issue 14: same curve skeleton, cuts and labels, and the work each one does.
+
+Usage: bench/compare_search.py INPUT... [--skelseg build/skelseg]
+                               [--resolution 192] [--threads N] [--out out/compare]
+                               [--extra "--tau 1%"]
+Each input is segmented both ways in the same session, one after the other.
+Prints a Markdown table: whether skeleton.ply, cuts.ply and labels.nrrd are
+byte-identical, the Rand Index error between the two face labellings
+(meshes), the part counts, candidates measured, nodes settled and the CPU
+seconds of the path-set stage of each. Writes OUT/compare.json. CPU seconds
+and the work counters are the comparison to read on a loaded machine; wall
+seconds are printed for completeness.
+"""
+import argparse, json, subprocess, sys, time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parent.parent
+STAGE = "path sets, rims, areas, sigma"
+
+
+def read_seg(path):
+    return np.array([int(line) for line in path.read_text().split()], dtype=np.int64)
+
+
+def rand_index_error(a, b):
+    """1 - Rand Index of two labellings of the same faces (pairs of faces)."""
+    n = len(a)
+    if n < 2:
+        return 0.0
+    _, ai = np.unique(a, return_inverse=True)
+    _, bi = np.unique(b, return_inverse=True)
+    table = np.zeros((ai.max() + 1, bi.max() + 1), dtype=np.float64)
+    np.add.at(table, (ai, bi), 1.0)
+    pairs = lambda x: (x * (x - 1.0) / 2.0).sum()
+    total = n * (n - 1.0) / 2.0
+    same_both = pairs(table)
+    same_a, same_b = pairs(table.sum(axis=1)), pairs(table.sum(axis=0))
+    agree = total + 2.0 * same_both - same_a - same_b
+    return 1.0 - agree / total
+
+
+def read_run(out, wall):
+    report = json.loads((out / "report.json").read_text())
+    stage = [s for s in report["stages"] if s["name"] == STAGE]
+    return {
+        "wall": wall,
+        "cpu": report["timing"]["cpu_seconds"],
+        "stage_cpu": sum(s["cpu_seconds"] for s in stage),
+        "stage_wall": sum(s["wall_seconds"] for s in stage),
+        "parts": report["segment_count"],
+        "candidates": report["counts"]["candidates"],
+        "measured": report["work"]["candidates_measured"],
+        "nodes_settled": report["work"]["nodes_settled"],
+        "skeleton_points": report["counts"]["skeleton_points"],
+    }
+
+
+def run(skelseg, inp, out, resolution, threads, extra, exhaustive, reuse):
+    if reuse:
+        return read_run(out, 0.0)
+    cmd = [str(skelseg), "segment", str(inp), "-o", str(out), "-q", "--no-preview", "--force",
+           "--resolution", str(resolution)] + extra
+    if threads:
+        cmd += ["--threads", str(threads)]
+    cmd += ["--skeleton-search", "exhaustive" if exhaustive else "band"]
+    start = time.monotonic()
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    wall = time.monotonic() - start
+    if proc.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}): {proc.stderr.strip()[-300:]}")
+    return read_run(out, wall)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("inputs", nargs="+")
+    ap.add_argument("--skelseg", default=str(REPO / "build" / "skelseg"))
+    ap.add_argument("--resolution", type=int, default=192)
+    ap.add_argument("--threads", type=int, default=0)
+    ap.add_argument("--extra", default="", help="more options for both runs, e.g. '--tau 1%%'")
+    ap.add_argument("--out", default=str(REPO / "out" / "compare"))
+    ap.add_argument("--reuse", action="store_true", help="tabulate the runs already in OUT")
+    args = ap.parse_args()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    rows = []
+    print("| input | resolution | skeleton.ply | cuts.ply | labels | RI error | parts (band / exhaustive) | "
+          "C_tau points (band / exhaustive) | candidates | measured (band) | nodes settled (band / exhaustive) | "
+          "path-set CPU s (band / exhaustive) | CPU s (band / exhaustive) |")
+    print("| --- | ---: | --- | --- | --- | ---: | --- | --- | ---: | ---: | --- | --- | --- |")
+    for inp in map(Path, args.inputs):
+        name = inp.stem
+        runs = {}
+        for mode in ("band", "exhaustive"):
+            runs[mode] = run(args.skelseg, inp, out / f"{name}-{mode}", args.resolution,
+                             args.threads, args.extra.split(), mode == "exhaustive", args.reuse)
+        files = {f: (out / f"{name}-band" / f).read_bytes() == (out / f"{name}-exhaustive" / f).read_bytes()
+                 for f in ("skeleton.ply", "cuts.ply", "labels.nrrd")}
+        same = all(files.values())
+        word = lambda f: "same" if files[f] else "DIFFER"
+        seg_band, seg_exh = out / f"{name}-band" / "segmentation.seg", out / f"{name}-exhaustive" / "segmentation.seg"
+        ri = rand_index_error(read_seg(seg_band), read_seg(seg_exh)) if seg_band.exists() else 0.0
+        b, e = runs["band"], runs["exhaustive"]
+        row = {"input": str(inp), "resolution": args.resolution, "identical": same, "files": files, "ri_error": ri,
+               "band": b, "exhaustive": e}
+        rows.append(row)
+        print(f"| {inp.name} | {args.resolution} | {word('skeleton.ply')} | {word('cuts.ply')} | "
+              f"{word('labels.nrrd')} | {ri:.4f} | {b['parts']} / {e['parts']} | "
+              f"{b['skeleton_points']} / {e['skeleton_points']} | {b['candidates']} | {b['measured']} "
+              f"({100.0 * b['measured'] / max(b['candidates'], 1):.0f}%) | "
+              f"{b['nodes_settled']} / {e['nodes_settled']} | {b['stage_cpu']:.2f} / {e['stage_cpu']:.2f} | "
+              f"{b['cpu']:.2f} / {e['cpu']:.2f} |", flush=True)
+    (out / "compare.json").write_text(json.dumps(rows, indent=1))
+    bad = [r for r in rows if not r["identical"] and (r["ri_error"] > 0.005 or r["band"]["parts"] != r["exhaustive"]["parts"])]
+    identical = sum(r["identical"] for r in rows)
+    labels = sum(r["files"]["labels.nrrd"] and r["files"]["cuts.ply"] for r in rows)
+    print(f"\n{identical} of {len(rows)} byte-identical in all three files, {labels} in cuts and labels; {len(bad)} outside RI error 0.005 or with other part counts")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

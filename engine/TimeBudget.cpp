@@ -1,0 +1,189 @@
+#include "engine/TimeBudget.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "kernels/BoundaryGraph.h"
+#include "kernels/FeatureTransform.h"
+#include "kernels/SkeletonCandidates.h"
+#include "kernels/base/ParallelFor.h"
+
+namespace skelseg {
+
+WorkCounts countWork(const MaskVolume& mask, bool threaded, Interrupter& interrupter) {
+    WorkCounts work;
+    work.gridVoxels = double(mask.dims().voxelCount());
+    for (std::uint8_t v : mask.values()) work.objectVoxels += v != 0;
+    if (work.objectVoxels == 0) return work;
+    const Volume<std::uint32_t> ft =
+        featureTransform(boundaryVoxels(mask, {threaded}), {threaded}, interrupter);
+    const BoundaryGraph graph = buildBoundaryGraph(mask, {threaded}, interrupter);
+    work.boundaryVoxels = double(graph.nodeCount());
+    CandidateOptions options;
+    options.threaded = threaded;
+    CandidateStats stats;
+    selectSkeletonCandidates(mask, ft, graph, options, &stats, interrupter);
+    work.candidates = double(stats.candidates);
+    return work;
+}
+
+CostModel CostModel::fitted() {
+    // bench/fit_cost_model.py --target cpu on seven shared shapes at 64,
+    // 128 and 192, band search, 2 threads, under load (docs/performance.md:
+    // median error 4.2%, worst 14%). Predicts CPU seconds.
+    CostModel m;
+    m.seconds = 0.8;
+    m.perGridVoxel = 1.48e-07;
+    m.perObjectVoxel = 2.35e-06;
+    m.perCandidatePath = 9.49e-09;
+    m.perMeshFace = 8.47e-06;
+    m.candidateExponent = 2.73;
+    return m;
+}
+
+double CostModel::predictSeconds(const WorkCounts& w) const {
+    return seconds + perGridVoxel * w.gridVoxels + perObjectVoxel * w.objectVoxels +
+           perCandidatePath * w.candidates * std::sqrt(w.boundaryVoxels) +
+           perMeshFace * w.meshFaces;
+}
+
+WorkCounts CostModel::scale(const WorkCounts& w, double factor) const {
+    WorkCounts s = w;
+    s.gridVoxels *= factor * factor * factor;
+    s.objectVoxels *= factor * factor * factor;
+    s.boundaryVoxels *= factor * factor;
+    s.candidates *= std::pow(factor, candidateExponent);
+    return s;
+}
+
+BudgetChoice chooseMeshResolution(const CostModel& model, const WorkCounts& probe,
+                                  int probeResolution, int maximum, int minimum, double seconds) {
+    BudgetChoice choice;
+    choice.budgetSeconds = seconds;
+    minimum = std::min(minimum, maximum);
+    for (int r = maximum;; r = std::max(minimum, int(std::floor(r * 0.9)))) {
+        choice.resolution = r;
+        choice.predictedSeconds =
+            model.predictSeconds(model.scale(probe, double(r) / double(probeResolution)));
+        choice.fits = choice.predictedSeconds <= seconds;
+        if (choice.fits || r == minimum) break;
+    }
+    choice.coarsened = choice.resolution < maximum;
+    return choice;
+}
+
+BudgetChoice chooseVolumeCoarsening(const CostModel& model, const WorkCounts& probe,
+                                    int probeCoarsening, double seconds) {
+    BudgetChoice choice;
+    choice.budgetSeconds = seconds;
+    for (int factor : {1, 2, 4}) {
+        choice.coarsening = factor;
+        choice.predictedSeconds =
+            model.predictSeconds(model.scale(probe, double(probeCoarsening) / double(factor)));
+        choice.fits = choice.predictedSeconds <= seconds;
+        if (choice.fits) break;
+    }
+    choice.coarsened = choice.coarsening > 1;
+    return choice;
+}
+
+MaskVolume coarsenMask(const MaskVolume& mask, int factor) {
+    const Dims d = mask.dims();
+    const Dims cd{(d.x + factor - 1) / factor, (d.y + factor - 1) / factor,
+                  (d.z + factor - 1) / factor};
+    MaskVolume coarse(cd, 0);
+    parallelForEach(cd.z, [&](int cz) {
+        for (int z = cz * factor; z < std::min(d.z, (cz + 1) * factor); ++z)
+            for (int y = 0; y < d.y; ++y)
+                for (int x = 0; x < d.x; ++x)
+                    if (mask(x, y, z)) coarse(x / factor, y / factor, cz) = 1;
+    });
+    VolumeGeometry g = mask.geometry;
+    const double centre = 0.5 * (factor - 1);
+    g.origin = mask.geometry.indexToWorld(centre, centre, centre);
+    for (auto& axis : g.directions)
+        for (double& c : axis) c *= factor;
+    coarse.geometry = g;
+    return coarse;
+}
+
+LabelVolume refineLabels(const LabelVolume& coarse, const MaskVolume& fine, int factor) {
+    const Dims d = fine.dims();
+    LabelVolume labels(d, 0);
+    labels.geometry = fine.geometry;
+    parallelForEach(d.z, [&](int z) {
+        for (int y = 0; y < d.y; ++y)
+            for (int x = 0; x < d.x; ++x)
+                if (fine(x, y, z)) labels(x, y, z) = coarse(x / factor, y / factor, z / factor);
+    });
+    return labels;
+}
+
+namespace {
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+}  // namespace
+
+BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxelize, double seconds,
+                         const CostModel& model, Interrupter& interrupter) {
+    const auto start = std::chrono::steady_clock::now();
+    VoxelizeOptions probeOptions = voxelize;
+    probeOptions.resolution = std::min(voxelize.resolution, 64);
+    WorkCounts probe =
+        countWork(voxelizeMesh(mesh, probeOptions, interrupter), voxelize.threaded, interrupter);
+    probe.meshFaces = double(mesh.faceCount);
+    const double spent = secondsSince(start);
+    BudgetChoice choice = chooseMeshResolution(model, probe, probeOptions.resolution,
+                                               voxelize.resolution, 16, seconds - spent);
+    choice.budgetSeconds = seconds;
+    choice.probeSeconds = spent;
+    return choice;
+}
+
+BudgetChoice planVolumeRun(const MaskVolume& mask, double seconds, const CostModel& model,
+                           Interrupter& interrupter) {
+    const auto start = std::chrono::steady_clock::now();
+    const bool small = mask.dims().voxelCount() <= std::uint64_t(64) * 64 * 64;
+    const int probeCoarsening = small ? 1 : 2;
+    const WorkCounts probe = countWork(small ? mask : coarsenMask(mask, 2), true, interrupter);
+    const double spent = secondsSince(start);
+    BudgetChoice choice = chooseVolumeCoarsening(model, probe, probeCoarsening, seconds - spent);
+    choice.budgetSeconds = seconds;
+    choice.probeSeconds = spent;
+    return choice;
+}
+
+void refineSegmentationResult(SegmentationResult& result, const MaskVolume& fine, int factor) {
+    result.labels = refineLabels(result.labels, fine, factor);
+    auto scale = [&](std::array<int, 3>& v) {
+        for (int& c : v) c = c * factor + factor / 2;
+    };
+    for (ObjectSegmentation& o : result.objects) {
+        for (auto& v : o.skeleton) scale(v.voxel);
+        for (auto& j : o.junctions) scale(j.voxel);
+        for (auto& c : o.criticalPoints) scale(c.voxel);
+        for (auto& loop : o.cutLoops)
+            for (auto& v : loop) scale(v);
+        scale(o.bboxMin);
+        scale(o.bboxMax);
+    }
+    for (SegmentInfo& s : result.segments) s.voxelCount = 0;
+    for (std::uint16_t l : result.labels.values())
+        if (l) ++result.segments[l - 1u].voxelCount;
+}
+
+std::string describeBudgetChoice(const BudgetChoice& choice) {
+    char buffer[160];
+    if (choice.coarsening > 1)
+        std::snprintf(buffer, sizeof buffer, "volume %dx coarser (%.1f s predicted, budget %.1f s)",
+                      choice.coarsening, choice.predictedSeconds, choice.budgetSeconds);
+    else
+        std::snprintf(buffer, sizeof buffer, "resolution %d (%.1f s predicted, budget %.1f s)",
+                      choice.resolution, choice.predictedSeconds, choice.budgetSeconds);
+    return buffer;
+}
+
+}  // namespace skelseg

@@ -1,0 +1,115 @@
+// skelseg: a result within a time budget (`skelseg segment --time-budget SEC`).
+//
+// Unlike --time-limit, which stops a run that takes too long, the budget
+// picks a run that fits. A cheap probe measures the work counters of the
+// first stages (grid, object and boundary voxels, skeleton candidates) on a
+// coarse grid; a cost model fitted on the benchmark shapes
+// (bench/fit_cost_model.py, docs/performance.md) predicts the wall time of a
+// full run from them; the engine then takes
+//   - for meshes: the largest resolution up to --resolution that fits;
+//   - for volumes: the finest of 1, 2 or 4 times coarser grids that fits
+//     (coarsenMask: a coarse voxel is object when any of its fine voxels is;
+//     refineLabels gives each fine object voxel its coarse voxel's label).
+// When even the coarsest choice does not fit, the run takes it with the
+// budget as a time limit: it stops as --time-limit does.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/Segmenter.h"
+#include "io/mesh/MeshIO.h"
+#include "io/mesh/MeshVoxelizer.h"
+#include "kernels/base/Interrupter.h"
+#include "kernels/base/Volume.h"
+
+namespace skelseg {
+
+/// What a run will work on; doubles, since they are also scaled predictions.
+struct WorkCounts {
+    double gridVoxels = 0;
+    double objectVoxels = 0;
+    double boundaryVoxels = 0;
+    double candidates = 0;
+    double meshFaces = 0;  // 0 for volumes
+};
+
+/// The counters of `mask`: boundary graph, feature transform and candidates
+/// over the whole grid (all objects at once). Costs about what these stages
+/// cost in a run; meant for a coarse probe grid.
+WorkCounts countWork(const MaskVolume& mask, bool threaded,
+                     Interrupter& interrupter = nullInterrupter());
+
+/// Predicted wall seconds of `skelseg segment` (all outputs) from the work
+/// counters: a linear model in the grid voxels, the object voxels, the
+/// candidates times the typical path length (square root of the boundary
+/// voxels) and the mesh faces, fitted by bench/fit_cost_model.py.
+struct CostModel {
+    double seconds = 0.0;            // fixed per run
+    double perGridVoxel = 0.0;       // voxelising, labels, outputs
+    double perObjectVoxel = 0.0;     // feature transform, candidates, interior labels
+    double perCandidatePath = 0.0;   // path sets: candidates * sqrt(boundary voxels)
+    double perMeshFace = 0.0;        // reading, voxelising, face labels
+    double candidateExponent = 2.0;  // candidates grow as resolution^this
+    /// The model fitted on the benchmark shapes (docs/performance.md).
+    static CostModel fitted();
+    double predictSeconds(const WorkCounts& work) const;
+    /// The counters of the same shape on a grid `factor` times finer
+    /// (voxels grow with factor^3, boundary with factor^2).
+    WorkCounts scale(const WorkCounts& work, double factor) const;
+};
+
+/// What the budget chose.
+struct BudgetChoice {
+    double budgetSeconds = 0.0;
+    double probeSeconds = 0.0;      // spent on the probe
+    double predictedSeconds = 0.0;  // of the chosen run, probe excluded
+    int resolution = 0;             // meshes: the chosen --resolution
+    int coarsening = 1;             // volumes: 1, 2 or 4
+    bool coarsened = false;         // resolution below --resolution, or coarsening > 1
+    bool fits = true;               // false: even the coarsest choice is predicted over
+};
+
+/// Meshes: the largest resolution in [minimum, maximum] whose predicted time
+/// fits in `seconds`, from counters measured at `probeResolution` (the mesh
+/// faces counted once). Resolutions are tried in steps of about 10%.
+BudgetChoice chooseMeshResolution(const CostModel& model, const WorkCounts& probe,
+                                  int probeResolution, int maximum, int minimum, double seconds);
+
+/// Volumes: the smallest coarsening of {1, 2, 4} that fits, from counters of
+/// the volume coarsened `probeCoarsening` times.
+BudgetChoice chooseVolumeCoarsening(const CostModel& model, const WorkCounts& probe,
+                                    int probeCoarsening, double seconds);
+
+/// `factor` times coarser mask: a coarse voxel is object when any of its
+/// factor^3 fine voxels is. Geometry: voxels `factor` times larger.
+MaskVolume coarsenMask(const MaskVolume& mask, int factor);
+
+/// Labels on the fine grid: each object voxel of `fine` takes the label of
+/// its coarse voxel; background stays 0. Geometry of `fine`.
+LabelVolume refineLabels(const LabelVolume& coarse, const MaskVolume& fine, int factor);
+
+/// A result segmented on a `factor` times coarser volume, brought back to
+/// the input grid `fine`: labels per fine voxel (refineLabels), voxel
+/// positions scaled (to within half a coarse voxel), segment voxel counts
+/// recounted.
+void refineSegmentationResult(SegmentationResult& result, const MaskVolume& fine, int factor);
+
+/// "resolution 128 (3.2 s predicted, budget 5.0 s)" or "volume 2x coarser
+/// (...)": the choice in words, for the preview title and report.json.
+std::string describeBudgetChoice(const BudgetChoice& choice);
+
+/// The whole plan for a mesh: voxelises at a probe resolution (64, or
+/// --resolution when lower), counts the work and chooses a resolution from
+/// `voxelize.resolution` down to 16 that fits in `seconds` minus the probe's
+/// own time.
+BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxelize, double seconds,
+                         const CostModel& model, Interrupter& interrupter = nullInterrupter());
+
+/// The whole plan for a volume: counts the work on the volume coarsened 2
+/// times (or on the volume itself when it is small) and chooses a coarsening.
+BudgetChoice planVolumeRun(const MaskVolume& mask, double seconds, const CostModel& model,
+                           Interrupter& interrupter = nullInterrupter());
+
+}  // namespace skelseg

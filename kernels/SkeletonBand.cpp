@@ -1,0 +1,203 @@
+#include "kernels/SkeletonBand.h"
+
+#include <algorithm>
+#include <array>
+
+#include "kernels/BoundaryGraph.h"
+#include "kernels/FeatureTransform.h"
+#include "kernels/PathSearch.h"
+#include "kernels/base/Error.h"
+#include "kernels/base/ParallelFor.h"
+
+namespace skelseg {
+
+void addMeasureStats(SkeletonMeasureStats& total, const SkeletonMeasureStats& part) {
+    total.search += part.search;
+    total.pathCacheHits += part.pathCacheHits;
+    total.pathCacheMisses += part.pathCacheMisses;
+    total.rimTests += part.rimTests;
+    total.componentGrowthSteps += part.componentGrowthSteps;
+    total.sigmaEvaluations += part.sigmaEvaluations;
+    total.sigmaSearch += part.sigmaSearch;
+    total.repeatedFeatureSets += part.repeatedFeatureSets;
+    total.skeletonPoints += part.skeletonPoints;
+}
+
+namespace {
+
+/// Measures candidates[batch[i]] and appends the points found to `found`
+/// with their candidate index rewritten to the full list.
+void measureBatch(const BoundaryGraph& graph, const std::vector<SkeletonCandidate>& candidates,
+                  const std::vector<std::uint32_t>& batch, const SkeletonMeasureOptions& options,
+                  SkeletonMeasureStats& stats, Interrupter& interrupter,
+                  std::vector<SkeletonPoint>& found, std::vector<SkeletonPoint>& newInTau) {
+    std::vector<SkeletonCandidate> subset;
+    subset.reserve(batch.size());
+    for (std::uint32_t i : batch) subset.push_back(candidates[i]);
+    SkeletonMeasureStats part;
+    std::vector<SkeletonPoint> points = measureSkeleton(graph, subset, options, &part, interrupter);
+    addMeasureStats(stats, part);
+    newInTau.clear();
+    for (SkeletonPoint& p : points) {
+        p.candidate = batch[p.candidate];
+        if (p.rhoC >= options.tau) newInTau.push_back(p);
+        found.push_back(p);
+    }
+}
+
+/// Marks, in `measured`, every candidate within `radius` (Chebyshev) of the
+/// fine voxels [lo, hi] (inclusive box); appends the newly marked ones.
+void markBox(const std::vector<SkeletonCandidate>& candidates, const Dims& dims,
+             std::array<int, 3> lo, std::array<int, 3> hi, int radius,
+             std::vector<std::uint8_t>& measured, std::vector<std::uint32_t>& batch) {
+    const std::uint32_t nx = std::uint32_t(dims.x), ny = std::uint32_t(dims.y);
+    const int x0 = std::max(lo[0] - radius, 0), x1 = std::min(hi[0] + radius, dims.x - 1);
+    // Candidates are sorted by voxel index, so each row of the box is one
+    // contiguous run found by one binary search.
+    for (int z = std::max(lo[2] - radius, 0); z <= std::min(hi[2] + radius, dims.z - 1); ++z)
+        for (int y = std::max(lo[1] - radius, 0); y <= std::min(hi[1] + radius, dims.y - 1); ++y) {
+            const std::uint32_t row = nx * (std::uint32_t(y) + ny * std::uint32_t(z));
+            const std::uint32_t first = row + std::uint32_t(x0), last = row + std::uint32_t(x1);
+            auto it = std::lower_bound(
+                candidates.begin(), candidates.end(), first,
+                [](const SkeletonCandidate& c, std::uint32_t v) { return c.voxel < v; });
+            for (; it != candidates.end() && it->voxel <= last; ++it) {
+                const std::uint32_t i = std::uint32_t(it - candidates.begin());
+                if (!measured[i]) measured[i] = 1, batch.push_back(i);
+            }
+        }
+}
+
+/// The simplified skeleton of the mask at half the resolution: coarse voxel
+/// c covers the fine voxels 2c - 1 and 2c on each axis (any object voxel
+/// makes it object, which keeps thin limbs; coarse voxel 0 covers the fine
+/// padding, so the coarse grid is padded too). Returns the coarse voxels of
+/// its points with rho_C >= the scaled tau.
+std::vector<std::array<int, 3>> coarseSkeleton(const MaskVolume& mask,
+                                               const SkeletonMeasureOptions& options,
+                                               double tauShare, SkeletonMeasureStats& stats,
+                                               std::uint64_t& coarseCandidates,
+                                               Interrupter& interrupter) {
+    const Dims d = mask.dims();
+    const Dims cd{d.x / 2 + 2, d.y / 2 + 2, d.z / 2 + 2};
+    MaskVolume coarse(cd, 0);
+    for (int z = 0; z < d.z; ++z)
+        for (int y = 0; y < d.y; ++y)
+            for (int x = 0; x < d.x; ++x)
+                if (mask(x, y, z)) coarse((x + 1) / 2, (y + 1) / 2, (z + 1) / 2) = 1;
+    const BoundaryGraphOptions graphOptions{options.threaded};
+    const Volume<std::uint32_t> ft =
+        featureTransform(boundaryVoxels(coarse, graphOptions), {options.threaded}, interrupter);
+    const BoundaryGraph graph = buildBoundaryGraph(coarse, graphOptions, interrupter);
+    CandidateOptions candidateOptions;
+    candidateOptions.threaded = options.threaded;
+    const std::vector<SkeletonCandidate> candidates =
+        selectSkeletonCandidates(coarse, ft, graph, candidateOptions, nullptr, interrupter);
+    const Landmarks landmarks = computeLandmarks(graph, options.threaded);
+    // Areas shrink by four at half the resolution; tauShare < 1 keeps
+    // branches that are close to tau at full resolution.
+    SkeletonMeasureOptions coarseOptions = options;
+    coarseOptions.landmarks = &landmarks;
+    coarseOptions.tau = options.tau / 4.0 * tauShare;
+    coarseOptions.noiseArea = std::max(1.0, std::min(options.noiseArea / 4.0, coarseOptions.tau));
+    coarseOptions.exactRhoC = false;
+    std::vector<std::array<int, 3>> voxels;
+    const std::uint32_t nx = std::uint32_t(cd.x), ny = std::uint32_t(cd.y);
+    coarseCandidates = candidates.size();
+    SkeletonMeasureStats coarseStats;
+    const std::vector<SkeletonPoint> points =
+        measureSkeleton(graph, candidates, coarseOptions, &coarseStats, interrupter);
+    coarseStats.skeletonPoints = 0;  // not points of the result
+    addMeasureStats(stats, coarseStats);
+    for (const SkeletonPoint& p : points) {
+        if (!(p.rhoC >= coarseOptions.tau)) continue;
+        voxels.push_back({int(p.voxel % nx), int((p.voxel / nx) % ny), int(p.voxel / (nx * ny))});
+    }
+    return voxels;
+}
+
+}  // namespace
+
+std::vector<SkeletonPoint> measureSkeletonInBand(
+    const BoundaryGraph& graph, const std::vector<SkeletonCandidate>& candidates,
+    const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
+    const SkeletonMeasureOptions& options, const SkeletonBandOptions& band,
+    SkeletonBandStats* bandStats, SkeletonMeasureStats* measureStats, Interrupter& interrupter) {
+    if (band.seedSpacing < 0 || band.closureRadius < 1 || band.coarseBandRadius < 0)
+        throw UsageError(
+            "the skeleton band needs a closure radius of at least 1 and no negative spacing or "
+            "band radius");
+    const Dims dims = mask.dims();
+    const std::uint32_t nx = std::uint32_t(dims.x), ny = std::uint32_t(dims.y);
+    const std::uint32_t spacing = std::uint32_t(band.seedSpacing);
+    auto depth2 = [&](std::size_t voxel) {
+        const std::uint32_t f = featureTransform[voxel];
+        return f == kNoFeature ? std::int64_t(0) : squaredDistance(dims, std::uint32_t(voxel), f);
+    };
+    std::vector<std::uint8_t> measured(candidates.size(), 0);
+    if (band.seedSpacing > 0 || band.ridgeSeeds)
+        parallelFor(
+            candidates.size(),
+            [&](std::size_t begin, std::size_t end) {
+                for (std::size_t i = begin; i < end; ++i) {
+                    const std::uint32_t v = candidates[i].voxel;
+                    const int x = int(v % nx), y = int((v / nx) % ny), z = int(v / (nx * ny));
+                    if (band.seedSpacing > 0 &&
+                        (std::uint32_t(x) % spacing == 0 || std::uint32_t(y) % spacing == 0 ||
+                         std::uint32_t(z) % spacing == 0)) {
+                        measured[i] = 1;
+                        continue;
+                    }
+                    if (!band.ridgeSeeds) continue;
+                    // A ridge voxel of the distance map: no object neighbour
+                    // is deeper.
+                    const std::int64_t own = depth2(v);
+                    bool ridge = true;
+                    for (int dz = -1; dz <= 1 && ridge; ++dz)
+                        for (int dy = -1; dy <= 1 && ridge; ++dy)
+                            for (int dx = -1; dx <= 1 && ridge; ++dx) {
+                                if (!mask.contains(x + dx, y + dy, z + dz)) continue;
+                                const std::size_t q = mask.index(x + dx, y + dy, z + dz);
+                                ridge = !mask[q] || depth2(q) <= own;
+                            }
+                    measured[i] = ridge ? 1 : 0;
+                }
+            },
+            options.threaded, 1024);
+    std::vector<std::uint32_t> batch;
+    for (std::uint32_t i = 0; i < candidates.size(); ++i)
+        if (measured[i]) batch.push_back(i);
+    SkeletonBandStats localBand;
+    SkeletonMeasureStats stats;
+    if (band.coarseSeeds && !candidates.empty()) {
+        for (const auto& c : coarseSkeleton(mask, options, band.coarseTauShare, stats,
+                                            localBand.coarseCandidates, interrupter))
+            markBox(candidates, dims, {2 * c[0] - 1, 2 * c[1] - 1, 2 * c[2] - 1},
+                    {2 * c[0], 2 * c[1], 2 * c[2]}, band.coarseBandRadius, measured, batch);
+        std::sort(batch.begin(), batch.end());
+    }
+    localBand.seeds = batch.size();
+    std::vector<SkeletonPoint> found, newInTau;
+    const int r = band.closureRadius;
+    while (!batch.empty()) {
+        localBand.candidatesMeasured += batch.size();
+        ++localBand.closureRounds;
+        measureBatch(graph, candidates, batch, options, stats, interrupter, found, newInTau);
+        batch.clear();
+        for (const SkeletonPoint& p : newInTau) {
+            const std::array<int, 3> v = {int(p.voxel % nx), int((p.voxel / nx) % ny),
+                                          int(p.voxel / (nx * ny))};
+            markBox(candidates, dims, v, v, r, measured, batch);
+        }
+        std::sort(batch.begin(), batch.end());
+    }
+    std::sort(found.begin(), found.end(), [](const SkeletonPoint& a, const SkeletonPoint& b) {
+        return a.candidate < b.candidate;
+    });
+    stats.skeletonPoints = found.size();  // the coarse run's points are not counted
+    if (bandStats) *bandStats = localBand;
+    if (measureStats) *measureStats = stats;
+    return found;
+}
+
+}  // namespace skelseg

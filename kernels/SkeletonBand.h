@@ -1,0 +1,91 @@
+// skelseg: the curve-skeleton search spent where the skeleton is
+// (docs/algorithm.md §3.5).
+//
+// measureSkeleton() examines every candidate, and almost all of them turn out
+// not to be curve-skeleton points (2 715 skeleton points among 786 342
+// candidates on a 100k-face mesh at 400). measureSkeletonInBand() finds the
+// same simplified skeleton C_tau while examining a small share of them:
+//   1. coarse seeds: the mask at half the resolution (a coarse voxel is
+//      object when any of its 2x2x2 fine voxels is) gets the whole exhaustive
+//      search, a quarter of the candidates with paths half as long; the
+//      full-resolution candidates within coarseBandRadius of its simplified
+//      skeleton (tau scaled by 1/4, times coarseTauShare) are the seeds;
+//   2. closure: around every point of C_tau found so far at full resolution,
+//      every candidate within `closureRadius` (Chebyshev) is measured too,
+//      repeated until no new point of C_tau appears.
+// Every full-resolution measure is the exact per-candidate test of
+// SkeletonMeasures.h (a function of the candidate's feature set alone), so a
+// point found is the exhaustive search's point, bit for bit.
+//
+// What is guaranteed. The closure finds every point of a 26-connected piece
+// of C_tau that holds one seed (radius >= 1), and with a radius of at least
+// the skeleton graph's bridge gap also every piece the graph stage could
+// bridge to it. A thin limb whose skeleton the coarse grid loses is still
+// found from the body's. What the band can miss is a piece of C_tau without
+// a seed that is farther than the radius from every other piece: a branch
+// the coarse grid does not see and that the fine skeleton does not join.
+// That is a measured, not a proven, property: the identical-answer tests and
+// docs/performance.md compare the result with the exhaustive search on every
+// test shape. Optional extra seeds for such cases: grid planes (every piece
+// that spans seedSpacing voxels along an axis crosses one) and ridge voxels
+// of the distance map (where the web at a ball's centre sits).
+//
+// Points of C below tau are found only where the closure passes them; the
+// graph stages never read them. Results depend only on the input, never on
+// the thread count.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "kernels/SkeletonCandidates.h"
+#include "kernels/SkeletonMeasures.h"
+#include "kernels/base/Interrupter.h"
+#include "kernels/base/Volume.h"
+
+namespace skelseg {
+
+struct SkeletonBandOptions {
+    /// Seeds from the skeleton at half the resolution: the full-resolution
+    /// candidates within coarseBandRadius of its points.
+    bool coarseSeeds = true;
+    int coarseBandRadius = 3;
+    /// The coarse skeleton keeps points with rho_C >= tau / 4 * coarseTauShare
+    /// (areas shrink by four at half the resolution; a share below 1 keeps
+    /// branches close to tau).
+    double coarseTauShare = 0.5;
+    /// Seeds on the grid planes x, y or z = k * seedSpacing (0: none; 1 seeds
+    /// every candidate, which is the exhaustive search).
+    int seedSpacing = 0;
+    /// Seeds at the ridge voxels of the distance map (no object neighbour
+    /// deeper).
+    bool ridgeSeeds = false;
+    /// Chebyshev radius around each point of C_tau inside which every
+    /// candidate is measured (>= 1; at least the skeleton graph's bridge gap).
+    int closureRadius = 4;
+};
+
+struct SkeletonBandStats {
+    std::uint64_t coarseCandidates = 0;    // candidates measured at half the resolution
+    std::uint64_t seeds = 0;               // candidates measured as seeds
+    std::uint64_t candidatesMeasured = 0;  // seeds + closure
+    std::uint32_t closureRounds = 0;
+};
+
+/// The points of C that the band search found, in candidate order, with
+/// `candidate` indexing `candidates` (as measureSkeleton() returns them).
+/// `mask` and `featureTransform`: the crop that candidates[].voxel indexes
+/// and its feature transform (SkeletonCandidates.h). options.threaded is the
+/// serial switch. Throws UsageError for a spacing or radius below 1,
+/// InterruptedError when interrupted.
+std::vector<SkeletonPoint> measureSkeletonInBand(
+    const BoundaryGraph& graph, const std::vector<SkeletonCandidate>& candidates,
+    const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
+    const SkeletonMeasureOptions& options, const SkeletonBandOptions& band = {},
+    SkeletonBandStats* bandStats = nullptr, SkeletonMeasureStats* measureStats = nullptr,
+    Interrupter& interrupter = nullInterrupter());
+
+/// Sums the counters of two measure runs (the band measures in rounds).
+void addMeasureStats(SkeletonMeasureStats& total, const SkeletonMeasureStats& part);
+
+}  // namespace skelseg

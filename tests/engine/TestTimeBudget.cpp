@@ -1,0 +1,98 @@
+#include "engine/TimeBudget.h"
+
+#include <gtest/gtest.h>
+
+#include "io/shapes/SyntheticShapes.h"
+
+namespace skelseg {
+namespace {
+
+WorkCounts someWork() {
+    WorkCounts w;
+    w.gridVoxels = 64.0 * 64 * 64;
+    w.objectVoxels = 50000;
+    w.boundaryVoxels = 8000;
+    w.candidates = 9000;
+    w.meshFaces = 20000;
+    return w;
+}
+
+TEST(TimeBudget, ScalingFollowsVolumeAndSurface) {
+    const CostModel model = CostModel::fitted();
+    const WorkCounts w = someWork(), s = model.scale(w, 2.0);
+    EXPECT_DOUBLE_EQ(s.gridVoxels, 8 * w.gridVoxels);
+    EXPECT_DOUBLE_EQ(s.objectVoxels, 8 * w.objectVoxels);
+    EXPECT_DOUBLE_EQ(s.boundaryVoxels, 4 * w.boundaryVoxels);
+    EXPECT_GT(s.candidates, w.candidates);
+    EXPECT_DOUBLE_EQ(s.meshFaces, w.meshFaces);  // the mesh does not change
+    EXPECT_GT(model.predictSeconds(s), model.predictSeconds(w));
+}
+
+TEST(TimeBudget, ALargerBudgetNeverChoosesASmallerResolution) {
+    const CostModel model = CostModel::fitted();
+    int previous = 0;
+    for (double seconds : {0.5, 1.0, 2.0, 5.0, 20.0, 1000.0}) {
+        const BudgetChoice c = chooseMeshResolution(model, someWork(), 64, 400, 16, seconds);
+        EXPECT_GE(c.resolution, previous) << seconds;
+        EXPECT_LE(c.resolution, 400);
+        if (c.fits) EXPECT_LE(c.predictedSeconds, seconds);
+        EXPECT_EQ(c.coarsened, c.resolution < 400);
+        previous = c.resolution;
+    }
+    EXPECT_EQ(chooseMeshResolution(model, someWork(), 64, 400, 16, 1000.0).resolution, 400);
+}
+
+TEST(TimeBudget, NothingFitsTakesTheCoarsestChoiceAndSaysSo) {
+    const CostModel model = CostModel::fitted();
+    const BudgetChoice mesh = chooseMeshResolution(model, someWork(), 64, 400, 16, 1e-6);
+    EXPECT_FALSE(mesh.fits);
+    EXPECT_EQ(mesh.resolution, 16);
+    const BudgetChoice volume = chooseVolumeCoarsening(model, someWork(), 1, 1e-6);
+    EXPECT_FALSE(volume.fits);
+    EXPECT_EQ(volume.coarsening, 4);
+    EXPECT_TRUE(volume.coarsened);
+    const BudgetChoice ample = chooseVolumeCoarsening(model, someWork(), 2, 1e6);
+    EXPECT_TRUE(ample.fits);
+    EXPECT_EQ(ample.coarsening, 1);
+    EXPECT_FALSE(ample.coarsened);
+}
+
+TEST(TimeBudget, CoarsenedMaskKeepsEveryObjectVoxelAndRefinesBack) {
+    const MaskVolume fine = rasterise(makeShape("y-arms"), {48, 2});
+    const MaskVolume coarse = coarsenMask(fine, 2);
+    const Dims d = fine.dims(), cd = coarse.dims();
+    EXPECT_EQ(cd.x, (d.x + 1) / 2);
+    EXPECT_DOUBLE_EQ(coarse.geometry.voxelSize(), 2 * fine.geometry.voxelSize());
+    LabelVolume coarseLabels(cd, 0);
+    for (int z = 0; z < cd.z; ++z)
+        for (int y = 0; y < cd.y; ++y)
+            for (int x = 0; x < cd.x; ++x)
+                if (coarse(x, y, z)) coarseLabels(x, y, z) = std::uint16_t(1 + (x + y + z) % 3);
+    const LabelVolume labels = refineLabels(coarseLabels, fine, 2);
+    for (int z = 0; z < d.z; ++z)
+        for (int y = 0; y < d.y; ++y)
+            for (int x = 0; x < d.x; ++x) {
+                if (fine(x, y, z)) {
+                    ASSERT_TRUE(coarse(x / 2, y / 2, z / 2));
+                    EXPECT_EQ(labels(x, y, z), coarseLabels(x / 2, y / 2, z / 2));
+                } else {
+                    EXPECT_EQ(labels(x, y, z), 0);
+                }
+            }
+}
+
+TEST(TimeBudget, CountWorkSeesTheShape) {
+    const MaskVolume mask = rasterise(makeShape("figure"), {48, 2});
+    const WorkCounts w = countWork(mask, false);
+    EXPECT_EQ(w.gridVoxels, double(mask.dims().voxelCount()));
+    EXPECT_GT(w.objectVoxels, w.boundaryVoxels);
+    EXPECT_GT(w.boundaryVoxels, 0.0);
+    EXPECT_GT(w.candidates, 0.0);
+    EXPECT_LT(w.candidates, w.objectVoxels);
+    const WorkCounts parallel = countWork(mask, true);
+    EXPECT_EQ(parallel.candidates, w.candidates);
+    EXPECT_EQ(parallel.boundaryVoxels, w.boundaryVoxels);
+}
+
+}  // namespace
+}  // namespace skelseg

@@ -1,0 +1,175 @@
+#include "kernels/SkeletonBand.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "io/shapes/SyntheticShapes.h"
+#include "kernels/FeatureTransform.h"
+#include "kernels/base/Error.h"
+#include "tests/kernels/KernelTestSupport.h"
+
+namespace skelseg {
+namespace {
+
+/// A rasterised synthetic shape with its candidates and landmarks.
+struct Prepared {
+    MaskVolume mask;
+    Volume<std::uint32_t> ft;
+    BoundaryGraph graph;
+    std::vector<SkeletonCandidate> candidates;
+    Landmarks landmarks;
+
+    Prepared(const std::string& shape, int size) {
+        mask = rasterise(makeShape(shape), {size, 2});
+        ft = featureTransform(boundaryVoxels(mask, {false}), {false});
+        graph = buildBoundaryGraph(mask, {false});
+        CandidateOptions options;
+        options.threaded = false;
+        candidates = selectSkeletonCandidates(mask, ft, graph, options);
+        landmarks = computeLandmarks(graph, false);
+    }
+    /// The engine's options at the default tau (3% of the boundary area).
+    SkeletonMeasureOptions options(bool threaded) const {
+        SkeletonMeasureOptions o;
+        o.tau = 0.03 * double(graph.nodeCount());
+        o.noiseArea = std::min(std::max(10.0, 0.002 * double(graph.nodeCount())), o.tau);
+        o.threaded = threaded;
+        o.landmarks = &landmarks;
+        return o;
+    }
+};
+
+const Prepared& prepared(const std::string& shape, int size) {
+    static std::map<std::pair<std::string, int>, std::unique_ptr<Prepared>> cache;
+    auto& slot = cache[{shape, size}];
+    if (!slot) slot = std::make_unique<Prepared>(shape, size);
+    return *slot;
+}
+
+std::vector<SkeletonPoint> inTau(const std::vector<SkeletonPoint>& points, double tau) {
+    std::vector<SkeletonPoint> kept;
+    for (const SkeletonPoint& p : points)
+        if (p.rhoC >= tau) kept.push_back(p);
+    return kept;
+}
+
+void expectSamePoints(const std::vector<SkeletonPoint>& a, const std::vector<SkeletonPoint>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) test::expectSamePoint(a[i], b[i]);
+}
+
+class SkeletonBandShapes : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SkeletonBandShapes, FindsTheExhaustiveSimplifiedSkeleton) {
+    const Prepared& p = prepared(GetParam(), 72);
+    const SkeletonMeasureOptions o = p.options(false);
+    const auto exhaustive = inTau(measureSkeleton(p.graph, p.candidates, o), o.tau);
+    ASSERT_FALSE(exhaustive.empty()) << "every test shape has a simplified skeleton";
+    SkeletonBandStats stats;
+    const auto band =
+        inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, {}, &stats), o.tau);
+    expectSamePoints(band, exhaustive);
+    EXPECT_GE(stats.closureRounds, 2u) << "the closure must run after the seeds";
+    EXPECT_LE(stats.candidatesMeasured, p.candidates.size());
+}
+
+// The sphere's skeleton is a small web at its centre, apart from any other
+// piece: only the coarse seeds find it.
+INSTANTIATE_TEST_SUITE_P(GeneratedShapes, SkeletonBandShapes,
+                         ::testing::Values("disc-limbs", "y-arms", "t-body", "box-tubes",
+                                           "torus-limb", "sphere", "slab", "figure"));
+
+TEST(SkeletonBand, SerialAndParallelGiveIdenticalPoints) {
+    const Prepared& p = prepared("figure", 72);
+    SkeletonBandStats serialStats, parallelStats;
+    SkeletonMeasureStats serialMeasures, parallelMeasures;
+    const auto serial = measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false),
+                                              {}, &serialStats, &serialMeasures);
+    const auto parallel =
+        measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(true), {},
+                              &parallelStats, &parallelMeasures);
+    ASSERT_FALSE(serial.empty());
+    expectSamePoints(parallel, serial);
+    EXPECT_EQ(parallelStats.seeds, serialStats.seeds);
+    EXPECT_EQ(parallelStats.candidatesMeasured, serialStats.candidatesMeasured);
+    EXPECT_EQ(parallelStats.closureRounds, serialStats.closureRounds);
+    EXPECT_EQ(parallelMeasures.skeletonPoints, serialMeasures.skeletonPoints);
+}
+
+TEST(SkeletonBand, SpacingOneMeasuresEveryCandidateLikeTheExhaustiveSearch) {
+    const Prepared& p = prepared("y-arms", 64);
+    const SkeletonMeasureOptions o = p.options(false);
+    SkeletonBandOptions everything;
+    everything.seedSpacing = 1;
+    SkeletonBandStats stats;
+    const auto band =
+        measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, everything, &stats);
+    EXPECT_EQ(stats.seeds, p.candidates.size());
+    EXPECT_EQ(stats.candidatesMeasured, p.candidates.size());
+    EXPECT_EQ(stats.closureRounds, 1u);
+    // All of C, not only C_tau: every candidate was measured.
+    expectSamePoints(band, measureSkeleton(p.graph, p.candidates, o));
+}
+
+TEST(SkeletonBand, MeasuresFewerCandidatesWhereTheSkeletonIsSmall) {
+    // A large ball body with thin limbs: most candidates are medial-surface
+    // voxels of the body, far from its skeleton.
+    const Prepared& p = prepared("disc-limbs", 96);
+    SkeletonBandStats stats;
+    SkeletonMeasureStats measures;
+    measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), {}, &stats,
+                          &measures);
+    EXPECT_LT(stats.candidatesMeasured, p.candidates.size());
+    EXPECT_GT(stats.seeds, 0u);
+    EXPECT_LT(stats.seeds, stats.candidatesMeasured);
+    EXPECT_GT(measures.rimTests, 0u);
+}
+
+TEST(SkeletonBand, RefusesANegativeSpacingOrARadiusBelowOne) {
+    const Prepared& p = prepared("y-arms", 64);
+    SkeletonBandOptions bad;
+    bad.seedSpacing = -1;
+    EXPECT_THROW(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), bad),
+                 UsageError);
+    bad.seedSpacing = 0;
+    bad.closureRadius = 0;
+    EXPECT_THROW(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), bad),
+                 UsageError);
+}
+
+TEST(SkeletonBand, ClosureAloneRecoversTheSkeletonFromOneSeedPiece) {
+    // Without coarse seeds, plane seeds far apart still find the whole
+    // connected skeleton of the figure through the closure.
+    const Prepared& p = prepared("figure", 72);
+    const SkeletonMeasureOptions o = p.options(false);
+    SkeletonBandOptions planesOnly;
+    planesOnly.coarseSeeds = false;
+    planesOnly.seedSpacing = 16;
+    SkeletonBandStats stats;
+    const auto band = inTau(
+        measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, planesOnly, &stats), o.tau);
+    expectSamePoints(band, inTau(measureSkeleton(p.graph, p.candidates, o), o.tau));
+    EXPECT_EQ(stats.coarseCandidates, 0u);
+    EXPECT_GE(stats.closureRounds, 3u);
+}
+
+TEST(SkeletonBand, AddMeasureStatsSumsEveryCounter) {
+    SkeletonMeasureStats a, b;
+    a.search.searches = 2, a.rimTests = 3, a.skeletonPoints = 4, a.sigmaSearch.nodesSettled = 5;
+    b.search.searches = 10, b.rimTests = 20, b.skeletonPoints = 30, b.sigmaSearch.nodesSettled = 40;
+    b.pathCacheHits = 7, b.componentGrowthSteps = 8, b.repeatedFeatureSets = 9;
+    addMeasureStats(a, b);
+    EXPECT_EQ(a.search.searches, 12u);
+    EXPECT_EQ(a.rimTests, 23u);
+    EXPECT_EQ(a.skeletonPoints, 34u);
+    EXPECT_EQ(a.sigmaSearch.nodesSettled, 45u);
+    EXPECT_EQ(a.pathCacheHits, 7u);
+    EXPECT_EQ(a.componentGrowthSteps, 8u);
+    EXPECT_EQ(a.repeatedFeatureSets, 9u);
+}
+
+}  // namespace
+}  // namespace skelseg
