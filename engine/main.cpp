@@ -69,6 +69,21 @@ struct SegmentCli {
     }
 };
 
+/// --time-limit, --time-budget: a one-line refusal that says what is wanted.
+CLI::Validator positiveSeconds() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            try {
+                std::size_t used = 0;
+                const double seconds = std::stod(text, &used);
+                if (used == text.size() && seconds > 0 && seconds < 1e9) return {};
+            } catch (const std::exception&) {
+            }
+            return "'" + text + "' is not a positive number of seconds";
+        },
+        "SECONDS");
+}
+
 void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
     skelseg::SegmentCommandOptions& seg = cli.options;
     command
@@ -99,17 +114,7 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
     command
         ->add_option("--time-limit", seg.timeLimitSeconds,
                      "Stop after this many seconds (exit code 3, no output)")
-        ->check(CLI::Validator(
-            [](std::string& text) -> std::string {
-                try {
-                    std::size_t used = 0;
-                    const double seconds = std::stod(text, &used);
-                    if (used == text.size() && seconds > 0 && seconds < 1e9) return {};
-                } catch (const std::exception&) {
-                }
-                return "'" + text + "' is not a positive number of seconds";
-            },
-            "SECONDS"));
+        ->check(positiveSeconds());
     command
         ->add_option("--skeleton-search", cli.skeletonSearchText,
                      "exhaustive (default: every candidate) or band (measures a band around the "
@@ -119,7 +124,7 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
         ->add_option("--time-budget", seg.timeBudgetSeconds,
                      "Choose the resolution (meshes) or coarsening (volumes) predicted to finish "
                      "within this many seconds; stops like --time-limit only when nothing fits")
-        ->check(CLI::PositiveNumber);
+        ->check(positiveSeconds());
     command->add_option("--max-memory", cli.maxMemoryText,
                         "Refuse runs estimated to need more (e.g. 4G; default 75% of RAM)");
     command->add_flag("--force", seg.force,

@@ -582,6 +582,12 @@ INSTANTIATE_TEST_SUITE_P(
         UsageCase{
             "resolution_too_small", {"segment", "{input}", "-o", "{out}", "--resolution", "2"}, ""},
         UsageCase{"mode_unknown", {"segment", "{input}", "-o", "{out}", "--mode", "magic"}, ""},
+        UsageCase{"skeleton_search_unknown",
+                  {"segment", "{input}", "-o", "{out}", "--skeleton-search", "fast"},
+                  "--skeleton-search"},
+        UsageCase{"time_budget_negative",
+                  {"segment", "{input}", "-o", "{out}", "--time-budget", "-1"},
+                  "not a positive number of seconds"},
         UsageCase{
             "time_limit_negative", {"segment", "{input}", "-o", "{out}", "--time-limit", "-1"}, ""},
         UsageCase{"max_memory_text",

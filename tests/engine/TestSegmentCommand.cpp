@@ -82,6 +82,31 @@ TEST(SegmentCommand, ReportNamesEveryStageOnce) {
     EXPECT_GT(report["segment_count"].get<int>(), 1);
 }
 
+TEST(SegmentCommand, TheDefaultSearchMeasuresEveryCandidate) {
+    const test::TempDir dir;
+    const fs::path input = writeShape(dir);
+    segment(optionsFor(input, dir / "out", 2));
+    const auto report = nlohmann::json::parse(fileBytes(dir / "out" / "report.json"));
+    EXPECT_EQ(report["parameters"]["skeleton_search"], "exhaustive");
+    EXPECT_GT(report["counts"]["candidates"].get<std::uint64_t>(), 0u);
+    EXPECT_EQ(report["work"]["candidates_measured"], report["counts"]["candidates"]);
+    EXPECT_EQ(report["work"]["closure_rounds"], 0);
+    EXPECT_FALSE(report.contains("time_budget"));
+}
+
+TEST(SegmentCommand, ABudgetNothingFitsStopsInsideTheGraphAndLeavesNoOutput) {
+    // Below the cost model's fixed seconds: nothing fits, so the mask node
+    // turns the budget into the time limit and a later stage stops.
+    const test::TempDir dir;
+    const fs::path input = writeShape(dir);
+    SegmentCommandOptions options = optionsFor(input, dir / "budget", 2);
+    options.timeBudgetSeconds = 1e-6;
+    ProgressReporter progress(ProgressReporter::Display::Quiet);
+    EXPECT_THROW(runSegmentCommand(options, progress), InterruptedError);
+    for (const auto& name : segmentOutputNames())
+        EXPECT_FALSE(fs::exists(dir / "budget" / name)) << name;
+}
+
 TEST(SegmentCommand, AnErrorInsideTheGraphLeavesNoOutput) {
     // The time limit trips at the first poll inside the graph's stages.
     const test::TempDir dir;

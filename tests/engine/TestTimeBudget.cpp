@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <vector>
+
+#include "engine/Segmenter.h"
 #include "io/shapes/SyntheticShapes.h"
 
 namespace skelseg {
@@ -79,6 +83,43 @@ TEST(TimeBudget, CoarsenedMaskKeepsEveryObjectVoxelAndRefinesBack) {
                     EXPECT_EQ(labels(x, y, z), 0);
                 }
             }
+}
+
+TEST(TimeBudget, ARefinedResultDescribesTheInputGrid) {
+    const MaskVolume fine = rasterise(makeShape("y-arms"), {64, 2});
+    const int factor = 2;
+    SegmentationResult result = segmentVolume(coarsenMask(fine, factor), {});
+    ASSERT_GT(result.segments.size(), 1u);
+    const std::vector<std::array<int, 3>> coarseSkeleton = [&] {
+        std::vector<std::array<int, 3>> voxels;
+        for (const auto& o : result.objects)
+            for (const auto& v : o.skeleton) voxels.push_back(v.voxel);
+        return voxels;
+    }();
+    ASSERT_FALSE(coarseSkeleton.empty());
+    refineSegmentationResult(result, fine, factor);
+    EXPECT_EQ(result.labels.dims(), fine.dims());
+    std::vector<std::uint64_t> counted(result.segments.size(), 0);
+    std::uint64_t objectVoxels = 0;
+    for (std::size_t i = 0; i < fine.values().size(); ++i) {
+        const std::uint16_t l = result.labels.values()[i];
+        EXPECT_EQ(l != 0, fine.values()[i] != 0);
+        objectVoxels += fine.values()[i] != 0;
+        if (l) ++counted[l - 1u];
+    }
+    std::uint64_t summed = 0;
+    for (std::size_t s = 0; s < result.segments.size(); ++s) {
+        EXPECT_EQ(result.segments[s].voxelCount, counted[s]) << "segment " << s;
+        summed += result.segments[s].voxelCount;
+    }
+    EXPECT_EQ(summed, objectVoxels);
+    std::size_t k = 0;
+    for (const auto& o : result.objects)
+        for (const auto& v : o.skeleton) {
+            for (int c = 0; c < 3; ++c)
+                EXPECT_EQ(v.voxel[c], coarseSkeleton[k][c] * factor + factor / 2);
+            ++k;
+        }
 }
 
 TEST(TimeBudget, CountWorkSeesTheShape) {
