@@ -89,17 +89,20 @@ BudgetChoice chooseVolumeCoarsening(const CostModel& model, const WorkCounts& pr
     return choice;
 }
 
-MaskVolume coarsenMask(const MaskVolume& mask, int factor) {
+MaskVolume coarsenMask(const MaskVolume& mask, int factor, bool threaded) {
     const Dims d = mask.dims();
     const Dims cd{(d.x + factor - 1) / factor, (d.y + factor - 1) / factor,
                   (d.z + factor - 1) / factor};
     MaskVolume coarse(cd, 0);
-    parallelForEach(cd.z, [&](int cz) {
-        for (int z = cz * factor; z < std::min(d.z, (cz + 1) * factor); ++z)
-            for (int y = 0; y < d.y; ++y)
-                for (int x = 0; x < d.x; ++x)
-                    if (mask(x, y, z)) coarse(x / factor, y / factor, cz) = 1;
-    });
+    parallelForEach(
+        cd.z,
+        [&](int cz) {
+            for (int z = cz * factor; z < std::min(d.z, (cz + 1) * factor); ++z)
+                for (int y = 0; y < d.y; ++y)
+                    for (int x = 0; x < d.x; ++x)
+                        if (mask(x, y, z)) coarse(x / factor, y / factor, cz) = 1;
+        },
+        threaded);
     VolumeGeometry g = mask.geometry;
     const double centre = 0.5 * (factor - 1);
     g.origin = mask.geometry.indexToWorld(centre, centre, centre);
@@ -109,15 +112,19 @@ MaskVolume coarsenMask(const MaskVolume& mask, int factor) {
     return coarse;
 }
 
-LabelVolume refineLabels(const LabelVolume& coarse, const MaskVolume& fine, int factor) {
+LabelVolume refineLabels(const LabelVolume& coarse, const MaskVolume& fine, int factor,
+                         bool threaded) {
     const Dims d = fine.dims();
     LabelVolume labels(d, 0);
     labels.geometry = fine.geometry;
-    parallelForEach(d.z, [&](int z) {
-        for (int y = 0; y < d.y; ++y)
-            for (int x = 0; x < d.x; ++x)
-                if (fine(x, y, z)) labels(x, y, z) = coarse(x / factor, y / factor, z / factor);
-    });
+    parallelForEach(
+        d.z,
+        [&](int z) {
+            for (int y = 0; y < d.y; ++y)
+                for (int x = 0; x < d.x; ++x)
+                    if (fine(x, y, z)) labels(x, y, z) = coarse(x / factor, y / factor, z / factor);
+        },
+        threaded);
     return labels;
 }
 

@@ -84,11 +84,13 @@ BudgetChoice chooseVolumeCoarsening(const CostModel& model, const WorkCounts& pr
 
 /// `factor` times coarser mask: a coarse voxel is object when any of its
 /// factor^3 fine voxels is. Geometry: voxels `factor` times larger.
-MaskVolume coarsenMask(const MaskVolume& mask, int factor);
+/// `threaded`: slabs of coarse z in parallel (the same result either way).
+MaskVolume coarsenMask(const MaskVolume& mask, int factor, bool threaded = true);
 
 /// Labels on the fine grid: each object voxel of `fine` takes the label of
 /// its coarse voxel; background stays 0. Geometry of `fine`.
-LabelVolume refineLabels(const LabelVolume& coarse, const MaskVolume& fine, int factor);
+LabelVolume refineLabels(const LabelVolume& coarse, const MaskVolume& fine, int factor,
+                         bool threaded = true);
 
 /// A result segmented on a `factor` times coarser volume, brought back to
 /// the input grid `fine`: labels per fine voxel (refineLabels), voxel

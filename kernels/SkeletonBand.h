@@ -2,9 +2,11 @@
 // (docs/algorithm.md §3.5).
 //
 // measureSkeleton() examines every candidate, and almost all of them turn out
-// not to be curve-skeleton points (2 715 skeleton points among 786 342
-// candidates on a 100k-face mesh at 400). measureSkeletonInBand() finds the
-// same simplified skeleton C_tau while examining a small share of them:
+// not to be curve-skeleton points (figures in docs/algorithm.md §3.5).
+// measureSkeletonInBand() finds the same simplified skeleton C_tau while
+// examining a share of them. It is not the engine's default
+// (--skeleton-search band): it loses whole pieces of C_tau on thin plates,
+// which the coarse grid does not resolve. The search:
 //   1. coarse seeds: the mask at half the resolution (a coarse voxel is
 //      object when any of its 2x2x2 fine voxels is) gets the whole exhaustive
 //      search, a quarter of the candidates with paths half as long; the
@@ -24,11 +26,11 @@
 // found from the body's. What the band can miss is a piece of C_tau without
 // a seed that is farther than the radius from every other piece: a branch
 // the coarse grid does not see and that the fine skeleton does not join.
-// That is a measured, not a proven, property: the identical-answer tests and
-// docs/performance.md compare the result with the exhaustive search on every
-// test shape. Optional extra seeds for such cases: grid planes (every piece
-// that spans seedSpacing voxels along an axis crosses one) and ridge voxels
-// of the distance map (where the web at a ball's centre sits).
+// That is a measured, not a proven, property, and it fails on thin plates
+// (docs/algorithm.md §3.5): the identical-answer tests and
+// docs/performance.md compare the result with the exhaustive search. Optional extra seeds for such
+// cases: grid planes (every piece that spans seedSpacing voxels along an axis crosses one) and
+// ridge voxels of the distance map (where the web at a ball's centre sits).
 //
 // Points of C below tau are found only where the closure passes them; the
 // graph stages never read them. Results depend only on the input, never on

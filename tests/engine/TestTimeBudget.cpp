@@ -85,6 +85,21 @@ TEST(TimeBudget, CoarsenedMaskKeepsEveryObjectVoxelAndRefinesBack) {
             }
 }
 
+TEST(TimeBudget, CoarsenAndRefineSerialEqualsParallel) {
+    const MaskVolume fine = rasterise(makeShape("figure"), {72, 2});
+    for (int factor : {2, 4}) {
+        const MaskVolume parallel = coarsenMask(fine, factor, true);
+        const MaskVolume serial = coarsenMask(fine, factor, false);
+        EXPECT_EQ(parallel.values(), serial.values()) << factor;
+        LabelVolume coarseLabels(parallel.dims(), 0);
+        for (std::size_t i = 0; i < parallel.values().size(); ++i)
+            if (parallel.values()[i]) coarseLabels.values()[i] = std::uint16_t(1 + i % 5);
+        EXPECT_EQ(refineLabels(coarseLabels, fine, factor, true).values(),
+                  refineLabels(coarseLabels, fine, factor, false).values())
+            << factor;
+    }
+}
+
 TEST(TimeBudget, ARefinedResultDescribesTheInputGrid) {
     const MaskVolume fine = rasterise(makeShape("y-arms"), {64, 2});
     const int factor = 2;
