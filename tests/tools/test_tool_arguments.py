@@ -26,7 +26,9 @@ FORWARDS_UNKNOWN_OPTIONS = {"tools/run-asan-tests.sh"}
 # Placeholders for required positional arguments, so that argparse reaches
 # the unknown option (it reports missing positionals first).
 POSITIONALS = {
+    "bench/compare_search.py": ["mesh.off"],
     "bench/scaling.py": ["mesh.off"],
+    "bench/time_budget.py": ["mesh.off"],
     "profiles/stage_table.py": ["report.json"],
     "tools/slice_png.py": ["labels.nrrd", "slice.png"],
 }
