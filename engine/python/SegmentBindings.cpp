@@ -7,11 +7,11 @@
 #include <cstdio>
 #include <optional>
 
+#include "engine/ResultReport.h"
 #include "engine/SegmentCommand.h"
 #include "engine/Stage.h"
 #include "engine/python/ArrayMask.h"
 #include "engine/python/Bindings.h"
-#include "engine/python/CallReport.h"
 #include "engine/python/EngineCall.h"
 #include "engine/python/ResultArrays.h"
 #include "io/mesh/FaceLabels.h"
@@ -61,7 +61,7 @@ struct CallRecord {
     py::dict finish(SegmentationResult&& result, nlohmann::json input,
                     std::optional<std::uint32_t> faceSegments = std::nullopt) {
         for (const auto& w : result.warnings) warnings.push_back(w);
-        CallReportContext context;
+        ResultReportContext context;
         context.input = std::move(input);
         context.parameters = parameters;
         context.threads = threads;
@@ -74,7 +74,7 @@ struct CallRecord {
         context.warnings = warnings;
         context.faceSegments = faceSegments;
         py::dict out;
-        out["report"] = jsonToPython(callReport(result, context));
+        out["report"] = jsonToPython(resultReport(result, context));
         out["skeleton"] = skeletonArrays(result);
         out["cuts"] = cutArrays(result);
         out["warnings"] = py::cast(warnings);

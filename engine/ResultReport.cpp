@@ -1,4 +1,4 @@
-#include "engine/python/CallReport.h"
+#include "engine/ResultReport.h"
 
 #include <cmath>
 
@@ -27,7 +27,7 @@ void addCount(json& j, const char* key, std::uint64_t value) {
 
 }  // namespace
 
-json callReport(const SegmentationResult& result, const CallReportContext& context) {
+json resultReport(const SegmentationResult& result, const ResultReportContext& context) {
     const SegmentationParameters& p = context.parameters;
     const VolumeGeometry& geometry = result.labels.geometry;
     json report;
@@ -49,17 +49,12 @@ json callReport(const SegmentationResult& result, const CallReportContext& conte
                             {"skeleton_search", skeletonSearchName(p.skeletonSearch)}};
     json counts = {{"object_voxels", 0},         {"boundary_voxels", 0}, {"candidates", 0},
                    {"curve_skeleton_points", 0}, {"skeleton_points", 0}, {"junction_voxels", 0}};
-    json work = {{"objects_voxels_examined", 0},
-                 {"candidates_searched", 0},
-                 {"dijkstra_searches", 0},
-                 {"heap_pops", 0},
-                 {"nodes_settled", 0},
-                 {"path_cache_hits", 0},
-                 {"rim_tests", 0},
-                 {"component_growth_steps", 0},
-                 {"sigma_evaluations", 0},
-                 {"sigma_searches", 0},
-                 {"repeated_feature_sets", 0}};
+    json work = {
+        {"objects_voxels_examined", 0}, {"candidates_searched", 0}, {"candidates_measured", 0},
+        {"closure_rounds", 0},          {"dijkstra_searches", 0},   {"heap_pops", 0},
+        {"nodes_settled", 0},           {"path_cache_hits", 0},     {"rim_tests", 0},
+        {"component_growth_steps", 0},  {"sigma_evaluations", 0},   {"sigma_searches", 0},
+        {"repeated_feature_sets", 0}};
     json objects = json::array(), junctions = json::array(), critical = json::array();
     for (std::size_t o = 0; o < result.objects.size(); ++o) {
         const ObjectSegmentation& obj = result.objects[o];
@@ -73,6 +68,8 @@ json callReport(const SegmentationResult& result, const CallReportContext& conte
         addCount(counts, "junction_voxels", obj.junctionVoxels);
         addCount(work, "objects_voxels_examined", obj.candidateStats.objectVoxels);
         addCount(work, "candidates_searched", obj.candidateStats.candidates);
+        addCount(work, "candidates_measured", obj.bandStats.candidatesMeasured);
+        addCount(work, "closure_rounds", obj.bandStats.closureRounds);
         addCount(work, "dijkstra_searches", search.searches);
         addCount(work, "heap_pops", search.heapPops + sigmaSearch.heapPops);
         addCount(work, "nodes_settled", search.nodesSettled + sigmaSearch.nodesSettled);
