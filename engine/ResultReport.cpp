@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/LevelOutputs.h"
 #include "engine/Version.h"
 
 using json = nlohmann::json;
@@ -38,7 +39,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
     report["grid"] = {{"size", {d.x, d.y, d.z}},
                       {"voxel_size", geometry.voxelSize()},
                       {"origin", toJson(geometry.origin)}};
-    report["parameters"] = {{"tau", p.tau.toString()},
+    report["parameters"] = {{"tau", p.tauListString()},
                             {"sigma_min", p.sigmaMin},
                             {"body_ratio", p.bodyRatio},
                             {"mode", p.mode == CutMode::Junctions ? "junctions" : "junction-rule"},
@@ -129,6 +130,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                             {"boundary_area", s.boundaryArea}});
     report["segments"] = segments;
     report["segment_count"] = result.segments.size();
+    report["levels"] = reportLevelsJson(result, {});
     report["islands"] = {{"count", result.islands.count},
                          {"voxels", result.islands.voxels},
                          {"noise_area", result.islands.noiseArea}};

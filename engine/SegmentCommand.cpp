@@ -21,8 +21,9 @@ namespace skelseg {
 
 const std::vector<std::string>& segmentOutputNames() {
     static const std::vector<std::string> names = {
-        "labels.nrrd", "labels.vdb",  "skeleton.ply",     "cuts.ply",     "segments.ply",
-        "preview.png", "report.json", "segmentation.seg", "segments.glb", "viewer.html"};
+        "labels.nrrd",  "labels.vdb",  "skeleton.ply", "cuts.ply",
+        "segments.ply", "preview.png", "report.json",  "segmentation.seg",
+        "segments.glb", "viewer.html", "levels",       "hierarchy.json"};
     return names;
 }
 
@@ -101,9 +102,20 @@ SegmentingMessage refineShape(const RunContext& run, SegmentingMessage shape) {
 ShapeMessage completeShape(const RunContext& run, SegmentingMessage shape) {
     const SegmentSource& source = *shape->input->source;
     if (source.isMesh()) {
-        Stage stage(run.timer, run.progress, "face labels", true);
-        shape->faceLabels = labelFaces(*source.mesh, shape->result.labels, {}, run.progress);
+        FaceLabelStatistics statistics;
+        {
+            Stage stage(run.timer, run.progress, "face labels", true);
+            shape->faceLabels =
+                labelFaces(*source.mesh, shape->result.labels, {}, run.progress, &statistics);
+        }
+        shape->voxelLabelOfFaceLabel = std::move(statistics.voxelLabels);
+        if (!shape->result.finerLevels.empty()) {
+            Stage stage(run.timer, run.progress, "level face labels", true);
+            labelLevelFaces(*source.mesh, shape->result, shape->faceLabels,
+                            shape->voxelLabelOfFaceLabel, shape->levels, run.progress);
+        }
     }
+    if (!shape->result.finerLevels.empty()) shape->levels.cutLoops = levelCutLoops(shape->result);
     shape->world = gatherWorldGeometry(shape->result);
     return shape;
 }
@@ -163,7 +175,10 @@ void runGraph(const RunContext& run) {
     auto writeSurfaces = writer([&](const SegmentedShape& shape) {
         writeSurfacesAndPreview(run.out, shape, run.options, run.timer, run.progress);
     });
-    using Written = std::tuple<ShapeMessage, ShapeMessage, ShapeMessage, ShapeMessage>;
+    auto writeLevelFiles = writer(
+        [&](const SegmentedShape& shape) { writeLevels(run.out, shape, run.timer, run.progress); });
+    using Written =
+        std::tuple<ShapeMessage, ShapeMessage, ShapeMessage, ShapeMessage, ShapeMessage>;
     flow::join_node<Written, flow::queueing> written(graph);
     flow::function_node<Written, flow::continue_msg> report(graph, flow::serial,
                                                             [&](const Written& all) {
@@ -179,10 +194,12 @@ void runGraph(const RunContext& run) {
     flow::make_edge(complete, writeVdb);
     flow::make_edge(complete, writeSkeleton);
     flow::make_edge(complete, writeSurfaces);
+    flow::make_edge(complete, writeLevelFiles);
     flow::make_edge(writeNrrd, flow::input_port<0>(written));
     flow::make_edge(writeVdb, flow::input_port<1>(written));
     flow::make_edge(writeSkeleton, flow::input_port<2>(written));
     flow::make_edge(writeSurfaces, flow::input_port<3>(written));
+    flow::make_edge(writeLevelFiles, flow::input_port<4>(written));
     flow::make_edge(written, report);
     read.try_put(flow::continue_msg());
     graph.wait_for_all();
@@ -207,6 +224,11 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     checkInputFileSize(options.input, inputOptions.memoryLimit);
     // Refuse to clobber earlier results before doing any work.
     OutputDirectory out(options.outdir, options.force, segmentOutputNames());
+    // An earlier hierarchy run's levels would contradict this run's outputs.
+    if (options.parameters.finerTaus.empty()) {
+        out.removeOnCommit("levels");
+        out.removeOnCommit("hierarchy.json");
+    }
     StageTimer timer;
     const RunContext run{options, progress, timer, out, inputOptions, threads, wallStart, cpuStart};
     tbb::task_arena arena(threads);

@@ -4,8 +4,9 @@
 // (.off, .obj, .stl, .ply) voxelised at `resolution`. Output, staged and
 // moved into OUTDIR only when everything succeeded (OutputDirectory):
 //   labels.nrrd, labels.vdb, skeleton.ply, cuts.ply, segments.ply,
-//   segments.glb, viewer.html, preview.png, report.json, and for meshes
-//   segmentation.seg.
+//   segments.glb, viewer.html, preview.png, report.json, for meshes
+//   segmentation.seg, and for hierarchy runs (--tau 1%,3%) levels/ and
+//   hierarchy.json.
 //
 // The run is a oneTBB flow graph whose edges carry values (shared pointers
 // to immutable results; the volume's mask is moved, not copied):
@@ -15,18 +16,19 @@
 //                            --time-budget probe
 //                            and choice)
 //   ──> refine ──SegmentedShape──> complete ──SegmentedShape─────────────────┐
-//       (a volume coarsened        (face labels,                            │
-//        for --time-budget:        world geometry)                          │
-//        TimeBudget.h)                                                      │
-//        ┌──────────────────┬───────────────────┬───────────────────────────┤
-//        v                  v                   v                           v
-//   write labels.nrrd  write labels.vdb  write skeleton.ply,    segment surfaces,
-//                                        cuts.ply               views and preview
-//        └──────────────────┴─────────┬─────────┴───────────────────────────┘
-//                                     v  (join: all four done)
+//       (a volume coarsened        (face labels, every                      │
+//        for --time-budget:        level's faces and cuts,                  │
+//        TimeBudget.h)             world geometry)                          │
+//        ┌──────────────────┬───────────────────┬───────────────────┬───────┴──────┐
+//        v                  v                   v                   v              v
+//   write labels.nrrd  write labels.vdb  write skeleton.ply,  segment surfaces,  write levels/,
+//                                        cuts.ply             views, preview     hierarchy.json
+//        └──────────────────┴─────────┬─────────┴───────────────────┴──────────────┘
+//                                     v  (join: all five done)
 //                                   report ──> report.json (SegmentReport.h)
 //
-// The four writers (SegmentOutput.h) run concurrently. Shared by every node
+// The five writers (SegmentOutput.h) run concurrently (levels/ only in
+// hierarchy runs, engine/SegmentationLevels.h). Shared by every node
 // and thread-safe: the StageTimer, the ProgressReporter and the
 // OutputDirectory. The whole graph runs in a task arena of `threads` slots,
 // so concurrent calls (one per shape) each keep their own thread limit. An

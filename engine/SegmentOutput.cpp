@@ -21,7 +21,7 @@ std::vector<std::string> viewerFacts(const SegmentCommandOptions& options,
     const Dims d = result.labels.dims();
     std::vector<std::string> facts = {
         std::to_string(result.segments.size()) + " parts",
-        "tau " + options.parameters.tau.toString(),
+        "tau " + options.parameters.tauListString(),
         "grid " + std::to_string(d.x) + " x " + std::to_string(d.y) + " x " + std::to_string(d.z)};
     if (!options.gridName.empty()) facts.push_back("grid name " + options.gridName);
     return facts;
@@ -78,6 +78,30 @@ void writeSkeletonAndCuts(OutputDirectory& out, const SegmentedShape& shape, Sta
     writeCutsPly(out.stagingPath("cuts.ply"), shape.world.cutLoops);
 }
 
+void writeLevels(OutputDirectory& out, const SegmentedShape& shape, StageTimer& timer,
+                 Interrupter& interrupter) {
+    const SegmentationResult& result = shape.result;
+    if (result.finerLevels.empty()) return;
+    Stage stage(timer, interrupter, "write levels, hierarchy.json", false);
+    const bool isMesh = shape.input->source->isMesh();
+    const std::filesystem::path root = out.stagingPath("levels");
+    for (std::size_t k = 0; k <= result.finerLevels.size(); ++k) {
+        const std::filesystem::path directory = root / std::to_string(k);
+        std::error_code ec;
+        std::filesystem::create_directories(directory, ec);
+        if (ec)
+            throw OutputError(directory.string() + ": cannot create directory: " + ec.message());
+        const bool coarsest = k == result.finerLevels.size();
+        writeNrrdLabels(directory / "labels.nrrd",
+                        coarsest ? result.labels : result.finerLevels[k].labels);
+        writeCutsPly(directory / "cuts.ply", shape.levels.cutLoops[k]);
+        if (isMesh) writeSeg(directory / "segmentation.seg", shape.levels.faceLabels[k]);
+        throwIfInterrupted(interrupter);
+    }
+    writeFileAtomically(out.stagingPath("hierarchy.json"),
+                        hierarchyJson(result, shape.levels, isMesh));
+}
+
 void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
                              const SegmentCommandOptions& options, StageTimer& timer,
                              Interrupter& interrupter) {
@@ -117,10 +141,34 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
     {
         // Inside the surfaces stage (whose time includes it), as its own too.
         Stage views(timer, interrupter, "write segments.glb, viewer.html", true);
-        writeSegmentViews(out, {&result, &scene.vertices, &scene.triangles, &scene.triangleLabels,
-                                &shape.world.skeletonPoints, &shape.world.skeletonEdges,
-                                &shape.world.cutLoops, options.input.filename().string(),
-                                viewerFacts(options, result), options.parameters.tau.toString()});
+        SegmentViewInputs inputs{&result,
+                                 &scene.vertices,
+                                 &scene.triangles,
+                                 &scene.triangleLabels,
+                                 &shape.world.skeletonPoints,
+                                 &shape.world.skeletonEdges,
+                                 &shape.world.cutLoops,
+                                 options.input.filename().string(),
+                                 viewerFacts(options, result),
+                                 options.parameters.tau.toString(),
+                                 {},
+                                 nullptr};
+        if (!result.finerLevels.empty()) {
+            // Every level on the one surface, labelled as labels.nrrd.
+            if (source.isMesh()) {
+                const TriangleMesh& mesh = *source.mesh;
+                inputs.levelTriangleLabels.resize(shape.levels.faceVoxelLabels.size());
+                for (std::size_t k = 0; k < inputs.levelTriangleLabels.size(); ++k)
+                    for (std::uint32_t face : mesh.triangleFace)
+                        inputs.levelTriangleLabels[k].push_back(
+                            shape.levels.faceVoxelLabels[k][face]);
+            } else {
+                inputs.levelTriangleLabels = levelTriangleLabels(
+                    result, scene.vertices, scene.triangles, scene.triangleLabels);
+            }
+            inputs.levelCutLoops = &shape.levels.cutLoops;
+        }
+        writeSegmentViews(out, inputs);
     }
     if (!options.writePreview) return;
     for (const auto& p : shape.world.skeletonPoints) scene.skeletonPoints.push_back(p.position);

@@ -7,6 +7,8 @@
 //   writeLabelNrrd          labels.nrrd                  ("write labels.nrrd")
 //   writeLabelVdb           labels.vdb                   ("write labels.vdb")
 //   writeSkeletonAndCuts    skeleton.ply, cuts.ply       ("write skeleton.ply, cuts.ply")
+//   writeLevels             levels/, hierarchy.json      ("write levels, hierarchy.json";
+//                           hierarchy runs only)
 //   writeSurfacesAndPreview segments.ply, segments.glb, viewer.html, preview.png,
 //                           and for meshes segmentation.seg
 //                           ("segment surfaces and preview", within it
@@ -20,6 +22,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/LevelOutputs.h"
 #include "engine/SegmentCommand.h"
 #include "engine/SegmentInput.h"
 #include "engine/Segmenter.h"
@@ -44,7 +47,11 @@ struct SegmentedShape {
     std::shared_ptr<const SegmentMask> input;
     SegmentationResult result;
     std::vector<std::uint32_t> faceLabels;  // per input face, 0-based segment
+    /// The voxel label (1..K) of each face label (mesh inputs).
+    std::vector<std::uint32_t> voxelLabelOfFaceLabel;
     WorldGeometry world;
+    /// Hierarchy runs (result.finerLevels not empty): every level's faces and cuts.
+    LevelOutputs levels;
 };
 
 /// Skeleton points, edges and cut loops of `result` in world coordinates
@@ -57,6 +64,11 @@ void writeLabelVdb(OutputDirectory& out, const SegmentedShape& shape, StageTimer
                    Interrupter& interrupter);
 void writeSkeletonAndCuts(OutputDirectory& out, const SegmentedShape& shape, StageTimer& timer,
                           Interrupter& interrupter);
+/// Hierarchy runs: levels/k/ (labels.nrrd, cuts.ply, for meshes
+/// segmentation.seg) for every level k, finest 0, and hierarchy.json; nothing
+/// for a single level.
+void writeLevels(OutputDirectory& out, const SegmentedShape& shape, StageTimer& timer,
+                 Interrupter& interrupter);
 /// segments.ply (a mesh input's own triangles, else the smoothed surfaces of
 /// the label volume), segmentation.seg for meshes, segments.glb and
 /// viewer.html of the same surface (engine/SegmentViews.h), and preview.png

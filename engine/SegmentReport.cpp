@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
+#include "engine/LevelOutputs.h"
 #include "engine/ResultReport.h"
 
 using json = nlohmann::json;
@@ -44,6 +45,8 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
     context.warnings = shape.input->warnings;
     context.warnings.insert(context.warnings.end(), result.warnings.begin(), result.warnings.end());
     json report = resultReport(result, context);
+    // With the mesh's face nesting counts, which only the command has.
+    report["levels"] = reportLevelsJson(result, shape.levels.nestedFaces);
     const double wall = figures.wallSeconds;
     if (const auto& budget = shape.input->budget)
         report["time_budget"] = {

@@ -26,13 +26,32 @@ void writeSegmentViews(OutputDirectory& out, const SegmentViewInputs& inputs) {
         scene.triangles = *inputs.triangles;
         scene.skeletonPoints = *inputs.skeletonPoints;
         scene.skeletonEdges = *inputs.skeletonEdges;
-        ViewerLevel level;
-        level.tau = inputs.tau;
-        level.triangleLabels = *inputs.triangleLabels;
-        for (const SegmentInfo& s : inputs.result->segments)
-            level.segments.push_back({s.label, s.voxelCount, 0});
-        level.cutLoops = *inputs.cutLoops;
-        scene.levels.push_back(std::move(level));
+        const SegmentationResult& result = *inputs.result;
+        if (inputs.levelTriangleLabels.empty()) {
+            ViewerLevel level;
+            level.tau = inputs.tau;
+            level.triangleLabels = *inputs.triangleLabels;
+            for (const SegmentInfo& s : result.segments)
+                level.segments.push_back({s.label, s.voxelCount, 0});
+            level.cutLoops = *inputs.cutLoops;
+            scene.levels.push_back(std::move(level));
+        } else {
+            for (std::size_t k = 0; k < inputs.levelTriangleLabels.size(); ++k) {
+                const bool coarsest = k == result.finerLevels.size();
+                ViewerLevel level;
+                level.tau = coarsest ? inputs.tau : result.finerLevels[k].tau.toString();
+                level.triangleLabels = inputs.levelTriangleLabels[k];
+                for (const SegmentInfo& s :
+                     coarsest ? result.segments : result.finerLevels[k].segments)
+                    level.segments.push_back(
+                        {s.label, s.voxelCount,
+                         coarsest
+                             ? 0u
+                             : std::uint32_t(result.finerLevels[k].parentLabel[s.label - 1u])});
+                level.cutLoops = (*inputs.levelCutLoops)[k];
+                scene.levels.push_back(std::move(level));
+            }
+        }
         writeViewerHtml(out.stagingPath("viewer.html"), scene);
     };
     tbb::parallel_invoke(writeGlb, writeViewer);

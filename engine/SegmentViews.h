@@ -32,6 +32,12 @@ struct SegmentViewInputs {
     std::string title;
     std::vector<std::string> facts;
     std::string tau;
+    /// Hierarchy runs: the surface's labels (1..K, as labels.nrrd) at every
+    /// level, finest first, the last the coarsest; empty for one level
+    /// (triangleLabels then). Levels follow result->finerLevels.
+    std::vector<std::vector<std::uint32_t>> levelTriangleLabels;
+    /// Hierarchy runs: every level's cut loops (world), finest first.
+    const std::vector<std::vector<std::vector<std::array<double, 3>>>>* levelCutLoops = nullptr;
 };
 
 /// Stages segments.glb and viewer.html in `out` (both written concurrently).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/SegmentationLevels.h"
 #include "engine/Stage.h"
 #include "kernels/CutLoopOrder.h"
 #include "kernels/FeatureTransform.h"
@@ -24,6 +25,9 @@ SkeletonMeasureOptions ObjectState::measureOptions() const {
     options.landmarks = &landmarks;
     options.tau = out.tauArea;
     options.noiseArea = out.noiseArea;
+    // One measure serves every level (engine/SegmentationLevels.h): sigma
+    // down to the finest tau.
+    if (!finerLevels.empty()) options.sigmaTau = finerLevels.front().tauArea;
     options.threaded = parameters.threaded;
     return options;
 }
@@ -71,6 +75,15 @@ void buildObjectBoundaryGraph(ObjectState& state) {
     out.boundaryComponents = state.graph.componentSize.size();
     out.tauArea = p.tau.areaFor(out.boundaryArea);
     out.noiseArea = p.noiseAreaFor(double(out.boundaryArea));
+    state.finerLevels.resize(p.finerTaus.size());
+    out.finerLevels.resize(p.finerTaus.size());
+    for (std::size_t k = 0; k < p.finerTaus.size(); ++k) {
+        ObjectLevelWork& level = state.finerLevels[k];
+        level.tauArea = p.finerTaus[k].areaFor(out.boundaryArea);
+        level.noiseArea = p.noiseAreaFor(double(out.boundaryArea), p.finerTaus[k]);
+        out.finerLevels[k].tauArea = level.tauArea;
+        out.finerLevels[k].noiseArea = level.noiseArea;
+    }
 }
 
 void selectObjectCandidates(ObjectState& state) {
@@ -218,15 +231,21 @@ void labelObjectSurface(ObjectState& state) {
     throwIfInterrupted(state.interrupter);
 }
 
-void labelObjectInterior(ObjectState& state) {
-    Stage stage(state.timer, state.interrupter, "interior labels", true);
-    const std::uint32_t segmentCount = state.segments.segmentCount;
+Volume<std::uint16_t> objectInteriorLabels(const ObjectState& state,
+                                           const SurfaceSegments& segments) {
+    const std::uint32_t segmentCount = segments.segmentCount;
     std::vector<std::uint16_t> localId(segmentCount);
     for (std::uint32_t s = 0; s < segmentCount; ++s)
         localId[s] = std::uint16_t(std::min<std::uint32_t>(s + 1, 65535));
-    state.localLabels = Volume<std::uint16_t>(state.crop.dims(), 0);
-    labelInterior(state.crop, state.featureTransform, state.graph, state.segments, localId,
-                  state.localLabels, state.parameters.threaded);
+    Volume<std::uint16_t> labels(state.crop.dims(), 0);
+    labelInterior(state.crop, state.featureTransform, state.graph, segments, localId, labels,
+                  state.parameters.threaded);
+    return labels;
+}
+
+void labelObjectInterior(ObjectState& state) {
+    Stage stage(state.timer, state.interrupter, "interior labels", true);
+    state.localLabels = objectInteriorLabels(state, state.segments);
 }
 
 void runObjectStages(ObjectState& state, const MaskVolume& mask,
@@ -241,13 +260,21 @@ void runObjectStages(ObjectState& state, const MaskVolume& mask,
         selectObjectCandidates(state);
         computeObjectLandmarks(state);
         measureObjectSkeleton(state);
-        buildObjectSkeletonGraph(state);
-        placeObjectCuts(state);
+        {
+            LevelClock clock(state.coarsestSeconds);
+            buildObjectSkeletonGraph(state);
+            placeObjectCuts(state);
+        }
         recordSkeleton(state);
+        if (!state.finerLevels.empty()) placeFinerLevelCuts(state);
         releaseSkeletonData(state);
     }
-    labelObjectSurface(state);
-    labelObjectInterior(state);
+    {
+        LevelClock clock(state.coarsestSeconds);
+        labelObjectSurface(state);
+        labelObjectInterior(state);
+    }
+    if (!state.finerLevels.empty()) labelFinerLevels(state);
 }
 
 }  // namespace skelseg

@@ -43,6 +43,20 @@
 
 namespace skelseg {
 
+/// One finer level of a hierarchy run, for one object
+/// (engine/SegmentationLevels.h).
+struct ObjectLevelWork {
+    double tauArea = 0.0;
+    double noiseArea = 0.0;
+    /// The level's cut loops: its own cuts and every coarser level's, each once.
+    std::vector<std::vector<std::uint32_t>> cutLoops;
+    SurfaceSegments segments;           // nested in the next coarser level's
+    std::vector<std::uint32_t> parent;  // per segment: segment at the next coarser level
+    std::uint64_t movedNodes = 0;       // nodes the nesting repair moved
+    Volume<std::uint16_t> localLabels;  // as ObjectState::localLabels
+    LevelSeconds seconds;
+};
+
 /// Everything known about one object, filled in stage order. Volumes and
 /// boundary nodes are in the object's crop: its bounding box padded by one
 /// background voxel on every side (so an object touching the grid border
@@ -75,6 +89,11 @@ struct ObjectState {
     std::vector<std::vector<std::uint32_t>> cutLoops;  // cut placement: Gamma of each cut
     SurfaceSegments segments;                          // labelling: boundary segments
     Volume<std::uint16_t> localLabels;  // interior labels: local segment + 1, 0 outside
+
+    /// Hierarchy runs: one entry per finer level, finest first (empty
+    /// otherwise); the fields above are the coarsest level's.
+    std::vector<ObjectLevelWork> finerLevels;
+    LevelSeconds coarsestSeconds;  // the coarsest level's per-level stages
 
     /// The object's part of the result (counts, skeleton, cuts; global
     /// labels are added by segmentVolume once every object is done).
@@ -109,6 +128,10 @@ void placeObjectCuts(ObjectState& state);
 void labelObjectSurface(ObjectState& state);
 /// Every object voxel takes the segment of its feature voxel.
 void labelObjectInterior(ObjectState& state);
+/// The object's voxels labelled by `segments` (local id + 1, 0 outside; the
+/// work of labelObjectInterior, for any level).
+Volume<std::uint16_t> objectInteriorLabels(const ObjectState& state,
+                                           const SurfaceSegments& segments);
 
 /// Runs every stage above in order (the skeleton stages only for objects of
 /// at least minObjectVoxels voxels) and records skeleton, junctions and

@@ -42,6 +42,53 @@ const char* skeletonSearchName(SkeletonSearch search) {
     return search == SkeletonSearch::Band ? "band" : "exhaustive";
 }
 
+std::vector<TauSpec> parseTauList(const std::string& text) {
+    std::vector<TauSpec> taus;
+    std::size_t start = 0;
+    for (;;) {
+        const std::size_t comma = text.find(',', start);
+        const std::string item =
+            text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (item.empty())
+            throw UsageError("--tau '" + text +
+                             "' has an empty value; give a list such as 1%,3%,9%");
+        try {
+            taus.push_back(TauSpec::parse(item));
+        } catch (const UsageError& e) {
+            if (item == text) throw;
+            // Name the whole list: "--tau '1%,x': 'x' is not a number ...".
+            std::string problem = e.what();
+            const std::string prefix = "--tau '" + item + "' ";
+            if (problem.rfind(prefix, 0) == 0) problem = problem.substr(prefix.size());
+            throw UsageError("--tau '" + text + "': '" + item + "' " + problem);
+        }
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    for (const TauSpec& t : taus)
+        if (t.percent != taus.front().percent)
+            throw UsageError("--tau '" + text +
+                             "' mixes percentages and voxel areas; give all of one kind");
+    std::sort(taus.begin(), taus.end(),
+              [](const TauSpec& a, const TauSpec& b) { return a.value < b.value; });
+    for (std::size_t i = 1; i < taus.size(); ++i)
+        if (taus[i].value == taus[i - 1].value)
+            throw UsageError("--tau '" + text + "' gives " + taus[i].toString() + " twice");
+    return taus;
+}
+
+std::vector<TauSpec> SegmentationParameters::levelTaus() const {
+    std::vector<TauSpec> taus = finerTaus;
+    taus.push_back(tau);
+    return taus;
+}
+
+std::string SegmentationParameters::tauListString() const {
+    std::string text;
+    for (const TauSpec& t : levelTaus()) text += (text.empty() ? "" : ",") + t.toString();
+    return text;
+}
+
 std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels,
                                          int threads) {
     const std::uint64_t voxels = dims.voxelCount();
@@ -58,14 +105,77 @@ std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectV
     return bytes;
 }
 
+namespace {
+
+/// One object's segments at one level, before global ids exist.
+struct ObjectLabels {
+    std::array<int, 3> origin;
+    std::vector<std::uint64_t> area;  // boundary area of each local segment
+    Volume<std::uint16_t> local;      // local id + 1 in the object's crop, 0 outside
+};
+
+/// Gives every segment of every object one global label 1..K by decreasing
+/// boundary area (ties: object order, then local id), paints them into
+/// `labels` and lists them in `segments`. Returns each object's global
+/// label of each local segment.
+std::vector<std::vector<std::uint16_t>> assembleLevelLabels(
+    const std::vector<ObjectLabels>& objectLabels, LabelVolume& labels,
+    std::vector<SegmentInfo>& segments) {
+    struct LocalSegment {
+        std::uint32_t object, local;
+        std::uint64_t area;
+    };
+    std::vector<LocalSegment> localSegments;
+    for (std::size_t o = 0; o < objectLabels.size(); ++o)
+        for (std::size_t s = 0; s < objectLabels[o].area.size(); ++s)
+            localSegments.push_back({std::uint32_t(o), std::uint32_t(s), objectLabels[o].area[s]});
+    if (localSegments.size() > 65535)
+        throw Error("the volume has " + std::to_string(localSegments.size()) +
+                    " segments, more than a 16-bit label volume can hold");
+    std::vector<std::size_t> order(localSegments.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return localSegments[a].area > localSegments[b].area;
+    });
+    std::vector<std::vector<std::uint16_t>> globalOf(objectLabels.size());
+    for (std::size_t o = 0; o < objectLabels.size(); ++o)
+        globalOf[o].assign(objectLabels[o].area.size(), 0);
+    for (std::size_t rank = 0; rank < order.size(); ++rank) {
+        const LocalSegment& s = localSegments[order[rank]];
+        globalOf[s.object][s.local] = std::uint16_t(rank + 1);
+        segments.push_back({std::uint16_t(rank + 1), s.object, 0, s.area});
+    }
+    for (std::size_t o = 0; o < objectLabels.size(); ++o) {
+        const ObjectLabels& ol = objectLabels[o];
+        const Dims cd = ol.local.dims();
+        for (int z = 1; z < cd.z - 1; ++z)
+            for (int y = 1; y < cd.y - 1; ++y)
+                for (int x = 1; x < cd.x - 1; ++x) {
+                    const std::uint16_t local = ol.local(x, y, z);
+                    if (!local) continue;
+                    const std::uint16_t label = globalOf[o][local - 1u];
+                    labels(x + ol.origin[0], y + ol.origin[1], z + ol.origin[2]) = label;
+                    ++segments[label - 1u].voxelCount;
+                }
+    }
+    return globalOf;
+}
+
+}  // namespace
+
 SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParameters& p,
                                  Interrupter& interrupter, StageTimer* timerIn) {
+    // The band is found at one tau (kernels/SkeletonBand.h); finer levels
+    // would miss the branches only their tau keeps.
+    if (!p.finerTaus.empty() && p.skeletonSearch == SkeletonSearch::Band)
+        throw UsageError("--skeleton-search band takes a single --tau, not a list of levels");
     StageTimer localTimer;
     StageTimer& timer = timerIn ? *timerIn : localTimer;
     SegmentationResult result;
     const Dims dims = mask.dims();
     result.labels = LabelVolume(dims, 0);
     result.labels.geometry = mask.geometry;
+    result.tau = p.tau;
 
     ConnectedObjects found;
     {
@@ -89,63 +199,60 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
     if (found.objects.empty())
         result.warnings.push_back("the volume holds no object voxels: no segments");
 
-    struct LocalSegment {
-        std::uint32_t object, local;
-        std::uint64_t area, voxels;
-    };
-    std::vector<LocalSegment> localSegments;
-    // Per object: local segment label of each voxel in the crop, kept until
-    // global ids are known.
-    struct ObjectLabels {
-        std::array<int, 3> origin;
-        Volume<std::uint16_t> local;  // local id + 1
-    };
     std::vector<ObjectLabels> objectLabels;
+    // Per finer level (finest first), per object: the same for that level.
+    const std::size_t finerCount = p.finerTaus.size();
+    std::vector<std::vector<ObjectLabels>> finerLabels(finerCount);
+    std::vector<std::vector<std::vector<std::uint32_t>>> finerParents(finerCount);
+    std::vector<std::uint64_t> movedNodes(finerCount, 0);
+    std::vector<LevelSeconds> finerSeconds(finerCount);
 
     for (const ObjectExtent& extent : found.objects) {
         ObjectState state(p, interrupter, timer, extent);
         runObjectStages(state, mask, found.component);
-        for (std::uint32_t s = 0; s < state.segments.segmentCount; ++s)
-            localSegments.push_back(
-                {std::uint32_t(result.objects.size()), s, state.segments.area[s], 0});
-        objectLabels.push_back({state.origin, std::move(state.localLabels)});
+        objectLabels.push_back({state.origin, state.segments.area, std::move(state.localLabels)});
+        for (std::size_t k = 0; k < finerCount; ++k) {
+            ObjectLevelWork& level = state.finerLevels[k];
+            finerLabels[k].push_back(
+                {state.origin, level.segments.area, std::move(level.localLabels)});
+            finerParents[k].push_back(std::move(level.parent));
+            movedNodes[k] += level.movedNodes;
+            finerSeconds[k].wall += level.seconds.wall;
+            finerSeconds[k].cpu += level.seconds.cpu;
+        }
+        result.coarsestLevelSeconds.wall += state.coarsestSeconds.wall;
+        result.coarsestLevelSeconds.cpu += state.coarsestSeconds.cpu;
         result.objects.push_back(std::move(state.out));
         throwIfInterrupted(interrupter);
     }
 
-    // Global ids by decreasing boundary area; ties by object, then local id.
-    if (localSegments.size() > 65535)
-        throw Error("the volume has " + std::to_string(localSegments.size()) +
-                    " segments, more than a 16-bit label volume can hold");
-    std::vector<std::size_t> order(localSegments.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return localSegments[a].area > localSegments[b].area;
-    });
-    std::vector<std::vector<std::uint16_t>> globalOf(result.objects.size());
-    for (std::size_t rank = 0; rank < order.size(); ++rank) {
-        const LocalSegment& s = localSegments[order[rank]];
-        auto& map = globalOf[s.object];
-        if (map.size() <= s.local) map.resize(s.local + 1, 0);
-        map[s.local] = std::uint16_t(rank + 1);
-        result.segments.push_back({std::uint16_t(rank + 1), s.object, 0, s.area});
-    }
+    std::vector<std::vector<std::uint16_t>> globalOf;
     {
         Stage stage(timer, interrupter, "label volume", false);
-        for (std::size_t o = 0; o < objectLabels.size(); ++o) {
-            const ObjectLabels& ol = objectLabels[o];
-            const Dims cd = ol.local.dims();
-            for (int z = 1; z < cd.z - 1; ++z)
-                for (int y = 1; y < cd.y - 1; ++y)
-                    for (int x = 1; x < cd.x - 1; ++x) {
-                        const std::uint16_t local = ol.local(x, y, z);
-                        if (!local) continue;
-                        const std::uint16_t label = globalOf[o][local - 1u];
-                        result.labels(x + ol.origin[0], y + ol.origin[1], z + ol.origin[2]) = label;
-                        ++result.segments[label - 1u].voxelCount;
-                    }
+        globalOf = assembleLevelLabels(objectLabels, result.labels, result.segments);
+        for (std::size_t o = 0; o < objectLabels.size(); ++o)
             for (std::uint16_t label : globalOf[o]) result.objects[o].labels.push_back(label);
+    }
+    // Finer levels from the coarsest down: each level's parents are labels
+    // of the one above it.
+    result.finerLevels.resize(finerCount);
+    for (std::size_t k = finerCount; k-- > 0;) {
+        Stage stage(timer, interrupter, "label volume", false);
+        SegmentationLevel& level = result.finerLevels[k];
+        level.tau = p.finerTaus[k];
+        level.labels = LabelVolume(dims, 0);
+        level.labels.geometry = mask.geometry;
+        level.seconds = finerSeconds[k];
+        level.nestingMovedNodes = movedNodes[k];
+        const std::vector<std::vector<std::uint16_t>> levelGlobalOf =
+            assembleLevelLabels(finerLabels[k], level.labels, level.segments);
+        level.parentLabel.assign(level.segments.size(), 0);
+        for (std::size_t o = 0; o < levelGlobalOf.size(); ++o) {
+            for (std::size_t s = 0; s < levelGlobalOf[o].size(); ++s)
+                level.parentLabel[levelGlobalOf[o][s] - 1u] = globalOf[o][finerParents[k][o][s]];
+            result.objects[o].finerLevels[k].labels = levelGlobalOf[o];
         }
+        globalOf = levelGlobalOf;
     }
     return result;
 }

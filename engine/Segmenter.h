@@ -50,8 +50,24 @@ enum class SkeletonSearch {
 /// "exhaustive" or "band", as on the command line and in report.json.
 const char* skeletonSearchName(SkeletonSearch search);
 
+/// Parses a --tau list such as "1%,3%,9%": one or more values as
+/// TauSpec::parse takes them, all percentages or all voxel areas, no value
+/// twice; returns them sorted, smallest (finest level) first.
+/// @throw UsageError naming the list and the problem.
+std::vector<TauSpec> parseTauList(const std::string& text);
+
 struct SegmentationParameters {
+    /// The coarsest level's tau: the only one without finerTaus.
     TauSpec tau;
+    /// Hierarchy runs (--tau 1%,3%,9%; engine/SegmentationLevels.h): the
+    /// finer levels' taus, finest first; `tau` is the coarsest. Empty: one
+    /// level, exactly the run without levels.
+    std::vector<TauSpec> finerTaus;
+    /// Every level's tau, finest first (finerTaus, then tau).
+    std::vector<TauSpec> levelTaus() const;
+    /// The taus as the command line takes them, finest first: "1%,3%,9%";
+    /// "3%" for a single level.
+    std::string tauListString() const;
     double sigmaMin = 0.8;
     double bodyRatio = 0.6;
     CutMode mode = CutMode::JunctionRule;
@@ -62,9 +78,11 @@ struct SegmentationParameters {
     double noiseAreaMin = 10.0;
     double noiseAreaFraction = 0.002;
     /// The noise area of an object whose boundary area is `boundaryArea`.
-    double noiseAreaFor(double boundaryArea) const {
+    double noiseAreaFor(double boundaryArea) const { return noiseAreaFor(boundaryArea, tau); }
+    /// The same at a level whose tau is `levelTau`.
+    double noiseAreaFor(double boundaryArea, const TauSpec& levelTau) const {
         return std::min(std::max(noiseAreaMin, noiseAreaFraction * boundaryArea),
-                        std::max(tau.areaFor(std::uint64_t(boundaryArea)), 1.0));
+                        std::max(levelTau.areaFor(std::uint64_t(boundaryArea)), 1.0));
     }
     int regionRadius = 3;
     double bridgeGap = 4.0;
@@ -101,6 +119,23 @@ struct CriticalPointInfo {
     bool isCut = false;
 };
 
+/// Wall and CPU seconds of the stages that run once per level (skeleton
+/// graph, cut placement, labelling, interior labels, nesting), summed over
+/// the objects.
+struct LevelSeconds {
+    double wall = 0.0;
+    double cpu = 0.0;
+};
+
+/// One object at one finer level of a hierarchy run.
+struct ObjectLevel {
+    double tauArea = 0.0;
+    double noiseArea = 0.0;
+    /// The level's cut loops (its own and every coarser level's), as cutLoops below.
+    std::vector<std::vector<std::array<int, 3>>> cutLoops;
+    std::vector<std::uint16_t> labels;  // global labels of the object's segments at this level
+};
+
 struct ObjectSegmentation {
     std::uint64_t voxelCount = 0;
     std::uint64_t boundaryArea = 0;
@@ -123,6 +158,8 @@ struct ObjectSegmentation {
     /// Cut loops as ordered voxel polylines (closed where a second arc was found).
     std::vector<std::vector<std::array<int, 3>>> cutLoops;
     std::vector<std::uint16_t> labels;  // global labels of this object's segments
+    /// Hierarchy runs: the object at each finer level, finest first.
+    std::vector<ObjectLevel> finerLevels;
 };
 
 struct SegmentInfo {
@@ -139,8 +176,26 @@ struct IslandSummary {
     double noiseArea = 0.0;  // the island threshold: the largest object's noise area
 };
 
+/// A finer level of a hierarchy run: its labels nest in the next coarser
+/// level's (every segment inside exactly one coarser segment).
+struct SegmentationLevel {
+    TauSpec tau;
+    LabelVolume labels;                 // same grid and geometry as the input
+    std::vector<SegmentInfo> segments;  // by label
+    /// By label - 1: the label of the segment at the next coarser level
+    /// that holds this one.
+    std::vector<std::uint16_t> parentLabel;
+    LevelSeconds seconds;
+    std::uint64_t nestingMovedNodes = 0;  // boundary nodes the nesting repair moved
+};
+
 struct SegmentationResult {
-    LabelVolume labels;                       // same grid and geometry as the input
+    LabelVolume labels;  // same grid and geometry as the input
+    /// Hierarchy runs: the finer levels, finest first; `labels` and
+    /// `segments` are the coarsest level.
+    std::vector<SegmentationLevel> finerLevels;
+    LevelSeconds coarsestLevelSeconds;        // the coarsest level's per-level stages
+    TauSpec tau;                              // the coarsest level's tau
     std::vector<ObjectSegmentation> objects;  // islands excluded
     IslandSummary islands;
     std::vector<SegmentInfo> segments;  // by label

@@ -174,12 +174,23 @@ void refineSegmentationResult(SegmentationResult& result, const MaskVolume& fine
         for (auto& c : o.criticalPoints) scale(c.voxel);
         for (auto& loop : o.cutLoops)
             for (auto& v : loop) scale(v);
+        for (ObjectLevel& level : o.finerLevels)
+            for (auto& loop : level.cutLoops)
+                for (auto& v : loop) scale(v);
         scale(o.bboxMin);
         scale(o.bboxMax);
     }
     for (SegmentInfo& s : result.segments) s.voxelCount = 0;
     for (std::uint16_t l : result.labels.values())
         if (l) ++result.segments[l - 1u].voxelCount;
+    // Hierarchy runs: every level the same way, so the levels still nest
+    // (each fine voxel takes its coarse voxel's label at every level).
+    for (SegmentationLevel& level : result.finerLevels) {
+        level.labels = refineLabels(level.labels, fine, factor);
+        for (SegmentInfo& s : level.segments) s.voxelCount = 0;
+        for (std::uint16_t l : level.labels.values())
+            if (l) ++level.segments[l - 1u].voxelCount;
+    }
 }
 
 std::string describeBudgetChoice(const BudgetChoice& choice) {

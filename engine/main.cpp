@@ -59,7 +59,10 @@ struct SegmentCli {
 
     /// Turns the texts into options. Throws UsageError.
     void finish() {
-        options.parameters.tau = skelseg::TauSpec::parse(tauText);
+        std::vector<skelseg::TauSpec> taus = skelseg::parseTauList(tauText);
+        options.parameters.tau = taus.back();
+        taus.pop_back();
+        options.parameters.finerTaus = std::move(taus);
         options.parameters.mode =
             modeText == "junctions" ? skelseg::CutMode::Junctions : skelseg::CutMode::JunctionRule;
         options.parameters.skeletonSearch = skeletonSearchText == "band"
@@ -89,7 +92,8 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
     command
         ->add_option(
             "--tau", cli.tauText,
-            "Skeleton simplification: voxel area, or percent of the boundary area (e.g. 3%)")
+            "Skeleton simplification: voxel area, or percent of the boundary area (e.g. 3%); "
+            "a list (1%,3%,9%) gives nested levels")
         ->capture_default_str();
     command
         ->add_option("--sigma-min", seg.parameters.sigmaMin, "Minimum geodesicness of a cut point")

@@ -113,12 +113,16 @@ bool measure(Workspace& ws, const SkeletonCandidate& c, std::uint32_t candidateI
     std::uint32_t rims = 0, robust = 0;
     std::vector<std::uint8_t> componentCounts(areas.componentCount, 0);
     std::uint32_t distinct = 0;
+    std::uint64_t largestAreas[3] = {0, 0, 0};  // of the counting rims, decreasing
     for (std::uint32_t piece = 0; piece < pieces.pieceCount; ++piece) {
         const std::uint32_t comp = areas.componentOfPiece[piece];
         const std::uint64_t area = areas.area[comp];
         if (area < noise) continue;
         ++rims;
         if (area >= tauArea) ++robust;
+        std::uint64_t carried = area;
+        for (std::uint64_t& kept : largestAreas)
+            if (carried > kept) std::swap(carried, kept);
         if (!componentCounts[comp]) ++distinct, componentCounts[comp] = 1;
     }
     if (rims < 2) return false;
@@ -130,11 +134,13 @@ bool measure(Workspace& ws, const SkeletonCandidate& c, std::uint32_t candidateI
     out.featureB = b;
     out.rims = std::uint8_t(std::min<std::uint32_t>(rims, 255));
     out.robustRims = std::uint8_t(std::min<std::uint32_t>(robust, 255));
+    out.junctionArea = rims >= 3 ? double(largestAreas[2]) : -1.0;
     out.isHandle = distinct < rims;
     out.rhoC = out.isHandle ? std::numeric_limits<double>::infinity() : double(areas.rhoC);
     out.rhoCExact = out.isHandle || areas.rhoCExact;
     out.sigma = -1.0f;
-    if (out.rhoC >= options.tau) {
+    if (out.rhoC >=
+        (options.sigmaTau >= 0.0 ? std::min(options.sigmaTau, options.tau) : options.tau)) {
         ++ws.sigmaEvaluations;
         out.sigma = ws.geodesicness.evaluate(ws.rims, a, b, ws.sigmaSearch).sigma;
     }

@@ -44,7 +44,12 @@ struct SkeletonPoint {
     bool isHandle = false;
     std::uint8_t rims = 0;        // rims whose component >= noiseArea
     std::uint8_t robustRims = 0;  // rims whose component >= tau
-    float sigma = -1.0f;          // geodesicness; -1 where not computed (rho_C < tau)
+    /// The third-largest component area behind a counting rim, -1 with fewer
+    /// than three: p is in J_t for every t <= junctionArea up to the growth
+    /// cap (max(noiseArea, tau)), so one measure serves every level of a
+    /// hierarchy run (engine/SegmentationLevels.h).
+    double junctionArea = -1.0;
+    float sigma = -1.0f;  // geodesicness; -1 where not computed (rho_C < tau)
     std::uint32_t featureA = kNoNode, featureB = kNoNode;  // pair realising rho_S
 };
 
@@ -53,6 +58,10 @@ struct SkeletonMeasureOptions {
     double tau = 0.0;
     /// Components smaller than this do not make a rim count (see above).
     double noiseArea = 10.0;
+    /// Hierarchy runs: sigma is evaluated for every point with rho_C >= this
+    /// (the finest level's tau) instead of tau; negative: tau. rho_C, the
+    /// rims and junctionArea do not depend on it.
+    double sigmaTau = -1.0;
     /// Compute rho_C exactly for every point (slower); otherwise growth stops
     /// once the comparison with tau is decided.
     bool exactRhoC = false;

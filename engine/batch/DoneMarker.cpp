@@ -42,7 +42,7 @@ InputFingerprint fingerprintFile(const fs::path& file) {
 std::string outputAffectingOptions(const SegmentCommandOptions& options) {
     const SegmentationParameters& p = options.parameters;
     // nlohmann::json objects keep keys sorted: the text is canonical.
-    const json j = {{"tau", p.tau.toString()},
+    const json j = {{"tau", p.tauListString()},
                     {"sigma_min", p.sigmaMin},
                     {"body_ratio", p.bodyRatio},
                     {"mode", p.mode == CutMode::Junctions ? "junctions" : "junction-rule"},

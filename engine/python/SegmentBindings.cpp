@@ -30,7 +30,10 @@ const std::string kMeshName = "mesh";
 
 SegmentationParameters parametersFrom(const CallOptions& options) {
     SegmentationParameters p;
-    p.tau = TauSpec::parse(options.tau);
+    std::vector<TauSpec> taus = parseTauList(options.tau);
+    p.tau = taus.back();
+    taus.pop_back();
+    p.finerTaus = std::move(taus);
     p.sigmaMin = options.sigmaMin;
     p.bodyRatio = options.bodyRatio;
     if (options.mode == "junction-rule")
@@ -78,6 +81,24 @@ struct CallRecord {
         out["skeleton"] = skeletonArrays(result);
         out["cuts"] = cutArrays(result);
         out["warnings"] = py::cast(warnings);
+        // Every level, finest first; the coarsest's labels are "labels".
+        py::list levels;
+        for (SegmentationLevel& level : result.finerLevels) {
+            py::dict entry;
+            entry["tau"] = level.tau.toString();
+            entry["segments"] = level.segments.size();
+            entry["labels"] = labelArray(std::move(level.labels));
+            entry["parents"] =
+                arrayOwning(std::move(level.parentLabel), {py::ssize_t(level.segments.size())});
+            levels.append(entry);
+        }
+        py::dict coarsest;
+        coarsest["tau"] = parameters.tau.toString();
+        coarsest["segments"] = result.segments.size();
+        coarsest["labels"] = py::none();
+        coarsest["parents"] = py::none();
+        levels.append(coarsest);
+        out["levels"] = levels;
         out["labels"] = labelArray(std::move(result.labels));
         return out;
     }

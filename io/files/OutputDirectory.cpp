@@ -76,12 +76,28 @@ fs::path OutputDirectory::stagingPath(const std::string& name) {
     return mStaging / name;
 }
 
+void OutputDirectory::removeOnCommit(const std::string& name) {
+    const std::lock_guard<std::mutex> lock(mStagedMutex);
+    mObsolete.push_back(name);
+}
+
 void OutputDirectory::commit() {
     const std::lock_guard<std::mutex> lock(mStagedMutex);
     std::error_code ec;
+    for (const auto& name : mObsolete)
+        if (std::find(mStaged.begin(), mStaged.end(), name) == mStaged.end()) {
+            fs::remove_all(mDirectory / name, ec);
+            if (ec)
+                throw OutputError((mDirectory / name).string() +
+                                  ": cannot remove the earlier run's output: " + ec.message());
+        }
     for (const auto& name : mStaged) {
         const fs::path from = mStaging / name;
         if (!fs::exists(from, ec)) continue;  // an optional output that was not produced
+        // A staged directory (levels/) replaces the earlier run's whole:
+        // rename(2) does not replace a non-empty directory.
+        if (fs::is_directory(from, ec) && fs::is_directory(mDirectory / name, ec))
+            fs::remove_all(mDirectory / name, ec);
         fs::rename(from, mDirectory / name, ec);
         if (ec)
             throw OutputError((mDirectory / name).string() +

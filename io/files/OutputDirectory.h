@@ -27,10 +27,17 @@ public:
     OutputDirectory(const OutputDirectory&) = delete;
     OutputDirectory& operator=(const OutputDirectory&) = delete;
 
-    /// Where to write output `name` (a plain file name) before commit().
+    /// Where to write output `name` (a plain file or directory name) before
+    /// commit(); a directory is created by the caller and replaces an earlier
+    /// one of the same name on commit.
     /// Thread-safe: the writers of one run call it concurrently.
     std::filesystem::path stagingPath(const std::string& name);
-    /// Moves every staged file to OUTDIR/name. Throws OutputError on failure.
+    /// Marks OUTDIR/name (a file or directory an earlier run wrote) to be
+    /// removed by commit(), when this run writes no such output: a run
+    /// without levels replaces an earlier hierarchy run's levels/ by nothing.
+    void removeOnCommit(const std::string& name);
+    /// Moves every staged file to OUTDIR/name and removes the names marked
+    /// by removeOnCommit(). Throws OutputError on failure.
     void commit();
     /// Drops everything staged (also done by the destructor if not committed),
     /// and removes OUTDIR again if this object created it and it is empty.
@@ -42,6 +49,7 @@ private:
     std::filesystem::path mDirectory, mStaging;
     std::mutex mStagedMutex;  // guards mStaged
     std::vector<std::string> mStaged;
+    std::vector<std::string> mObsolete;  // removed by commit(); guarded by mStagedMutex
     std::vector<std::filesystem::path>
         mCreated;  // directories the constructor created, deepest first
     bool mCommitted = false;

@@ -326,6 +326,7 @@ std::vector<std::uint32_t> labelFaces(const TriangleMesh& mesh, const LabelVolum
             faceLabels[f] = std::uint32_t(
                 std::lower_bound(used.begin(), used.end(), voxelLabel[f]) - used.begin());
     stats.segments = std::max<std::size_t>(used.size(), faceCount > 0 ? 1 : 0);
+    stats.voxelLabels = std::move(used);
     if (statistics) *statistics = stats;
     return faceLabels;
 }

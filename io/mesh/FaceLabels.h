@@ -47,6 +47,9 @@ struct FaceLabelStatistics {
     std::size_t propagatedFaces = 0;    ///< from neighbouring faces (step 4)
     std::size_t nearestVoxelFaces = 0;  ///< from the nearest labelled voxel (step 4)
     std::size_t segments = 0;           ///< K: distinct labels in the result
+    /// The voxel label of each face label 0..K-1 (ascending; empty when no
+    /// voxel is labelled).
+    std::vector<std::uint32_t> voxelLabels;
 };
 
 /// Per input face (mesh.faceCount entries) a label in 0..K-1, no gaps.

@@ -98,3 +98,20 @@ TEST(Segmenter, ObjectsInOppositeCornersKeepTheirVoxels) {
     EXPECT_EQ(islanded.labels(19, 15, 0), 0);
     EXPECT_EQ(islanded.labels.values(), result.labels.values());
 }
+
+TEST(Segmenter, TauListsAreSortedAndCheckedWhole) {
+    const std::vector<TauSpec> taus = parseTauList("9%,1%,3%");
+    ASSERT_EQ(taus.size(), 3u);
+    EXPECT_EQ(taus[0].toString(), "1%");
+    EXPECT_EQ(taus[1].toString(), "3%");
+    EXPECT_EQ(taus[2].toString(), "9%");
+    SegmentationParameters p;
+    p.tau = taus[2];
+    p.finerTaus = {taus[0], taus[1]};
+    EXPECT_EQ(p.tauListString(), "1%,3%,9%");
+    EXPECT_EQ(parseTauList("250").front().toString(), "250");
+    SegmentationParameters single;
+    EXPECT_EQ(single.tauListString(), single.tau.toString());
+    for (const char* bad : {"", ",", "1%,", "1%,,3%", "x", "3%,3.0%", "1%,250", "1%,-2%"})
+        EXPECT_THROW(parseTauList(bad), UsageError) << bad;
+}

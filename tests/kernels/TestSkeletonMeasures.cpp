@@ -210,6 +210,33 @@ TEST(SkeletonMeasures, CappedRhoCDecidesTauLikeExact) {
     EXPECT_GT(lowerBounds, 0) << "the cap should have stopped some growth early";
 }
 
+TEST(SkeletonMeasures, OneMeasureAtTheCoarsestTauServesFinerTaus) {
+    // Hierarchy runs measure once at the largest tau with sigma down to the
+    // smallest: every decision of a run at the smaller tau follows from it.
+    const Prepared& p = prepared("figure", 64);
+    SkeletonMeasureOptions coarseOptions = p.options(0.25);
+    const SkeletonMeasureOptions fineOptions = p.options(0.01);
+    coarseOptions.sigmaTau = fineOptions.tau;
+    const std::vector<SkeletonPoint> coarse = measureSkeleton(p.graph, p.candidates, coarseOptions);
+    const std::vector<SkeletonPoint> fine = measureSkeleton(p.graph, p.candidates, fineOptions);
+    ASSERT_EQ(coarse.size(), fine.size());
+    int fineSkeleton = 0, coarseSkeleton = 0;
+    for (std::size_t i = 0; i < coarse.size(); ++i) {
+        const SkeletonPoint &c = coarse[i], &f = fine[i];
+        ASSERT_EQ(c.voxel, f.voxel);
+        EXPECT_EQ(c.rims, f.rims);
+        EXPECT_EQ(c.rhoC >= fineOptions.tau, f.rhoC >= fineOptions.tau);
+        EXPECT_EQ(c.junctionArea >= fineOptions.tau, f.robustRims >= 3);
+        EXPECT_EQ(c.junctionArea >= coarseOptions.tau, c.robustRims >= 3);
+        if (f.rhoC >= fineOptions.tau) {
+            EXPECT_EQ(c.sigma, f.sigma);
+        }
+        fineSkeleton += f.rhoC >= fineOptions.tau;
+        coarseSkeleton += c.rhoC >= coarseOptions.tau;
+    }
+    EXPECT_GT(fineSkeleton, coarseSkeleton) << "the two taus should differ somewhere";
+}
+
 TEST(SkeletonMeasures, PointsAreConsistent) {
     const Prepared& p = prepared("figure", 64);
     const SkeletonMeasureOptions options = p.options(0.03);

@@ -147,3 +147,37 @@ def test_help_shows_the_signature_and_parameters():
     for word in ("tau", "sigma_min", "body_ratio", "spacing", "threads", "time_limit",
                  "progress", "ValueError", "MemoryError", "TimeoutError"):
         assert word in doc, word
+
+
+def test_a_tau_list_gives_nested_levels_equal_to_the_cli(shapes):
+    """tau=[...] is the CLI's --tau list: the levels' labels are the files of
+    levels/k/, their parents hierarchy.json's, and the result the coarsest."""
+    mask = skelseg.read_volume(shapes.nrrd("figure", 96, 0))
+    result = skelseg.segment(mask, tau=["9%", "1%", "3%"])
+    assert [level.tau for level in result.levels] == ["1%", "3%", "9%"]
+    assert result.levels[-1].labels is result.labels
+    assert result.levels[-1].parents is None
+    out = shapes.cli_output("figure", 96, 0, "--tau", "1%,3%,9%")
+    hierarchy = json.loads((out / "hierarchy.json").read_text())
+    for k, level in enumerate(result.levels):
+        _, data = read_nrrd(out / "levels" / str(k) / "labels.nrrd")
+        assert level.labels.tobytes(order="F") == data
+        assert level.n_segments == hierarchy["levels"][k]["segment_count"]
+        if level.parents is not None:
+            assert level.parents.tolist() == [s["parent"] for s in hierarchy["levels"][k]["segments"]]
+            # Every voxel's label maps to its coarser label through the parents.
+            coarser = result.levels[k + 1].labels
+            inside = level.labels > 0
+            assert np.array_equal(level.parents[level.labels[inside].astype(int) - 1],
+                                  coarser[inside])
+    assert result.report["parameters"]["tau"] == "1%,3%,9%"
+    assert len(result.report["levels"]) == 3
+    single = skelseg.segment(mask, tau="9%")
+    assert np.array_equal(single.labels, result.labels)
+    assert len(single.levels) == 1 and single.levels[0].labels is single.labels
+
+
+@pytest.mark.parametrize("tau", [[], ["1%", "1%"], ["1%", "x"], ["1%", 250]])
+def test_bad_tau_lists_are_refused(figure_mask, tau):
+    with pytest.raises(ValueError):
+        skelseg.segment(figure_mask, tau=tau)

@@ -38,6 +38,7 @@ __all__ = [
     "score",
     "SegmentationResult",
     "MeshSegmentationResult",
+    "Level",
     "Skeleton",
     "Mesh",
     "Score",
@@ -101,12 +102,15 @@ class SegmentationResult:
         report: dict with the content of the CLI's report.json ("input"
             describes the array or mesh instead of a file).
         n_segments: the number of segments K.
+        levels: every level, finest first (Level); one for a single tau. The
+            last is the coarsest, whose labels are ``labels``.
     """
 
     labels: np.ndarray
     skeleton: Skeleton
     cuts: List[np.ndarray]
     report: dict
+    levels: Tuple["Level", ...] = ()
 
     @property
     def n_segments(self) -> int:
@@ -116,6 +120,26 @@ class SegmentationResult:
         return (f"{type(self).__name__}(labels={self.labels.dtype}{list(self.labels.shape)}, "
                 f"n_segments={self.n_segments}, skeleton_points={len(self.skeleton)}, "
                 f"cuts={len(self.cuts)})")
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Level:
+    """One level of a hierarchy run (tau=[...]), as the CLI's levels/k/.
+
+    Attributes:
+        tau: the level's tau as given ("1%").
+        labels: uint16 labels of the level (the mask's shape), nested: every
+            segment lies inside one segment of the next coarser level.
+        parents: uint16 array of n_segments entries, parents[l - 1] = the
+            label at the next coarser level of label l (hierarchy.json's
+            parent); None at the coarsest level.
+        n_segments: the number of segments at this level.
+    """
+
+    tau: str
+    labels: np.ndarray
+    parents: Optional[np.ndarray]
+    n_segments: int
 
 
 @dataclasses.dataclass(frozen=True, eq=False, repr=False)
@@ -169,10 +193,19 @@ class Score:
 def _options(tau: Union[str, float], sigma_min: float, body_ratio: float, mode: str,
              threads: Optional[int], time_limit: Optional[float],
              max_memory: Union[None, int, str], progress: Optional[ProgressCallback]) -> dict:
-    if isinstance(tau, bool) or not isinstance(tau, (str, numbers.Real)):
-        raise TypeError(f"tau must be a string such as '3%' or a number of voxels, not {tau!r}")
-    if isinstance(tau, numbers.Real):
-        tau = repr(float(tau))
+    def one_tau(value: Any) -> str:
+        if isinstance(value, bool) or not isinstance(value, (str, numbers.Real)):
+            raise TypeError(f"tau must be a string such as '3%' or a number of voxels, "
+                            f"or a list of them, not {value!r}")
+        return repr(float(value)) if isinstance(value, numbers.Real) else value
+
+    if isinstance(tau, (list, tuple)):
+        # A hierarchy run: the CLI's --tau 1%,3%,9%.
+        if not tau:
+            raise ValueError("tau: the list is empty")
+        tau = ",".join(one_tau(t) for t in tau)
+    else:
+        tau = one_tau(tau)
     for name, value in (("sigma_min", sigma_min), ("body_ratio", body_ratio)):
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
             raise TypeError(f"{name} must be a number, not {value!r}")
@@ -220,11 +253,15 @@ def _bytes(size: Union[None, int, str]) -> int:
 def _result(raw: dict, cls: type = SegmentationResult, **extra: Any) -> SegmentationResult:
     for message in raw["warnings"]:
         warnings.warn(message, SkelsegWarning, stacklevel=3)
+    levels = tuple(Level(tau=level["tau"],
+                         labels=raw["labels"] if level["labels"] is None else level["labels"],
+                         parents=level["parents"], n_segments=int(level["segments"]))
+                   for level in raw["levels"])
     return cls(labels=raw["labels"], skeleton=Skeleton(**raw["skeleton"]), cuts=raw["cuts"],
-               report=raw["report"], **extra)
+               report=raw["report"], levels=levels, **extra)
 
 
-def segment(mask: np.ndarray, *, tau: Union[str, float] = "3%", sigma_min: float = 0.8,
+def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, float]]] = "3%", sigma_min: float = 0.8,
             body_ratio: float = 0.6, mode: str = "junction-rule",
             spacing: Sequence[float] = (1, 1, 1), threads: Optional[int] = None,
             time_limit: Optional[float] = None, max_memory: Union[None, int, str] = None,
@@ -239,7 +276,8 @@ def segment(mask: np.ndarray, *, tau: Union[str, float] = "3%", sigma_min: float
             read_volume() output gives the CLI's labels.nrrd byte for byte.
         tau: skeleton simplification: a percentage of each object's boundary
             area ("3%") or an area in voxels (250). Larger is coarser; about
-            "1%" keeps fingers.
+            "1%" keeps fingers. A list (["1%", "3%", "9%"]) gives nested
+            levels in one run (.levels); the result is then the coarsest's.
         sigma_min: minimum geodesicness (smoothness) of a cut loop, in [0, 1].
         body_ratio: a candidate cut this similar in circumference to its
             junction lies on the body and is not cut, in [0, 1].
@@ -287,7 +325,7 @@ def segment(mask: np.ndarray, *, tau: Union[str, float] = "3%", sigma_min: float
 
 
 def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 256,
-                 triangle_face: Optional[np.ndarray] = None, tau: Union[str, float] = "3%",
+                 triangle_face: Optional[np.ndarray] = None, tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
                  sigma_min: float = 0.8, body_ratio: float = 0.6, mode: str = "junction-rule",
                  threads: Optional[int] = None, time_limit: Optional[float] = None,
                  max_memory: Union[None, int, str] = None,

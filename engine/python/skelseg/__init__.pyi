@@ -25,11 +25,18 @@ class Skeleton:
     object: npt.NDArray[np.int32]
     def __len__(self) -> int: ...
 
+class Level:
+    tau: str
+    labels: npt.NDArray[np.uint16]
+    parents: Optional[npt.NDArray[np.uint16]]
+    n_segments: int
+
 class SegmentationResult:
     labels: npt.NDArray[np.uint16]
     skeleton: Skeleton
     cuts: List[npt.NDArray[np.float64]]
     report: dict[str, Any]
+    levels: Tuple[Level, ...]
     @property
     def n_segments(self) -> int: ...
 
@@ -53,7 +60,7 @@ class Score:
 def segment(
     mask: npt.ArrayLike,
     *,
-    tau: Union[str, float] = "3%",
+    tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
     sigma_min: float = 0.8,
     body_ratio: float = 0.6,
     mode: str = "junction-rule",
@@ -69,7 +76,7 @@ def segment_mesh(
     *,
     resolution: int = 256,
     triangle_face: Optional[npt.ArrayLike] = None,
-    tau: Union[str, float] = "3%",
+    tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
     sigma_min: float = 0.8,
     body_ratio: float = 0.6,
     mode: str = "junction-rule",

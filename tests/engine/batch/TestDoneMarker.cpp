@@ -52,6 +52,11 @@ TEST(DoneMarker, RoundTripsAndMatchesOnlyTheSameInputOptionsAndVersion) {
     other = options;
     other.parameters.tau = TauSpec::parse("250");
     EXPECT_FALSE(read->matches({1234, 0xdeadbeef}, outputAffectingOptions(other)));
+    // A hierarchy run (--tau 1%,3%) writes other outputs than --tau 3% alone.
+    other = options;
+    other.parameters.finerTaus = {TauSpec::parse("1%")};
+    EXPECT_FALSE(read->matches({1234, 0xdeadbeef}, outputAffectingOptions(other)));
+    EXPECT_NE(outputAffectingOptions(other).find("\"1%,3%\""), std::string::npos);
     // Options that do not change the outputs do not redo anything.
     other = options;
     other.threads = 3;

@@ -77,5 +77,45 @@ TEST(OutputDirectory, EarlierResultsNeedForce) {
     EXPECT_EQ(entries(outdir), std::set<std::string>{"a.txt"});
 }
 
+TEST(OutputDirectory, StagedDirectoryReplacesTheEarlierOne) {
+    test::TempDir tmp;
+    const fs::path outdir = tmp / "out";
+    fs::create_directories(outdir / "levels" / "5");
+    std::ofstream(outdir / "levels" / "5" / "old.txt") << "earlier";
+    {
+        OutputDirectory out(outdir, true, {"levels"});
+        const fs::path levels = out.stagingPath("levels");
+        fs::create_directories(levels / "0");
+        std::ofstream(levels / "0" / "a.txt") << "new";
+        EXPECT_TRUE(fs::exists(outdir / "levels" / "5" / "old.txt")) << "replaced before commit";
+        out.commit();
+    }
+    EXPECT_EQ(entries(outdir / "levels"), std::set<std::string>{"0"});
+    EXPECT_TRUE(fs::exists(outdir / "levels" / "0" / "a.txt"));
+}
+
+TEST(OutputDirectory, ObsoleteOutputsGoOnlyOnCommit) {
+    test::TempDir tmp;
+    const fs::path outdir = tmp / "out";
+    fs::create_directories(outdir / "levels" / "0");
+    std::ofstream(outdir / "hierarchy.json") << "{}";
+    {
+        OutputDirectory out(outdir, true, {"a.txt", "levels", "hierarchy.json"});
+        out.removeOnCommit("levels");
+        out.removeOnCommit("hierarchy.json");
+        std::ofstream(out.stagingPath("a.txt")) << "new";
+        // Not committed (a failed run): the earlier outputs stay.
+    }
+    EXPECT_TRUE(fs::exists(outdir / "levels" / "0"));
+    {
+        OutputDirectory out(outdir, true, {"a.txt", "levels", "hierarchy.json"});
+        out.removeOnCommit("levels");
+        out.removeOnCommit("hierarchy.json");
+        std::ofstream(out.stagingPath("a.txt")) << "new";
+        out.commit();
+    }
+    EXPECT_EQ(entries(outdir), std::set<std::string>{"a.txt"});
+}
+
 }  // namespace
 }  // namespace skelseg

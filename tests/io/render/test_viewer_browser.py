@@ -5,7 +5,7 @@ Segments a generated figure with the skelseg executable, opens the
 viewer.html it wrote in headless Chromium and checks what a user would see:
   - the screenshot is not blank and shows the segment colours,
   - switching the skeleton colouring (sigma -> rho_C) changes the picture,
-    and so does moving the level slider when the run has more than one level,
+    and so does moving the level slider of a real hierarchy run (--tau 3%,20%),
   - an input named like an HTML tag shows as text and runs nothing.
 
 Run by ctest (label browser) as `python3 test_viewer_browser.py`: exits 77
@@ -88,15 +88,19 @@ def figure_run(work):
     volume = work / "figure.nrrd"
     run([skelseg(), "generate", "figure", "-o", str(volume), "--size", "96"])
     out = work / "figure-out"
-    run([skelseg(), "segment", str(volume), "-o", str(out)])
+    # Two levels: the figure's six parts at 3%, one part at 20%.
+    run([skelseg(), "segment", str(volume), "-o", str(out), "--tau", "3%,20%"])
     return out
 
 
+def hierarchy(run_directory):
+    return json.loads((run_directory / "hierarchy.json").read_text())
+
+
 def test_screenshot_shows_the_segments(work, figure_run):
-    report = json.loads((figure_run / "report.json").read_text())
-    parts = report["segment_count"]
+    parts = hierarchy(figure_run)["levels"][0]["segment_count"]
     assert parts >= 3
-    picture = screenshot(work, figure_run / "viewer.html", "#skeleton=sigma")
+    picture = screenshot(work, figure_run / "viewer.html", "#skeleton=sigma&level=0")
     background = picture[5, -5]
     differs = np.abs(picture - background).sum(axis=2) > 30
     assert differs.mean() > 0.05, "the picture is (nearly) blank"
@@ -111,8 +115,8 @@ def test_screenshot_shows_the_segments(work, figure_run):
 
 def test_skeleton_colouring_switch_changes_the_picture(work, figure_run):
     page = figure_run / "viewer.html"
-    sigma = screenshot(work, page, "#skeleton=sigma")
-    rho = screenshot(work, page, "#skeleton=rho_c")
+    sigma = screenshot(work, page, "#skeleton=sigma&level=0")
+    rho = screenshot(work, page, "#skeleton=rho_c&level=0")
     changed = (np.abs(sigma - rho).sum(axis=2) > 30).sum()
     assert changed >= 50, f"only {changed} pixels changed"
 
@@ -127,26 +131,18 @@ def page_data(page):
 
 
 def test_level_slider_changes_the_picture(work, figure_run):
-    """A run with one --tau has one level; then the page is given a second,
-    coarser level in which all segments are one (as a hierarchy run would
-    write it), to check that the slider recolours the surface."""
+    """The hierarchy run's page holds both levels (as hierarchy.json lists
+    them); the slider recolours the surface: at the coarsest level the
+    figure is one segment."""
     text, start, end = page_data(figure_run / "viewer.html")
     data = json.loads(text[start:end])
+    levels = hierarchy(figure_run)["levels"]
+    assert [level["tau"] for level in data["levels"]] == [level["tau"] for level in levels]
+    for shown, written in zip(data["levels"], levels):
+        assert [(s["id"], s["voxels"], s["parent"]) for s in shown["segments"]] == \
+            [(s["id"], s["voxels"], s["parent"]) for s in written["segments"]]
+    assert levels[-1]["segment_count"] == 1 and levels[0]["segment_count"] >= 3
     page = figure_run / "viewer.html"
-    if len(data["levels"]) < 2:
-        fine = data["levels"][0]
-        base_count = len(data["surface"]["vertexStarts"])
-        for segment in fine["segments"]:
-            segment["parent"] = 1
-        data["levels"].append({
-            "tau": "90%",
-            "segments": [{"id": 1, "voxels": sum(s["voxels"] for s in fine["segments"]),
-                          "parent": None, "colour": list(PALETTE[0])}],
-            "baseLabel": base64.b64encode(np.ones(base_count, "<u4").tobytes()).decode(),
-            "cuts": {"positions": "", "loopStarts": []}})
-        block = json.dumps(data).replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
-        page = work / "two-levels.html"
-        page.write_text(text[:start] + block + text[end:])
     fine = screenshot(work, page, "#level=0")
     coarse = screenshot(work, page, f"#level={len(data['levels']) - 1}")
     changed = (np.abs(fine - coarse).sum(axis=2) > 30).sum()
@@ -167,6 +163,12 @@ def test_click_names_segment_size_and_parent(work, figure_run):
     report = json.loads((figure_run / "report.json").read_text())
     voxels = report["segments"][0]["voxels"]
     assert f'<div id="picked" class="row">segment 1: {voxels} voxels, parent none (coarsest level)</div>' in dom
+    # The same pixel at the finest level: the body, whose parent is the whole.
+    dom = browser(work, figure_run / "viewer.html", "--dump-dom",
+                  fragment=f"#level=0&pick={x},{y}")
+    fine = hierarchy(figure_run)["levels"][0]["segments"]
+    assert any(f'<div id="picked" class="row">segment {s["id"]}: {s["voxels"]} voxels, parent 1</div>'
+               in dom for s in fine), "no finest-level segment with parent 1 picked"
 
 
 # ../shared/data beside the repository, as CMake passes it to every test.

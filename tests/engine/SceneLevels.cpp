@@ -1,0 +1,223 @@
+// Scene tests of hierarchy runs (--tau 1%,3%,9%; engine/SegmentationLevels.h):
+// the levels nest voxel by voxel (and face by face for meshes), the
+// parents of hierarchy.json agree with the label volumes, every coarser cut
+// is kept at every finer level, and the coarsest level is the run with its
+// tau alone, byte for byte.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+
+#include "io/mesh/SegFile.h"
+#include "io/volume/NrrdIO.h"
+#include "tests/engine/RobustnessHelpers.h"
+#include "tests/support/SceneSupport.h"
+#include "tests/support/TempDir.h"
+#include "tests/support/TestPaths.h"
+
+namespace skelseg::test {
+namespace {
+
+using json = nlohmann::json;
+
+SegmentationParameters threeLevels() {
+    SegmentationParameters p;
+    p.finerTaus = {TauSpec::parse("1%"), TauSpec::parse("3%")};
+    p.tau = TauSpec::parse("9%");
+    return p;
+}
+
+/// Every voxel's fine label maps to its coarse label through the parents;
+/// every coarse segment has a child.
+void expectNested(const LabelVolume& fine, const std::vector<std::uint16_t>& parentLabel,
+                  std::size_t fineSegments, const LabelVolume& coarse, std::size_t coarseSegments,
+                  const std::string& what) {
+    ASSERT_EQ(fine.dims(), coarse.dims()) << what;
+    ASSERT_EQ(parentLabel.size(), fineSegments) << what;
+    std::vector<std::uint8_t> hasChild(coarseSegments + 1, 0);
+    std::size_t mismatches = 0;
+    for (std::size_t v = 0; v < fine.size(); ++v) {
+        const std::uint16_t f = fine[v], c = coarse[v];
+        if ((f == 0) != (c == 0)) {
+            ++mismatches;
+            continue;
+        }
+        if (!f) continue;
+        ASSERT_LE(f, fineSegments) << what;
+        if (parentLabel[f - 1u] != c) ++mismatches;
+        hasChild[c] = 1;
+    }
+    EXPECT_EQ(mismatches, 0u) << what
+                              << ": voxels whose fine segment is not inside their coarse one";
+    for (std::size_t c = 1; c <= coarseSegments; ++c)
+        EXPECT_TRUE(hasChild[c]) << what << ": coarse segment " << c << " has no child";
+}
+
+/// The cut polylines of one object at a level.
+using Loops = std::vector<std::vector<std::array<int, 3>>>;
+
+void expectCutsKept(const Loops& coarser, const Loops& finer, const std::string& what) {
+    for (const auto& loop : coarser)
+        EXPECT_NE(std::find(finer.begin(), finer.end(), loop), finer.end())
+            << what << ": a coarser cut is missing at the finer level";
+}
+
+void expectHierarchyNests(const std::string& shape, int pose) {
+    const std::string what = shape + " pose " + std::to_string(pose);
+    const SceneRun levels = segmentShape(shape, 112, threeLevels(), pose);
+    SegmentationParameters single;
+    single.tau = TauSpec::parse("9%");
+    const SceneRun alone = segmentShape(shape, 112, single, pose);
+    const SegmentationResult& r = levels.result;
+    ASSERT_EQ(r.finerLevels.size(), 2u) << what;
+    // The coarsest level is the run with its tau alone.
+    ASSERT_EQ(r.labels.size(), alone.result.labels.size()) << what;
+    EXPECT_TRUE(
+        std::equal(r.labels.data(), r.labels.data() + r.labels.size(), alone.result.labels.data()))
+        << what;
+    ASSERT_EQ(r.objects.size(), alone.result.objects.size()) << what;
+    for (std::size_t o = 0; o < r.objects.size(); ++o) {
+        EXPECT_EQ(r.objects[o].cutLoops, alone.result.objects[o].cutLoops) << what;
+        EXPECT_EQ(r.objects[o].skeleton.size(), alone.result.objects[o].skeleton.size()) << what;
+    }
+    for (std::size_t k = 0; k < 2; ++k) {
+        const SegmentationLevel& level = r.finerLevels[k];
+        const bool nextIsCoarsest = k + 1 == r.finerLevels.size();
+        const LabelVolume& coarser = nextIsCoarsest ? r.labels : r.finerLevels[k + 1].labels;
+        const std::size_t coarserCount =
+            nextIsCoarsest ? r.segments.size() : r.finerLevels[k + 1].segments.size();
+        expectNested(level.labels, level.parentLabel, level.segments.size(), coarser, coarserCount,
+                     what + " level " + std::to_string(k));
+        EXPECT_GE(level.segments.size(), coarserCount) << what;
+        for (const ObjectSegmentation& object : r.objects)
+            expectCutsKept(nextIsCoarsest ? object.cutLoops : object.finerLevels[k + 1].cutLoops,
+                           object.finerLevels[k].cutLoops, what + " level " + std::to_string(k));
+    }
+}
+
+TEST(SceneLevels, FigurePosesNest) {
+    for (int pose = 0; pose < 3; ++pose) expectHierarchyNests("figure", pose);
+}
+
+TEST(SceneLevels, LimbShapesNest) {
+    for (const char* shape : {"disc-limbs", "y-arms", "t-body", "torus-limb", "box-tubes"})
+        expectHierarchyNests(shape, 0);
+}
+
+TEST(SceneLevels, TheLevelsDifferOnTheFigure) {
+    // Otherwise the tests above would hold trivially: 1% finds more parts
+    // than 30% on the generated figure.
+    SegmentationParameters p;
+    p.finerTaus = {TauSpec::parse("1%")};
+    p.tau = TauSpec::parse("30%");
+    const SceneRun run = segmentShape("figure", 112, p);
+    ASSERT_EQ(run.result.finerLevels.size(), 1u);
+    EXPECT_GT(run.result.finerLevels[0].segments.size(), run.result.segments.size());
+}
+
+/// hierarchy.json, levels/k/labels.nrrd and (meshes) levels/k/segmentation.seg
+/// of a CLI run agree: parents map every voxel and every face.
+void expectWrittenLevelsNest(const std::filesystem::path& out, bool isMesh) {
+    const json hierarchy = json::parse(fileBytes(out / "hierarchy.json"));
+    const json& levels = hierarchy["levels"];
+    ASSERT_EQ(levels.size(), 3u);
+    EXPECT_EQ(levels[0]["tau"], "1%");
+    EXPECT_EQ(levels[2]["tau"], "9%");
+    for (std::size_t k = 0; k + 1 < levels.size(); ++k) {
+        const std::string what = out.string() + " level " + std::to_string(k);
+        const LabelVolume fine = readNrrdLabels(out / "levels" / std::to_string(k) / "labels.nrrd");
+        const LabelVolume coarse =
+            readNrrdLabels(out / "levels" / std::to_string(k + 1) / "labels.nrrd");
+        std::vector<std::uint16_t> parent;
+        std::map<std::int64_t, std::int64_t> parentOfSegLabel;
+        std::map<std::int64_t, std::int64_t> coarseSegLabelOfId;
+        for (const json& s : levels[k + 1]["segments"])
+            if (isMesh && !s["seg_label"].is_null())
+                coarseSegLabelOfId[s["id"].get<std::int64_t>()] = s["seg_label"];
+        for (const json& s : levels[k]["segments"]) {
+            EXPECT_EQ(s["id"].get<std::size_t>(), parent.size() + 1) << what;
+            parent.push_back(s["parent"].get<std::uint16_t>());
+            if (isMesh && !s["seg_label"].is_null())
+                parentOfSegLabel[s["seg_label"]] = coarseSegLabelOfId.at(s["parent"]);
+        }
+        EXPECT_EQ(levels[k]["segment_count"].get<std::size_t>(), parent.size());
+        expectNested(fine, parent, parent.size(), coarse, levels[k + 1]["segment_count"], what);
+        if (!isMesh) continue;
+        const std::vector<std::int64_t> fineFaces =
+            readSeg(out / "levels" / std::to_string(k) / "segmentation.seg");
+        const std::vector<std::int64_t> coarseFaces =
+            readSeg(out / "levels" / std::to_string(k + 1) / "segmentation.seg");
+        ASSERT_EQ(fineFaces.size(), coarseFaces.size()) << what;
+        std::size_t mismatches = 0;
+        for (std::size_t f = 0; f < fineFaces.size(); ++f)
+            mismatches += parentOfSegLabel.at(fineFaces[f]) != coarseFaces[f];
+        EXPECT_EQ(mismatches, 0u) << what
+                                  << ": faces whose fine segment is not in their coarse one";
+    }
+}
+
+TEST(SceneLevels, SharedPsbModelNestsVoxelByVoxelAndFaceByFace) {
+    if (!hasSharedData()) GTEST_SKIP() << sharedDataDir() << " absent";
+    for (const char* model : {"1", "181"}) {
+        const std::filesystem::path mesh =
+            sharedDataDir() / "psb" / "off" / (std::string(model) + ".off");
+        if (!std::filesystem::exists(mesh)) GTEST_SKIP() << mesh << " absent";
+        TempDir dir;
+        const auto run = runSegment(mesh, dir / "levels",
+                                    {"--no-preview", "--resolution", "128", "--tau", "3%,9%,1%"});
+        ASSERT_EQ(run.exitCode, 0) << run.describe();
+        expectWrittenLevelsNest(dir / "levels", true);
+        // The top level is the coarsest: the run with --tau 9% alone, byte for byte.
+        const auto alone =
+            runSegment(mesh, dir / "alone", {"--no-preview", "--resolution", "128", "--tau", "9%"});
+        ASSERT_EQ(alone.exitCode, 0) << alone.describe();
+        for (const char* name : {"labels.nrrd", "skeleton.ply", "cuts.ply", "segmentation.seg"}) {
+            EXPECT_EQ(fileBytes(dir / "levels" / name), fileBytes(dir / "alone" / name)) << name;
+        }
+        for (const char* name : {"labels.nrrd", "cuts.ply", "segmentation.seg"}) {
+            EXPECT_EQ(fileBytes(dir / "levels" / "levels" / "2" / name),
+                      fileBytes(dir / "alone" / name))
+                << name;
+        }
+        EXPECT_FALSE(std::filesystem::exists(dir / "alone" / "levels"));
+        EXPECT_FALSE(std::filesystem::exists(dir / "alone" / "hierarchy.json"));
+        const json report = readReport(dir / "levels");
+        ASSERT_EQ(report["levels"].size(), 3u);
+        EXPECT_EQ(report["parameters"]["tau"], "1%,3%,9%");
+    }
+}
+
+TEST(SceneLevels, GeneratedVolumeWritesNestedLevels) {
+    TempDir dir;
+    ASSERT_EQ(
+        runSkelseg({"generate", "figure", "-o", (dir / "figure.nrrd").string(), "--size", "96"})
+            .exitCode,
+        0);
+    const auto run =
+        runSegment(dir / "figure.nrrd", dir / "out", {"--no-preview", "--tau", "9%,1%,3%"});
+    ASSERT_EQ(run.exitCode, 0) << run.describe();
+    expectWrittenLevelsNest(dir / "out", false);
+    EXPECT_FALSE(std::filesystem::exists(dir / "out" / "levels" / "0" / "segmentation.seg"));
+    // A later single-tau run with --force leaves no levels of the earlier one.
+    const auto again = runSegment(dir / "figure.nrrd", dir / "out", {"--no-preview", "--force"});
+    ASSERT_EQ(again.exitCode, 0) << again.describe();
+    EXPECT_FALSE(std::filesystem::exists(dir / "out" / "levels"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "out" / "hierarchy.json"));
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / "labels.nrrd"));
+}
+
+TEST(SceneLevels, BadTauListsAreRefusedWithOneLine) {
+    TempDir dir;
+    ASSERT_EQ(
+        runSkelseg({"generate", "sphere", "-o", (dir / "sphere.nrrd").string(), "--size", "32"})
+            .exitCode,
+        0);
+    for (const std::string& list : {"1%,", ",1%", "x", "1%,x", "3%,3%", "3%,1%,3.0%", "1%,50"}) {
+        const auto run = runSegment(dir / "sphere.nrrd", dir / "out", {"--tau", list});
+        EXPECT_TRUE(failsWithOneLine(run, 2, "--tau '" + list + "'")) << list;
+        EXPECT_TRUE(leftNothing(dir / "out")) << list;
+    }
+}
+
+}  // namespace
+}  // namespace skelseg::test
