@@ -13,6 +13,7 @@ category, the mean over the articulated categories and over all models).
 
     /usr/bin/python3 bench/psb_benchmark.py --skelseg build/skelseg
     /usr/bin/python3 bench/psb_benchmark.py --models 1,2,3 --tau 1.5%
+    /usr/bin/python3 bench/psb_benchmark.py --tau 1%,3% --level finest   # one level of a hierarchy run
     /usr/bin/python3 bench/psb_benchmark.py --check        # exit 1 if issue 3's targets are missed
     /usr/bin/python3 bench/psb_benchmark.py --update-docs  # table and pictures into docs/quality.md
 
@@ -59,6 +60,9 @@ def parse_args(argv):
                    help="folder holding psb/ (default: ../shared/data next to the repository)")
     p.add_argument("--resolution", type=int, default=256, help="voxels along the longest side (default 256)")
     p.add_argument("--tau", default=None, help="passed to skelseg segment --tau (default: the CLI default)")
+    p.add_argument("--level", default=None,
+                   help="with a --tau list (1%%,3%%,9%%): score this level's segmentation.seg: "
+                        "finest, coarsest or a number k (levels/k/; default: the top level, the coarsest)")
     p.add_argument("--out", default=str(REPO / "out" / "psb"), help="output folder (default out/psb)")
     p.add_argument("--models", default=None, help='subset of model ids, e.g. "1,2,3"')
     p.add_argument("--categories", default=None,
@@ -158,7 +162,23 @@ def baseline_files(out, model, face_count):
 def settings_key(args, skelseg):
     st = os.stat(skelseg)
     return {"skelseg": str(skelseg), "skelseg_mtime": st.st_mtime, "resolution": args.resolution,
-            "tau": args.tau, "time_limit": args.time_limit}
+            "tau": args.tau, "level": args.level, "time_limit": args.time_limit}
+
+
+def level_seg_path(model_out, level):
+    """segmentation.seg of the level to score: the top level (the coarsest)
+    without --level, else levels/k/ of a hierarchy run (finest is 0)."""
+    if level is None:
+        return model_out / "segmentation.seg"
+    levels = sorted((p for p in (model_out / "levels").glob("*") if p.name.isdigit()),
+                    key=lambda p: int(p.name))
+    if not levels:
+        return model_out / "levels" / "missing (run with a --tau list)" / "segmentation.seg"
+    if level == "finest":
+        return levels[0] / "segmentation.seg"
+    if level == "coarsest":
+        return levels[-1] / "segmentation.seg"
+    return model_out / "levels" / str(int(level)) / "segmentation.seg"
 
 
 def benchmark_model(args, skelseg, psb, out, model, category):
@@ -235,7 +255,8 @@ def benchmark_model(args, skelseg, psb, out, model, category):
     except (OSError, ValueError) as e:
         record["report_error"] = str(e)
 
-    seg_path = model_out / "segmentation.seg"
+    seg_path = level_seg_path(model_out, args.level)
+    record["scored_file"] = str(seg_path)
     try:
         labels = read_labels(seg_path)
     except (OSError, ValueError) as e:

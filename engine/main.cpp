@@ -69,6 +69,11 @@ struct SegmentCli {
                                                 ? skelseg::SkeletonSearch::Band
                                                 : skelseg::SkeletonSearch::Exhaustive;
         if (!maxMemoryText.empty()) options.maxMemoryBytes = parseBytes(maxMemoryText);
+        // Before any work (segmentVolume refuses it too, for the library).
+        if (!options.parameters.finerTaus.empty() &&
+            options.parameters.skeletonSearch == skelseg::SkeletonSearch::Band)
+            throw skelseg::UsageError(
+                "--skeleton-search band takes a single --tau, not a list of levels");
     }
 };
 

@@ -217,6 +217,11 @@ TEST(SceneLevels, BadTauListsAreRefusedWithOneLine) {
         EXPECT_TRUE(failsWithOneLine(run, 2, "--tau '" + list + "'")) << list;
         EXPECT_TRUE(leftNothing(dir / "out")) << list;
     }
+    // The band search finds the skeleton at one tau only.
+    const auto band = runSegment(dir / "sphere.nrrd", dir / "out",
+                                 {"--tau", "1%,3%", "--skeleton-search", "band"});
+    EXPECT_TRUE(failsWithOneLine(band, 2, "--skeleton-search band", "single --tau"));
+    EXPECT_TRUE(leftNothing(dir / "out"));
 }
 
 }  // namespace
