@@ -33,6 +33,7 @@ SegmentationParameters parametersFrom(const CallOptions& options) {
     p.tau = TauSpec::parse(options.tau);
     p.sigmaMin = options.sigmaMin;
     p.bodyRatio = options.bodyRatio;
+    p.joints = options.joints;
     if (options.mode == "junction-rule")
         p.mode = CutMode::JunctionRule;
     else if (options.mode == "junctions")

@@ -147,3 +147,17 @@ def test_help_shows_the_signature_and_parameters():
     for word in ("tau", "sigma_min", "body_ratio", "spacing", "threads", "time_limit",
                  "progress", "ValueError", "MemoryError", "TimeoutError"):
         assert word in doc, word
+
+
+def test_joints_cut_a_capsule_chain_as_the_cli_does(shapes):
+    mask = skelseg.read_volume(shapes.nrrd("capsule-chain", 96))
+    assert skelseg.segment(mask).n_segments == 1
+    result = skelseg.segment(mask, joints=True)
+    assert result.n_segments == 3
+    assert result.report["parameters"]["joints"] is True
+    assert result.report["joint_cuts"] == 2
+    assert [c["kind"] for c in result.report["cuts"]] == ["joint", "joint"]
+    _, data = read_nrrd(shapes.cli_output("capsule-chain", 96, 0, "--joints") / "labels.nrrd")
+    assert result.labels.tobytes(order="F") == data
+    with pytest.raises(TypeError, match="joints"):
+        skelseg.segment(mask, joints="yes")
