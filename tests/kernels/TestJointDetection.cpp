@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "kernels/base/Error.h"
 #include "tests/kernels/SkeletonTestPoints.h"
 
 namespace skelseg {
@@ -241,6 +242,17 @@ TEST(JointDetection, TwoBranchJunctionsJoinTheirPiecesAndThreeBranchOnesSplit) {
     EXPECT_EQ(count, 3u);
     for (std::uint32_t n = 0; n < yGraph.nodeCount(); ++n)
         if (yPoints[yGraph.point[n]].voxel == centre) EXPECT_EQ(yBranch[n], kNoJunction);
+}
+
+TEST(JointDetection, StopsWhenInterrupted) {
+    struct StopAtOnce : Interrupter {
+        bool wasInterrupted(double) override { return true; }
+    } stop;
+    NarrowedChain chain(0.9f);
+    const std::vector<SkeletonPoint> points = chain.set.points();
+    const SkeletonGraph graph = buildSkeletonGraph(points, chain.set.dims(), {});
+    EXPECT_THROW(detectJoints(graph, points, {}, {}, stop), InterruptedError);
+    EXPECT_NO_THROW(detectJoints(graph, points, {}, {}));
 }
 
 }  // namespace
