@@ -14,6 +14,7 @@ category, the mean over the articulated categories and over all models).
     /usr/bin/python3 bench/psb_benchmark.py --skelseg build/skelseg
     /usr/bin/python3 bench/psb_benchmark.py --models 1,2,3 --tau 1.5%
     /usr/bin/python3 bench/psb_benchmark.py --tau 1%,3% --level finest   # one level of a hierarchy run
+    /usr/bin/python3 bench/psb_benchmark.py --segment-args=--joints --out out/psb-joints
     /usr/bin/python3 bench/psb_benchmark.py --check        # exit 1 if issue 3's targets are missed
     /usr/bin/python3 bench/psb_benchmark.py --update-docs  # table and pictures into docs/quality.md
 
@@ -63,6 +64,8 @@ def parse_args(argv):
     p.add_argument("--level", default=None,
                    help="with a --tau list (1%%,3%%,9%%): score this level's segmentation.seg: "
                         "finest, coarsest or a number k (levels/k/; default: the top level, the coarsest)")
+    p.add_argument("--segment-args", default="",
+                   help='more options for skelseg segment, one string, e.g. "--joints"')
     p.add_argument("--out", default=str(REPO / "out" / "psb"), help="output folder (default out/psb)")
     p.add_argument("--models", default=None, help='subset of model ids, e.g. "1,2,3"')
     p.add_argument("--categories", default=None,
@@ -162,7 +165,8 @@ def baseline_files(out, model, face_count):
 def settings_key(args, skelseg):
     st = os.stat(skelseg)
     return {"skelseg": str(skelseg), "skelseg_mtime": st.st_mtime, "resolution": args.resolution,
-            "tau": args.tau, "level": args.level, "time_limit": args.time_limit}
+            "tau": args.tau, "level": args.level, "time_limit": args.time_limit,
+            "segment_args": args.segment_args}
 
 
 def level_seg_path(model_out, level):
@@ -219,6 +223,7 @@ def benchmark_model(args, skelseg, psb, out, model, category):
            "-q", "--force"]
     if args.tau is not None:
         cmd += ["--tau", args.tau]
+    cmd += args.segment_args.split()
     if args.time_limit is not None:
         cmd += ["--time-limit", str(args.time_limit)]
     record["command"] = cmd

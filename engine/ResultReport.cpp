@@ -26,6 +26,22 @@ void addCount(json& j, const char* key, std::uint64_t value) {
     j[key] = j[key].get<std::uint64_t>() + value;
 }
 
+const char* jointStatusName(JointStatus status) {
+    switch (status) {
+        case JointStatus::Cut:
+            return "cut";
+        case JointStatus::BelowThreshold:
+            return "below_threshold";
+        case JointStatus::LowSigma:
+            return "low_sigma";
+        case JointStatus::NearCut:
+            return "near_cut";
+        case JointStatus::Handle:
+            return "handle";
+    }
+    return "unknown";
+}
+
 }  // namespace
 
 json resultReport(const SegmentationResult& result, const ResultReportContext& context) {
@@ -47,7 +63,21 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                             {"region_radius", p.regionRadius},
                             {"bridge_gap", p.bridgeGap},
                             {"consecutive_levels", p.consecutiveLevels},
-                            {"skeleton_search", skeletonSearchName(p.skeletonSearch)}};
+                            {"skeleton_search", skeletonSearchName(p.skeletonSearch)},
+                            {"joints", p.joints}};
+    if (p.joints) {
+        const JointOptions& j = p.jointOptions;
+        report["parameters"]["joint_options"] = {
+            {"narrowing_ratio", j.narrowingRatio},
+            {"bend_angle_degrees", j.bendAngleDegrees},
+            {"min_segment_tau_fraction", j.minSegmentTauFraction},
+            {"smoothing_scale", j.smoothingScale},
+            {"side_window", j.sideWindow},
+            {"min_side_length", j.minSideLength},
+            {"bend_window", j.bendWindow},
+            {"min_cut_distance", j.minCutDistance},
+            {"snap_distance", j.snapDistance}};
+    }
     json counts = {{"object_voxels", 0},         {"boundary_voxels", 0}, {"candidates", 0},
                    {"curve_skeleton_points", 0}, {"skeleton_points", 0}, {"junction_voxels", 0}};
     json work = {
@@ -57,6 +87,8 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
         {"component_growth_steps", 0},  {"sigma_evaluations", 0},   {"sigma_searches", 0},
         {"repeated_feature_sets", 0}};
     json objects = json::array(), junctions = json::array(), critical = json::array();
+    json cuts = json::array(), jointCandidates = json::array();
+    std::uint64_t jointCuts = 0;
     for (std::size_t o = 0; o < result.objects.size(); ++o) {
         const ObjectSegmentation& obj = result.objects[o];
         const SearchCounters& search = obj.measureStats.search;
@@ -116,12 +148,36 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                  {"rho_c", areaJson(c.rhoC)},
                  {"body_similarity", c.similarity},
                  {"is_cut", c.isCut}});
+        for (const auto& c : obj.cuts) {
+            jointCuts += c.kind == CutKind::Joint;
+            cuts.push_back(
+                {{"object", o},
+                 {"kind", c.kind == CutKind::Joint ? "joint" : "junction"},
+                 {"voxel", toJson(c.voxel)},
+                 {"position", toJson(geometry.indexToWorld(c.voxel[0], c.voxel[1], c.voxel[2]))},
+                 {"sigma", c.sigma},
+                 {"rho_s", c.rhoS}});
+        }
+        for (const auto& c : obj.jointCandidates)
+            jointCandidates.push_back(
+                {{"object", o},
+                 {"kind", c.kind == JointKind::Bend ? "bend" : "narrowing"},
+                 {"status", jointStatusName(c.status)},
+                 {"voxel", toJson(c.voxel)},
+                 {"position", toJson(geometry.indexToWorld(c.voxel[0], c.voxel[1], c.voxel[2]))},
+                 {"ratio", c.ratio},
+                 {"angle_degrees", c.angleDegrees},
+                 {"radius", c.radius},
+                 {"sigma", c.sigma}});
     }
     report["counts"] = counts;
     report["work"] = work;
     report["objects"] = objects;
     report["junctions"] = junctions;
     report["critical_points"] = critical;
+    report["cuts"] = cuts;
+    report["joint_cuts"] = jointCuts;
+    if (p.joints) report["joint_candidates"] = jointCandidates;
     json segments = json::array();
     for (const auto& s : result.segments)
         segments.push_back({{"id", s.label},

@@ -3,7 +3,8 @@
 // One builder for every caller, so the CLI's report.json and the Python
 // result's .report cannot drift apart (docs/outputs.md lists the keys):
 // status, skelseg_version, input, grid, parameters, counts, work, objects,
-// junctions, critical_points, segments, segment_count, islands,
+// junctions, critical_points, cuts, joint_cuts (and joint_candidates with
+// --joints), segments, segment_count, islands,
 // face_segments (meshes), stages, timing, memory, warnings. Only "input" is
 // the caller's: the CLI describes the file it read, a Python call the array
 // or mesh passed in ({"kind": "array", "shape": ..., "dtype": ...}).

@@ -39,6 +39,9 @@ void placeFinerLevelCuts(ObjectState& state) {
     CutPlan coarsePlan = std::move(state.plan);
     std::vector<std::vector<std::uint32_t>> coarseLoops = std::move(state.cutLoops);
     std::vector<std::vector<std::array<int, 3>>> coarsePolylines = std::move(out.cutLoops);
+    // report.json lists the coarsest level's cuts only (the finer levels' are
+    // in their own cuts.ply).
+    std::vector<CutInfo> coarseCuts = std::move(out.cuts);
 
     const std::size_t levels = state.finerLevels.size();
     for (std::size_t k = levels; k-- > 0;) {
@@ -58,6 +61,7 @@ void placeFinerLevelCuts(ObjectState& state) {
         }
         state.cutLoops.clear();
         out.cutLoops.clear();
+        out.cuts.clear();
         buildObjectSkeletonGraph(state);
         placeObjectCuts(state);
         // Every coarser cut stays: the next coarser level's set holds them all.
@@ -84,6 +88,7 @@ void placeFinerLevelCuts(ObjectState& state) {
     state.plan = std::move(coarsePlan);
     state.cutLoops = std::move(coarseLoops);
     out.cutLoops = std::move(coarsePolylines);
+    out.cuts = std::move(coarseCuts);
 }
 
 void labelFinerLevels(ObjectState& state) {

@@ -127,6 +127,36 @@ void buildObjectSkeletonGraph(ObjectState& state) {
     throwIfInterrupted(state.interrupter);
 }
 
+namespace {
+
+/// The loops Gamma of skeleton graph nodes `nodes` become cuts of `kind`:
+/// as path sets for the labelling and as ordered polylines for the outputs.
+void appendCutLoops(ObjectState& state, const std::vector<std::uint32_t>& nodes, CutKind kind) {
+    const BoundaryGraph& graph = state.graph;
+    // Every search of the run shares the landmarks, so the loops follow the
+    // same paths the measures saw.
+    GeodesicSearch search(graph, &state.landmarks);
+    RimCounter rims(graph);
+    for (std::uint32_t node : nodes) {
+        const SkeletonPoint& sp = state.points[state.skeleton.point[node]];
+        std::uint32_t a = 0, b = 0;
+        state.cutLoops.push_back(
+            pathSet(graph, state.candidates[sp.candidate], search, nullptr, &a, &b));
+        std::vector<std::array<int, 3>> polyline;
+        for (std::uint32_t n : orderCutLoop(graph, state.cutLoops.back(), a, b, search, rims))
+            polyline.push_back(state.toGrid(graph.voxel[n]));
+        state.out.cutLoops.push_back(std::move(polyline));
+        CutInfo info;
+        info.kind = kind;
+        info.voxel = state.toGrid(sp.voxel);
+        info.sigma = sp.sigma;
+        info.rhoS = sp.rhoS;
+        state.out.cuts.push_back(info);
+    }
+}
+
+}  // namespace
+
 void placeObjectCuts(ObjectState& state) {
     Stage stage(state.timer, state.interrupter, "cut placement", false);
     const SegmentationParameters& p = state.parameters;
@@ -145,20 +175,30 @@ void placeObjectCuts(ObjectState& state) {
                    ? exact.rhoC
                    : 0.0;
     });
-    // Every search of the run shares the landmarks, so the loops follow the
-    // same paths the measures saw.
-    GeodesicSearch search(graph, &state.landmarks);
-    RimCounter rims(graph);
-    for (std::uint32_t node : state.plan.cutNodes) {
-        const SkeletonPoint& sp = state.points[state.skeleton.point[node]];
-        std::uint32_t a = 0, b = 0;
-        state.cutLoops.push_back(
-            pathSet(graph, state.candidates[sp.candidate], search, nullptr, &a, &b));
-        std::vector<std::array<int, 3>> polyline;
-        for (std::uint32_t n : orderCutLoop(graph, state.cutLoops.back(), a, b, search, rims))
-            polyline.push_back(state.toGrid(graph.voxel[n]));
-        state.out.cutLoops.push_back(std::move(polyline));
+    appendCutLoops(state, state.plan.cutNodes, CutKind::Junction);
+    throwIfInterrupted(state.interrupter);
+}
+
+void placeJointCuts(ObjectState& state) {
+    Stage stage(state.timer, state.interrupter, "joint cuts", false);
+    JointOptions options = state.parameters.jointOptions;
+    options.sigmaMin = state.parameters.sigmaMin;
+    const std::vector<JointCandidate> found =
+        detectJoints(state.skeleton, state.points, state.plan.cutNodes, options, state.interrupter);
+    std::vector<std::uint32_t> jointNodes;
+    for (const JointCandidate& c : found) {
+        JointCandidateInfo info;
+        info.voxel = state.toGrid(state.points[state.skeleton.point[c.node]].voxel);
+        info.kind = c.kind;
+        info.status = c.status;
+        info.ratio = c.ratio;
+        info.angleDegrees = c.angleDegrees;
+        info.radius = c.radius;
+        info.sigma = c.sigma;
+        state.out.jointCandidates.push_back(info);
+        if (c.status == JointStatus::Cut) jointNodes.push_back(c.node);
     }
+    appendCutLoops(state, jointNodes, CutKind::Joint);
     throwIfInterrupted(state.interrupter);
 }
 
@@ -226,8 +266,14 @@ void releaseSkeletonData(ObjectState& state) {
 
 void labelObjectSurface(ObjectState& state) {
     Stage stage(state.timer, state.interrupter, "labelling", false);
+    // Joint cuts part limbs into pieces (a hand, a forearm) that are often
+    // smaller than tau, the junction rule's smallest part: with --joints the
+    // smallest segment is a fraction of tau instead (docs/algorithm.md, Joints).
+    const SegmentationParameters& p = state.parameters;
+    const double smallest =
+        p.joints ? p.jointOptions.minSegmentTauFraction * state.out.tauArea : state.out.tauArea;
     state.segments =
-        labelSurface(state.graph, state.cutLoops, std::max(state.out.tauArea, state.out.noiseArea));
+        labelSurface(state.graph, state.cutLoops, std::max(smallest, state.out.noiseArea));
     throwIfInterrupted(state.interrupter);
 }
 
@@ -264,6 +310,7 @@ void runObjectStages(ObjectState& state, const MaskVolume& mask,
             LevelClock clock(state.coarsestSeconds);
             buildObjectSkeletonGraph(state);
             placeObjectCuts(state);
+            if (state.parameters.joints) placeJointCuts(state);
         }
         recordSkeleton(state);
         if (!state.finerLevels.empty()) placeFinerLevelCuts(state);

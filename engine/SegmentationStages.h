@@ -13,6 +13,7 @@
 //                                                                 SkeletonBand.h (band search)
 //   buildObjectSkeletonGraph     "skeleton graph"                SkeletonGraph.h
 //   placeObjectCuts              "cut placement"                 CutPlacement.h, CutLoopOrder.h
+//   placeJointCuts (--joints)    "joint cuts"                    JointDetection.h, CutLoopOrder.h
 //   labelObjectSurface           "labelling"                     SurfaceLabelling.h
 //   labelObjectInterior          "interior labels"               SurfaceLabelling.h
 //
@@ -124,6 +125,10 @@ void measureObjectSkeleton(ObjectState& state);
 void buildObjectSkeletonGraph(ObjectState& state);
 /// The junction rule's cuts, each as its path set and as an ordered loop.
 void placeObjectCuts(ObjectState& state);
+/// Cuts at joints inside parts (narrowings and bends along a branch), after
+/// the junction rule's cuts; runs only when parameters.joints is set. Its
+/// cuts follow the junction rule's in cutLoops, with kind Joint.
+void placeJointCuts(ObjectState& state);
 /// Boundary segments between the cut loops.
 void labelObjectSurface(ObjectState& state);
 /// Every object voxel takes the segment of its feature voxel.

@@ -169,6 +169,10 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
     // would miss the branches only their tau keeps.
     if (!p.finerTaus.empty() && p.skeletonSearch == SkeletonSearch::Band)
         throw UsageError("--skeleton-search band takes a single --tau, not a list of levels");
+    // Joint cuts belong below the finest level of a hierarchy; that level is
+    // not built yet (docs/algorithm.md, joints), so the two are not combined.
+    if (!p.finerTaus.empty() && p.joints)
+        throw UsageError("--joints takes a single --tau, not a list of levels");
     StageTimer localTimer;
     StageTimer& timer = timerIn ? *timerIn : localTimer;
     SegmentationResult result;

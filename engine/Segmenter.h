@@ -18,6 +18,7 @@
 
 #include "engine/StageTimer.h"
 #include "kernels/CutPlacement.h"
+#include "kernels/JointDetection.h"
 #include "kernels/SkeletonBand.h"
 #include "kernels/SkeletonCandidates.h"
 #include "kernels/SkeletonMeasures.h"
@@ -89,6 +90,10 @@ struct SegmentationParameters {
     int consecutiveLevels = 3;
     /// Objects with fewer voxels are one segment without a skeleton.
     std::uint64_t minObjectVoxels = 27;
+    /// Also cut inside parts at joints (kernels/JointDetection.h), after the
+    /// junction rule's cuts. jointOptions.sigmaMin is replaced by sigmaMin.
+    bool joints = false;
+    JointOptions jointOptions;
 };
 
 struct SkeletonVertex {
@@ -136,6 +141,29 @@ struct ObjectLevel {
     std::vector<std::uint16_t> labels;  // global labels of the object's segments at this level
 };
 
+/// Which rule placed a cut.
+enum class CutKind : std::uint8_t { Junction, Joint };
+
+/// One cut of cutLoops (same order), as report.json lists it.
+struct CutInfo {
+    CutKind kind = CutKind::Junction;
+    std::array<int, 3> voxel{};  // the skeleton point whose loop is the cut
+    float sigma = 0.0f;
+    float rhoS = 0.0f;
+};
+
+/// A joint candidate found along a branch (kernels/JointDetection.h), kept
+/// or not; the report lists them so that thresholds can be checked.
+struct JointCandidateInfo {
+    std::array<int, 3> voxel{};
+    JointKind kind = JointKind::Narrowing;
+    JointStatus status = JointStatus::BelowThreshold;
+    double ratio = 1.0;
+    double angleDegrees = 0.0;
+    double radius = 0.0;
+    float sigma = -1.0f;
+};
+
 struct ObjectSegmentation {
     std::uint64_t voxelCount = 0;
     std::uint64_t boundaryArea = 0;
@@ -157,6 +185,8 @@ struct ObjectSegmentation {
     std::vector<CriticalPointInfo> criticalPoints;
     /// Cut loops as ordered voxel polylines (closed where a second arc was found).
     std::vector<std::vector<std::array<int, 3>>> cutLoops;
+    std::vector<CutInfo> cuts;  // one per cut loop
+    std::vector<JointCandidateInfo> jointCandidates;
     std::vector<std::uint16_t> labels;  // global labels of this object's segments
     /// Hierarchy runs: the object at each finer level, finest first.
     std::vector<ObjectLevel> finerLevels;

@@ -74,6 +74,8 @@ struct SegmentCli {
             options.parameters.skeletonSearch == skelseg::SkeletonSearch::Band)
             throw skelseg::UsageError(
                 "--skeleton-search band takes a single --tau, not a list of levels");
+        if (!options.parameters.finerTaus.empty() && options.parameters.joints)
+            throw skelseg::UsageError("--joints takes a single --tau, not a list of levels");
     }
 };
 
@@ -107,6 +109,25 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
     command
         ->add_option("--body-ratio", seg.parameters.bodyRatio,
                      "Circumference similarity above which a candidate is on the body")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    command->add_flag(
+        "--joints", seg.parameters.joints,
+        "Also cut inside parts at joints: where a branch narrows clearly (bends: --bend-angle)");
+    command
+        ->add_option("--joint-ratio", seg.parameters.jointOptions.narrowingRatio,
+                     "--joints: a narrowing is at most this fraction of the wider sides")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    command
+        ->add_option("--bend-angle", seg.parameters.jointOptions.bendAngleDegrees,
+                     "--joints: also cut at bends turning at least this many degrees (30 is a good "
+                     "choice; default: no bends)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 360.0));
+    command
+        ->add_option("--joint-min-part", seg.parameters.jointOptions.minSegmentTauFraction,
+                     "--joints: smallest part, as a fraction of tau")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     command
@@ -200,7 +221,9 @@ int main(int argc, char** argv) {
     generate->add_option("--size", size, "Voxels along the longest side")
         ->capture_default_str()
         ->check(CLI::Range(16, 2048));
-    generate->add_option("--pose", pose, "figure: pose 0, 1 or 2")
+    generate
+        ->add_option("--pose", pose,
+                     "figure: pose 0, 1 or 2; capsule-chain, bent-tube: orientation 0, 1 or 2")
         ->capture_default_str()
         ->check(CLI::Range(0, 2));
     generate->add_option("--noise", noise, "Fraction of boundary voxels to flip")

@@ -23,6 +23,7 @@ struct CallOptions {
     double sigmaMin = 0.8;
     double bodyRatio = 0.6;
     std::string mode = "junction-rule";
+    bool joints = false;               // also cut at joints (--joints)
     int threads = 0;                   // 0: all cores
     double timeLimitSeconds = 0.0;     // 0: none
     std::uint64_t maxMemoryBytes = 0;  // 0: 75% of physical memory

@@ -41,13 +41,14 @@ void translateEngineErrors(std::exception_ptr error) {
 }
 
 CallOptions callOptions(std::string tau, double sigmaMin, double bodyRatio, std::string mode,
-                        int threads, double timeLimit, std::uint64_t maxMemory,
+                        bool joints, int threads, double timeLimit, std::uint64_t maxMemory,
                         py::object progress) {
     CallOptions options;
     options.tau = std::move(tau);
     options.sigmaMin = sigmaMin;
     options.bodyRatio = bodyRatio;
     options.mode = std::move(mode);
+    options.joints = joints;
     options.threads = threads;
     options.timeLimitSeconds = timeLimit;
     options.maxMemoryBytes = maxMemory;
@@ -65,29 +66,31 @@ PYBIND11_MODULE(_skelseg, m) {
     m.def(
         "segment_array",
         [](const py::array& mask, std::array<double, 3> spacing, std::string tau, double sigmaMin,
-           double bodyRatio, std::string mode, int threads, double timeLimit,
+           double bodyRatio, std::string mode, bool joints, int threads, double timeLimit,
            std::uint64_t maxMemory, py::object progress) {
-            return segmentArray(mask, spacing,
-                                callOptions(std::move(tau), sigmaMin, bodyRatio, std::move(mode),
-                                            threads, timeLimit, maxMemory, std::move(progress)));
+            return segmentArray(
+                mask, spacing,
+                callOptions(std::move(tau), sigmaMin, bodyRatio, std::move(mode), joints, threads,
+                            timeLimit, maxMemory, std::move(progress)));
         },
         py::arg("mask"), py::arg("spacing"), py::arg("tau"), py::arg("sigma_min"),
-        py::arg("body_ratio"), py::arg("mode"), py::arg("threads"), py::arg("time_limit"),
-        py::arg("max_memory"), py::arg("progress"));
+        py::arg("body_ratio"), py::arg("mode"), py::arg("joints"), py::arg("threads"),
+        py::arg("time_limit"), py::arg("max_memory"), py::arg("progress"));
     m.def(
         "segment_mesh",
         [](const py::array_t<double>& vertices, const py::array_t<std::int64_t>& faces,
            const py::array_t<std::int64_t>& triangleFace, int resolution, std::string tau,
-           double sigmaMin, double bodyRatio, std::string mode, int threads, double timeLimit,
-           std::uint64_t maxMemory, py::object progress) {
+           double sigmaMin, double bodyRatio, std::string mode, bool joints, int threads,
+           double timeLimit, std::uint64_t maxMemory, py::object progress) {
             return segmentMeshArrays(
                 vertices, faces, triangleFace, resolution,
-                callOptions(std::move(tau), sigmaMin, bodyRatio, std::move(mode), threads,
+                callOptions(std::move(tau), sigmaMin, bodyRatio, std::move(mode), joints, threads,
                             timeLimit, maxMemory, std::move(progress)));
         },
         py::arg("vertices"), py::arg("faces"), py::arg("triangle_face"), py::arg("resolution"),
         py::arg("tau"), py::arg("sigma_min"), py::arg("body_ratio"), py::arg("mode"),
-        py::arg("threads"), py::arg("time_limit"), py::arg("max_memory"), py::arg("progress"));
+        py::arg("joints"), py::arg("threads"), py::arg("time_limit"), py::arg("max_memory"),
+        py::arg("progress"));
     m.def("read_volume", &readVolumeArray, py::arg("path"), py::arg("grid"));
     m.def("read_mesh", &readMeshArrays, py::arg("path"));
     m.def("read_seg", &readSegArray, py::arg("path"));

@@ -36,6 +36,7 @@ SegmentationParameters parametersFrom(const CallOptions& options) {
     p.finerTaus = std::move(taus);
     p.sigmaMin = options.sigmaMin;
     p.bodyRatio = options.bodyRatio;
+    p.joints = options.joints;
     if (options.mode == "junction-rule")
         p.mode = CutMode::JunctionRule;
     else if (options.mode == "junctions")

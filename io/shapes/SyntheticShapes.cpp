@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "kernels/BoundaryGraph.h"
 #include "kernels/base/Error.h"
@@ -184,9 +185,25 @@ MaskVolume rasterise(const Shape& shape, const RasterOptions& options) {
 }
 
 std::vector<std::string> shapeNames() {
-    return {"disc-limbs", "y-arms",  "t-body",   "slab",   "box-tubes", "torus-limb",
-            "figure",     "capsule", "cylinder", "sphere", "box",       "torus"};
+    return {"disc-limbs", "y-arms",   "t-body", "slab", "box-tubes", "torus-limb",    "figure",
+            "capsule",    "cylinder", "sphere", "box",  "torus",     "capsule-chain", "bent-tube"};
 }
+
+namespace {
+
+/// The limb shapes' orientations: pose 0 along the grid axes, 1 and 2
+/// oblique to them (the joint thresholds must not depend on the grid).
+Vec orient(const Vec& v, int pose) {
+    if (pose < 0 || pose > 2) throw UsageError("pose must be 0, 1 or 2");
+    if (pose == 0) return v;
+    const Eigen::Vector3d axis = pose == 1 ? Eigen::Vector3d(0.3, 1.0, 0.2).normalized()
+                                           : Eigen::Vector3d(1.0, -1.0, 1.0).normalized();
+    const double degrees = pose == 1 ? 35.0 : 50.0;
+    const Eigen::Vector3d r = Eigen::AngleAxisd(degrees * M_PI / 180.0, axis) * point(v);
+    return {r.x(), r.y(), r.z()};
+}
+
+}  // namespace
 
 Shape makeShape(const std::string& name, int pose) {
     Shape s;
@@ -231,6 +248,19 @@ Shape makeShape(const std::string& name, int pose) {
             const Vec foot = add(hip, {std::sin(l) * 0.6, 0, -std::cos(l) * 0.6});
             s.capsule(hip, foot, 0.07);
         }
+    } else if (name == "capsule-chain") {
+        // Three capsules end to end; where two meet, their end spheres
+        // overlap and leave a waist of about 0.66 times their radius.
+        const double r = 0.12, gap = 1.5 * r;
+        const double ends[3][2] = {{-0.85, -0.85 + 0.5}, {-0.35 + gap, 0.35 - gap}, {0.35, 0.85}};
+        for (const auto& e : ends)
+            s.capsule(orient({e[0], 0, 0}, pose), orient({e[1], 0, 0}, pose), r);
+    } else if (name == "bent-tube") {
+        // A uniform tube with one 90 degree bend in its middle.
+        const double r = 0.1;
+        const Vec corner = orient({0.0, 0.0, 0.0}, pose);
+        s.capsule(orient({-0.7, 0.0, 0.0}, pose), corner, r);
+        s.capsule(corner, orient({0.0, 0.7, 0.0}, pose), r);
     } else if (name == "capsule") {
         s.capsule({-0.6, 0, 0}, {0.6, 0, 0}, 0.15);
     } else if (name == "cylinder") {

@@ -13,6 +13,9 @@
 //   torus-limb   a torus with one limb                            (2 parts)
 //   figure       body, head on a neck, two arms, two legs; pose 0..2
 //   capsule, cylinder, sphere, box, torus   single solids
+//   capsule-chain three capsules end to end, two narrowings (1 part; 3 with joints)
+//   bent-tube     a uniform tube with one 90 degree bend    (1 part; 2 with joints)
+// The two limb shapes take a pose too: 0 along the grid axes, 1 and 2 oblique.
 #pragma once
 
 #include <array>
@@ -65,7 +68,8 @@ MaskVolume rasterise(const Shape& shape, const RasterOptions& options);
 
 /// Names accepted by makeShape().
 std::vector<std::string> shapeNames();
-/// A named shape (see the list above). pose selects the figure's pose (0..2).
+/// A named shape (see the list above). pose selects the figure's pose or the
+/// limb shapes' orientation (0..2).
 /// Throws UsageError for unknown names.
 Shape makeShape(const std::string& name, int pose = 0);
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "tests/support/CliRunner.h"
+#include "tests/support/PoseSequences.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
 
@@ -21,25 +22,6 @@ namespace skelseg {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// Pose files grouped by the name before the last '_', frames in numeric order.
-std::map<std::string, std::vector<fs::path>> poseSequences(const fs::path& poses) {
-    std::map<std::string, std::vector<std::pair<long, fs::path>>> frames;
-    for (const auto& entry : fs::directory_iterator(poses)) {
-        const std::string stem = entry.path().stem().string();
-        const auto cut = stem.rfind('_');
-        if (cut == std::string::npos || entry.path().extension() != ".obj") continue;
-        const std::string frame = stem.substr(cut + 1);
-        if (frame.empty() || !std::all_of(frame.begin(), frame.end(), ::isdigit)) continue;
-        frames[stem.substr(0, cut)].emplace_back(std::stol(frame), entry.path());
-    }
-    std::map<std::string, std::vector<fs::path>> sequences;
-    for (auto& [name, list] : frames) {
-        std::sort(list.begin(), list.end());
-        for (const auto& f : list) sequences[name].push_back(f.second);
-    }
-    return sequences;
-}
 
 /// Distinct labels of a .seg file (one label per line).
 std::size_t partCount(const fs::path& seg) {
@@ -59,7 +41,7 @@ std::size_t partCount(const fs::path& seg) {
 TEST(Invariance, DISABLED_EveryPoseSequenceKeepsItsPartCount) {
     const fs::path poses = test::sharedDataDir() / "poses";
     if (!fs::is_directory(poses)) GTEST_SKIP() << "no pose data at " << poses << ": skipped";
-    const auto sequences = poseSequences(poses);
+    const auto sequences = test::poseSequences(poses);
     if (sequences.empty()) GTEST_SKIP() << "no pose sequence in " << poses;
     test::TempDir dir;
     for (const auto& [name, frames] : sequences) {

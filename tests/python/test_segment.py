@@ -181,3 +181,17 @@ def test_a_tau_list_gives_nested_levels_equal_to_the_cli(shapes):
 def test_bad_tau_lists_are_refused(figure_mask, tau):
     with pytest.raises(ValueError):
         skelseg.segment(figure_mask, tau=tau)
+
+
+def test_joints_cut_a_capsule_chain_as_the_cli_does(shapes):
+    mask = skelseg.read_volume(shapes.nrrd("capsule-chain", 96))
+    assert skelseg.segment(mask).n_segments == 1
+    result = skelseg.segment(mask, joints=True)
+    assert result.n_segments == 3
+    assert result.report["parameters"]["joints"] is True
+    assert result.report["joint_cuts"] == 2
+    assert [c["kind"] for c in result.report["cuts"]] == ["joint", "joint"]
+    _, data = read_nrrd(shapes.cli_output("capsule-chain", 96, 0, "--joints") / "labels.nrrd")
+    assert result.labels.tobytes(order="F") == data
+    with pytest.raises(TypeError, match="joints"):
+        skelseg.segment(mask, joints="yes")

@@ -191,7 +191,7 @@ class Score:
 
 
 def _options(tau: Union[str, float], sigma_min: float, body_ratio: float, mode: str,
-             threads: Optional[int], time_limit: Optional[float],
+             joints: bool, threads: Optional[int], time_limit: Optional[float],
              max_memory: Union[None, int, str], progress: Optional[ProgressCallback]) -> dict:
     def one_tau(value: Any) -> str:
         if isinstance(value, bool) or not isinstance(value, (str, numbers.Real)):
@@ -213,6 +213,8 @@ def _options(tau: Union[str, float], sigma_min: float, body_ratio: float, mode: 
             raise ValueError(f"{name} {value!r} is not in [0, 1]")
     if mode not in ("junction-rule", "junctions"):
         raise ValueError(f"mode {mode!r} is not 'junction-rule' or 'junctions'")
+    if not isinstance(joints, bool):
+        raise TypeError(f"joints must be True or False, not {joints!r}")
     if threads is None:
         threads = 0
     elif isinstance(threads, bool) or not isinstance(threads, numbers.Integral) or threads < 1:
@@ -226,7 +228,7 @@ def _options(tau: Union[str, float], sigma_min: float, body_ratio: float, mode: 
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be None or a callable (stage, fraction), not {progress!r}")
     return dict(tau=tau, sigma_min=float(sigma_min), body_ratio=float(body_ratio), mode=mode,
-                threads=int(threads), time_limit=float(time_limit),
+                joints=joints, threads=int(threads), time_limit=float(time_limit),
                 max_memory=_bytes(max_memory), progress=progress)
 
 
@@ -262,7 +264,7 @@ def _result(raw: dict, cls: type = SegmentationResult, **extra: Any) -> Segmenta
 
 
 def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, float]]] = "3%", sigma_min: float = 0.8,
-            body_ratio: float = 0.6, mode: str = "junction-rule",
+            body_ratio: float = 0.6, mode: str = "junction-rule", joints: bool = False,
             spacing: Sequence[float] = (1, 1, 1), threads: Optional[int] = None,
             time_limit: Optional[float] = None, max_memory: Union[None, int, str] = None,
             progress: Optional[ProgressCallback] = None) -> SegmentationResult:
@@ -283,6 +285,10 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
             junction lies on the body and is not cut, in [0, 1].
         mode: "junction-rule" (default) or "junctions" (the junctions' own
             loops are the cuts: the RT07 baseline).
+        joints: also cut inside parts where a limb narrows clearly between
+            two wider stretches (elbows, knees, necks), like the CLI's
+            --joints (with its default thresholds); each cut's kind is in
+            report["cuts"].
         spacing: voxel size along the three axes; scales the skeleton's and
             the cuts' coordinates (the segmentation works in voxels, as the CLI).
         threads: worker threads for this call (None: all cores). Results do
@@ -319,15 +325,15 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
     spacing3 = tuple(float(s) for s in spacing)
     if not all(math.isfinite(s) and s > 0 for s in spacing3):
         raise ValueError(f"spacing must be three positive finite numbers, not {tuple(spacing)}")
-    options = _options(tau, sigma_min, body_ratio, mode, threads, time_limit, max_memory,
-                       progress)
+    options = _options(tau, sigma_min, body_ratio, mode, joints, threads, time_limit,
+                       max_memory, progress)
     return _result(_skelseg.segment_array(array, spacing3, **options))
 
 
 def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 256,
                  triangle_face: Optional[np.ndarray] = None, tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
                  sigma_min: float = 0.8, body_ratio: float = 0.6, mode: str = "junction-rule",
-                 threads: Optional[int] = None, time_limit: Optional[float] = None,
+                 joints: bool = False, threads: Optional[int] = None, time_limit: Optional[float] = None,
                  max_memory: Union[None, int, str] = None,
                  progress: Optional[ProgressCallback] = None) -> MeshSegmentationResult:
     """Voxelises a closed triangle mesh, segments it and labels its faces.
@@ -342,8 +348,8 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
         resolution: voxels along the longest side of the bounding box [8, 2048].
         triangle_face: with faces of shape (T, 3), the input face of each
             triangle (as read_mesh() gives it); labels are then per input face.
-        tau, sigma_min, body_ratio, mode, threads, time_limit, max_memory,
-            progress: as segment().
+        tau, sigma_min, body_ratio, mode, joints, threads, time_limit,
+            max_memory, progress: as segment().
 
     Returns:
         MeshSegmentationResult: .face_labels (int32, one per input face in
@@ -381,8 +387,8 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
         raise TypeError(f"resolution must be an integer, not {resolution!r}")
     if not 8 <= resolution <= 2048:
         raise ValueError(f"resolution {resolution} is not in [8, 2048]")
-    options = _options(tau, sigma_min, body_ratio, mode, threads, time_limit, max_memory,
-                       progress)
+    options = _options(tau, sigma_min, body_ratio, mode, joints, threads, time_limit,
+                       max_memory, progress)
     raw = _skelseg.segment_mesh(vertex_array, np.ascontiguousarray(triangles), triangle_of,
                                 int(resolution), **options)
     return _result(raw, MeshSegmentationResult, face_labels=raw["face_labels"])

@@ -1,0 +1,105 @@
+// Scene tests for --joints (issue 13): generated limbs with known joints,
+// segmented end to end with and without joint cuts (kernels/JointDetection.h).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tests/support/SceneSupport.h"
+
+namespace skelseg::test {
+namespace {
+
+constexpr int kSize = 112;
+
+SegmentationParameters withJoints() {
+    SegmentationParameters p;
+    p.joints = true;
+    return p;
+}
+
+std::size_t parts(const SceneRun& run) {
+    return run.result.segments.size();
+}
+
+std::size_t cutsOfKind(const SceneRun& run, CutKind kind) {
+    std::size_t count = 0;
+    for (const auto& object : run.result.objects) {
+        EXPECT_EQ(object.cuts.size(), object.cutLoops.size());
+        for (const auto& c : object.cuts) count += c.kind == kind;
+    }
+    return count;
+}
+
+TEST(SceneJoints, CapsuleChainHasThreePartsWithJointsAndOneWithout) {
+    const SceneRun plain = segmentShape("capsule-chain", kSize);
+    EXPECT_EQ(parts(plain), 1u);
+    const SceneRun joints = segmentShape("capsule-chain", kSize, withJoints());
+    ASSERT_EQ(parts(joints), 3u);
+    EXPECT_EQ(cutsOfKind(joints, CutKind::Joint), 2u);
+    EXPECT_EQ(cutsOfKind(joints, CutKind::Junction), 0u);
+    // The three capsules are the parts: the outer two alike, the middle one
+    // (shorter) smaller than either.
+    const auto& s = joints.result.segments;
+    EXPECT_NEAR(double(s[0].voxelCount), double(s[1].voxelCount), 0.15 * double(s[0].voxelCount));
+    EXPECT_LT(s[2].voxelCount, s[1].voxelCount);
+    EXPECT_GT(s[2].voxelCount, s[1].voxelCount / 3);
+}
+
+TEST(SceneJoints, CapsuleChainAtOtherOrientationsAndSizes) {
+    for (int pose : {1, 2})
+        EXPECT_EQ(parts(segmentShape("capsule-chain", kSize, withJoints(), pose)), 3u)
+            << "orientation " << pose;
+    EXPECT_EQ(parts(segmentShape("capsule-chain", 160, withJoints(), 1)), 3u) << "size 160";
+}
+
+TEST(SceneJoints, StraightUniformTubesStayOnePart) {
+    for (const char* name : {"capsule", "cylinder"}) {
+        EXPECT_EQ(parts(segmentShape(name, kSize)), 1u) << name;
+        const SceneRun joints = segmentShape(name, kSize, withJoints());
+        EXPECT_EQ(parts(joints), 1u) << name;
+        EXPECT_EQ(cutsOfKind(joints, CutKind::Joint), 0u) << name;
+    }
+}
+
+TEST(SceneJoints, BentTubeIsCutAtItsBendWhenBendsAreOn) {
+    EXPECT_EQ(parts(segmentShape("bent-tube", kSize)), 1u);
+    // Bends are off by default: narrowings alone leave the uniform tube whole.
+    EXPECT_EQ(parts(segmentShape("bent-tube", kSize, withJoints())), 1u);
+    SegmentationParameters bends = withJoints();
+    bends.jointOptions.bendAngleDegrees = 30.0;
+    for (int pose : {0, 1, 2}) {
+        const SceneRun run = segmentShape("bent-tube", kSize, bends, pose);
+        ASSERT_EQ(parts(run), 2u) << "orientation " << pose;
+        // The two legs are equally long: the cut sits at the corner.
+        const auto& s = run.result.segments;
+        EXPECT_NEAR(double(s[0].voxelCount), double(s[1].voxelCount),
+                    0.25 * double(s[0].voxelCount))
+            << "orientation " << pose;
+    }
+}
+
+TEST(SceneJoints, JunctionShapesKeepTheirPartsWhenLimbsAreStraight) {
+    // Straight uniform arms have no joint, and no joint lands on a junction
+    // rule cut.
+    const SceneRun run = segmentShape("y-arms", kSize, withJoints());
+    EXPECT_EQ(parts(run), 3u);
+    EXPECT_EQ(cutsOfKind(run, CutKind::Joint), 0u);
+}
+
+TEST(SceneJoints, SerialAndParallelAgree) {
+    SegmentationParameters serial = withJoints();
+    serial.threaded = false;
+    const SceneRun a = segmentShape("capsule-chain", kSize, withJoints(), 2);
+    const SceneRun b = segmentShape("capsule-chain", kSize, serial, 2);
+    ASSERT_EQ(a.result.labels.size(), b.result.labels.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < a.result.labels.size(); ++i)
+        differing += a.result.labels[i] != b.result.labels[i];
+    EXPECT_EQ(differing, 0u);
+    EXPECT_EQ(a.result.segments.size(), 3u);
+    ASSERT_EQ(a.result.objects.size(), b.result.objects.size());
+    EXPECT_EQ(a.result.objects[0].cutLoops, b.result.objects[0].cutLoops);
+}
+
+}  // namespace
+}  // namespace skelseg::test

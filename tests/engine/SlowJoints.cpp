@@ -1,0 +1,53 @@
+// Slow: with --joints, every pose sequence of ../shared/data/poses keeps the
+// same number of joint cuts in all its frames (issue 13), segmented as
+// `skelseg segment MESH -o OUT --resolution 192 --joints`. A joint is a
+// property of the limb, not of its pose, so a bend or a narrowing must not
+// come and go as the limb moves. Skipped where the data is absent.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "tests/support/CliRunner.h"
+#include "tests/support/PoseSequences.h"
+#include "tests/support/TempDir.h"
+#include "tests/support/TestPaths.h"
+
+namespace skelseg {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(Joints, EveryPoseSequenceKeepsItsJointCuts) {
+    const fs::path poses = test::sharedDataDir() / "poses";
+    if (!fs::is_directory(poses)) GTEST_SKIP() << "no pose data at " << poses << ": skipped";
+    const auto sequences = test::poseSequences(poses);
+    if (sequences.empty()) GTEST_SKIP() << "no pose sequence in " << poses;
+    test::TempDir dir;
+    for (const auto& [name, frames] : sequences) {
+        std::vector<std::uint64_t> jointCuts;
+        for (const auto& frame : frames) {
+            const fs::path out = dir / (frame.stem().string());
+            const auto run =
+                test::runSkelseg({"segment", frame.string(), "-o", out.string(), "--resolution",
+                                  "192", "--joints", "-q", "--no-preview"});
+            ASSERT_EQ(run.exitCode, 0) << frame << ": " << run.describe();
+            std::ifstream in(out / "report.json");
+            const nlohmann::json report = nlohmann::json::parse(in);
+            std::uint64_t kinds = 0;
+            for (const auto& cut : report.at("cuts")) kinds += cut.at("kind") == "joint";
+            EXPECT_EQ(kinds, report.at("joint_cuts").get<std::uint64_t>()) << frame;
+            jointCuts.push_back(kinds);
+        }
+        std::string list;
+        for (std::uint64_t c : jointCuts) list += (list.empty() ? "" : ", ") + std::to_string(c);
+        EXPECT_EQ(std::set<std::uint64_t>(jointCuts.begin(), jointCuts.end()).size(), 1u)
+            << name << ": joint cuts per frame " << list;
+    }
+}
+
+}  // namespace
+}  // namespace skelseg
