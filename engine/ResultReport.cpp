@@ -146,6 +146,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                  {"sigma", c.sigma},
                  {"rho_s", c.rhoS},
                  {"rho_c", areaJson(c.rhoC)},
+                 {"limb_rho_s", c.limbRhoS},
                  {"body_similarity", c.similarity},
                  {"is_cut", c.isCut}});
         for (const auto& c : obj.cuts) {

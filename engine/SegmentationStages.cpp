@@ -245,6 +245,7 @@ void recordSkeleton(ObjectState& state) {
         info.junction = c.junction;
         info.sigma = c.sigma;
         info.rhoS = sp.rhoS;
+        info.limbRhoS = c.limbRhoS;
         info.rhoC = c.exactRhoC >= 0.0 ? c.exactRhoC : sp.rhoC;
         info.similarity = c.similarity;
         info.isCut = c.isCut;

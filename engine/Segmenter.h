@@ -119,6 +119,7 @@ struct CriticalPointInfo {
     std::uint32_t junction = 0;
     float sigma = 0.0f;
     float rhoS = 0.0f;
+    float limbRhoS = 0.0f;  // the circumference the body test compared
     double rhoC = 0.0;
     float similarity = 0.0f;
     bool isCut = false;

@@ -9,10 +9,12 @@ namespace {
 
 /// Walks one branch from junction j's region; returns the candidate node or
 /// kNoJunction. `taken` marks nodes already walked from this junction.
+/// Also returns in limbRhoSOut the limb's circumference for the body test
+/// (limbCircumferenceLevels).
 std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                          std::uint32_t junction, std::uint32_t piece, const CutOptions& options,
-                         std::vector<std::uint8_t>& taken, std::uint32_t& levelOut,
-                         float& sigmaOut) {
+                         std::vector<std::uint8_t>& taken, std::uint32_t& levelOut, float& sigmaOut,
+                         float& limbRhoSOut) {
     std::vector<std::uint32_t> level;
     for (std::uint32_t n : g.junctions[junction].region)
         for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
@@ -22,6 +24,13 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     std::sort(level.begin(), level.end());
     std::uint32_t runStart = kNoJunction, runLength = 0, runStartLevel = 0;
     float runStartSigma = 0.0f;
+    // Once the run is complete (found), the walk goes on for `extraLevels`
+    // more levels to measure the limb's circumference beyond the junction.
+    bool found = false;
+    std::uint32_t lastLevel = 0;
+    float limbRhoS = 0.0f;
+    const std::uint32_t extraLevels =
+        limbCircumferenceLevels(g.junctions[junction].rhoS, options.consecutiveLevels);
     for (std::uint32_t depth = 1; !level.empty(); ++depth) {
         // Best sigma on this level; ties by lowest node id (levels are sorted).
         std::uint32_t bestNode = level.front();
@@ -30,9 +39,22 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
             const float s = points[g.point[n]].sigma;
             if (s > best) best = s, bestNode = n;
         }
-        if (best >= float(options.sigmaMin)) {
-            if (runLength == 0) runStart = bestNode, runStartLevel = depth, runStartSigma = best;
-            if (++runLength >= std::uint32_t(options.consecutiveLevels)) break;
+        if (found) {
+            if (best >= float(options.sigmaMin))
+                limbRhoS = std::min(limbRhoS, points[g.point[bestNode]].rhoS);
+            if (depth >= lastLevel) break;
+        } else if (best >= float(options.sigmaMin)) {
+            if (runLength == 0) {
+                runStart = bestNode, runStartLevel = depth, runStartSigma = best;
+                limbRhoS = points[g.point[bestNode]].rhoS;
+            } else {
+                limbRhoS = std::min(limbRhoS, points[g.point[bestNode]].rhoS);
+            }
+            if (++runLength >= std::uint32_t(options.consecutiveLevels)) {
+                found = true;
+                lastLevel = runStartLevel + extraLevels;
+                if (depth >= lastLevel) break;
+            }
         } else {
             runLength = 0;
         }
@@ -45,13 +67,48 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
         std::sort(next.begin(), next.end());
         level.swap(next);
     }
-    if (runLength < std::uint32_t(options.consecutiveLevels)) return kNoJunction;
+    if (!found) return kNoJunction;
     levelOut = runStartLevel;
     sigmaOut = runStartSigma;
+    limbRhoSOut = limbRhoS;
     return runStart;
 }
 
 }  // namespace
+
+void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandidate* candidates,
+                        std::size_t count) {
+    // The body passes through the junction, so the junction's loops are at
+    // least as long as the body's; a candidate thicker than the junction's
+    // median rho_S shows that the median fell on thin core voxels.
+    float body = junctionRhoS;
+    for (std::size_t i = 0; i < count; ++i) body = std::max(body, candidates[i].limbRhoS);
+    for (std::size_t i = 0; i < count; ++i) {
+        CutCandidate& c = candidates[i];
+        c.similarity = body > 0.0f ? 1.0f - std::fabs(body - c.limbRhoS) / body : 0.0f;
+        c.onBody = c.similarity >= float(options.bodyRatio);
+    }
+    // Two candidates about equally thick get the same answer: when the
+    // thinner of two body candidates has a sibling below the threshold that
+    // is nearly as thick, the threshold cannot tell them apart, and the
+    // "more than two" rule decides (placeCuts).
+    std::vector<std::size_t> body2;
+    for (std::size_t i = 0; i < count; ++i)
+        if (candidates[i].onBody) body2.push_back(i);
+    if (body2.size() != 2) return;
+    const float thinner = std::min(candidates[body2[0]].limbRhoS, candidates[body2[1]].limbRhoS);
+    for (std::size_t i = 0; i < count; ++i)
+        if (CutCandidate& c = candidates[i];
+            !c.onBody && c.limbRhoS >= float(1.0 - options.siblingTolerance) * thinner)
+            c.onBody = true;
+}
+
+std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels) {
+    // rho_S of a loop around a round part is half its circumference, pi r.
+    const double bodyRadius = std::max(0.0, double(junctionRhoS)) / 3.14159265358979323846;
+    return std::max<std::uint32_t>(std::uint32_t(std::max(consecutiveLevels, 1)),
+                                   std::uint32_t(std::ceil(bodyRadius)));
+}
 
 CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                   const CutOptions& options,
@@ -82,20 +139,20 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         const std::size_t first = plan.candidates.size();
         for (std::uint32_t piece : branches) {
             std::uint32_t level = 0;
-            float sigma = 0.0f;
+            float sigma = 0.0f, limbRhoS = 0.0f;
             const std::uint32_t node =
-                walkBranch(g, points, j, piece, options, taken, level, sigma);
+                walkBranch(g, points, j, piece, options, taken, level, sigma, limbRhoS);
             if (node == kNoJunction) continue;
             CutCandidate c;
             c.junction = j;
             c.node = node;
             c.level = level;
             c.sigma = sigma;
-            const float rhoJ = junction.rhoS, rhoQ = points[g.point[node]].rhoS;
-            c.similarity = rhoJ > 0.0f ? 1.0f - std::fabs(rhoJ - rhoQ) / rhoJ : 0.0f;
-            c.onBody = c.similarity >= float(options.bodyRatio);
+            c.limbRhoS = limbRhoS;
             plan.candidates.push_back(c);
         }
+        markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
+                           plan.candidates.size() - first);
         // Body passes through a junction at most once: drop at most two.
         std::vector<std::size_t> body;
         for (std::size_t i = first; i < plan.candidates.size(); ++i)

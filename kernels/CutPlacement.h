@@ -7,9 +7,13 @@
 // of the first level that starts a run of `consecutiveLevels` levels with
 // sigma >= sigmaMin (a single high level in a corner fan is not enough).
 // Candidates whose circumference rho_S is similar to the junction's (body
-// test) lie on the body and are dropped; when more than two are similar, only
-// the one carrying the most surface (largest exact rho_C) is dropped, ties
-// broken by voxel index. The loops Gamma(q) of the rest are the cuts.
+// test) lie on the body and are dropped; a candidate's circumference is the
+// smallest rho_S of the tight levels (sigma >= sigmaMin) from the candidate
+// to one body radius further out (rho_S(j) / pi levels), because the first
+// tight levels past a junction still wrap the part's base, whose loop is
+// about as long as the body's (docs/algorithm.md §8, "limb circumference"); when more than two are
+// similar, only the one carrying the most surface (largest exact rho_C) is dropped, ties broken by
+// voxel index. The loops Gamma(q) of the rest are the cuts.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +34,10 @@ struct CutOptions {
     double sigmaMin = 0.8;
     double bodyRatio = 0.6;
     int consecutiveLevels = 3;
+    /// A candidate below bodyRatio whose limb circumference is within this
+    /// fraction of the thinner of two body candidates counts as body-similar
+    /// too (then the "more than two" rule decides).
+    double siblingTolerance = 0.1;
     CutMode mode = CutMode::JunctionRule;
 };
 
@@ -40,6 +48,7 @@ struct CutCandidate {
     std::uint32_t level = 0;  // BFS level from the junction region
     float sigma = 0.0f;
     float similarity = 0.0f;
+    float limbRhoS = 0.0f;    // the circumference the body test compared
     double exactRhoC = -1.0;  // filled where the tie rule needed it
     bool onBody = false;
     bool isCut = false;
@@ -56,6 +65,17 @@ struct CutPlan {
     /// Skeleton graph nodes whose Gamma is a cut, deduplicated, ascending.
     std::vector<std::uint32_t> cutNodes;
 };
+
+/// How many levels past a candidate the body test looks for the limb's
+/// circumference: one body radius (rho_S of a round loop is pi r), at least
+/// consecutiveLevels.
+std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels);
+
+/// The body test of one junction's candidates (limbRhoS filled): sets
+/// similarity (limbRhoS against the larger of the junction's rho_S and the
+/// thickest candidate's) and onBody, before the "more than two" rule.
+void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandidate* candidates,
+                        std::size_t count);
 
 /// exactRhoC(pointIndex) returns the exact rho_C of a SkeletonPoint (only
 /// called for the "more than two qualify" rule).

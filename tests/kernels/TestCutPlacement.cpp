@@ -36,6 +36,11 @@ struct Junction {
     void setRhoS(int arm, float rhoS) {
         for (std::uint32_t v : arms[arm]) set.point(v).rhoS = rhoS;
     }
+    /// rho_S per BFS level, as setSigma.
+    void setRhoSPerLevel(int arm, const std::vector<float>& levels) {
+        for (std::size_t l = 0; l < levels.size(); ++l)
+            set.point(arms[arm][l + 3]).rhoS = levels[l];
+    }
     std::uint32_t armVoxelAtLevel(int arm, std::uint32_t level) const {
         return arms[arm][level + 2];
     }
@@ -167,7 +172,7 @@ TEST(CutPlacement, BodyCandidatesAreDropped) {
     // Arms 0 and 1 continue the body (similarity 0.95 and 0.65 >= bodyRatio),
     // arm 2 is a limb (similarity 0.4).
     j.setRhoS(0, 19.0f);
-    j.setRhoS(1, 27.0f);
+    j.setRhoS(1, 13.0f);
     j.setRhoS(2, 8.0f);
     const auto r = place(j);
     ASSERT_EQ(r->plan.candidates.size(), 3u);
@@ -220,6 +225,84 @@ TEST(CutPlacement, EqualRhoCTieKeepsLowestVoxelOnBody) {
     for (std::uint32_t v : q) EXPECT_EQ(r->byVoxel.at(v)->onBody, v == lowest) << "voxel " << v;
     EXPECT_EQ(r->cutVoxels.size(), 2u);
     EXPECT_EQ(r->callbackCalls, 3);
+}
+
+TEST(CutPlacement, LimbCircumferenceIsMeasuredOneBodyRadiusOut) {
+    // The junction's rho_S is 20: one body radius is ceil(20 / pi) = 7
+    // levels. Arm 2 is tight from level 1, but its first levels still wrap
+    // the limb's base (rho_S 18, similarity 0.9); further out it is 7 thick.
+    Junction j;
+    EXPECT_EQ(limbCircumferenceLevels(20.0f, 3), 7u);
+    EXPECT_EQ(limbCircumferenceLevels(3.0f, 3), 3u) << "at least the run";
+    j.setSigma(0, {0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f});
+    j.setRhoS(0, 19.0f);  // the body
+    j.setSigma(1, {0.1f});
+    j.setSigma(2, {0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.3f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f});
+    // Level 6 is not tight (its rho_S 2 does not count), level 9 is past the
+    // window (its rho_S 3 does not count either).
+    j.setRhoSPerLevel(2, {18.0f, 18.0f, 16.0f, 12.0f, 9.0f, 2.0f, 8.0f, 7.0f, 3.0f, 7.0f});
+    const auto r = place(j);
+    ASSERT_EQ(r->plan.candidates.size(), 2u);
+    const CutCandidate* limb = r->byVoxel.at(j.armVoxelAtLevel(2, 1));
+    EXPECT_EQ(limb->level, 1u) << "the cut stays where sigma first holds";
+    EXPECT_FLOAT_EQ(limb->limbRhoS, 7.0f);
+    EXPECT_NEAR(limb->similarity, 0.35f, 1e-5f);
+    EXPECT_TRUE(limb->isCut);
+    const CutCandidate* body = r->byVoxel.at(j.armVoxelAtLevel(0, 1));
+    EXPECT_FLOAT_EQ(body->limbRhoS, 19.0f);
+    EXPECT_TRUE(body->onBody);
+    EXPECT_EQ(r->cutVoxels, std::vector<std::uint32_t>{j.armVoxelAtLevel(2, 1)});
+}
+
+TEST(CutPlacement, BodyThickerThanTheJunctionIsStillBody) {
+    // A junction whose median rho_S fell on thin core voxels (10) against a
+    // body 40 thick: the body, not the junction, is the reference.
+    Junction j;
+    j.set.point(j.centre).rhoS = 10.0f;
+    for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f, 0.9f});
+    j.setRhoS(0, 40.0f);
+    j.setRhoS(1, 36.0f);
+    j.setRhoS(2, 14.0f);
+    const auto r = place(j);
+    ASSERT_EQ(r->plan.candidates.size(), 3u);
+    EXPECT_NEAR(r->byVoxel.at(j.armVoxelAtLevel(0, 1))->similarity, 1.0f, 1e-6f);
+    EXPECT_NEAR(r->byVoxel.at(j.armVoxelAtLevel(1, 1))->similarity, 0.9f, 1e-6f);
+    EXPECT_NEAR(r->byVoxel.at(j.armVoxelAtLevel(2, 1))->similarity, 0.35f, 1e-6f);
+    EXPECT_EQ(r->cutVoxels, std::vector<std::uint32_t>{j.armVoxelAtLevel(2, 1)});
+}
+
+TEST(CutPlacement, SiblingsAlikeInThicknessGetTheSameAnswer) {
+    // Two legs 12.2 and 11.8 thick at a hip of 20: the threshold (12) falls
+    // between them. Both join the body candidates, so the "more than two"
+    // rule keeps only the torso (largest area) on the body.
+    Junction j;
+    for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f, 0.9f});
+    j.setRhoS(0, 18.0f);
+    j.setRhoS(1, 12.2f);
+    j.setRhoS(2, 11.8f);
+    const std::uint32_t q[3] = {j.armVoxelAtLevel(0, 1), j.armVoxelAtLevel(1, 1),
+                                j.armVoxelAtLevel(2, 1)};
+    const std::map<std::uint32_t, double> areas{{q[0], 900.0}, {q[1], 300.0}, {q[2], 310.0}};
+    const auto r = place(j, {}, areas);
+    EXPECT_TRUE(r->byVoxel.at(q[0])->onBody);
+    EXPECT_TRUE(r->byVoxel.at(q[1])->isCut);
+    EXPECT_TRUE(r->byVoxel.at(q[2])->isCut);
+    EXPECT_EQ(r->plan.junctions[0].cuts, 2u);
+
+    // Without the tolerance the threshold splits the two legs.
+    CutOptions strict;
+    strict.siblingTolerance = 0.0;
+    const auto s = place(j, strict, areas);
+    EXPECT_TRUE(s->byVoxel.at(q[1])->onBody);
+    EXPECT_TRUE(s->byVoxel.at(q[2])->isCut);
+    EXPECT_EQ(s->plan.junctions[0].cuts, 1u);
+
+    // A clearly thinner third arm is not pulled in.
+    j.setRhoS(2, 9.0f);
+    const auto t = place(j, {}, areas);
+    EXPECT_TRUE(t->byVoxel.at(q[1])->onBody);
+    EXPECT_TRUE(t->byVoxel.at(q[2])->isCut);
+    EXPECT_EQ(t->callbackCalls, 0);
 }
 
 TEST(CutPlacement, JunctionModeCutsAtTheJunction) {
