@@ -215,6 +215,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     inputOptions.gridName = options.gridName;
     inputOptions.resolution = options.resolution;
     inputOptions.threads = threads;
+    inputOptions.levels = int(options.parameters.finerTaus.size()) + 1;
     inputOptions.timeBudgetSeconds = options.timeBudgetSeconds;
     inputOptions.start = wallStart;
     inputOptions.memoryLimit =

@@ -167,9 +167,9 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
     }
     std::uint64_t objectVoxels = 0;
     for (std::uint8_t v : result.mask.values()) objectVoxels += v != 0;
-    result.estimatedMemory =
-        std::max(result.estimatedMemory,
-                 estimateSegmentationMemory(result.mask.dims(), objectVoxels, options.threads));
+    result.estimatedMemory = std::max(result.estimatedMemory,
+                                      estimateSegmentationMemory(result.mask.dims(), objectVoxels,
+                                                                 options.threads, options.levels));
     if (result.estimatedMemory > options.memoryLimit)
         throw MemoryLimitError(source->file.string() + ": needs about " +
                                formatBytes(result.estimatedMemory) + ", over the limit of " +

@@ -89,8 +89,8 @@ std::string SegmentationParameters::tauListString() const {
     return text;
 }
 
-std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels,
-                                         int threads) {
+std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels, int threads,
+                                         int levels) {
     const std::uint64_t voxels = dims.voxelCount();
     // Input mask (1) + labels (2) + object ids (4) per grid voxel; per object
     // crop at most the grid: mask (1) + feature transform (4) + node map (4).
@@ -102,6 +102,7 @@ std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectV
     bytes += boundary * (12 + sizeof(float) * Landmarks::kStride) +
              boundary * 40 * std::uint64_t(std::max(threads, 1));
     bytes += objectVoxels / 4 * 48;
+    bytes += std::uint64_t(std::max(levels, 1) - 1) * voxels * 4;
     return bytes;
 }
 

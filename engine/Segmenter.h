@@ -235,7 +235,10 @@ struct SegmentationResult {
 
 /// Rough peak memory of segmentVolume() on a grid of `dims` with
 /// `objectVoxels` object voxels, bytes (for --max-memory checks).
-std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels, int threads);
+/// `levels`: the levels of a hierarchy run (each finer one keeps a label
+/// volume and its objects' crop labels, about 4 bytes per grid voxel).
+std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels, int threads,
+                                         int levels = 1);
 
 SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParameters& parameters,
                                  Interrupter& interrupter = nullInterrupter(),

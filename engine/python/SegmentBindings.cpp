@@ -54,6 +54,8 @@ struct CallRecord {
           memoryLimit(options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit()),
           interrupter(options.timeLimitSeconds) {}
 
+    int levels() const { return int(parameters.finerTaus.size()) + 1; }
+
     void checkMemory(const std::string& name, std::uint64_t estimate, const std::string& detail) {
         estimatedMemory = std::max(estimatedMemory, estimate);
         if (estimate > memoryLimit)
@@ -174,15 +176,18 @@ py::dict segmentArray(const py::array& array, const std::array<double, 3>& spaci
             if (estimateSegmentationMemory(dims, dims.voxelCount(), call.threads) >
                 call.memoryLimit) {
                 objectVoxels = countObjectVoxels(view, kMaskName);
-                call.checkMemory(kMaskName,
-                                 estimateSegmentationMemory(dims, objectVoxels, call.threads), "");
+                call.checkMemory(
+                    kMaskName,
+                    estimateSegmentationMemory(dims, objectVoxels, call.threads, call.levels()),
+                    "");
             }
             MaskVolume mask = maskFromArray(view, kMaskName);
             mask.geometry.directions = {
                 {{spacing[0], 0, 0}, {0, spacing[1], 0}, {0, 0, spacing[2]}}};
             objectVoxels = 0;
             for (std::uint8_t v : mask.values()) objectVoxels += v;
-            call.estimatedMemory = estimateSegmentationMemory(dims, objectVoxels, call.threads);
+            call.estimatedMemory =
+                estimateSegmentationMemory(dims, objectVoxels, call.threads, call.levels());
             result = segmentVolume(mask, call.parameters, call.interrupter, &call.timer);
         },
         call.interrupter, options.threads, options.progress);
@@ -291,7 +296,9 @@ py::dict segmentMeshArrays(const py::array_t<double>& vertices,
             std::uint64_t objectVoxels = 0;
             for (std::uint8_t value : mask.values()) objectVoxels += value != 0;
             call.checkMemory(
-                kMeshName, estimateSegmentationMemory(mask.dims(), objectVoxels, call.threads), "");
+                kMeshName,
+                estimateSegmentationMemory(mask.dims(), objectVoxels, call.threads, call.levels()),
+                "");
             result = segmentVolume(mask, call.parameters, call.interrupter, &call.timer);
             Stage t(call.timer, call.interrupter, "face labels", true);
             faceLabels = labelFaces(mesh, result.labels, {}, call.interrupter);
