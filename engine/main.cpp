@@ -53,15 +53,20 @@ std::uint64_t parseBytes(const std::string& text) {
 /// takes the same ones, defined once here.
 struct SegmentCli {
     skelseg::SegmentCommandOptions options;
-    std::string tauText = "3%", modeText = "junction-rule", maxMemoryText,
-                skeletonSearchText = "exhaustive";
-    bool quiet = false;
+    std::string tauText = "3%", modeText = "junction-rule", maxMemoryText, skeletonSearchText;
+    bool quiet = false, exhaustive = false;
 
     /// Turns the texts into options. Throws UsageError.
     void finish() {
         options.parameters.tau = skelseg::TauSpec::parse(tauText);
         options.parameters.mode =
             modeText == "junctions" ? skelseg::CutMode::Junctions : skelseg::CutMode::JunctionRule;
+        // --exhaustive is the name for the reference search; it may
+        // repeat --skeleton-search exhaustive but not contradict it.
+        if (exhaustive && skeletonSearchText == "band")
+            throw skelseg::UsageError(
+                "--exhaustive contradicts --skeleton-search band: give one of them");
+        if (exhaustive) skeletonSearchText = "exhaustive";
         options.parameters.skeletonSearch = skeletonSearchText == "band"
                                                 ? skelseg::SkeletonSearch::Band
                                                 : skelseg::SkeletonSearch::Exhaustive;
@@ -120,6 +125,9 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
                      "exhaustive (default: every candidate) or band (measures a band around the "
                      "skeleton; misses skeleton pieces on thin plates, docs/algorithm.md 3.5)")
         ->check(CLI::IsMember({"exhaustive", "band"}));
+    command->add_flag("--exhaustive", cli.exhaustive,
+                      "Same as --skeleton-search exhaustive: the reference search, which measures "
+                      "every candidate");
     command
         ->add_option("--time-budget", seg.timeBudgetSeconds,
                      "Choose the resolution (meshes) or coarsening (volumes) predicted to finish "

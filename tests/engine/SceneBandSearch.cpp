@@ -39,7 +39,7 @@ nlohmann::json expectSameAnswer(const TempDir& dir, const std::filesystem::path&
                   " -q --no-preview --skeleton-search band " + extra),
               0);
     EXPECT_EQ(run(exe + " segment " + input.string() + " -o " + exhaustive.string() +
-                  " -q --no-preview " + extra),
+                  " -q --no-preview --exhaustive " + extra),
               0);
     for (const char* name : {"labels.nrrd", "skeleton.ply", "cuts.ply"}) {
         const std::string a = fileBytes(band / name);
