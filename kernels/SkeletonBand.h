@@ -37,6 +37,7 @@
 // the thread count.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -56,6 +57,17 @@ struct SkeletonBandOptions {
     /// (areas shrink by four at half the resolution; a share below 1 keeps
     /// branches close to tau).
     double coarseTauShare = 0.5;
+    /// Thin walls, which half the resolution does not resolve: every
+    /// candidate in a wall thinner than 2 * thinWallDepth voxels (steepest
+    /// ascent of the distance map from it stays below thinWallDepth) is a
+    /// seed (0: none), and so is every candidate with no candidate of the
+    /// coarse search within unresolvedRadius coarse voxels of its coarse
+    /// voxel (-1: none).
+    double thinWallDepth = 5.0;
+    int unresolvedRadius = 1;
+    /// The search at half the resolution is itself a band search while it
+    /// has more candidates than this (recursively); below, it measures all.
+    std::size_t exhaustiveBelow = 30000;
     /// Seeds on the grid planes x, y or z = k * seedSpacing (0: none; 1 seeds
     /// every candidate, which is the exhaustive search).
     int seedSpacing = 0;
@@ -68,10 +80,13 @@ struct SkeletonBandOptions {
 };
 
 struct SkeletonBandStats {
-    std::uint64_t coarseCandidates = 0;    // candidates measured at half the resolution
-    std::uint64_t seeds = 0;               // candidates measured as seeds
-    std::uint64_t candidatesMeasured = 0;  // seeds + closure
-    std::uint32_t closureRounds = 0;
+    std::uint64_t coarseCandidates = 0;    // candidates of the coarser levels, all of them
+    std::uint64_t coarseMeasured = 0;      // of which measured
+    std::uint32_t levels = 0;              // coarser levels searched
+    std::uint64_t seeds = 0;               // full-resolution candidates measured as seeds
+    std::uint64_t thinWallSeeds = 0;       // of which seeded for a thin wall
+    std::uint64_t candidatesMeasured = 0;  // full resolution: seeds + closure
+    std::uint32_t closureRounds = 0;       // full resolution
 };
 
 /// The points of C that the band search found, in candidate order, with
