@@ -66,10 +66,10 @@ struct SegmentCli {
         if (exhaustive && skeletonSearchText == "band")
             throw skelseg::UsageError(
                 "--exhaustive contradicts --skeleton-search band: give one of them");
-        if (exhaustive) skeletonSearchText = "exhaustive";
-        options.parameters.skeletonSearch = skeletonSearchText == "band"
-                                                ? skelseg::SkeletonSearch::Band
-                                                : skelseg::SkeletonSearch::Exhaustive;
+        if (exhaustive || skeletonSearchText == "exhaustive")
+            options.parameters.skeletonSearch = skelseg::SkeletonSearch::Exhaustive;
+        else if (skeletonSearchText == "band")
+            options.parameters.skeletonSearch = skelseg::SkeletonSearch::Band;
         if (!maxMemoryText.empty()) options.maxMemoryBytes = parseBytes(maxMemoryText);
     }
 };
@@ -122,12 +122,12 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
         ->check(positiveSeconds());
     command
         ->add_option("--skeleton-search", cli.skeletonSearchText,
-                     "exhaustive (default: every candidate) or band (measures a band around the "
-                     "skeleton; misses skeleton pieces on thin plates, docs/algorithm.md 3.5)")
+                     "band (default: measures a band around the skeleton, docs/algorithm.md 3.5) "
+                     "or exhaustive (every candidate: the reference)")
         ->check(CLI::IsMember({"exhaustive", "band"}));
     command->add_flag("--exhaustive", cli.exhaustive,
                       "Same as --skeleton-search exhaustive: the reference search, which measures "
-                      "every candidate");
+                      "every candidate (slower on large grids, same answer)");
     command
         ->add_option("--time-budget", seg.timeBudgetSeconds,
                      "Choose the resolution (meshes) or coarsening (volumes) predicted to finish "
