@@ -231,6 +231,8 @@ void measureSkeletonInBandBench(benchmark::State& state, const std::string& shap
     state.counters["candidates"] = double(in.candidates.size());
     state.counters["candidatesMeasured"] = perIteration(double(measured));
     state.counters["coarseCandidates"] = double(band.coarseCandidates);
+    state.counters["coarseMeasured"] = double(band.coarseMeasured);
+    state.counters["thinWallSeeds"] = double(band.thinWallSeeds);
     state.counters["heapPops"] = perIteration(double(total.search.heapPops));
 }
 

@@ -13,7 +13,7 @@ seconds of the path-set stage of each. Writes OUT/compare.json. CPU seconds
 and the work counters are the comparison to read on a loaded machine; wall
 seconds are printed for completeness.
 """
-import argparse, json, subprocess, sys, time
+import argparse, json, os, statistics, subprocess, sys, time
 from pathlib import Path
 
 import numpy as np
@@ -56,6 +56,9 @@ def read_run(out, wall):
         "measured": report["work"]["candidates_measured"],
         "nodes_settled": report["work"]["nodes_settled"],
         "skeleton_points": report["counts"]["skeleton_points"],
+        "coarse_candidates": report["work"].get("coarse_candidates", 0),
+        "coarse_measured": report["work"].get("coarse_candidates_measured", 0),
+        "thin_wall_seeds": report["work"].get("thin_wall_seeds", 0),
     }
 
 
@@ -84,20 +87,25 @@ def main():
     ap.add_argument("--extra", default="", help="more options for both runs, e.g. '--tau 1%%'")
     ap.add_argument("--out", default=str(REPO / "out" / "compare"))
     ap.add_argument("--reuse", action="store_true", help="tabulate the runs already in OUT")
+    ap.add_argument("--reuse-exhaustive", action="store_true",
+                    help="run only the band; reuse the exhaustive runs already in OUT (for trying "
+                         "band options; CPU seconds are then not from the same session)")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     rows = []
     print("| input | resolution | skeleton.ply | cuts.ply | labels | RI error | parts (band / exhaustive) | "
-          "C_tau points (band / exhaustive) | candidates | measured (band) | nodes settled (band / exhaustive) | "
+          "C_tau points (band / exhaustive) | candidates | measured (band) | thin-wall seeds | coarse candidates measured / all | nodes settled (band / exhaustive) | "
           "path-set CPU s (band / exhaustive) | CPU s (band / exhaustive) |")
-    print("| --- | ---: | --- | --- | --- | ---: | --- | --- | ---: | ---: | --- | --- | --- |")
+    print("| --- | ---: | --- | --- | --- | ---: | --- | --- | ---: | ---: | ---: | --- | --- | --- | --- |")
     for inp in map(Path, args.inputs):
         name = inp.stem
         runs = {}
         for mode in ("band", "exhaustive"):
             runs[mode] = run(args.skelseg, inp, out / f"{name}-{mode}", args.resolution,
-                             args.threads, args.extra.split(), mode == "exhaustive", args.reuse)
+                             args.threads, args.extra.split(), mode == "exhaustive",
+                             args.reuse or (args.reuse_exhaustive and mode == "exhaustive"
+                                            and (out / f"{name}-exhaustive" / "report.json").exists()))
         files = {f: (out / f"{name}-band" / f).read_bytes() == (out / f"{name}-exhaustive" / f).read_bytes()
                  for f in ("skeleton.ply", "cuts.ply", "labels.nrrd")}
         same = all(files.values())
@@ -111,13 +119,20 @@ def main():
         print(f"| {inp.name} | {args.resolution} | {word('skeleton.ply')} | {word('cuts.ply')} | "
               f"{word('labels.nrrd')} | {ri:.4f} | {b['parts']} / {e['parts']} | "
               f"{b['skeleton_points']} / {e['skeleton_points']} | {b['candidates']} | {b['measured']} "
-              f"({100.0 * b['measured'] / max(b['candidates'], 1):.0f}%) | "
+              f"({100.0 * b['measured'] / max(b['candidates'], 1):.0f}%) | {b['thin_wall_seeds']} | "
+              f"{b['coarse_measured']} / {b['coarse_candidates']} | "
               f"{b['nodes_settled']} / {e['nodes_settled']} | {b['stage_cpu']:.2f} / {e['stage_cpu']:.2f} | "
               f"{b['cpu']:.2f} / {e['cpu']:.2f} |", flush=True)
     (out / "compare.json").write_text(json.dumps(rows, indent=1))
     bad = [r for r in rows if not r["identical"] and (r["ri_error"] > 0.005 or r["band"]["parts"] != r["exhaustive"]["parts"])]
     identical = sum(r["identical"] for r in rows)
     labels = sum(r["files"]["labels.nrrd"] and r["files"]["cuts.ply"] for r in rows)
+    ratio = lambda key: statistics.median(r["band"][key] / max(r["exhaustive"][key], 1e-9) for r in rows)
+    print(f"\nmedian ratios band / exhaustive: path-set CPU s {ratio('stage_cpu'):.2f}, "
+          f"CPU s {ratio('cpu'):.2f}, nodes settled {ratio('nodes_settled'):.2f}, "
+          f"candidates measured {statistics.median(r['band']['measured'] / max(r['band']['candidates'], 1) for r in rows):.2f}; "
+          f"summed path-set CPU s {sum(r['band']['stage_cpu'] for r in rows):.1f} / "
+          f"{sum(r['exhaustive']['stage_cpu'] for r in rows):.1f}; 1-minute load average {os.getloadavg()[0]:.1f}")
     print(f"\n{identical} of {len(rows)} byte-identical in all three files, {labels} in cuts and labels; {len(bad)} outside RI error 0.005 or with other part counts")
     return 1 if bad else 0
 

@@ -4,7 +4,7 @@ share of runs that finish within the budget and the resolution chosen.
 
 Usage: bench/time_budget.py INPUT... [--skelseg build/skelseg]
                             [--budgets 1,2,5] [--resolution 400] [--threads N]
-                            [--out out/budget]
+                            [--out out/budget] [--extra "--exhaustive"]
 Each run is `skelseg segment INPUT --time-budget B --resolution R` with all
 outputs; wall time is measured around the process. A run counts as within
 budget when it exits 0 and its wall time is at most B; the table also
@@ -14,7 +14,7 @@ seconds, which a loaded machine inflates less than wall seconds). Runs that stop
 within budget. Prints a Markdown table per budget and one row per run in
 OUT/budget.json.
 """
-import argparse, json, statistics, subprocess, sys, time
+import argparse, json, os, statistics, subprocess, sys, time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
@@ -28,6 +28,7 @@ def main():
     ap.add_argument("--resolution", type=int, default=400)
     ap.add_argument("--threads", type=int, default=0)
     ap.add_argument("--out", default=str(REPO / "out" / "budget"))
+    ap.add_argument("--extra", default="", help="more options for every run, e.g. '--exhaustive'")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -39,6 +40,7 @@ def main():
                    "--resolution", str(args.resolution), "--time-budget", str(budget)]
             if args.threads:
                 cmd += ["--threads", str(args.threads)]
+            cmd += args.extra.split()
             start = time.monotonic()
             proc = subprocess.run(cmd, capture_output=True, text=True)
             wall = time.monotonic() - start
@@ -54,6 +56,7 @@ def main():
                   f"resolution {row.get('resolution')}, predicted {row.get('predicted', 0):.2f}",
                   file=sys.stderr, flush=True)
     (out / "budget.json").write_text(json.dumps(rows, indent=1))
+    print(f"1-minute load average at the end: {os.getloadavg()[0]:.1f}\n")
     print("| budget s | runs | within budget (wall) | within budget (CPU s) | stopped (exit 3) | "
           "resolution chosen (median, range) | wall s (median, worst) | CPU s (median, worst) | predicted s (median) |")
     print("| ---: | ---: | ---: | ---: | ---: | --- | --- | --- | ---: |")

@@ -80,12 +80,22 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
     }
     json counts = {{"object_voxels", 0},         {"boundary_voxels", 0}, {"candidates", 0},
                    {"curve_skeleton_points", 0}, {"skeleton_points", 0}, {"junction_voxels", 0}};
-    json work = {
-        {"objects_voxels_examined", 0}, {"candidates_searched", 0}, {"candidates_measured", 0},
-        {"closure_rounds", 0},          {"dijkstra_searches", 0},   {"heap_pops", 0},
-        {"nodes_settled", 0},           {"path_cache_hits", 0},     {"rim_tests", 0},
-        {"component_growth_steps", 0},  {"sigma_evaluations", 0},   {"sigma_searches", 0},
-        {"repeated_feature_sets", 0}};
+    json work = {{"objects_voxels_examined", 0},
+                 {"candidates_searched", 0},
+                 {"candidates_measured", 0},
+                 {"closure_rounds", 0},
+                 {"dijkstra_searches", 0},
+                 {"heap_pops", 0},
+                 {"nodes_settled", 0},
+                 {"path_cache_hits", 0},
+                 {"rim_tests", 0},
+                 {"component_growth_steps", 0},
+                 {"sigma_evaluations", 0},
+                 {"sigma_searches", 0},
+                 {"repeated_feature_sets", 0},
+                 {"coarse_candidates", 0},
+                 {"coarse_candidates_measured", 0},
+                 {"thin_wall_seeds", 0}};
     json objects = json::array(), junctions = json::array(), critical = json::array();
     json cuts = json::array(), jointCandidates = json::array();
     std::uint64_t jointCuts = 0;
@@ -103,6 +113,9 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
         addCount(work, "candidates_searched", obj.candidateStats.candidates);
         addCount(work, "candidates_measured", obj.bandStats.candidatesMeasured);
         addCount(work, "closure_rounds", obj.bandStats.closureRounds);
+        addCount(work, "coarse_candidates", obj.bandStats.coarseCandidates);
+        addCount(work, "coarse_candidates_measured", obj.bandStats.coarseMeasured);
+        addCount(work, "thin_wall_seeds", obj.bandStats.thinWallSeeds);
         addCount(work, "dijkstra_searches", search.searches);
         addCount(work, "heap_pops", search.heapPops + sigmaSearch.heapPops);
         addCount(work, "nodes_settled", search.nodesSettled + sigmaSearch.nodesSettled);

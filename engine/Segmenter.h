@@ -41,10 +41,10 @@ struct TauSpec {
 
 /// How the measures stage finds the curve skeleton C.
 enum class SkeletonSearch {
-    /// Measure every candidate: the reference, and the default.
+    /// Measure every candidate: the reference the tests compare with.
     Exhaustive,
-    /// Measure only a band around the skeleton (kernels/SkeletonBand.h):
-    /// loses whole skeleton pieces on thin plates (docs/algorithm.md §3.5).
+    /// Measure only a band around the skeleton (kernels/SkeletonBand.h), the
+    /// default: the same C_tau on every shape measured (docs/performance.md).
     Band,
 };
 
@@ -73,7 +73,7 @@ struct SegmentationParameters {
     double bodyRatio = 0.6;
     CutMode mode = CutMode::JunctionRule;
     bool threaded = true;
-    SkeletonSearch skeletonSearch = SkeletonSearch::Exhaustive;
+    SkeletonSearch skeletonSearch = SkeletonSearch::Band;
     /// Components below this never make a rim count: max(noiseAreaMin,
     /// noiseAreaFraction * boundary area), and at most tau.
     double noiseAreaMin = 10.0;

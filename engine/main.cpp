@@ -53,9 +53,8 @@ std::uint64_t parseBytes(const std::string& text) {
 /// takes the same ones, defined once here.
 struct SegmentCli {
     skelseg::SegmentCommandOptions options;
-    std::string tauText = "3%", modeText = "junction-rule", maxMemoryText,
-                skeletonSearchText = "exhaustive";
-    bool quiet = false;
+    std::string tauText = "3%", modeText = "junction-rule", maxMemoryText, skeletonSearchText;
+    bool quiet = false, exhaustive = false;
 
     /// Turns the texts into options. Throws UsageError.
     void finish() {
@@ -65,15 +64,25 @@ struct SegmentCli {
         options.parameters.finerTaus = std::move(taus);
         options.parameters.mode =
             modeText == "junctions" ? skelseg::CutMode::Junctions : skelseg::CutMode::JunctionRule;
-        options.parameters.skeletonSearch = skeletonSearchText == "band"
-                                                ? skelseg::SkeletonSearch::Band
-                                                : skelseg::SkeletonSearch::Exhaustive;
-        if (!maxMemoryText.empty()) options.maxMemoryBytes = parseBytes(maxMemoryText);
-        // Before any work (segmentVolume refuses it too, for the library).
-        if (!options.parameters.finerTaus.empty() &&
-            options.parameters.skeletonSearch == skelseg::SkeletonSearch::Band)
+        // --exhaustive is the name for the reference search; it may
+        // repeat --skeleton-search exhaustive but not contradict it.
+        if (exhaustive && skeletonSearchText == "band")
             throw skelseg::UsageError(
-                "--skeleton-search band takes a single --tau, not a list of levels");
+                "--exhaustive contradicts --skeleton-search band: give one of them");
+        if (exhaustive || skeletonSearchText == "exhaustive")
+            options.parameters.skeletonSearch = skelseg::SkeletonSearch::Exhaustive;
+        else if (skeletonSearchText == "band")
+            options.parameters.skeletonSearch = skelseg::SkeletonSearch::Band;
+        if (!maxMemoryText.empty()) options.maxMemoryBytes = parseBytes(maxMemoryText);
+        // The band is found at one tau (kernels/SkeletonBand.h): a hierarchy
+        // runs the exhaustive search, and refuses an explicit band before any
+        // work (segmentVolume refuses it too, for the library).
+        if (!options.parameters.finerTaus.empty()) {
+            if (skeletonSearchText == "band")
+                throw skelseg::UsageError(
+                    "--skeleton-search band takes a single --tau, not a list of levels");
+            options.parameters.skeletonSearch = skelseg::SkeletonSearch::Exhaustive;
+        }
         if (!options.parameters.finerTaus.empty() && options.parameters.joints)
             throw skelseg::UsageError("--joints takes a single --tau, not a list of levels");
     }
@@ -147,9 +156,12 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
         ->check(positiveSeconds());
     command
         ->add_option("--skeleton-search", cli.skeletonSearchText,
-                     "exhaustive (default: every candidate) or band (measures a band around the "
-                     "skeleton; misses skeleton pieces on thin plates, docs/algorithm.md 3.5)")
+                     "band (default: measures a band around the skeleton, docs/algorithm.md 3.5) "
+                     "or exhaustive (every candidate: the reference)")
         ->check(CLI::IsMember({"exhaustive", "band"}));
+    command->add_flag("--exhaustive", cli.exhaustive,
+                      "Same as --skeleton-search exhaustive: the reference search, which measures "
+                      "every candidate (slower on large grids, same answer)");
     command
         ->add_option("--time-budget", seg.timeBudgetSeconds,
                      "Choose the resolution (meshes) or coarsening (volumes) predicted to finish "

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "kernels/BoundaryGraph.h"
 #include "kernels/FeatureTransform.h"
@@ -68,23 +69,45 @@ void markBox(const std::vector<SkeletonCandidate>& candidates, const Dims& dims,
         }
 }
 
-/// The simplified skeleton of the mask at half the resolution: coarse voxel
-/// c covers the fine voxels 2c - 1 and 2c on each axis (any object voxel
-/// makes it object, which keeps thin limbs; coarse voxel 0 covers the fine
-/// padding, so the coarse grid is padded too). Returns the coarse voxels of
-/// its points with rho_C >= the scaled tau.
-std::vector<std::array<int, 3>> coarseSkeleton(const MaskVolume& mask,
-                                               const SkeletonMeasureOptions& options,
-                                               double tauShare, SkeletonMeasureStats& stats,
-                                               std::uint64_t& coarseCandidates,
-                                               Interrupter& interrupter) {
+/// The mask at half the resolution: coarse voxel c covers the fine voxels
+/// 2c - 1 and 2c on each axis (any object voxel makes it object, which keeps
+/// thin limbs; coarse voxel 0 covers the fine padding, so the coarse grid is
+/// padded too).
+MaskVolume halveMask(const MaskVolume& mask) {
     const Dims d = mask.dims();
-    const Dims cd{d.x / 2 + 2, d.y / 2 + 2, d.z / 2 + 2};
-    MaskVolume coarse(cd, 0);
+    MaskVolume coarse(Dims{d.x / 2 + 2, d.y / 2 + 2, d.z / 2 + 2}, 0);
     for (int z = 0; z < d.z; ++z)
         for (int y = 0; y < d.y; ++y)
             for (int x = 0; x < d.x; ++x)
                 if (mask(x, y, z)) coarse((x + 1) / 2, (y + 1) / 2, (z + 1) / 2) = 1;
+    return coarse;
+}
+
+/// What the search at half the resolution saw: its simplified skeleton, and
+/// which coarse voxels it examined at all (candidates).
+struct CoarseView {
+    std::vector<std::array<int, 3>> skeleton;  // coarse voxels with rho_C >= the scaled tau
+    MaskVolume candidate;                      // 1 at every coarse candidate
+};
+
+}  // namespace
+
+namespace {
+
+std::vector<SkeletonPoint> bandSearch(
+    const BoundaryGraph& graph, const std::vector<SkeletonCandidate>& candidates,
+    const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
+    const SkeletonMeasureOptions& options, const SkeletonBandOptions& band, int level,
+    SkeletonBandStats& bandStats, SkeletonMeasureStats& stats, Interrupter& interrupter);
+
+/// The search on the mask at half the resolution, itself a band search while
+/// it has more than band.exhaustiveBelow candidates (each level then costs
+/// about an eighth of the one above).
+CoarseView coarseSearch(const MaskVolume& mask, const SkeletonMeasureOptions& options,
+                        const SkeletonBandOptions& band, int level, SkeletonBandStats& bandStats,
+                        SkeletonMeasureStats& stats, Interrupter& interrupter) {
+    const MaskVolume coarse = halveMask(mask);
+    const Dims cd = coarse.dims();
     const BoundaryGraphOptions graphOptions{options.threaded};
     const Volume<std::uint32_t> ft =
         featureTransform(boundaryVoxels(coarse, graphOptions), {options.threaded}, interrupter);
@@ -98,22 +121,166 @@ std::vector<std::array<int, 3>> coarseSkeleton(const MaskVolume& mask,
     // branches that are close to tau at full resolution.
     SkeletonMeasureOptions coarseOptions = options;
     coarseOptions.landmarks = &landmarks;
-    coarseOptions.tau = options.tau / 4.0 * tauShare;
+    coarseOptions.tau = options.tau / 4.0 * band.coarseTauShare;
     coarseOptions.noiseArea = std::max(1.0, std::min(options.noiseArea / 4.0, coarseOptions.tau));
     coarseOptions.exactRhoC = false;
-    std::vector<std::array<int, 3>> voxels;
-    const std::uint32_t nx = std::uint32_t(cd.x), ny = std::uint32_t(cd.y);
-    coarseCandidates = candidates.size();
+    bandStats.coarseCandidates += candidates.size();
+    bandStats.levels = std::max(bandStats.levels, std::uint32_t(level + 1));
     SkeletonMeasureStats coarseStats;
-    const std::vector<SkeletonPoint> points =
-        measureSkeleton(graph, candidates, coarseOptions, &coarseStats, interrupter);
+    std::vector<SkeletonPoint> points;
+    // Halving stops shrinking a grid of about 4 voxels (padding), so tiny
+    // grids are always measured whole.
+    if (candidates.size() > band.exhaustiveBelow && std::min({cd.x, cd.y, cd.z}) > 8) {
+        points = bandSearch(graph, candidates, coarse, ft, coarseOptions, band, level + 1,
+                            bandStats, coarseStats, interrupter);
+    } else {
+        points = measureSkeleton(graph, candidates, coarseOptions, &coarseStats, interrupter);
+        bandStats.coarseMeasured += candidates.size();
+    }
     coarseStats.skeletonPoints = 0;  // not points of the result
     addMeasureStats(stats, coarseStats);
+    CoarseView view;
+    const std::uint32_t nx = std::uint32_t(cd.x), ny = std::uint32_t(cd.y);
     for (const SkeletonPoint& p : points) {
         if (!(p.rhoC >= coarseOptions.tau)) continue;
-        voxels.push_back({int(p.voxel % nx), int((p.voxel / nx) % ny), int(p.voxel / (nx * ny))});
+        view.skeleton.push_back(
+            {int(p.voxel % nx), int((p.voxel / nx) % ny), int(p.voxel / (nx * ny))});
     }
-    return voxels;
+    view.candidate = MaskVolume(cd, 0);
+    for (const SkeletonCandidate& c : candidates) view.candidate[c.voxel] = 1;
+    return view;
+}
+
+/// The band search on one level: `level` 0 is the full resolution, whose
+/// counters go to bandStats; deeper levels count as coarse work.
+std::vector<SkeletonPoint> bandSearch(
+    const BoundaryGraph& graph, const std::vector<SkeletonCandidate>& candidates,
+    const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
+    const SkeletonMeasureOptions& options, const SkeletonBandOptions& band, int level,
+    SkeletonBandStats& bandStats, SkeletonMeasureStats& stats, Interrupter& interrupter) {
+    const Dims dims = mask.dims();
+    const std::uint32_t nx = std::uint32_t(dims.x), ny = std::uint32_t(dims.y);
+    const std::uint32_t spacing = std::uint32_t(band.seedSpacing);
+    auto depth2 = [&](std::size_t voxel) {
+        const std::uint32_t f = featureTransform[voxel];
+        return f == kNoFeature ? std::int64_t(0) : squaredDistance(dims, std::uint32_t(voxel), f);
+    };
+    CoarseView coarse;
+    if (band.coarseSeeds && !candidates.empty())
+        coarse = coarseSearch(mask, options, band, level, bandStats, stats, interrupter);
+    const bool haveCoarse = coarse.candidate.size() > 0;
+    const Dims cd = coarse.candidate.dims();
+    const double thinDepth2 = band.thinWallDepth * band.thinWallDepth;
+    // The local thickness at a candidate: the depth reached by steepest
+    // ascent of the distance map from it. Its own depth would not do: most
+    // candidates of a thick part lie near the surface (the medial surface
+    // reaches it at every edge and bump), but the ascent from them soon
+    // climbs deeper than the threshold, while in a thin wall it stops below.
+    const int ascentSteps = 4 * int(std::ceil(band.thinWallDepth)) + 4;
+    auto inThinWall = [&](int x, int y, int z) {
+        std::int64_t own = depth2(mask.index(x, y, z));
+        for (int step = 0; step < ascentSteps; ++step) {
+            if (double(own) >= thinDepth2) return false;
+            std::int64_t best = own;
+            int bx = x, by = y, bz = z;
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        if (!mask.contains(x + dx, y + dy, z + dz)) continue;
+                        const std::size_t q = mask.index(x + dx, y + dy, z + dz);
+                        if (!mask[q]) continue;
+                        const std::int64_t d = depth2(q);
+                        if (d > best) best = d, bx = x + dx, by = y + dy, bz = z + dz;
+                    }
+            if (best == own) return true;  // a local maximum below the threshold
+            own = best, x = bx, y = by, z = bz;
+        }
+        return double(own) < thinDepth2;
+    };
+    const int unseen = band.unresolvedRadius;
+    // Where the coarse search examined no candidate near a fine candidate it
+    // could not have seen a skeleton there (thin walls and plates), so the
+    // band measures such candidates itself.
+    auto unresolved = [&](int x, int y, int z) {
+        if (!haveCoarse || unseen < 0) return false;
+        const int cx = (x + 1) / 2, cy = (y + 1) / 2, cz = (z + 1) / 2;
+        for (int dz = -unseen; dz <= unseen; ++dz)
+            for (int dy = -unseen; dy <= unseen; ++dy)
+                for (int dx = -unseen; dx <= unseen; ++dx)
+                    if (coarse.candidate.contains(cx + dx, cy + dy, cz + dz) &&
+                        coarse.candidate(cx + dx, cy + dy, cz + dz))
+                        return false;
+        return true;
+    };
+    std::vector<std::uint8_t> measured(candidates.size(), 0);
+    std::vector<std::uint8_t> thin(candidates.size(), 0);
+    parallelFor(
+        candidates.size(),
+        [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+                const std::uint32_t v = candidates[i].voxel;
+                const int x = int(v % nx), y = int((v / nx) % ny), z = int(v / (nx * ny));
+                if (band.seedSpacing > 0 &&
+                    (std::uint32_t(x) % spacing == 0 || std::uint32_t(y) % spacing == 0 ||
+                     std::uint32_t(z) % spacing == 0)) {
+                    measured[i] = 1;
+                    continue;
+                }
+                if ((haveCoarse && inThinWall(x, y, z)) || unresolved(x, y, z)) {
+                    measured[i] = thin[i] = 1;
+                    continue;
+                }
+                if (!band.ridgeSeeds) continue;
+                // A ridge voxel of the distance map: no object neighbour
+                // is deeper.
+                const std::int64_t own = depth2(v);
+                bool ridge = true;
+                for (int dz = -1; dz <= 1 && ridge; ++dz)
+                    for (int dy = -1; dy <= 1 && ridge; ++dy)
+                        for (int dx = -1; dx <= 1 && ridge; ++dx) {
+                            if (!mask.contains(x + dx, y + dy, z + dz)) continue;
+                            const std::size_t q = mask.index(x + dx, y + dy, z + dz);
+                            ridge = !mask[q] || depth2(q) <= own;
+                        }
+                measured[i] = ridge ? 1 : 0;
+            }
+        },
+        options.threaded, 1024);
+    (void)cd;
+    std::vector<std::uint32_t> batch;
+    std::uint64_t thinSeeds = 0;
+    for (std::uint32_t i = 0; i < candidates.size(); ++i) {
+        if (measured[i]) batch.push_back(i);
+        thinSeeds += thin[i];
+    }
+    for (const auto& c : coarse.skeleton)
+        markBox(candidates, dims, {2 * c[0] - 1, 2 * c[1] - 1, 2 * c[2] - 1},
+                {2 * c[0], 2 * c[1], 2 * c[2]}, band.coarseBandRadius, measured, batch);
+    std::sort(batch.begin(), batch.end());
+    std::uint64_t measuredHere = 0;
+    if (level == 0) bandStats.seeds = batch.size(), bandStats.thinWallSeeds = thinSeeds;
+    std::vector<SkeletonPoint> found, newInTau;
+    const int r = band.closureRadius;
+    while (!batch.empty()) {
+        measuredHere += batch.size();
+        if (level == 0) ++bandStats.closureRounds;
+        measureBatch(graph, candidates, batch, options, stats, interrupter, found, newInTau);
+        batch.clear();
+        for (const SkeletonPoint& p : newInTau) {
+            const std::array<int, 3> v = {int(p.voxel % nx), int((p.voxel / nx) % ny),
+                                          int(p.voxel / (nx * ny))};
+            markBox(candidates, dims, v, v, r, measured, batch);
+        }
+        std::sort(batch.begin(), batch.end());
+    }
+    if (level == 0)
+        bandStats.candidatesMeasured = measuredHere;
+    else
+        bandStats.coarseMeasured += measuredHere;
+    std::sort(found.begin(), found.end(), [](const SkeletonPoint& a, const SkeletonPoint& b) {
+        return a.candidate < b.candidate;
+    });
+    return found;
 }
 
 }  // namespace
@@ -127,74 +294,11 @@ std::vector<SkeletonPoint> measureSkeletonInBand(
         throw UsageError(
             "the skeleton band needs a closure radius of at least 1 and no negative spacing or "
             "band radius");
-    const Dims dims = mask.dims();
-    const std::uint32_t nx = std::uint32_t(dims.x), ny = std::uint32_t(dims.y);
-    const std::uint32_t spacing = std::uint32_t(band.seedSpacing);
-    auto depth2 = [&](std::size_t voxel) {
-        const std::uint32_t f = featureTransform[voxel];
-        return f == kNoFeature ? std::int64_t(0) : squaredDistance(dims, std::uint32_t(voxel), f);
-    };
-    std::vector<std::uint8_t> measured(candidates.size(), 0);
-    if (band.seedSpacing > 0 || band.ridgeSeeds)
-        parallelFor(
-            candidates.size(),
-            [&](std::size_t begin, std::size_t end) {
-                for (std::size_t i = begin; i < end; ++i) {
-                    const std::uint32_t v = candidates[i].voxel;
-                    const int x = int(v % nx), y = int((v / nx) % ny), z = int(v / (nx * ny));
-                    if (band.seedSpacing > 0 &&
-                        (std::uint32_t(x) % spacing == 0 || std::uint32_t(y) % spacing == 0 ||
-                         std::uint32_t(z) % spacing == 0)) {
-                        measured[i] = 1;
-                        continue;
-                    }
-                    if (!band.ridgeSeeds) continue;
-                    // A ridge voxel of the distance map: no object neighbour
-                    // is deeper.
-                    const std::int64_t own = depth2(v);
-                    bool ridge = true;
-                    for (int dz = -1; dz <= 1 && ridge; ++dz)
-                        for (int dy = -1; dy <= 1 && ridge; ++dy)
-                            for (int dx = -1; dx <= 1 && ridge; ++dx) {
-                                if (!mask.contains(x + dx, y + dy, z + dz)) continue;
-                                const std::size_t q = mask.index(x + dx, y + dy, z + dz);
-                                ridge = !mask[q] || depth2(q) <= own;
-                            }
-                    measured[i] = ridge ? 1 : 0;
-                }
-            },
-            options.threaded, 1024);
-    std::vector<std::uint32_t> batch;
-    for (std::uint32_t i = 0; i < candidates.size(); ++i)
-        if (measured[i]) batch.push_back(i);
     SkeletonBandStats localBand;
     SkeletonMeasureStats stats;
-    if (band.coarseSeeds && !candidates.empty()) {
-        for (const auto& c : coarseSkeleton(mask, options, band.coarseTauShare, stats,
-                                            localBand.coarseCandidates, interrupter))
-            markBox(candidates, dims, {2 * c[0] - 1, 2 * c[1] - 1, 2 * c[2] - 1},
-                    {2 * c[0], 2 * c[1], 2 * c[2]}, band.coarseBandRadius, measured, batch);
-        std::sort(batch.begin(), batch.end());
-    }
-    localBand.seeds = batch.size();
-    std::vector<SkeletonPoint> found, newInTau;
-    const int r = band.closureRadius;
-    while (!batch.empty()) {
-        localBand.candidatesMeasured += batch.size();
-        ++localBand.closureRounds;
-        measureBatch(graph, candidates, batch, options, stats, interrupter, found, newInTau);
-        batch.clear();
-        for (const SkeletonPoint& p : newInTau) {
-            const std::array<int, 3> v = {int(p.voxel % nx), int((p.voxel / nx) % ny),
-                                          int(p.voxel / (nx * ny))};
-            markBox(candidates, dims, v, v, r, measured, batch);
-        }
-        std::sort(batch.begin(), batch.end());
-    }
-    std::sort(found.begin(), found.end(), [](const SkeletonPoint& a, const SkeletonPoint& b) {
-        return a.candidate < b.candidate;
-    });
-    stats.skeletonPoints = found.size();  // the coarse run's points are not counted
+    std::vector<SkeletonPoint> found = bandSearch(graph, candidates, mask, featureTransform,
+                                                  options, band, 0, localBand, stats, interrupter);
+    stats.skeletonPoints = found.size();  // the coarse runs' points are not counted
     if (bandStats) *bandStats = localBand;
     if (measureStats) *measureStats = stats;
     return found;

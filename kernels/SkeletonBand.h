@@ -4,15 +4,24 @@
 // measureSkeleton() examines every candidate, and almost all of them turn out
 // not to be curve-skeleton points (figures in docs/algorithm.md §3.5).
 // measureSkeletonInBand() finds the same simplified skeleton C_tau while
-// examining a share of them. It is not the engine's default
-// (--skeleton-search band): it loses whole pieces of C_tau on thin plates,
-// which the coarse grid does not resolve. The search:
+// examining a share of them; it is the engine's default (--exhaustive
+// selects measureSkeleton()). The search:
 //   1. coarse seeds: the mask at half the resolution (a coarse voxel is
-//      object when any of its 2x2x2 fine voxels is) gets the whole exhaustive
-//      search, a quarter of the candidates with paths half as long; the
+//      object when any of its 2x2x2 fine voxels is) gets the same search,
+//      recursively (a band search of its own while it has more than
+//      exhaustiveBelow candidates, else the exhaustive one); the
 //      full-resolution candidates within coarseBandRadius of its simplified
-//      skeleton (tau scaled by 1/4, times coarseTauShare) are the seeds;
-//   2. closure: around every point of C_tau found so far at full resolution,
+//      skeleton (tau scaled by 1/4, times coarseTauShare) are seeds;
+//   2. thin-wall seeds: half the resolution does not resolve walls a few
+//      voxels thick (the coarse search finds no skeleton on them, or has no
+//      candidate there at all), so every candidate in a wall thinner than
+//      2 * thinWallDepth voxels, and every candidate with no coarse candidate
+//      near, is a seed. A wall's thickness at a candidate is read by steepest
+//      ascent of the distance map: its own depth would not do, since most
+//      candidates of thick parts lie near the surface, where the medial
+//      surface reaches every edge and bump, yet climb deeper within a few
+//      steps;
+//   3. closure: around every point of C_tau found so far at full resolution,
 //      every candidate within `closureRadius` (Chebyshev) is measured too,
 //      repeated until no new point of C_tau appears.
 // Every full-resolution measure is the exact per-candidate test of
@@ -22,21 +31,21 @@
 // What is guaranteed. The closure finds every point of a 26-connected piece
 // of C_tau that holds one seed (radius >= 1), and with a radius of at least
 // the skeleton graph's bridge gap also every piece the graph stage could
-// bridge to it. A thin limb whose skeleton the coarse grid loses is still
-// found from the body's. What the band can miss is a piece of C_tau without
-// a seed that is farther than the radius from every other piece: a branch
-// the coarse grid does not see and that the fine skeleton does not join.
-// That is a measured, not a proven, property, and it fails on thin plates
-// (docs/algorithm.md §3.5): the identical-answer tests and
-// docs/performance.md compare the result with the exhaustive search. Optional extra seeds for such
-// cases: grid planes (every piece that spans seedSpacing voxels along an axis crosses one) and
-// ridge voxels of the distance map (where the web at a ball's centre sits).
+// bridge to it. What the band can miss is a piece of C_tau without a seed
+// that is farther than the radius from every other piece: a branch in a part
+// thicker than the thin-wall threshold that the coarse grid does not see and
+// that the fine skeleton does not join. That is a measured, not a proven,
+// property: the identical-answer tests and docs/performance.md compare the
+// result with the exhaustive search. Optional extra seeds: grid planes (every
+// piece that spans seedSpacing voxels along an axis crosses one) and ridge
+// voxels of the distance map (where the web at a ball's centre sits).
 //
 // Points of C below tau are found only where the closure passes them; the
 // graph stages never read them. Results depend only on the input, never on
 // the thread count.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -56,6 +65,17 @@ struct SkeletonBandOptions {
     /// (areas shrink by four at half the resolution; a share below 1 keeps
     /// branches close to tau).
     double coarseTauShare = 0.5;
+    /// Thin walls, which half the resolution does not resolve: every
+    /// candidate in a wall thinner than 2 * thinWallDepth voxels (steepest
+    /// ascent of the distance map from it stays below thinWallDepth) is a
+    /// seed (0: none), and so is every candidate with no candidate of the
+    /// coarse search within unresolvedRadius coarse voxels of its coarse
+    /// voxel (-1: none).
+    double thinWallDepth = 5.0;
+    int unresolvedRadius = 1;
+    /// The search at half the resolution is itself a band search while it
+    /// has more candidates than this (recursively); below, it measures all.
+    std::size_t exhaustiveBelow = 30000;
     /// Seeds on the grid planes x, y or z = k * seedSpacing (0: none; 1 seeds
     /// every candidate, which is the exhaustive search).
     int seedSpacing = 0;
@@ -68,10 +88,13 @@ struct SkeletonBandOptions {
 };
 
 struct SkeletonBandStats {
-    std::uint64_t coarseCandidates = 0;    // candidates measured at half the resolution
-    std::uint64_t seeds = 0;               // candidates measured as seeds
-    std::uint64_t candidatesMeasured = 0;  // seeds + closure
-    std::uint32_t closureRounds = 0;
+    std::uint64_t coarseCandidates = 0;    // candidates of the coarser levels, all of them
+    std::uint64_t coarseMeasured = 0;      // of which measured
+    std::uint32_t levels = 0;              // coarser levels searched
+    std::uint64_t seeds = 0;               // full-resolution candidates measured as seeds
+    std::uint64_t thinWallSeeds = 0;       // of which seeded for a thin wall
+    std::uint64_t candidatesMeasured = 0;  // full resolution: seeds + closure
+    std::uint32_t closureRounds = 0;       // full resolution
 };
 
 /// The points of C that the band search found, in candidate order, with

@@ -588,6 +588,10 @@ INSTANTIATE_TEST_SUITE_P(
         UsageCase{"skeleton_search_unknown",
                   {"segment", "{input}", "-o", "{out}", "--skeleton-search", "fast"},
                   "--skeleton-search"},
+        UsageCase{
+            "exhaustive_contradicts_band",
+            {"segment", "{input}", "-o", "{out}", "--exhaustive", "--skeleton-search", "band"},
+            "--exhaustive contradicts --skeleton-search band"},
         UsageCase{"time_budget_negative",
                   {"segment", "{input}", "-o", "{out}", "--time-budget", "-1"},
                   "not a positive number of seconds"},

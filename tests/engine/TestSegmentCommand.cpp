@@ -82,15 +82,25 @@ TEST(SegmentCommand, ReportNamesEveryStageOnce) {
     EXPECT_GT(report["segment_count"].get<int>(), 1);
 }
 
-TEST(SegmentCommand, TheDefaultSearchMeasuresEveryCandidate) {
+TEST(SegmentCommand, TheDefaultSearchIsTheBandAndExhaustiveMeasuresEveryCandidate) {
     const test::TempDir dir;
     const fs::path input = writeShape(dir);
-    segment(optionsFor(input, dir / "out", 2));
-    const auto report = nlohmann::json::parse(fileBytes(dir / "out" / "report.json"));
+    segment(optionsFor(input, dir / "band", 2));
+    const auto band = nlohmann::json::parse(fileBytes(dir / "band" / "report.json"));
+    EXPECT_EQ(band["parameters"]["skeleton_search"], "band");
+    EXPECT_GE(band["work"]["closure_rounds"].get<int>(), 1);
+    EXPECT_LE(band["work"]["candidates_measured"].get<std::uint64_t>(),
+              band["counts"]["candidates"].get<std::uint64_t>());
+    SegmentCommandOptions options = optionsFor(input, dir / "exhaustive", 2);
+    options.parameters.skeletonSearch = SkeletonSearch::Exhaustive;
+    segment(options);
+    const auto report = nlohmann::json::parse(fileBytes(dir / "exhaustive" / "report.json"));
     EXPECT_EQ(report["parameters"]["skeleton_search"], "exhaustive");
     EXPECT_GT(report["counts"]["candidates"].get<std::uint64_t>(), 0u);
     EXPECT_EQ(report["work"]["candidates_measured"], report["counts"]["candidates"]);
     EXPECT_EQ(report["work"]["closure_rounds"], 0);
+    EXPECT_EQ(report["work"]["coarse_candidates"], 0);
+    EXPECT_EQ(band["counts"]["skeleton_points"], report["counts"]["skeleton_points"]);
     EXPECT_FALSE(report.contains("time_budget"));
 }
 

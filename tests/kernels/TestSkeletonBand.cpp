@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "io/shapes/SyntheticShapes.h"
 #include "kernels/FeatureTransform.h"
@@ -22,8 +24,9 @@ struct Prepared {
     std::vector<SkeletonCandidate> candidates;
     Landmarks landmarks;
 
-    Prepared(const std::string& shape, int size) {
-        mask = rasterise(makeShape(shape), {size, 2});
+    Prepared(const std::string& shape, int size)
+        : Prepared(rasterise(makeShape(shape), {size, 2})) {}
+    explicit Prepared(MaskVolume object) : mask(std::move(object)) {
         ft = featureTransform(boundaryVoxels(mask, {false}), {false});
         graph = buildBoundaryGraph(mask, {false});
         CandidateOptions options;
@@ -63,14 +66,28 @@ void expectSamePoints(const std::vector<SkeletonPoint>& a, const std::vector<Ske
 
 class SkeletonBandShapes : public ::testing::TestWithParam<std::string> {};
 
+/// The band without its thin-wall seeds: at the small sizes of these tests
+/// nearly every part is thinner than the thin-wall threshold, which would
+/// measure everything in the first round and leave coarse seeds and closure
+/// untested.
+SkeletonBandOptions coarseSeedsOnly() {
+    SkeletonBandOptions band;
+    band.thinWallDepth = 0;
+    band.unresolvedRadius = -1;
+    return band;
+}
+
 TEST_P(SkeletonBandShapes, FindsTheExhaustiveSimplifiedSkeleton) {
     const Prepared& p = prepared(GetParam(), 72);
     const SkeletonMeasureOptions o = p.options(false);
     const auto exhaustive = inTau(measureSkeleton(p.graph, p.candidates, o), o.tau);
     ASSERT_FALSE(exhaustive.empty()) << "every test shape has a simplified skeleton";
+    expectSamePoints(inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o), o.tau),
+                     exhaustive);
     SkeletonBandStats stats;
-    const auto band =
-        inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, {}, &stats), o.tau);
+    const auto band = inTau(
+        measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, coarseSeedsOnly(), &stats),
+        o.tau);
     expectSamePoints(band, exhaustive);
     EXPECT_GE(stats.closureRounds, 2u) << "the closure must run after the seeds";
     EXPECT_LE(stats.candidatesMeasured, p.candidates.size());
@@ -84,19 +101,28 @@ INSTANTIATE_TEST_SUITE_P(GeneratedShapes, SkeletonBandShapes,
 
 TEST(SkeletonBand, SerialAndParallelGiveIdenticalPoints) {
     const Prepared& p = prepared("figure", 72);
-    SkeletonBandStats serialStats, parallelStats;
-    SkeletonMeasureStats serialMeasures, parallelMeasures;
-    const auto serial = measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false),
-                                              {}, &serialStats, &serialMeasures);
-    const auto parallel =
-        measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(true), {},
-                              &parallelStats, &parallelMeasures);
-    ASSERT_FALSE(serial.empty());
-    expectSamePoints(parallel, serial);
-    EXPECT_EQ(parallelStats.seeds, serialStats.seeds);
-    EXPECT_EQ(parallelStats.candidatesMeasured, serialStats.candidatesMeasured);
-    EXPECT_EQ(parallelStats.closureRounds, serialStats.closureRounds);
-    EXPECT_EQ(parallelMeasures.skeletonPoints, serialMeasures.skeletonPoints);
+    // The defaults (thin-wall seeds), and coarse seeds with one more level.
+    SkeletonBandOptions recursive = coarseSeedsOnly();
+    recursive.exhaustiveBelow = 500;
+    for (const SkeletonBandOptions& band : {SkeletonBandOptions{}, recursive}) {
+        SkeletonBandStats serialStats, parallelStats;
+        SkeletonMeasureStats serialMeasures, parallelMeasures;
+        const auto serial =
+            measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), band,
+                                  &serialStats, &serialMeasures);
+        const auto parallel =
+            measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(true), band,
+                                  &parallelStats, &parallelMeasures);
+        ASSERT_FALSE(serial.empty());
+        expectSamePoints(parallel, serial);
+        EXPECT_EQ(parallelStats.seeds, serialStats.seeds);
+        EXPECT_EQ(parallelStats.thinWallSeeds, serialStats.thinWallSeeds);
+        EXPECT_EQ(parallelStats.candidatesMeasured, serialStats.candidatesMeasured);
+        EXPECT_EQ(parallelStats.coarseMeasured, serialStats.coarseMeasured);
+        EXPECT_EQ(parallelStats.levels, serialStats.levels);
+        EXPECT_EQ(parallelStats.closureRounds, serialStats.closureRounds);
+        EXPECT_EQ(parallelMeasures.skeletonPoints, serialMeasures.skeletonPoints);
+    }
 }
 
 TEST(SkeletonBand, SpacingOneMeasuresEveryCandidateLikeTheExhaustiveSearch) {
@@ -120,8 +146,8 @@ TEST(SkeletonBand, MeasuresFewerCandidatesWhereTheSkeletonIsSmall) {
     const Prepared& p = prepared("disc-limbs", 96);
     SkeletonBandStats stats;
     SkeletonMeasureStats measures;
-    measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), {}, &stats,
-                          &measures);
+    measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), coarseSeedsOnly(),
+                          &stats, &measures);
     EXPECT_LT(stats.candidatesMeasured, p.candidates.size());
     EXPECT_GT(stats.seeds, 0u);
     EXPECT_LT(stats.seeds, stats.candidatesMeasured);
@@ -154,6 +180,57 @@ TEST(SkeletonBand, ClosureAloneRecoversTheSkeletonFromOneSeedPiece) {
     expectSamePoints(band, inTau(measureSkeleton(p.graph, p.candidates, o), o.tau));
     EXPECT_EQ(stats.coarseCandidates, 0u);
     EXPECT_GE(stats.closureRounds, 3u);
+}
+
+/// A square plate `thickness` voxels thick: half the resolution does not
+/// resolve it, so the coarse search sees no skeleton on it.
+MaskVolume thinPlate(int side, int thickness) {
+    MaskVolume mask(Dims{side + 4, side + 4, thickness + 4}, 0);
+    for (int z = 2; z < thickness + 2; ++z)
+        for (int y = 2; y < side + 2; ++y)
+            for (int x = 2; x < side + 2; ++x) mask(x, y, z) = 1;
+    return mask;
+}
+
+TEST(SkeletonBand, ThinWallSeedsFindTheSkeletonOfAThinPlate) {
+    const Prepared p(thinPlate(56, 3));
+    const SkeletonMeasureOptions o = p.options(false);
+    const auto exhaustive = inTau(measureSkeleton(p.graph, p.candidates, o), o.tau);
+    ASSERT_FALSE(exhaustive.empty()) << "a plate has a simplified curve skeleton";
+    const auto blind = inTau(
+        measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, coarseSeedsOnly()), o.tau);
+    EXPECT_LT(blind.size(), exhaustive.size()) << "the coarse grid alone misses the plate";
+    SkeletonBandStats stats;
+    const auto band =
+        inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, {}, &stats), o.tau);
+    expectSamePoints(band, exhaustive);
+    EXPECT_GT(stats.thinWallSeeds, 0u);
+}
+
+TEST(SkeletonBand, RecursiveCoarseLevelsFindTheSameSkeleton) {
+    // One level deeper: the search at half the resolution, which has more
+    // candidates than the threshold, is a band search seeded from a quarter
+    // of the resolution. Without the thin-wall seeds, which cover most of a
+    // shape this small, the half-resolution level measures only a band.
+    const Prepared& p = prepared("disc-limbs", 96);
+    const SkeletonMeasureOptions o = p.options(false);
+    SkeletonBandOptions flat = coarseSeedsOnly();
+    flat.exhaustiveBelow = std::numeric_limits<std::size_t>::max();
+    SkeletonBandStats flatStats, stats;
+    const auto exhaustive = inTau(measureSkeleton(p.graph, p.candidates, o), o.tau);
+    expectSamePoints(
+        inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, flat, &flatStats),
+              o.tau),
+        exhaustive);
+    EXPECT_EQ(flatStats.levels, 1u);
+    EXPECT_EQ(flatStats.coarseMeasured, flatStats.coarseCandidates);
+    SkeletonBandOptions recursive = flat;
+    recursive.exhaustiveBelow = flatStats.coarseCandidates - 1;
+    const auto band = inTau(
+        measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, recursive, &stats), o.tau);
+    expectSamePoints(band, exhaustive);
+    EXPECT_EQ(stats.levels, 2u);
+    EXPECT_LT(stats.coarseMeasured, stats.coarseCandidates) << "the coarse level is a band too";
 }
 
 TEST(SkeletonBand, AddMeasureStatsSumsEveryCounter) {

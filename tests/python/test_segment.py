@@ -171,6 +171,8 @@ def test_a_tau_list_gives_nested_levels_equal_to_the_cli(shapes):
             assert np.array_equal(level.parents[level.labels[inside].astype(int) - 1],
                                   coarser[inside])
     assert result.report["parameters"]["tau"] == "1%,3%,9%"
+    # The band search is found at one tau: a hierarchy runs the exhaustive one.
+    assert result.report["parameters"]["skeleton_search"] == "exhaustive"
     assert len(result.report["levels"]) == 3
     single = skelseg.segment(mask, tau="9%")
     assert np.array_equal(single.labels, result.labels)
