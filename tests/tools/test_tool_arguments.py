@@ -27,6 +27,7 @@ FORWARDS_UNKNOWN_OPTIONS = {"tools/run-asan-tests.sh"}
 # the unknown option (it reports missing positionals first).
 POSITIONALS = {
     "bench/compare_search.py": ["mesh.off"],
+    "bench/joint_candidates.py": ["out"],
     "bench/scaling.py": ["mesh.off"],
     "bench/time_budget.py": ["mesh.off"],
     "profiles/stage_table.py": ["report.json"],
