@@ -164,12 +164,13 @@ std::vector<std::vector<std::uint16_t>> assembleLevelLabels(
 
 }  // namespace
 
-SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParameters& p,
+SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParameters& requested,
                                  Interrupter& interrupter, StageTimer* timerIn) {
     // The band is found at one tau (kernels/SkeletonBand.h); finer levels
-    // would miss the branches only their tau keeps.
-    if (!p.finerTaus.empty() && p.skeletonSearch == SkeletonSearch::Band)
-        throw UsageError("--skeleton-search band takes a single --tau, not a list of levels");
+    // would miss the branches only their tau keeps, so a hierarchy runs the
+    // exhaustive search (the CLI refuses an explicit band with a list).
+    SegmentationParameters p = requested;
+    if (!p.finerTaus.empty()) p.skeletonSearch = SkeletonSearch::Exhaustive;
     // Joint cuts belong below the finest level of a hierarchy; that level is
     // not built yet (docs/algorithm.md, joints), so the two are not combined.
     if (!p.finerTaus.empty() && p.joints)

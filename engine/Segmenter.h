@@ -73,6 +73,8 @@ struct SegmentationParameters {
     double bodyRatio = 0.6;
     CutMode mode = CutMode::JunctionRule;
     bool threaded = true;
+    /// A hierarchy (finerTaus) always runs the exhaustive search: the band is
+    /// found at one tau.
     SkeletonSearch skeletonSearch = SkeletonSearch::Band;
     /// Components below this never make a rim count: max(noiseAreaMin,
     /// noiseAreaFraction * boundary area), and at most tau.
