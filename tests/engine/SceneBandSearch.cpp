@@ -11,22 +11,13 @@
 #include <sstream>
 
 #include "io/shapes/SyntheticShapes.h"
+#include "tests/support/FileBytes.h"
+#include "tests/support/QuietCommand.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
 
 namespace skelseg::test {
 namespace {
-
-std::string fileBytes(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-int run(const std::string& command) {
-    return std::system((command + " > /dev/null 2>&1").c_str());
-}
 
 /// Segments `input` both ways and expects identical outputs; returns the
 /// band run's report.
@@ -35,11 +26,11 @@ nlohmann::json expectSameAnswer(const TempDir& dir, const std::filesystem::path&
     const std::string exe = skelsegBinary();
     const auto band = dir / (input.stem().string() + "-band");
     const auto exhaustive = dir / (input.stem().string() + "-exhaustive");
-    EXPECT_EQ(run(exe + " segment " + input.string() + " -o " + band.string() +
-                  " -q --no-preview " + extra),
+    EXPECT_EQ(runQuietly(exe + " segment " + input.string() + " -o " + band.string() +
+                         " -q --no-preview " + extra),
               0);
-    EXPECT_EQ(run(exe + " segment " + input.string() + " -o " + exhaustive.string() +
-                  " -q --no-preview --exhaustive " + extra),
+    EXPECT_EQ(runQuietly(exe + " segment " + input.string() + " -o " + exhaustive.string() +
+                         " -q --no-preview --exhaustive " + extra),
               0);
     for (const char* name : {"labels.nrrd", "skeleton.ply", "cuts.ply"}) {
         const std::string a = fileBytes(band / name);
@@ -64,7 +55,8 @@ TEST(SceneBandSearch, EveryGeneratedShapeGivesTheExhaustiveAnswer) {
     const std::string exe = skelsegBinary();
     for (const std::string& shape : shapeNames()) {
         const auto input = dir / (shape + ".nrrd");
-        ASSERT_EQ(run(exe + " generate " + shape + " -o " + input.string() + " --size 80"), 0);
+        ASSERT_EQ(runQuietly(exe + " generate " + shape + " -o " + input.string() + " --size 80"),
+                  0);
         expectSameAnswer(dir, input);
     }
 }
@@ -74,8 +66,8 @@ TEST(SceneBandSearch, FigurePosesAndNoiseGiveTheExhaustiveAnswer) {
     const std::string exe = skelsegBinary();
     for (int pose = 0; pose < 3; ++pose) {
         const auto input = dir / ("figure" + std::to_string(pose) + ".nrrd");
-        ASSERT_EQ(run(exe + " generate figure -o " + input.string() + " --size 112 --pose " +
-                      std::to_string(pose)),
+        ASSERT_EQ(runQuietly(exe + " generate figure -o " + input.string() + " --size 112 --pose " +
+                             std::to_string(pose)),
                   0);
         const nlohmann::json report = expectSameAnswer(dir, input);
         // The point of the band: it measures a part of the candidates.
@@ -83,8 +75,8 @@ TEST(SceneBandSearch, FigurePosesAndNoiseGiveTheExhaustiveAnswer) {
                   report["counts"]["candidates"].get<std::uint64_t>());
     }
     const auto noisy = dir / "noisy.nrrd";
-    ASSERT_EQ(run(exe + " generate figure -o " + noisy.string() +
-                  " --size 96 --pose 1 --noise 0.02 --seed 11"),
+    ASSERT_EQ(runQuietly(exe + " generate figure -o " + noisy.string() +
+                         " --size 96 --pose 1 --noise 0.02 --seed 11"),
               0);
     expectSameAnswer(dir, noisy);
     expectSameAnswer(dir, noisy, "--tau 1% --force");  // the same output folders again

@@ -6,34 +6,26 @@
 #include <fstream>
 #include <sstream>
 
+#include "tests/support/FileBytes.h"
+#include "tests/support/QuietCommand.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
 
 namespace skelseg::test {
 namespace {
 
-std::string fileBytes(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-int run(const std::string& command) {
-    return std::system((command + " > /dev/null 2>&1").c_str());
-}
-
 TEST(SceneCli, OneAndTwoThreadsGiveByteIdenticalLabels) {
     TempDir dir;
     const std::string exe = skelsegBinary();
     const auto input = dir / "figure.nrrd";
-    ASSERT_EQ(
-        run(exe + " generate figure -o " + input.string() + " --size 96 --pose 1 --noise 0.01"), 0);
-    ASSERT_EQ(run(exe + " segment " + input.string() + " -o " + (dir / "t1").string() +
-                  " --threads 1 -q --no-preview"),
+    ASSERT_EQ(runQuietly(exe + " generate figure -o " + input.string() +
+                         " --size 96 --pose 1 --noise 0.01"),
               0);
-    ASSERT_EQ(run(exe + " segment " + input.string() + " -o " + (dir / "t2").string() +
-                  " --threads 2 -q --no-preview"),
+    ASSERT_EQ(runQuietly(exe + " segment " + input.string() + " -o " + (dir / "t1").string() +
+                         " --threads 1 -q --no-preview"),
+              0);
+    ASSERT_EQ(runQuietly(exe + " segment " + input.string() + " -o " + (dir / "t2").string() +
+                         " --threads 2 -q --no-preview"),
               0);
     const std::string a = fileBytes(dir / "t1" / "labels.nrrd"),
                       b = fileBytes(dir / "t2" / "labels.nrrd");

@@ -7,23 +7,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "tests/support/FileBytes.h"
+#include "tests/support/QuietCommand.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
 
 namespace skelseg::test {
 namespace {
-
-std::string fileBytes(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-int run(const std::string& command) {
-    const int status = std::system((command + " > /dev/null 2>&1").c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 nlohmann::json report(const std::filesystem::path& dir) {
     std::ifstream in(dir / "report.json");
@@ -34,12 +24,12 @@ TEST(SceneTimeBudget, AnAmpleBudgetChangesNothingAndIsReported) {
     TempDir dir;
     const std::string exe = skelsegBinary();
     const auto input = dir / "figure.nrrd";
-    ASSERT_EQ(run(exe + " generate figure -o " + input.string() + " --size 96"), 0);
-    ASSERT_EQ(run(exe + " segment " + input.string() + " -o " + (dir / "plain").string() +
-                  " -q --no-preview"),
+    ASSERT_EQ(runQuietly(exe + " generate figure -o " + input.string() + " --size 96"), 0);
+    ASSERT_EQ(runQuietly(exe + " segment " + input.string() + " -o " + (dir / "plain").string() +
+                         " -q --no-preview"),
               0);
-    ASSERT_EQ(run(exe + " segment " + input.string() + " -o " + (dir / "budget").string() +
-                  " -q --no-preview --time-budget 1000"),
+    ASSERT_EQ(runQuietly(exe + " segment " + input.string() + " -o " + (dir / "budget").string() +
+                         " -q --no-preview --time-budget 1000"),
               0);
     EXPECT_EQ(fileBytes(dir / "plain" / "labels.nrrd"), fileBytes(dir / "budget" / "labels.nrrd"));
     const nlohmann::json r = report(dir / "budget");
@@ -56,15 +46,16 @@ TEST(SceneTimeBudget, ATightBudgetCoarsensAVolumeAndKeepsItsGrid) {
     TempDir dir;
     const std::string exe = skelsegBinary();
     const auto input = dir / "figure.nrrd";
-    ASSERT_EQ(run(exe + " generate figure -o " + input.string() + " --size 160"), 0);
-    ASSERT_EQ(run(exe + " segment " + input.string() + " -o " + (dir / "full").string() +
-                  " -q --no-preview"),
+    ASSERT_EQ(runQuietly(exe + " generate figure -o " + input.string() + " --size 160"), 0);
+    ASSERT_EQ(runQuietly(exe + " segment " + input.string() + " -o " + (dir / "full").string() +
+                         " -q --no-preview"),
               0);
     const nlohmann::json full = report(dir / "full");
     // A budget of a fifth of the full run's time cannot hold the full grid.
     const double seconds = std::max(0.3, full["timing"]["wall_seconds"].get<double>() / 5.0);
-    const int code = run(exe + " segment " + input.string() + " -o " + (dir / "budget").string() +
-                         " -q --time-budget " + std::to_string(seconds));
+    const int code =
+        runQuietly(exe + " segment " + input.string() + " -o " + (dir / "budget").string() +
+                   " -q --time-budget " + std::to_string(seconds));
     if (code == 3) {
         // Nothing fitted: stopped as --time-limit does, without output.
         EXPECT_FALSE(std::filesystem::exists(dir / "budget"));
@@ -83,9 +74,9 @@ TEST(SceneTimeBudget, ABudgetNothingFitsStopsLikeTheTimeLimit) {
     TempDir dir;
     const std::string exe = skelsegBinary();
     const auto input = dir / "figure.nrrd";
-    ASSERT_EQ(run(exe + " generate figure -o " + input.string() + " --size 160"), 0);
-    EXPECT_EQ(run(exe + " segment " + input.string() + " -o " + (dir / "out").string() +
-                  " -q --time-budget 0.001"),
+    ASSERT_EQ(runQuietly(exe + " generate figure -o " + input.string() + " --size 160"), 0);
+    EXPECT_EQ(runQuietly(exe + " segment " + input.string() + " -o " + (dir / "out").string() +
+                         " -q --time-budget 0.001"),
               3);
     EXPECT_FALSE(std::filesystem::exists(dir / "out"));
 }

@@ -17,18 +17,13 @@
 #include <sstream>
 #include <vector>
 
+#include "tests/support/FileBytes.h"
+#include "tests/support/QuietCommand.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
 
 namespace skelseg::test {
 namespace {
-
-std::string fileBytes(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 std::vector<int> readSeg(const std::filesystem::path& p) {
     std::ifstream in(p);
@@ -53,18 +48,16 @@ double randIndexError(const std::vector<int>& a, const std::vector<int>& b) {
     return 1.0 - (total + 2.0 * both - sa - sb) / total;
 }
 
-int run(const std::string& command) {
-    return std::system((command + " > /dev/null 2>&1").c_str());
-}
-
 void compareOn(const std::filesystem::path& mesh) {
     TempDir dir;
     const std::string exe = skelsegBinary();
     const std::string common = " -q --no-preview --resolution 128";
-    ASSERT_EQ(run(exe + " segment " + mesh.string() + " -o " + (dir / "band").string() + common), 0)
+    ASSERT_EQ(
+        runQuietly(exe + " segment " + mesh.string() + " -o " + (dir / "band").string() + common),
+        0)
         << mesh;
-    ASSERT_EQ(run(exe + " segment " + mesh.string() + " -o " + (dir / "exhaustive").string() +
-                  common + " --exhaustive"),
+    ASSERT_EQ(runQuietly(exe + " segment " + mesh.string() + " -o " +
+                         (dir / "exhaustive").string() + common + " --exhaustive"),
               0)
         << mesh;
     std::ifstream ib(dir / "band" / "report.json"), ie(dir / "exhaustive" / "report.json");

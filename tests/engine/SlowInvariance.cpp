@@ -13,7 +13,6 @@
 #include <string>
 #include <vector>
 
-#include "tests/support/CliRunner.h"
 #include "tests/support/PoseSequences.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
@@ -38,22 +37,13 @@ std::size_t partCount(const fs::path& seg) {
 TEST(Invariance, DISABLED_EveryPoseSequenceKeepsItsPartCount) {
     const fs::path poses = test::sharedDataDir() / "poses";
     if (!fs::is_directory(poses)) GTEST_SKIP() << "no pose data at " << poses << ": skipped";
-    const auto sequences = test::poseSequences(poses);
-    if (sequences.empty()) GTEST_SKIP() << "no pose sequence in " << poses;
+    if (test::poseSequences(poses).empty()) GTEST_SKIP() << "no pose sequence in " << poses;
     test::TempDir dir;
-    for (const auto& [name, frames] : sequences) {
+    for (const auto& [name, outputs] : test::segmentPoseFrames(poses, dir.path())) {
         std::vector<std::size_t> parts;
-        for (const auto& frame : frames) {
-            const fs::path out = dir / (frame.stem().string());
-            const auto run = test::runSkelseg({"segment", frame.string(), "-o", out.string(),
-                                               "--resolution", "192", "-q", "--no-preview"});
-            ASSERT_EQ(run.exitCode, 0) << frame << ": " << run.describe();
-            parts.push_back(partCount(out / "segmentation.seg"));
-        }
-        std::string list;
-        for (std::size_t p : parts) list += (list.empty() ? "" : ", ") + std::to_string(p);
+        for (const fs::path& out : outputs) parts.push_back(partCount(out / "segmentation.seg"));
         EXPECT_EQ(std::set<std::size_t>(parts.begin(), parts.end()).size(), 1u)
-            << name << ": parts per frame " << list;
+            << name << ": parts per frame " << test::countList(parts);
     }
 }
 

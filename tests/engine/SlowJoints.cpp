@@ -11,7 +11,6 @@
 #include <string>
 #include <vector>
 
-#include "tests/support/CliRunner.h"
 #include "tests/support/PoseSequences.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
@@ -28,28 +27,20 @@ namespace fs = std::filesystem;
 TEST(Joints, DISABLED_EveryPoseSequenceKeepsItsJointCuts) {
     const fs::path poses = test::sharedDataDir() / "poses";
     if (!fs::is_directory(poses)) GTEST_SKIP() << "no pose data at " << poses << ": skipped";
-    const auto sequences = test::poseSequences(poses);
-    if (sequences.empty()) GTEST_SKIP() << "no pose sequence in " << poses;
+    if (test::poseSequences(poses).empty()) GTEST_SKIP() << "no pose sequence in " << poses;
     test::TempDir dir;
-    for (const auto& [name, frames] : sequences) {
-        std::vector<std::uint64_t> jointCuts;
-        for (const auto& frame : frames) {
-            const fs::path out = dir / (frame.stem().string());
-            const auto run =
-                test::runSkelseg({"segment", frame.string(), "-o", out.string(), "--resolution",
-                                  "192", "--joints", "-q", "--no-preview"});
-            ASSERT_EQ(run.exitCode, 0) << frame << ": " << run.describe();
+    for (const auto& [name, outputs] : test::segmentPoseFrames(poses, dir.path(), {"--joints"})) {
+        std::vector<std::size_t> jointCuts;
+        for (const fs::path& out : outputs) {
             std::ifstream in(out / "report.json");
             const nlohmann::json report = nlohmann::json::parse(in);
-            std::uint64_t kinds = 0;
+            std::size_t kinds = 0;
             for (const auto& cut : report.at("cuts")) kinds += cut.at("kind") == "joint";
-            EXPECT_EQ(kinds, report.at("joint_cuts").get<std::uint64_t>()) << frame;
+            EXPECT_EQ(kinds, report.at("joint_cuts").get<std::size_t>()) << out;
             jointCuts.push_back(kinds);
         }
-        std::string list;
-        for (std::uint64_t c : jointCuts) list += (list.empty() ? "" : ", ") + std::to_string(c);
-        EXPECT_EQ(std::set<std::uint64_t>(jointCuts.begin(), jointCuts.end()).size(), 1u)
-            << name << ": joint cuts per frame " << list;
+        EXPECT_EQ(std::set<std::size_t>(jointCuts.begin(), jointCuts.end()).size(), 1u)
+            << name << ": joint cuts per frame " << test::countList(jointCuts);
     }
 }
 

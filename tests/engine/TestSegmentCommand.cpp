@@ -14,17 +14,14 @@
 
 #include "io/shapes/SyntheticShapes.h"
 #include "io/volume/NrrdIO.h"
+#include "tests/support/FileBytes.h"
 #include "tests/support/TempDir.h"
 
 using namespace skelseg;
+using namespace skelseg::test;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string fileBytes(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 SegmentCommandOptions optionsFor(const fs::path& input, const fs::path& outdir, int threads) {
     SegmentCommandOptions options;

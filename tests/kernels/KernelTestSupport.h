@@ -175,4 +175,37 @@ inline void expectSamePoint(const SkeletonPoint& a, const SkeletonPoint& b) {
     EXPECT_EQ(a.featureB, b.featureB);
 }
 
+/// A voxelised ball (radius kBallRadius in a 31^3 grid) and its boundary
+/// graph, built once per test suite; boundary nodes are picked by latitude
+/// and longitude, path sets are made of geodesics between them.
+class BallBoundaryFixture : public ::testing::Test {
+protected:
+    static constexpr std::array<double, 3> kBallCentre{15.0, 15.0, 15.0};
+    static constexpr double kBallRadius = 12.5;
+
+    static void SetUpTestSuite() {
+        mask = new MaskVolume(ballMask(Dims{31, 31, 31}, kBallCentre, kBallRadius));
+        graph = new BoundaryGraph(buildBoundaryGraph(*mask, {false}));
+    }
+    static void TearDownTestSuite() {
+        delete graph;
+        delete mask;
+        graph = nullptr, mask = nullptr;
+    }
+    std::uint32_t at(double latitude, double longitude) const {
+        return nodeOnSphere(*graph, kBallCentre, kBallRadius, latitude, longitude);
+    }
+    /// A closed loop of four geodesic arcs through the points at `latitude`
+    /// and longitudes 0, 90, 180, 270: for latitude > 0 it cuts off a
+    /// northern cap smaller than the rest.
+    std::vector<std::uint32_t> loopAt(double latitude, GeodesicSearch& search) const {
+        return pathThrough(
+            search, {at(latitude, 0), at(latitude, 90), at(latitude, 180), at(latitude, 270)},
+            true);
+    }
+
+    static inline MaskVolume* mask = nullptr;
+    static inline BoundaryGraph* graph = nullptr;
+};
+
 }  // namespace skelseg::test

@@ -47,33 +47,13 @@ void expectMatchesFloodFill(const BoundaryGraph& graph, const RimCounter& rims,
     EXPECT_EQ(areas.rhoC, graph.nodeCount() - largest);
 }
 
-class GrowthOnSphere : public ::testing::Test {
+class GrowthOnSphere : public test::BallBoundaryFixture {
 protected:
-    static void SetUpTestSuite() {
-        mask = new MaskVolume(test::ballMask(Dims{31, 31, 31}, kCentre, kRadius));
-        graph = new BoundaryGraph(buildBoundaryGraph(*mask, {false}));
-    }
-    static void TearDownTestSuite() {
-        delete graph;
-        delete mask;
-        graph = nullptr, mask = nullptr;
-    }
-    std::uint32_t at(double latitude, double longitude) const {
-        return test::nodeOnSphere(*graph, kCentre, kRadius, latitude, longitude);
-    }
-    /// A loop of four geodesic arcs through points at `latitude`: it cuts off
-    /// a northern cap smaller than the rest for latitude > 0.
     std::vector<std::uint32_t> loopAt(double latitude) const {
         GeodesicSearch search(*graph);
-        return test::pathThrough(
-            search, {at(latitude, 0), at(latitude, 90), at(latitude, 180), at(latitude, 270)},
-            true);
+        return BallBoundaryFixture::loopAt(latitude, search);
     }
-    static MaskVolume* mask;
-    static BoundaryGraph* graph;
 };
-MaskVolume* GrowthOnSphere::mask = nullptr;
-BoundaryGraph* GrowthOnSphere::graph = nullptr;
 
 TEST_F(GrowthOnSphere, ExactAreasOfALoopMatchFloodFill) {
     for (double latitude : {0.0, 35.0, 60.0}) {

@@ -7,40 +7,19 @@
 namespace skelseg {
 namespace {
 
-constexpr std::array<double, 3> kCentre{15.0, 15.0, 15.0};
-constexpr double kRadius = 12.5;
-
-class GeodesicnessOnSphere : public ::testing::Test {
+class GeodesicnessOnSphere : public test::BallBoundaryFixture {
 protected:
-    static void SetUpTestSuite() {
-        mask = new MaskVolume(test::ballMask(Dims{31, 31, 31}, kCentre, kRadius));
-        graph = new BoundaryGraph(buildBoundaryGraph(*mask, {false}));
-    }
-    static void TearDownTestSuite() {
-        delete graph;
-        delete mask;
-        graph = nullptr, mask = nullptr;
-    }
-    std::uint32_t at(double latitude, double longitude) const {
-        return test::nodeOnSphere(*graph, kCentre, kRadius, latitude, longitude);
-    }
     /// sigma of a loop of four geodesic arcs through points at `latitude`,
     /// with a, b the points at longitudes 0 and 180.
     GeodesicnessResult loopSigma(double latitude) const {
         GeodesicSearch search(*graph);
-        const auto loop = test::pathThrough(
-            search, {at(latitude, 0), at(latitude, 90), at(latitude, 180), at(latitude, 270)},
-            true);
+        const auto loop = loopAt(latitude, search);
         RimCounter rims(*graph);
         EXPECT_EQ(rims.countRims(loop).pieceCount, 2u);
         GeodesicnessEvaluator evaluator(*graph);
         return evaluator.evaluate(rims, at(latitude, 0), at(latitude, 180), search);
     }
-    static MaskVolume* mask;
-    static BoundaryGraph* graph;
 };
-MaskVolume* GeodesicnessOnSphere::mask = nullptr;
-BoundaryGraph* GeodesicnessOnSphere::graph = nullptr;
 
 TEST_F(GeodesicnessOnSphere, GreatCircleIsAGeodesic) {
     const GeodesicnessResult r = loopSigma(0.0);
@@ -49,13 +28,13 @@ TEST_F(GeodesicnessOnSphere, GreatCircleIsAGeodesic) {
     EXPECT_LE(r.sigma, 1.0f);
     // The loop is the equator: about 2 pi r long; the midpoints c, d lie near
     // longitudes 90 and 270.
-    EXPECT_NEAR(r.loopLength, 2.0 * test::kPi * kRadius, 0.15 * 2.0 * test::kPi * kRadius);
+    EXPECT_NEAR(r.loopLength, 2.0 * test::kPi * kBallRadius, 0.15 * 2.0 * test::kPi * kBallRadius);
     ASSERT_NE(r.midpointC, kNoNode);
     ASSERT_NE(r.midpointD, kNoNode);
     const Coord c = graph->coord[r.midpointC], d = graph->coord[r.midpointD];
-    EXPECT_NEAR(std::fabs(double(c.y) - kCentre[1]), kRadius, 3.0);
-    EXPECT_NEAR(std::fabs(double(d.y) - kCentre[1]), kRadius, 3.0);
-    EXPECT_LT((double(c.y) - kCentre[1]) * (double(d.y) - kCentre[1]), 0.0)
+    EXPECT_NEAR(std::fabs(double(c.y) - kBallCentre[1]), kBallRadius, 3.0);
+    EXPECT_NEAR(std::fabs(double(d.y) - kBallCentre[1]), kBallRadius, 3.0);
+    EXPECT_LT((double(c.y) - kBallCentre[1]) * (double(d.y) - kBallCentre[1]), 0.0)
         << "c and d on the same side";
 }
 

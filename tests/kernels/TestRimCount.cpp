@@ -11,34 +11,13 @@
 namespace skelseg {
 namespace {
 
-/// A voxelised ball of radius 12.5 and its boundary graph; path sets are made
-/// of geodesics between points chosen by latitude/longitude.
-class RimsOnSphere : public ::testing::Test {
+class RimsOnSphere : public test::BallBoundaryFixture {
 protected:
-    static void SetUpTestSuite() {
-        mask = new MaskVolume(test::ballMask(Dims{31, 31, 31}, kCentre, kRadius));
-        graph = new BoundaryGraph(buildBoundaryGraph(*mask, {false}));
-    }
-    static void TearDownTestSuite() {
-        delete graph;
-        delete mask;
-        graph = nullptr, mask = nullptr;
-    }
-    std::uint32_t at(double latitude, double longitude) const {
-        return test::nodeOnSphere(*graph, kCentre, kRadius, latitude, longitude);
-    }
     /// Closed loop along the equator through four points.
     std::vector<std::uint32_t> equatorLoop(GeodesicSearch& search) const {
         return test::pathThrough(search, {at(0, 0), at(0, 90), at(0, 180), at(0, 270)}, true);
     }
-
-    static constexpr std::array<double, 3> kCentre{15.0, 15.0, 15.0};
-    static constexpr double kRadius = 12.5;
-    static MaskVolume* mask;
-    static BoundaryGraph* graph;
 };
-MaskVolume* RimsOnSphere::mask = nullptr;
-BoundaryGraph* RimsOnSphere::graph = nullptr;
 
 /// Structural checks of a RimPieces result against its definition.
 void expectConsistent(const BoundaryGraph& graph, const std::vector<std::uint32_t>& pathSet,

@@ -33,20 +33,6 @@ std::string CliResult::describe() const {
     return text + ", stderr: [" + err + "], stdout: [" + out.substr(0, 2000) + "]";
 }
 
-std::string fileBytes(const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
-    return bytes.str();
-}
-
-void writeBytes(const std::filesystem::path& file, const std::string& bytes) {
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    out.close();
-    if (!out) throw std::runtime_error("cannot write test file " + file.string());
-}
-
 std::vector<std::string> directoryEntries(const std::filesystem::path& directory) {
     std::vector<std::string> names;
     std::error_code ec;

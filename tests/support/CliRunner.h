@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/FileBytes.h"
+
 namespace skelseg::test {
 
 struct CliResult {
@@ -36,10 +38,6 @@ CliResult runSkelseg(const std::vector<std::string>& arguments,
                      const std::function<void(pid_t)>& whileRunning = {},
                      std::chrono::seconds timeout = std::chrono::seconds(600));
 
-/// The whole content of a file (empty string if it cannot be read).
-std::string fileBytes(const std::filesystem::path& file);
-/// Writes `bytes` to `file` (creating or truncating it); fails the test on error.
-void writeBytes(const std::filesystem::path& file, const std::string& bytes);
 /// Names of the entries of `directory` (empty if it does not exist), sorted.
 std::vector<std::string> directoryEntries(const std::filesystem::path& directory);
 

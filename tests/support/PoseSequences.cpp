@@ -4,6 +4,10 @@
 #include <cctype>
 #include <utility>
 
+#include <gtest/gtest.h>
+
+#include "tests/support/CliRunner.h"
+
 namespace skelseg::test {
 
 namespace fs = std::filesystem;
@@ -24,6 +28,34 @@ std::map<std::string, std::vector<fs::path>> poseSequences(const fs::path& poses
         for (const auto& f : list) sequences[name].push_back(f.second);
     }
     return sequences;
+}
+
+std::map<std::string, std::vector<fs::path>> segmentPoseFrames(
+    const fs::path& poses, const fs::path& outRoot,
+    const std::vector<std::string>& extraArguments) {
+    std::map<std::string, std::vector<fs::path>> outputs;
+    for (const auto& [name, frames] : poseSequences(poses)) {
+        for (const auto& frame : frames) {
+            const fs::path out = outRoot / frame.stem();
+            std::vector<std::string> arguments{"segment",    frame.string(), "-o",
+                                               out.string(), "--resolution", "192",
+                                               "-q",         "--no-preview"};
+            arguments.insert(arguments.end(), extraArguments.begin(), extraArguments.end());
+            const CliResult run = runSkelseg(arguments);
+            if (run.exitCode != 0) {
+                ADD_FAILURE() << frame << ": " << run.describe();
+                continue;
+            }
+            outputs[name].push_back(out);
+        }
+    }
+    return outputs;
+}
+
+std::string countList(const std::vector<std::size_t>& counts) {
+    std::string list;
+    for (std::size_t c : counts) list += (list.empty() ? "" : ", ") + std::to_string(c);
+    return list;
 }
 
 }  // namespace skelseg::test

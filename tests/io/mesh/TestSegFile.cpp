@@ -6,21 +6,18 @@
 #include <iterator>
 
 #include "kernels/base/Error.h"
+#include "tests/support/FileBytes.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
 
 namespace skelseg {
 namespace {
 
+using test::fileBytes;
 using test::TempDir;
 
 std::vector<std::int64_t> fromText(const std::string& text, const std::string& name = "test.seg") {
     return readSegFromMemory(name, reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
-}
-
-std::string fileBytes(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 std::string expectInputError(const std::string& text) {

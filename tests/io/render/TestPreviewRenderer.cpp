@@ -14,10 +14,13 @@
 
 #include "io/render/Palette.h"
 #include "kernels/base/Error.h"
+#include "tests/support/FileBytes.h"
 #include "tests/support/TempDir.h"
 
 namespace skelseg {
 namespace {
+
+using test::fileBytes;
 
 using Vec3 = std::array<double, 3>;
 constexpr double kPi = 3.14159265358979323846;
@@ -61,11 +64,6 @@ PreviewScene twoSpheresScene() {
     scene.cutLoops.push_back(loop);
     scene.title = "two spheres  parts: 2  tau: 3%";
     return scene;
-}
-
-std::string readFile(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 /// Pixels whose colour is a shade of `colour`: a multiple s in [0.3, 1.15] of
@@ -112,7 +110,7 @@ TEST(PreviewRenderer, WritesAPngOfTheRequestedSize) {
     options.width = 1100;
     options.height = 500;
     renderPreviewPng(dir / "preview.png", twoSpheresScene(), options);
-    const std::string bytes = readFile(dir / "preview.png");
+    const std::string bytes = fileBytes(dir / "preview.png");
     ASSERT_GT(bytes.size(), 8u);
     EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
     int width = 0, height = 0, channels = 0;

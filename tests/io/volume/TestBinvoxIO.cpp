@@ -12,23 +12,16 @@
 #include "io/volume/BinvoxIO.h"
 #include "io/volume/VolumeReader.h"
 #include "kernels/base/Error.h"
+#include "tests/support/FileBytes.h"
+#include "tests/support/InputErrorExpectation.h"
+#include "tests/support/MaskCounts.h"
 #include "tests/support/TempDir.h"
 
 namespace fs = std::filesystem;
 using namespace skelseg;
+using namespace skelseg::test;
 
 namespace {
-
-void writeBytes(const fs::path& file, const std::string& bytes) {
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    ASSERT_TRUE(out.good()) << file;
-}
-
-std::string readBytes(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 /// Run-length data from (value, count) pairs.
 std::string runs(const std::vector<std::pair<int, int>>& pairs) {
@@ -38,26 +31,6 @@ std::string runs(const std::vector<std::pair<int, int>>& pairs) {
         data += char(count);
     }
     return data;
-}
-
-void expectInputError(const std::function<void()>& read, const std::string& file,
-                      const std::string& keyword) {
-    try {
-        read();
-        ADD_FAILURE() << "no InputError for " << file << " (expected '" << keyword << "')";
-    } catch (const InputError& error) {
-        const std::string message = error.what();
-        EXPECT_NE(message.find(file), std::string::npos) << message;
-        EXPECT_NE(message.find(keyword), std::string::npos)
-            << "expected '" << keyword << "' in: " << message;
-        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    }
-}
-
-std::size_t countNonzero(const MaskVolume& mask) {
-    std::size_t count = 0;
-    for (auto value : mask.values()) count += value != 0;
-    return count;
 }
 
 // "dim 4 3 5": binvox x extent 4, z extent 3, y extent 5, so our dims are
@@ -94,7 +67,7 @@ TEST(BinvoxIO, WriterUsesBinvoxOrder) {
     mask(2, 4, 1) = 1;
     mask.geometry = VolumeGeometry::uniform(2.0, {2.0, 3.0, 4.0});
     writeBinvox(dir / "out.binvox", mask);
-    const std::string text = readBytes(dir / "out.binvox");
+    const std::string text = fileBytes(dir / "out.binvox");
     const std::string header = "#binvox 1\ndim 4 3 5\ntranslate 1 2 3\nscale 10\ndata\n";
     ASSERT_EQ(text.substr(0, header.size()), header);
     EXPECT_EQ(text.substr(header.size()), kSingleVoxelRuns);

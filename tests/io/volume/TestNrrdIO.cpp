@@ -15,23 +15,16 @@
 #include "io/volume/NrrdIO.h"
 #include "io/volume/VolumeReader.h"
 #include "kernels/base/Error.h"
+#include "tests/support/FileBytes.h"
+#include "tests/support/InputErrorExpectation.h"
+#include "tests/support/MaskCounts.h"
 #include "tests/support/TempDir.h"
 
 namespace fs = std::filesystem;
 using namespace skelseg;
+using namespace skelseg::test;
 
 namespace {
-
-void writeBytes(const fs::path& file, const std::string& bytes) {
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    ASSERT_TRUE(out.good()) << file;
-}
-
-std::string readBytes(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 /// gzip (windowBits 15 + 16) or zlib (15) compression of `bytes`.
 std::string compress(const std::string& bytes, bool gzipHeader = true) {
@@ -59,28 +52,6 @@ std::string basicFields(const std::string& type, const std::string& sizes,
                         const std::string& encoding, const std::string& extra = "") {
     return "type: " + type + "\ndimension: 3\nsizes: " + sizes + "\nencoding: " + encoding + "\n" +
            extra;
-}
-
-/// Asserts that `read` throws an InputError whose one-line message names
-/// `file` and contains `keyword`.
-void expectInputError(const std::function<void()>& read, const std::string& file,
-                      const std::string& keyword) {
-    try {
-        read();
-        ADD_FAILURE() << "no InputError for " << file << " (expected '" << keyword << "')";
-    } catch (const InputError& error) {
-        const std::string message = error.what();
-        EXPECT_NE(message.find(file), std::string::npos) << message;
-        EXPECT_NE(message.find(keyword), std::string::npos)
-            << "expected '" << keyword << "' in: " << message;
-        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    }
-}
-
-std::size_t countNonzero(const MaskVolume& mask) {
-    std::size_t count = 0;
-    for (auto value : mask.values()) count += value != 0;
-    return count;
 }
 
 LabelVolume makeLabels() {
@@ -122,7 +93,7 @@ TEST(NrrdIO, LabelsRoundTripKeepsValuesDimsAndGeometry) {
     EXPECT_EQ(back.values(), labels.values());
     expectSameGeometry(back.geometry, labels.geometry);
     // The file is gzip encoded, uint16, little endian: what teem/Slicer expect.
-    const std::string text = readBytes(dir / "labels.nrrd");
+    const std::string text = fileBytes(dir / "labels.nrrd");
     EXPECT_NE(text.find("encoding: gzip\n"), std::string::npos);
     EXPECT_NE(text.find("type: uint16\n"), std::string::npos);
     EXPECT_NE(text.find("endian: little\n"), std::string::npos);
@@ -152,7 +123,7 @@ TEST(NrrdIO, NoSpaceNameWritesSpaceDimensionAndRoundTrips) {
     LabelVolume labels = makeLabels();
     labels.geometry = VolumeGeometry::uniform(0.125, {4, 5, 6});
     writeNrrdLabels(dir / "labels.nrrd", labels);
-    EXPECT_NE(readBytes(dir / "labels.nrrd").find("space dimension: 3\n"), std::string::npos);
+    EXPECT_NE(fileBytes(dir / "labels.nrrd").find("space dimension: 3\n"), std::string::npos);
     expectSameGeometry(readNrrdLabels(dir / "labels.nrrd").geometry, labels.geometry);
 }
 

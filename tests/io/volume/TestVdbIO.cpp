@@ -15,10 +15,14 @@
 #include "io/volume/VdbIO.h"
 #include "io/volume/VolumeReader.h"
 #include "kernels/base/Error.h"
+#include "tests/support/FileBytes.h"
+#include "tests/support/InputErrorExpectation.h"
+#include "tests/support/MaskCounts.h"
 #include "tests/support/TempDir.h"
 
 namespace fs = std::filesystem;
 using namespace skelseg;
+using namespace skelseg::test;
 
 namespace {
 
@@ -27,37 +31,6 @@ void writeGrids(const fs::path& file, const openvdb::GridCPtrVec& grids) {
     openvdb::io::File out(file.string());
     out.write(grids);
     out.close();
-}
-
-void writeBytes(const fs::path& file, const std::string& bytes) {
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    ASSERT_TRUE(out.good()) << file;
-}
-
-std::string readBytes(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-void expectInputError(const std::function<void()>& read, const std::string& file,
-                      const std::string& keyword) {
-    try {
-        read();
-        ADD_FAILURE() << "no InputError for " << file << " (expected '" << keyword << "')";
-    } catch (const InputError& error) {
-        const std::string message = error.what();
-        EXPECT_NE(message.find(file), std::string::npos) << message;
-        EXPECT_NE(message.find(keyword), std::string::npos)
-            << "expected '" << keyword << "' in: " << message;
-        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    }
-}
-
-std::size_t countNonzero(const MaskVolume& mask) {
-    std::size_t count = 0;
-    for (auto value : mask.values()) count += value != 0;
-    return count;
 }
 
 openvdb::BoolGrid::Ptr boolGridWith(const std::string& name,
@@ -187,7 +160,7 @@ TEST(VdbIO, MemoryReaderMatchesFileReader) {
     test::TempDir dir;
     writeGrids(dir / "bool.vdb",
                {boolGridWith("shape", {openvdb::Coord(1, 2, 3), openvdb::Coord(4, 2, 3)})});
-    const std::string bytes = readBytes(dir / "bool.vdb");
+    const std::string bytes = fileBytes(dir / "bool.vdb");
     const MaskVolume fromMemory = readVdbMaskFromMemory(
         "buffer", reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
     const MaskVolume fromFile = readVdbMask(dir / "bool.vdb");
@@ -244,7 +217,7 @@ TEST(VdbIO, MalformedFilesGiveOneLineErrors) {
     test::TempDir dir;
     writeGrids(dir / "good.vdb",
                {boolGridWith("shape", {openvdb::Coord(1, 2, 3), openvdb::Coord(40, 2, 3)})});
-    const std::string good = readBytes(dir / "good.vdb");
+    const std::string good = fileBytes(dir / "good.vdb");
     writeBytes(dir / "empty.vdb", "");
     writeBytes(dir / "text.vdb", "this is not a vdb file at all");
     writeBytes(dir / "truncated.vdb", good.substr(0, good.size() / 2));

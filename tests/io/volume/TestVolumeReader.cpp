@@ -16,32 +16,15 @@
 #include "io/volume/NrrdIO.h"
 #include "io/volume/VolumeReader.h"
 #include "kernels/base/Error.h"
+#include "tests/support/FileBytes.h"
+#include "tests/support/InputErrorExpectation.h"
 #include "tests/support/TempDir.h"
 
 namespace fs = std::filesystem;
 using namespace skelseg;
+using namespace skelseg::test;
 
 namespace {
-
-void writeBytes(const fs::path& file, const std::string& bytes) {
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    ASSERT_TRUE(out.good()) << file;
-}
-
-void expectInputError(const std::function<void()>& read, const std::string& file,
-                      const std::string& keyword) {
-    try {
-        read();
-        ADD_FAILURE() << "no InputError for " << file << " (expected '" << keyword << "')";
-    } catch (const InputError& error) {
-        const std::string message = error.what();
-        EXPECT_NE(message.find(file), std::string::npos) << message;
-        EXPECT_NE(message.find(keyword), std::string::npos)
-            << "expected '" << keyword << "' in: " << message;
-        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    }
-}
 
 MaskVolume sampleMask() {
     MaskVolume mask(Dims{5, 7, 3});
