@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 #include "io/mesh/FaceLabelNesting.h"
 #include "io/mesh/FaceLabels.h"
@@ -11,11 +12,6 @@ using json = nlohmann::json;
 namespace skelseg {
 
 namespace {
-
-/// The segments of level k (the coarsest is finerLevels.size()).
-const std::vector<SegmentInfo>& segmentsAt(const SegmentationResult& result, std::size_t k) {
-    return k < result.finerLevels.size() ? result.finerLevels[k].segments : result.segments;
-}
 
 /// Per coarser label c (1-based, index c - 1): the fine label with the most
 /// voxels among its children (ties: the smaller label), 0 if none.
@@ -63,7 +59,7 @@ void labelLevelFaces(const TriangleMesh& mesh, const SegmentationResult& result,
                      const std::vector<std::uint32_t>& coarsestFaceLabels,
                      const std::vector<std::uint32_t>& coarsestVoxelLabelOfFaceLabel,
                      LevelOutputs& levels, Interrupter& interrupter) {
-    const std::size_t count = result.finerLevels.size() + 1;
+    const std::size_t count = result.levelCount();
     auto voxelLabelsOf = [](const std::vector<std::uint32_t>& faceLabels,
                             const std::vector<std::uint32_t>& voxelLabelOfFaceLabel) {
         std::vector<std::uint32_t> voxel(faceLabels.size(), 0);
@@ -75,9 +71,19 @@ void labelLevelFaces(const TriangleMesh& mesh, const SegmentationResult& result,
     levels.faceVoxelLabels.assign(count, {});
     levels.faceLabels.assign(count, {});
     levels.nestedFaces.assign(count, 0);
-    levels.faceVoxelLabels[count - 1] =
-        voxelLabelsOf(coarsestFaceLabels, coarsestVoxelLabelOfFaceLabel);
-    levels.faceLabels[count - 1] = coarsestFaceLabels;
+    if (result.topIsCoarsestLevel) {
+        levels.faceVoxelLabels[count - 1] =
+            voxelLabelsOf(coarsestFaceLabels, coarsestVoxelLabelOfFaceLabel);
+        levels.faceLabels[count - 1] = coarsestFaceLabels;
+    } else {
+        // The coarsest level is not the top-level result: its faces are
+        // voted on from its own labels, as the top level's are.
+        FaceLabelStatistics statistics;
+        const std::vector<std::uint32_t> voted =
+            labelFaces(mesh, result.levelLabels(count - 1), {}, interrupter, &statistics);
+        levels.faceVoxelLabels[count - 1] = voxelLabelsOf(voted, statistics.voxelLabels);
+        levels.faceLabels[count - 1] = voted;
+    }
     for (std::size_t k = count - 1; k-- > 0;) {
         const SegmentationLevel& level = result.finerLevels[k];
         FaceLabelStatistics statistics;
@@ -86,7 +92,7 @@ void labelLevelFaces(const TriangleMesh& mesh, const SegmentationResult& result,
         std::vector<std::uint32_t> voxel = voxelLabelsOf(voted, statistics.voxelLabels);
         levels.nestedFaces[k] =
             nestFaceLabels(mesh, voxel, levels.faceVoxelLabels[k + 1], level.parentLabel,
-                           largestChildren(level, segmentsAt(result, k + 1).size()));
+                           largestChildren(level, result.levelSegments(k + 1).size()));
         levels.faceLabels[k] = renumberFaceLabels(voxel);
         levels.faceVoxelLabels[k] = std::move(voxel);
     }
@@ -94,14 +100,12 @@ void labelLevelFaces(const TriangleMesh& mesh, const SegmentationResult& result,
 
 std::vector<std::vector<std::vector<std::array<double, 3>>>> levelCutLoops(
     const SegmentationResult& result) {
-    const std::size_t count = result.finerLevels.size() + 1;
+    const std::size_t count = result.levelCount();
     std::vector<std::vector<std::vector<std::array<double, 3>>>> loops(count);
     const VolumeGeometry& g = result.labels.geometry;
     for (std::size_t k = 0; k < count; ++k)
         for (const ObjectSegmentation& object : result.objects) {
-            const auto& objectLoops =
-                k + 1 < count ? object.finerLevels[k].cutLoops : object.cutLoops;
-            for (const auto& loop : objectLoops) {
+            for (const auto& loop : object.levelCutLoops(k)) {
                 std::vector<std::array<double, 3>> points;
                 for (const auto& v : loop) points.push_back(g.indexToWorld(v[0], v[1], v[2]));
                 loops[k].push_back(std::move(points));
@@ -114,23 +118,41 @@ std::vector<std::vector<std::uint32_t>> levelTriangleLabels(
     const SegmentationResult& result, const std::vector<std::array<double, 3>>& vertices,
     const std::vector<std::array<std::uint32_t, 3>>& triangles,
     const std::vector<std::uint32_t>& triangleLabels) {
-    const std::size_t count = result.finerLevels.size() + 1;
+    const std::size_t count = result.levelCount();
     std::vector<std::vector<std::uint32_t>> out(count);
     out[count - 1] = triangleLabels;
     if (count == 1) return out;
+    // The surface's labels: the top-level result's, the coarsest level's
+    // unless --joints with one tau made the top the joint level.
     const LabelVolume& coarse = result.labels;
     const LabelVolume& finest = result.finerLevels[0].labels;
     // Fallback for a triangle with no voxel of its segment nearby: the
-    // largest finest segment under its coarse segment.
+    // largest finest segment under its top-level segment.
     std::vector<std::uint16_t> fallback(result.segments.size() + 1, 0);
     std::vector<std::uint64_t> fallbackSize(result.segments.size() + 1, 0);
-    for (std::size_t l = 1; l <= result.finerLevels[0].segments.size(); ++l) {
-        std::uint32_t ancestor = std::uint32_t(l);
-        for (std::size_t k = 0; k + 1 < count; ++k)
-            ancestor = result.finerLevels[k].parentLabel[ancestor - 1u];
-        const std::uint64_t size = result.finerLevels[0].segments[l - 1].voxelCount;
-        if (!fallback[ancestor] || size > fallbackSize[ancestor])
-            fallback[ancestor] = std::uint16_t(l), fallbackSize[ancestor] = size;
+    if (result.topIsCoarsestLevel) {
+        for (std::size_t l = 1; l <= result.finerLevels[0].segments.size(); ++l) {
+            std::uint32_t ancestor = std::uint32_t(l);
+            for (std::size_t k = 0; k + 1 < count; ++k)
+                ancestor = result.finerLevels[k].parentLabel[ancestor - 1u];
+            const std::uint64_t size = result.finerLevels[0].segments[l - 1].voxelCount;
+            if (!fallback[ancestor] || size > fallbackSize[ancestor])
+                fallback[ancestor] = std::uint16_t(l), fallbackSize[ancestor] = size;
+        }
+    } else {
+        // The top level is not in the chain of parents: count the overlaps.
+        std::unordered_map<std::uint32_t, std::uint64_t> overlap;
+        const std::vector<std::uint16_t>& top = coarse.values();
+        const std::vector<std::uint16_t>& fine = finest.values();
+        for (std::size_t i = 0; i < top.size(); ++i)
+            if (top[i] && fine[i]) ++overlap[(std::uint32_t(top[i]) << 16) | fine[i]];
+        for (const auto& [key, size] : overlap) {
+            const std::uint32_t topLabel = key >> 16, fineLabel = key & 0xffffu;
+            if (topLabel < fallback.size() &&
+                (size > fallbackSize[topLabel] ||
+                 (size == fallbackSize[topLabel] && fineLabel < fallback[topLabel])))
+                fallback[topLabel] = std::uint16_t(fineLabel), fallbackSize[topLabel] = size;
+        }
     }
     const WorldToVoxel toVoxel(coarse.geometry);
     constexpr int kRadius = 2;
@@ -155,7 +177,8 @@ std::vector<std::vector<std::uint32_t>> levelTriangleLabels(
                     if (d < bestDistance) bestDistance = d, fine = finest(x, y, z);
                 }
         out[0][t] = fine;
-        for (std::size_t k = 1; k + 1 < count; ++k)
+        const std::size_t chained = result.topIsCoarsestLevel ? count - 1 : count;
+        for (std::size_t k = 1; k < chained; ++k)
             out[k][t] =
                 out[k - 1][t] ? result.finerLevels[k - 1].parentLabel[out[k - 1][t] - 1u] : 0;
     }
@@ -165,16 +188,15 @@ std::vector<std::vector<std::uint32_t>> levelTriangleLabels(
 json reportLevelsJson(const SegmentationResult& result,
                       const std::vector<std::size_t>& nestedFaces) {
     json levels = json::array();
-    for (std::size_t k = 0; k <= result.finerLevels.size(); ++k) {
-        const bool coarsest = k == result.finerLevels.size();
-        const LevelSeconds& seconds =
-            coarsest ? result.coarsestLevelSeconds : result.finerLevels[k].seconds;
+    for (std::size_t k = 0; k < result.levelCount(); ++k) {
+        const LevelSeconds& seconds = result.levelSeconds(k);
         json level = {{"level", k},
-                      {"tau", (coarsest ? result.tau : result.finerLevels[k].tau).toString()},
-                      {"segments", segmentsAt(result, k).size()},
+                      {"tau", result.levelTau(k).toString()},
+                      {"joints", result.levelIsJoints(k)},
+                      {"segments", result.levelSegments(k).size()},
                       {"wall_seconds", seconds.wall},
                       {"cpu_seconds", seconds.cpu}};
-        if (!coarsest) {
+        if (!result.isCoarsestLevel(k)) {
             level["nesting_moved_boundary_voxels"] = result.finerLevels[k].nestingMovedNodes;
             if (k < nestedFaces.size()) level["nesting_moved_faces"] = nestedFaces[k];
         }
@@ -185,18 +207,20 @@ json reportLevelsJson(const SegmentationResult& result,
 
 std::string hierarchyJson(const SegmentationResult& result, const LevelOutputs& levels,
                           bool isMesh) {
-    const std::size_t count = result.finerLevels.size() + 1;
+    const std::size_t count = result.levelCount();
     json out;
     out["levels"] = json::array();
     for (std::size_t k = 0; k < count; ++k) {
         const bool coarsest = k + 1 == count;
-        const std::vector<SegmentInfo>& segments = segmentsAt(result, k);
+        const std::vector<SegmentInfo>& segments = result.levelSegments(k);
         json level;
         level["level"] = k;
-        level["tau"] = (coarsest ? result.tau : result.finerLevels[k].tau).toString();
+        level["tau"] = result.levelTau(k).toString();
+        // Written only with --joints, so files of runs without it keep their bytes.
+        if (result.levelIsJoints(k)) level["joints"] = true;
         json areas = json::array();
         for (const ObjectSegmentation& object : result.objects)
-            areas.push_back(coarsest ? object.tauArea : object.finerLevels[k].tauArea);
+            areas.push_back(object.levelTauArea(k));
         level["tau_areas"] = areas;
         level["segment_count"] = segments.size();
         std::vector<std::uint64_t> faces(segments.size() + 1, 0);
@@ -211,8 +235,7 @@ std::string hierarchyJson(const SegmentationResult& result, const LevelOutputs& 
                 entry["faces"] = faces[s.label];
                 entry["seg_label"] = faces[s.label] ? json(nextSegLabel++) : json(nullptr);
             }
-            entry["parent"] =
-                coarsest ? json(nullptr) : json(result.finerLevels[k].parentLabel[s.label - 1u]);
+            entry["parent"] = coarsest ? json(nullptr) : json(result.parentLabel(k, s.label));
             list.push_back(entry);
         }
         level["segments"] = list;

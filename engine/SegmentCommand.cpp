@@ -109,13 +109,13 @@ ShapeMessage completeShape(const RunContext& run, SegmentingMessage shape) {
                 labelFaces(*source.mesh, shape->result.labels, {}, run.progress, &statistics);
         }
         shape->voxelLabelOfFaceLabel = std::move(statistics.voxelLabels);
-        if (!shape->result.finerLevels.empty()) {
+        if (shape->result.levelCount() > 1) {
             Stage stage(run.timer, run.progress, "level face labels", true);
             labelLevelFaces(*source.mesh, shape->result, shape->faceLabels,
                             shape->voxelLabelOfFaceLabel, shape->levels, run.progress);
         }
     }
-    if (!shape->result.finerLevels.empty()) shape->levels.cutLoops = levelCutLoops(shape->result);
+    if (shape->result.levelCount() > 1) shape->levels.cutLoops = levelCutLoops(shape->result);
     shape->world = gatherWorldGeometry(shape->result);
     return shape;
 }
@@ -215,7 +215,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     inputOptions.gridName = options.gridName;
     inputOptions.resolution = options.resolution;
     inputOptions.threads = threads;
-    inputOptions.levels = int(options.parameters.finerTaus.size()) + 1;
+    inputOptions.levels = int(options.parameters.levelCount());
     inputOptions.timeBudgetSeconds = options.timeBudgetSeconds;
     inputOptions.start = wallStart;
     inputOptions.memoryLimit =
@@ -226,7 +226,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     // Refuse to clobber earlier results before doing any work.
     OutputDirectory out(options.outdir, options.force, segmentOutputNames());
     // An earlier hierarchy run's levels would contradict this run's outputs.
-    if (options.parameters.finerTaus.empty()) {
+    if (options.parameters.levelCount() < 2) {
         out.removeOnCommit("levels");
         out.removeOnCommit("hierarchy.json");
     }

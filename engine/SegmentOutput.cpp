@@ -81,19 +81,17 @@ void writeSkeletonAndCuts(OutputDirectory& out, const SegmentedShape& shape, Sta
 void writeLevels(OutputDirectory& out, const SegmentedShape& shape, StageTimer& timer,
                  Interrupter& interrupter) {
     const SegmentationResult& result = shape.result;
-    if (result.finerLevels.empty()) return;
+    if (result.levelCount() < 2) return;
     Stage stage(timer, interrupter, "write levels, hierarchy.json", false);
     const bool isMesh = shape.input->source->isMesh();
     const std::filesystem::path root = out.stagingPath("levels");
-    for (std::size_t k = 0; k <= result.finerLevels.size(); ++k) {
+    for (std::size_t k = 0; k < result.levelCount(); ++k) {
         const std::filesystem::path directory = root / std::to_string(k);
         std::error_code ec;
         std::filesystem::create_directories(directory, ec);
         if (ec)
             throw OutputError(directory.string() + ": cannot create directory: " + ec.message());
-        const bool coarsest = k == result.finerLevels.size();
-        writeNrrdLabels(directory / "labels.nrrd",
-                        coarsest ? result.labels : result.finerLevels[k].labels);
+        writeNrrdLabels(directory / "labels.nrrd", result.levelLabels(k));
         writeCutsPly(directory / "cuts.ply", shape.levels.cutLoops[k]);
         if (isMesh) writeSeg(directory / "segmentation.seg", shape.levels.faceLabels[k]);
         throwIfInterrupted(interrupter);
@@ -153,7 +151,7 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
                                  options.parameters.tau.toString(),
                                  {},
                                  nullptr};
-        if (!result.finerLevels.empty()) {
+        if (result.levelCount() > 1) {
             // Every level on the one surface, labelled as labels.nrrd.
             if (source.isMesh()) {
                 const TriangleMesh& mesh = *source.mesh;

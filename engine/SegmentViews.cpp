@@ -37,17 +37,15 @@ void writeSegmentViews(OutputDirectory& out, const SegmentViewInputs& inputs) {
             scene.levels.push_back(std::move(level));
         } else {
             for (std::size_t k = 0; k < inputs.levelTriangleLabels.size(); ++k) {
-                const bool coarsest = k == result.finerLevels.size();
                 ViewerLevel level;
-                level.tau = coarsest ? inputs.tau : result.finerLevels[k].tau.toString();
+                level.tau = result.isCoarsestLevel(k) && result.topIsCoarsestLevel
+                                ? inputs.tau
+                                : result.levelTau(k).toString();
+                if (result.levelIsJoints(k)) level.tau += " + joints";
                 level.triangleLabels = inputs.levelTriangleLabels[k];
-                for (const SegmentInfo& s :
-                     coarsest ? result.segments : result.finerLevels[k].segments)
+                for (const SegmentInfo& s : result.levelSegments(k))
                     level.segments.push_back(
-                        {s.label, s.voxelCount,
-                         coarsest
-                             ? 0u
-                             : std::uint32_t(result.finerLevels[k].parentLabel[s.label - 1u])});
+                        {s.label, s.voxelCount, std::uint32_t(result.parentLabel(k, s.label))});
                 level.cutLoops = (*inputs.levelCutLoops)[k];
                 scene.levels.push_back(std::move(level));
             }

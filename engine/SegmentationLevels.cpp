@@ -1,6 +1,7 @@
 #include "engine/SegmentationLevels.h"
 
 #include <algorithm>
+#include <unordered_set>
 
 #include "engine/Stage.h"
 #include "kernels/SegmentNesting.h"
@@ -42,9 +43,14 @@ void placeFinerLevelCuts(ObjectState& state) {
     // report.json lists the coarsest level's cuts only (the finer levels' are
     // in their own cuts.ply).
     std::vector<CutInfo> coarseCuts = std::move(out.cuts);
+    // Crop voxels of every coarser level's cut points: the joint level keeps
+    // its distance from them as from the finest level's own.
+    std::vector<std::uint32_t> cutVoxels;
+    for (std::uint32_t node : coarsePlan.cutNodes)
+        cutVoxels.push_back(shared[coarseSkeleton.point[node]].voxel);
 
-    const std::size_t levels = state.finerLevels.size();
-    for (std::size_t k = levels; k-- > 0;) {
+    const std::size_t first = state.firstJunctionLevel(), end = state.endJunctionLevels();
+    for (std::size_t k = end; k-- > first;) {
         ObjectLevelWork& level = state.finerLevels[k];
         LevelClock clock(level.seconds);
         out.tauArea = level.tauArea;
@@ -65,9 +71,9 @@ void placeFinerLevelCuts(ObjectState& state) {
         buildObjectSkeletonGraph(state);
         placeObjectCuts(state);
         // Every coarser cut stays: the next coarser level's set holds them all.
-        const auto& coarserLoops = k + 1 < levels ? state.finerLevels[k + 1].cutLoops : coarseLoops;
+        const auto& coarserLoops = k + 1 < end ? state.finerLevels[k + 1].cutLoops : coarseLoops;
         const auto& coarserPolylines =
-            k + 1 < levels ? out.finerLevels[k + 1].cutLoops : coarsePolylines;
+            k + 1 < end ? out.finerLevels[k + 1].cutLoops : coarsePolylines;
         const std::size_t own = state.cutLoops.size();
         for (std::size_t i = 0; i < coarserLoops.size(); ++i)
             if (std::find(state.cutLoops.begin(), state.cutLoops.begin() + std::ptrdiff_t(own),
@@ -75,6 +81,9 @@ void placeFinerLevelCuts(ObjectState& state) {
                 state.cutLoops.push_back(coarserLoops[i]);
                 out.cutLoops.push_back(coarserPolylines[i]);
             }
+        if (k == first && state.parameters.joints) placeJointLevelCuts(state, cutVoxels);
+        for (std::uint32_t node : state.plan.cutNodes)
+            cutVoxels.push_back(state.points[state.skeleton.point[node]].voxel);
         level.cutLoops = std::move(state.cutLoops);
         out.finerLevels[k].cutLoops = std::move(out.cutLoops);
         state.cutLoops.clear();
@@ -91,18 +100,65 @@ void placeFinerLevelCuts(ObjectState& state) {
     out.cuts = std::move(coarseCuts);
 }
 
+void placeJointLevelCuts(ObjectState& state, const std::vector<std::uint32_t>& coarserCutVoxels) {
+    // The finest level's own cuts, and the nodes of this skeleton at the
+    // coarser levels' cut points.
+    std::vector<std::uint32_t> existing = state.plan.cutNodes;
+    const std::unordered_set<std::uint32_t> voxels(coarserCutVoxels.begin(),
+                                                   coarserCutVoxels.end());
+    for (std::uint32_t n = 0; n < state.skeleton.nodeCount(); ++n)
+        if (voxels.count(state.points[state.skeleton.point[n]].voxel) &&
+            std::find(existing.begin(), existing.end(), n) == existing.end())
+            existing.push_back(n);
+    const std::size_t junctionCuts = state.cutLoops.size();
+    const std::size_t reportedCuts = state.out.cuts.size();
+    placeJointCuts(state, existing);
+    ObjectLevelWork& joint = state.finerLevels.front();
+    joint.cutLoops = state.cutLoops;
+    state.out.finerLevels.front().cutLoops = state.out.cutLoops;
+    state.cutLoops.resize(junctionCuts);
+    state.out.cutLoops.resize(junctionCuts);
+    state.out.cuts.resize(reportedCuts);
+}
+
+void splitSingleTauJointLevels(ObjectState& state) {
+    // The top-level cuts are the junction rule's, then the joint cuts.
+    std::size_t junctionCuts = 0;
+    while (junctionCuts < state.out.cuts.size() &&
+           state.out.cuts[junctionCuts].kind == CutKind::Junction)
+        ++junctionCuts;
+    ObjectLevelWork& joint = state.finerLevels.front();
+    ObjectLevelWork& junction = state.finerLevels.back();
+    joint.cutLoops = state.cutLoops;
+    state.out.finerLevels.front().cutLoops = state.out.cutLoops;
+    junction.cutLoops.assign(state.cutLoops.begin(),
+                             state.cutLoops.begin() + std::ptrdiff_t(junctionCuts));
+    state.out.finerLevels.back().cutLoops.assign(
+        state.out.cutLoops.begin(), state.out.cutLoops.begin() + std::ptrdiff_t(junctionCuts));
+}
+
 void labelFinerLevels(ObjectState& state) {
+    const SegmentationParameters& p = state.parameters;
     const std::size_t levels = state.finerLevels.size();
+    // Without a list, the joint level's own labelling is the top-level one
+    // and the coarsest level (the last) has no coarser level to nest in.
+    const bool topIsJointLevel = p.joints && p.finerTaus.empty();
     for (std::size_t k = levels; k-- > 0;) {
         ObjectLevelWork& level = state.finerLevels[k];
         LevelClock clock(level.seconds);
+        const bool isJointLevel = p.joints && k == 0;
         SurfaceSegments own;
-        {
+        if (isJointLevel && topIsJointLevel) {
+            own = state.segments;
+        } else {
             Stage stage(state.timer, state.interrupter, "labelling", false);
-            own =
-                labelSurface(state.graph, level.cutLoops, std::max(level.tauArea, level.noiseArea));
+            const double smallest =
+                isJointLevel ? p.jointOptions.minSegmentTauFraction * level.tauArea : level.tauArea;
+            own = labelSurface(state.graph, level.cutLoops, std::max(smallest, level.noiseArea));
         }
-        {
+        if (topIsJointLevel && k + 1 == levels) {
+            level.segments = std::move(own);
+        } else {
             Stage stage(state.timer, state.interrupter, "level nesting", false);
             const SurfaceSegments& coarser =
                 k + 1 < levels ? state.finerLevels[k + 1].segments : state.segments;

@@ -27,7 +27,7 @@ SkeletonMeasureOptions ObjectState::measureOptions() const {
     options.noiseArea = out.noiseArea;
     // One measure serves every level (engine/SegmentationLevels.h): sigma
     // down to the finest tau.
-    if (!finerLevels.empty()) options.sigmaTau = finerLevels.front().tauArea;
+    if (!parameters.finerTaus.empty()) options.sigmaTau = finerLevels.front().tauArea;
     options.threaded = parameters.threaded;
     return options;
 }
@@ -75,12 +75,19 @@ void buildObjectBoundaryGraph(ObjectState& state) {
     out.boundaryComponents = state.graph.componentSize.size();
     out.tauArea = p.tau.areaFor(out.boundaryArea);
     out.noiseArea = p.noiseAreaFor(double(out.boundaryArea));
-    state.finerLevels.resize(p.finerTaus.size());
-    out.finerLevels.resize(p.finerTaus.size());
-    for (std::size_t k = 0; k < p.finerTaus.size(); ++k) {
+    // The levels below the top, finest first: the joint level (at the
+    // finest junction-rule level's tau), the finer junction-rule levels,
+    // and with --joints and one tau the junction-rule level itself.
+    std::vector<TauSpec> taus;
+    if (p.joints) taus.push_back(p.finerTaus.empty() ? p.tau : p.finerTaus.front());
+    taus.insert(taus.end(), p.finerTaus.begin(), p.finerTaus.end());
+    if (p.joints && p.finerTaus.empty()) taus.push_back(p.tau);
+    state.finerLevels.resize(taus.size());
+    out.finerLevels.resize(taus.size());
+    for (std::size_t k = 0; k < taus.size(); ++k) {
         ObjectLevelWork& level = state.finerLevels[k];
-        level.tauArea = p.finerTaus[k].areaFor(out.boundaryArea);
-        level.noiseArea = p.noiseAreaFor(double(out.boundaryArea), p.finerTaus[k]);
+        level.tauArea = taus[k].areaFor(out.boundaryArea);
+        level.noiseArea = p.noiseAreaFor(double(out.boundaryArea), taus[k]);
         out.finerLevels[k].tauArea = level.tauArea;
         out.finerLevels[k].noiseArea = level.noiseArea;
     }
@@ -179,12 +186,12 @@ void placeObjectCuts(ObjectState& state) {
     throwIfInterrupted(state.interrupter);
 }
 
-void placeJointCuts(ObjectState& state) {
+void placeJointCuts(ObjectState& state, const std::vector<std::uint32_t>& existingCuts) {
     Stage stage(state.timer, state.interrupter, "joint cuts", false);
     JointOptions options = state.parameters.jointOptions;
     options.sigmaMin = state.parameters.sigmaMin;
     const std::vector<JointCandidate> found =
-        detectJoints(state.skeleton, state.points, state.plan.cutNodes, options, state.interrupter);
+        detectJoints(state.skeleton, state.points, existingCuts, options, state.interrupter);
     std::vector<std::uint32_t> jointNodes;
     for (const JointCandidate& c : found) {
         JointCandidateInfo info;
@@ -268,11 +275,13 @@ void releaseSkeletonData(ObjectState& state) {
 void labelObjectSurface(ObjectState& state) {
     Stage stage(state.timer, state.interrupter, "labelling", false);
     // Joint cuts part limbs into pieces (a hand, a forearm) that are often
-    // smaller than tau, the junction rule's smallest part: with --joints the
-    // smallest segment is a fraction of tau instead (docs/algorithm.md, Joints).
+    // smaller than tau, the junction rule's smallest part: on the joint level
+    // the smallest segment is a fraction of tau instead (docs/algorithm.md,
+    // Joints). The top level is the joint level with --joints and one tau.
     const SegmentationParameters& p = state.parameters;
-    const double smallest =
-        p.joints ? p.jointOptions.minSegmentTauFraction * state.out.tauArea : state.out.tauArea;
+    const double smallest = p.joints && p.finerTaus.empty()
+                                ? p.jointOptions.minSegmentTauFraction * state.out.tauArea
+                                : state.out.tauArea;
     state.segments =
         labelSurface(state.graph, state.cutLoops, std::max(smallest, state.out.noiseArea));
     throwIfInterrupted(state.interrupter);
@@ -311,12 +320,17 @@ void runObjectStages(ObjectState& state, const MaskVolume& mask,
             LevelClock clock(state.coarsestSeconds);
             buildObjectSkeletonGraph(state);
             placeObjectCuts(state);
-            if (state.parameters.joints) placeJointCuts(state);
+            // With one tau the joint level is the top-level result; with a
+            // list it is placed below the finest level (placeFinerLevelCuts).
+            if (state.parameters.joints && state.parameters.finerTaus.empty())
+                placeJointCuts(state, state.plan.cutNodes);
         }
         recordSkeleton(state);
-        if (!state.finerLevels.empty()) placeFinerLevelCuts(state);
+        if (!state.parameters.finerTaus.empty()) placeFinerLevelCuts(state);
         releaseSkeletonData(state);
     }
+    if (state.parameters.joints && state.parameters.finerTaus.empty())
+        splitSingleTauJointLevels(state);
     {
         LevelClock clock(state.coarsestSeconds);
         labelObjectSurface(state);

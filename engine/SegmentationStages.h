@@ -44,8 +44,8 @@
 
 namespace skelseg {
 
-/// One finer level of a hierarchy run, for one object
-/// (engine/SegmentationLevels.h).
+/// One level of a hierarchy run other than the top-level one, for one
+/// object (engine/SegmentationLevels.h).
 struct ObjectLevelWork {
     double tauArea = 0.0;
     double noiseArea = 0.0;
@@ -53,6 +53,7 @@ struct ObjectLevelWork {
     std::vector<std::vector<std::uint32_t>> cutLoops;
     SurfaceSegments segments;           // nested in the next coarser level's
     std::vector<std::uint32_t> parent;  // per segment: segment at the next coarser level
+                                        // (empty at the coarsest)
     std::uint64_t movedNodes = 0;       // nodes the nesting repair moved
     Volume<std::uint16_t> localLabels;  // as ObjectState::localLabels
     LevelSeconds seconds;
@@ -91,9 +92,19 @@ struct ObjectState {
     SurfaceSegments segments;                          // labelling: boundary segments
     Volume<std::uint16_t> localLabels;  // interior labels: local segment + 1, 0 outside
 
-    /// Hierarchy runs: one entry per finer level, finest first (empty
-    /// otherwise); the fields above are the coarsest level's.
+    /// Hierarchy runs: one entry per level of SegmentationResult::
+    /// finerLevels, finest first (empty otherwise): with --joints the joint
+    /// level first, then the junction-rule levels finer than the top-level
+    /// fields above (which are the coarsest level's; with --joints and a
+    /// single tau they are the joint level, and the junction-rule level is
+    /// the last entry).
     std::vector<ObjectLevelWork> finerLevels;
+    /// Index in finerLevels of the finest junction-rule level below the top.
+    std::size_t firstJunctionLevel() const { return parameters.joints ? 1 : 0; }
+    /// One past the last junction-rule level below the top.
+    std::size_t endJunctionLevels() const {
+        return firstJunctionLevel() + parameters.finerTaus.size();
+    }
     LevelSeconds coarsestSeconds;  // the coarsest level's per-level stages
 
     /// The object's part of the result (counts, skeleton, cuts; global
@@ -125,10 +136,11 @@ void measureObjectSkeleton(ObjectState& state);
 void buildObjectSkeletonGraph(ObjectState& state);
 /// The junction rule's cuts, each as its path set and as an ordered loop.
 void placeObjectCuts(ObjectState& state);
-/// Cuts at joints inside parts (narrowings and bends along a branch), after
-/// the junction rule's cuts; runs only when parameters.joints is set. Its
-/// cuts follow the junction rule's in cutLoops, with kind Joint.
-void placeJointCuts(ObjectState& state);
+/// Cuts at joints inside parts (narrowings and bends along a branch) on the
+/// current skeleton, at least a few radii from the skeleton nodes
+/// `existingCuts`; runs only when parameters.joints is set. Its cuts follow
+/// the cuts already in cutLoops, with kind Joint.
+void placeJointCuts(ObjectState& state, const std::vector<std::uint32_t>& existingCuts);
 /// Boundary segments between the cut loops.
 void labelObjectSurface(ObjectState& state);
 /// Every object voxel takes the segment of its feature voxel.

@@ -171,10 +171,6 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
     // exhaustive search (the CLI refuses an explicit band with a list).
     SegmentationParameters p = requested;
     if (!p.finerTaus.empty()) p.skeletonSearch = SkeletonSearch::Exhaustive;
-    // Joint cuts belong below the finest level of a hierarchy; that level is
-    // not built yet (docs/algorithm.md, joints), so the two are not combined.
-    if (!p.finerTaus.empty() && p.joints)
-        throw UsageError("--joints takes a single --tau, not a list of levels");
     StageTimer localTimer;
     StageTimer& timer = timerIn ? *timerIn : localTimer;
     SegmentationResult result;
@@ -182,6 +178,10 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
     result.labels = LabelVolume(dims, 0);
     result.labels.geometry = mask.geometry;
     result.tau = p.tau;
+    // --joints with one tau: the top-level result is the joint level as a
+    // run without levels gives it; the hierarchy is the nested joint level
+    // and the junction-rule level (engine/SegmentationLevels.h).
+    result.topIsCoarsestLevel = !(p.joints && p.finerTaus.empty());
 
     ConnectedObjects found;
     {
@@ -206,8 +206,13 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
         result.warnings.push_back("the volume holds no object voxels: no segments");
 
     std::vector<ObjectLabels> objectLabels;
-    // Per finer level (finest first), per object: the same for that level.
-    const std::size_t finerCount = p.finerTaus.size();
+    // Per level below the top (finest first), per object: the same for that
+    // level. With --joints the joint level comes first, at the finest tau.
+    std::vector<TauSpec> finerTaus;
+    if (p.joints) finerTaus.push_back(p.finerTaus.empty() ? p.tau : p.finerTaus.front());
+    finerTaus.insert(finerTaus.end(), p.finerTaus.begin(), p.finerTaus.end());
+    if (!result.topIsCoarsestLevel) finerTaus.push_back(p.tau);
+    const std::size_t finerCount = finerTaus.size();
     std::vector<std::vector<ObjectLabels>> finerLabels(finerCount);
     std::vector<std::vector<std::vector<std::uint32_t>>> finerParents(finerCount);
     std::vector<std::uint64_t> movedNodes(finerCount, 0);
@@ -240,22 +245,26 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
             for (std::uint16_t label : globalOf[o]) result.objects[o].labels.push_back(label);
     }
     // Finer levels from the coarsest down: each level's parents are labels
-    // of the one above it.
+    // of the one above it (none for a coarsest level that is not the top).
     result.finerLevels.resize(finerCount);
     for (std::size_t k = finerCount; k-- > 0;) {
         Stage stage(timer, interrupter, "label volume", false);
         SegmentationLevel& level = result.finerLevels[k];
-        level.tau = p.finerTaus[k];
+        level.tau = finerTaus[k];
+        level.joints = p.joints && k == 0;
+        const bool coarsest = !result.topIsCoarsestLevel && k + 1 == finerCount;
         level.labels = LabelVolume(dims, 0);
         level.labels.geometry = mask.geometry;
         level.seconds = finerSeconds[k];
         level.nestingMovedNodes = movedNodes[k];
         const std::vector<std::vector<std::uint16_t>> levelGlobalOf =
             assembleLevelLabels(finerLabels[k], level.labels, level.segments);
-        level.parentLabel.assign(level.segments.size(), 0);
+        if (!coarsest) level.parentLabel.assign(level.segments.size(), 0);
         for (std::size_t o = 0; o < levelGlobalOf.size(); ++o) {
-            for (std::size_t s = 0; s < levelGlobalOf[o].size(); ++s)
-                level.parentLabel[levelGlobalOf[o][s] - 1u] = globalOf[o][finerParents[k][o][s]];
+            if (!coarsest)
+                for (std::size_t s = 0; s < levelGlobalOf[o].size(); ++s)
+                    level.parentLabel[levelGlobalOf[o][s] - 1u] =
+                        globalOf[o][finerParents[k][o][s]];
             result.objects[o].finerLevels[k].labels = levelGlobalOf[o];
         }
         globalOf = levelGlobalOf;

@@ -64,8 +64,11 @@ struct SegmentationParameters {
     /// finer levels' taus, finest first; `tau` is the coarsest. Empty: one
     /// level, exactly the run without levels.
     std::vector<TauSpec> finerTaus;
-    /// Every level's tau, finest first (finerTaus, then tau).
+    /// Every junction-rule level's tau, finest first (finerTaus, then tau).
     std::vector<TauSpec> levelTaus() const;
+    /// Every level of the run: the junction-rule levels, and with `joints`
+    /// the joint level below the finest of them.
+    std::size_t levelCount() const { return finerTaus.size() + 1 + (joints ? 1 : 0); }
     /// The taus as the command line takes them, finest first: "1%,3%,9%";
     /// "3%" for a single level.
     std::string tauListString() const;
@@ -92,8 +95,11 @@ struct SegmentationParameters {
     int consecutiveLevels = 3;
     /// Objects with fewer voxels are one segment without a skeleton.
     std::uint64_t minObjectVoxels = 27;
-    /// Also cut inside parts at joints (kernels/JointDetection.h), after the
-    /// junction rule's cuts. jointOptions.sigmaMin is replaced by sigmaMin.
+    /// Also cut inside parts at joints (kernels/JointDetection.h): one more
+    /// level, below the finest junction-rule level, whose cuts are that
+    /// level's and the joint cuts found on its skeleton. With a single tau
+    /// the top-level result is the joint level (SegmentationResult::
+    /// topIsCoarsestLevel). jointOptions.sigmaMin is replaced by sigmaMin.
     bool joints = false;
     JointOptions jointOptions;
 };
@@ -135,7 +141,7 @@ struct LevelSeconds {
     double cpu = 0.0;
 };
 
-/// One object at one finer level of a hierarchy run.
+/// One object at one level of a hierarchy run other than the top-level one.
 struct ObjectLevel {
     double tauArea = 0.0;
     double noiseArea = 0.0;
@@ -191,8 +197,16 @@ struct ObjectSegmentation {
     std::vector<CutInfo> cuts;  // one per cut loop
     std::vector<JointCandidateInfo> jointCandidates;
     std::vector<std::uint16_t> labels;  // global labels of this object's segments
-    /// Hierarchy runs: the object at each finer level, finest first.
+    /// Hierarchy runs: the object at each level of SegmentationResult::
+    /// finerLevels, finest first.
     std::vector<ObjectLevel> finerLevels;
+    /// Level k's cut loops and tau area (k past finerLevels: the top level's).
+    const std::vector<std::vector<std::array<int, 3>>>& levelCutLoops(std::size_t k) const {
+        return k < finerLevels.size() ? finerLevels[k].cutLoops : cutLoops;
+    }
+    double levelTauArea(std::size_t k) const {
+        return k < finerLevels.size() ? finerLevels[k].tauArea : tauArea;
+    }
 };
 
 struct SegmentInfo {
@@ -209,14 +223,17 @@ struct IslandSummary {
     double noiseArea = 0.0;  // the island threshold: the largest object's noise area
 };
 
-/// A finer level of a hierarchy run: its labels nest in the next coarser
-/// level's (every segment inside exactly one coarser segment).
+/// A level of a hierarchy run other than the top-level one: its labels nest
+/// in the next coarser level's (every segment inside exactly one coarser
+/// segment).
 struct SegmentationLevel {
+    /// The joint level's tau is the finest junction-rule level's.
     TauSpec tau;
+    bool joints = false;                // the joint level (--joints), the finest
     LabelVolume labels;                 // same grid and geometry as the input
     std::vector<SegmentInfo> segments;  // by label
     /// By label - 1: the label of the segment at the next coarser level
-    /// that holds this one.
+    /// that holds this one; empty at the coarsest level.
     std::vector<std::uint16_t> parentLabel;
     LevelSeconds seconds;
     std::uint64_t nestingMovedNodes = 0;  // boundary nodes the nesting repair moved
@@ -224,11 +241,42 @@ struct SegmentationLevel {
 
 struct SegmentationResult {
     LabelVolume labels;  // same grid and geometry as the input
-    /// Hierarchy runs: the finer levels, finest first; `labels` and
-    /// `segments` are the coarsest level.
+    /// Hierarchy runs: the levels below the top-level result, finest first;
+    /// `labels` and `segments` are the coarsest level's.
     std::vector<SegmentationLevel> finerLevels;
-    LevelSeconds coarsestLevelSeconds;        // the coarsest level's per-level stages
-    TauSpec tau;                              // the coarsest level's tau
+    /// false for --joints with a single tau: the top-level fields are then
+    /// the joint level labelled as a run without levels labels it (before
+    /// the nesting repair), and finerLevels holds every level of the
+    /// hierarchy, the joint level (nested) first and the junction-rule level
+    /// last (docs/outputs.md).
+    bool topIsCoarsestLevel = true;
+    LevelSeconds coarsestLevelSeconds;  // the top-level result's per-level stages
+    TauSpec tau;                        // the top-level result's tau
+
+    /// The levels of the hierarchy, finest first: 1 without levels.
+    std::size_t levelCount() const { return finerLevels.size() + (topIsCoarsestLevel ? 1 : 0); }
+    bool isCoarsestLevel(std::size_t k) const { return k + 1 == levelCount(); }
+    /// Level k's data; the coarsest is the top-level result unless
+    /// topIsCoarsestLevel is false.
+    const TauSpec& levelTau(std::size_t k) const {
+        return k < finerLevels.size() ? finerLevels[k].tau : tau;
+    }
+    const LabelVolume& levelLabels(std::size_t k) const {
+        return k < finerLevels.size() ? finerLevels[k].labels : labels;
+    }
+    const std::vector<SegmentInfo>& levelSegments(std::size_t k) const {
+        return k < finerLevels.size() ? finerLevels[k].segments : segments;
+    }
+    const LevelSeconds& levelSeconds(std::size_t k) const {
+        return k < finerLevels.size() ? finerLevels[k].seconds : coarsestLevelSeconds;
+    }
+    bool levelIsJoints(std::size_t k) const {
+        return k < finerLevels.size() && finerLevels[k].joints;
+    }
+    /// The label at level k + 1 of level k's segment `label`; 0 at the coarsest.
+    std::uint16_t parentLabel(std::size_t k, std::uint32_t label) const {
+        return isCoarsestLevel(k) ? 0 : finerLevels[k].parentLabel[label - 1u];
+    }
     std::vector<ObjectSegmentation> objects;  // islands excluded
     IslandSummary islands;
     std::vector<SegmentInfo> segments;  // by label

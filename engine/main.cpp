@@ -83,8 +83,6 @@ struct SegmentCli {
                     "--skeleton-search band takes a single --tau, not a list of levels");
             options.parameters.skeletonSearch = skelseg::SkeletonSearch::Exhaustive;
         }
-        if (!options.parameters.finerTaus.empty() && options.parameters.joints)
-            throw skelseg::UsageError("--joints takes a single --tau, not a list of levels");
     }
 };
 

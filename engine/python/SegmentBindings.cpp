@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "engine/LevelOutputs.h"
 #include "engine/ResultReport.h"
 #include "engine/SegmentCommand.h"
 #include "engine/Stage.h"
@@ -57,7 +58,7 @@ struct CallRecord {
           memoryLimit(options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit()),
           interrupter(options.timeLimitSeconds) {}
 
-    int levels() const { return int(parameters.finerTaus.size()) + 1; }
+    int levels() const { return int(parameters.levelCount()); }
 
     void checkMemory(const std::string& name, std::uint64_t estimate, const std::string& detail) {
         estimatedMemory = std::max(estimatedMemory, estimate);
@@ -68,7 +69,8 @@ struct CallRecord {
     }
 
     py::dict finish(SegmentationResult&& result, nlohmann::json input,
-                    std::optional<std::uint32_t> faceSegments = std::nullopt) {
+                    std::optional<std::uint32_t> faceSegments = std::nullopt,
+                    const std::vector<std::vector<std::uint32_t>>* levelFaceLabels = nullptr) {
         for (const auto& w : result.warnings) warnings.push_back(w);
         ResultReportContext context;
         context.input = std::move(input);
@@ -87,23 +89,45 @@ struct CallRecord {
         out["skeleton"] = skeletonArrays(result);
         out["cuts"] = cutArrays(result);
         out["warnings"] = py::cast(warnings);
-        // Every level, finest first; the coarsest's labels are "labels".
+        // Every level, finest first; labels None: the top-level "labels".
+        // Mesh inputs add each level's face labels (segmentation.seg's).
+        const auto levelLoops = levelCutLoops(result);
         py::list levels;
-        for (SegmentationLevel& level : result.finerLevels) {
+        for (std::size_t k = 0; k < result.levelCount(); ++k) {
             py::dict entry;
-            entry["tau"] = level.tau.toString();
-            entry["segments"] = level.segments.size();
-            entry["labels"] = labelArray(std::move(level.labels));
-            entry["parents"] =
-                arrayOwning(std::move(level.parentLabel), {py::ssize_t(level.segments.size())});
+            entry["tau"] = result.levelTau(k).toString();
+            entry["joints"] = result.levelIsJoints(k);
+            entry["segments"] = result.levelSegments(k).size();
+            py::list cuts;
+            for (const auto& loop : levelLoops[k]) {
+                std::vector<double> points;
+                points.reserve(3 * loop.size());
+                for (const auto& p : loop) points.insert(points.end(), p.begin(), p.end());
+                cuts.append(arrayOwning(std::move(points), {py::ssize_t(loop.size()), 3}));
+            }
+            entry["cuts"] = cuts;
+            if (k < result.finerLevels.size()) {
+                SegmentationLevel& level = result.finerLevels[k];
+                const auto segmentCount = py::ssize_t(level.segments.size());
+                entry["labels"] = labelArray(std::move(level.labels));
+                entry["parents"] =
+                    level.parentLabel.empty()
+                        ? py::object(py::none())
+                        : py::object(arrayOwning(std::move(level.parentLabel), {segmentCount}));
+            } else {
+                entry["labels"] = py::none();
+                entry["parents"] = py::none();
+            }
+            if (levelFaceLabels && k < levelFaceLabels->size()) {
+                std::vector<std::int32_t> faces((*levelFaceLabels)[k].begin(),
+                                                (*levelFaceLabels)[k].end());
+                const auto faceCount = py::ssize_t(faces.size());
+                entry["face_labels"] = arrayOwning(std::move(faces), {faceCount});
+            } else {
+                entry["face_labels"] = py::none();
+            }
             levels.append(entry);
         }
-        py::dict coarsest;
-        coarsest["tau"] = parameters.tau.toString();
-        coarsest["segments"] = result.segments.size();
-        coarsest["labels"] = py::none();
-        coarsest["parents"] = py::none();
-        levels.append(coarsest);
         out["levels"] = levels;
         out["labels"] = labelArray(std::move(result.labels));
         return out;
@@ -264,6 +288,7 @@ py::dict segmentMeshArrays(const py::array_t<double>& vertices,
     MeshDiagnostics diagnostics{};
     SegmentationResult result;
     std::vector<std::uint32_t> faceLabels;
+    LevelOutputs levels;
     runEngineCall(
         [&] {
             // As the CLI: the voxeliser's refusals name the input.
@@ -303,8 +328,19 @@ py::dict segmentMeshArrays(const py::array_t<double>& vertices,
                 estimateSegmentationMemory(mask.dims(), objectVoxels, call.threads, call.levels()),
                 "");
             result = segmentVolume(mask, call.parameters, call.interrupter, &call.timer);
-            Stage t(call.timer, call.interrupter, "face labels", true);
-            faceLabels = labelFaces(mesh, result.labels, {}, call.interrupter);
+            FaceLabelStatistics statistics;
+            {
+                Stage t(call.timer, call.interrupter, "face labels", true);
+                faceLabels = labelFaces(mesh, result.labels, {}, call.interrupter, &statistics);
+            }
+            if (result.levelCount() > 1) {
+                // As the CLI's levels/k/segmentation.seg: nested level to level.
+                Stage t(call.timer, call.interrupter, "level face labels", true);
+                labelLevelFaces(mesh, result, faceLabels, statistics.voxelLabels, levels,
+                                call.interrupter);
+            } else {
+                levels.faceLabels = {faceLabels};
+            }
         },
         call.interrupter, options.threads, options.progress);
 
@@ -320,7 +356,8 @@ py::dict segmentMeshArrays(const py::array_t<double>& vertices,
                             {"mesh_degenerate_faces", diagnostics.degenerateFaces}};
     std::vector<std::int32_t> labels(faceLabels.begin(), faceLabels.end());
     const auto faceCount = py::ssize_t(labels.size());
-    py::dict out = call.finish(std::move(result), std::move(input), faceSegments);
+    py::dict out =
+        call.finish(std::move(result), std::move(input), faceSegments, &levels.faceLabels);
     out["face_labels"] = arrayOwning(std::move(labels), {faceCount});
     return out;
 }

@@ -9,8 +9,7 @@
 #include <iostream>
 #include <map>
 
-#include "io/mesh/SegFile.h"
-#include "io/volume/NrrdIO.h"
+#include "tests/engine/LevelNestingChecks.h"
 #include "tests/engine/RobustnessHelpers.h"
 #include "tests/support/SceneSupport.h"
 #include "tests/support/TempDir.h"
@@ -26,32 +25,6 @@ SegmentationParameters threeLevels() {
     p.finerTaus = {TauSpec::parse("1%"), TauSpec::parse("3%")};
     p.tau = TauSpec::parse("9%");
     return p;
-}
-
-/// Every voxel's fine label maps to its coarse label through the parents;
-/// every coarse segment has a child.
-void expectNested(const LabelVolume& fine, const std::vector<std::uint16_t>& parentLabel,
-                  std::size_t fineSegments, const LabelVolume& coarse, std::size_t coarseSegments,
-                  const std::string& what) {
-    ASSERT_EQ(fine.dims(), coarse.dims()) << what;
-    ASSERT_EQ(parentLabel.size(), fineSegments) << what;
-    std::vector<std::uint8_t> hasChild(coarseSegments + 1, 0);
-    std::size_t mismatches = 0;
-    for (std::size_t v = 0; v < fine.size(); ++v) {
-        const std::uint16_t f = fine[v], c = coarse[v];
-        if ((f == 0) != (c == 0)) {
-            ++mismatches;
-            continue;
-        }
-        if (!f) continue;
-        ASSERT_LE(f, fineSegments) << what;
-        if (parentLabel[f - 1u] != c) ++mismatches;
-        hasChild[c] = 1;
-    }
-    EXPECT_EQ(mismatches, 0u) << what
-                              << ": voxels whose fine segment is not inside their coarse one";
-    for (std::size_t c = 1; c <= coarseSegments; ++c)
-        EXPECT_TRUE(hasChild[c]) << what << ": coarse segment " << c << " has no child";
 }
 
 /// The cut polylines of one object at a level.
@@ -116,47 +89,6 @@ TEST(SceneLevels, TheLevelsDifferOnTheFigure) {
     EXPECT_GT(run.result.finerLevels[0].segments.size(), run.result.segments.size());
 }
 
-/// hierarchy.json, levels/k/labels.nrrd and (meshes) levels/k/segmentation.seg
-/// of a CLI run agree: parents map every voxel and every face.
-void expectWrittenLevelsNest(const std::filesystem::path& out, bool isMesh) {
-    const json hierarchy = json::parse(fileBytes(out / "hierarchy.json"));
-    const json& levels = hierarchy["levels"];
-    ASSERT_EQ(levels.size(), 3u);
-    EXPECT_EQ(levels[0]["tau"], "1%");
-    EXPECT_EQ(levels[2]["tau"], "9%");
-    for (std::size_t k = 0; k + 1 < levels.size(); ++k) {
-        const std::string what = out.string() + " level " + std::to_string(k);
-        const LabelVolume fine = readNrrdLabels(out / "levels" / std::to_string(k) / "labels.nrrd");
-        const LabelVolume coarse =
-            readNrrdLabels(out / "levels" / std::to_string(k + 1) / "labels.nrrd");
-        std::vector<std::uint16_t> parent;
-        std::map<std::int64_t, std::int64_t> parentOfSegLabel;
-        std::map<std::int64_t, std::int64_t> coarseSegLabelOfId;
-        for (const json& s : levels[k + 1]["segments"])
-            if (isMesh && !s["seg_label"].is_null())
-                coarseSegLabelOfId[s["id"].get<std::int64_t>()] = s["seg_label"];
-        for (const json& s : levels[k]["segments"]) {
-            EXPECT_EQ(s["id"].get<std::size_t>(), parent.size() + 1) << what;
-            parent.push_back(s["parent"].get<std::uint16_t>());
-            if (isMesh && !s["seg_label"].is_null())
-                parentOfSegLabel[s["seg_label"]] = coarseSegLabelOfId.at(s["parent"]);
-        }
-        EXPECT_EQ(levels[k]["segment_count"].get<std::size_t>(), parent.size());
-        expectNested(fine, parent, parent.size(), coarse, levels[k + 1]["segment_count"], what);
-        if (!isMesh) continue;
-        const std::vector<std::int64_t> fineFaces =
-            readSeg(out / "levels" / std::to_string(k) / "segmentation.seg");
-        const std::vector<std::int64_t> coarseFaces =
-            readSeg(out / "levels" / std::to_string(k + 1) / "segmentation.seg");
-        ASSERT_EQ(fineFaces.size(), coarseFaces.size()) << what;
-        std::size_t mismatches = 0;
-        for (std::size_t f = 0; f < fineFaces.size(); ++f)
-            mismatches += parentOfSegLabel.at(fineFaces[f]) != coarseFaces[f];
-        EXPECT_EQ(mismatches, 0u) << what
-                                  << ": faces whose fine segment is not in their coarse one";
-    }
-}
-
 TEST(SceneLevels, SharedPsbModelNestsVoxelByVoxelAndFaceByFace) {
     if (!hasSharedData()) GTEST_SKIP() << sharedDataDir() << " absent";
     for (const char* model : {"1", "181"}) {
@@ -167,7 +99,7 @@ TEST(SceneLevels, SharedPsbModelNestsVoxelByVoxelAndFaceByFace) {
         const auto run = runSegment(mesh, dir / "levels",
                                     {"--no-preview", "--resolution", "128", "--tau", "3%,9%,1%"});
         ASSERT_EQ(run.exitCode, 0) << run.describe();
-        expectWrittenLevelsNest(dir / "levels", true);
+        expectWrittenLevelsNest(dir / "levels", true, {"1%", "3%", "9%"});
         // The top level is the coarsest: the run with --tau 9% alone, byte for byte.
         const auto alone =
             runSegment(mesh, dir / "alone", {"--no-preview", "--resolution", "128", "--tau", "9%"});
@@ -197,7 +129,7 @@ TEST(SceneLevels, GeneratedVolumeWritesNestedLevels) {
     const auto run =
         runSegment(dir / "figure.nrrd", dir / "out", {"--no-preview", "--tau", "9%,1%,3%"});
     ASSERT_EQ(run.exitCode, 0) << run.describe();
-    expectWrittenLevelsNest(dir / "out", false);
+    expectWrittenLevelsNest(dir / "out", false, {"1%", "3%", "9%"});
     EXPECT_FALSE(std::filesystem::exists(dir / "out" / "levels" / "0" / "segmentation.seg"));
     // A later single-tau run with --force leaves no levels of the earlier one.
     const auto again = runSegment(dir / "figure.nrrd", dir / "out", {"--no-preview", "--force"});
@@ -218,7 +150,7 @@ TEST(SceneLevels, ATimeBudgetKeepsTheLevelsNested) {
     const auto run = runSegment(dir / "figure.nrrd", dir / "out",
                                 {"--no-preview", "--tau", "1%,3%,9%", "--time-budget", "1"});
     ASSERT_EQ(run.exitCode, 0) << run.describe();
-    expectWrittenLevelsNest(dir / "out", false);
+    expectWrittenLevelsNest(dir / "out", false, {"1%", "3%", "9%"});
     // On a machine fast enough to fit the whole grid, the refinement is not
     // exercised; the nesting above still has to hold.
     const json report = readReport(dir / "out");

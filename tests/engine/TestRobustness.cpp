@@ -576,9 +576,6 @@ INSTANTIATE_TEST_SUITE_P(
                   {"segment", "{input}", "-o", "{out}", "--tau", "150%"},
                   "--tau"},
         UsageCase{"tau_negative", {"segment", "{input}", "-o", "{out}", "--tau", "-1"}, ""},
-        UsageCase{"joints_with_a_tau_list",
-                  {"segment", "{input}", "-o", "{out}", "--tau", "1%,3%", "--joints"},
-                  "--joints takes a single --tau"},
         UsageCase{
             "sigma_out_of_range", {"segment", "{input}", "-o", "{out}", "--sigma-min", "2"}, ""},
         UsageCase{"threads_zero", {"segment", "{input}", "-o", "{out}", "--threads", "0"}, ""},

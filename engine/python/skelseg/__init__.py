@@ -102,8 +102,9 @@ class SegmentationResult:
         report: dict with the content of the CLI's report.json ("input"
             describes the array or mesh instead of a file).
         n_segments: the number of segments K.
-        levels: every level, finest first (Level); one for a single tau. The
-            last is the coarsest, whose labels are ``labels``.
+        levels: every level, finest first (Level); one for a single tau
+            without joints. The last is the coarsest, whose labels are
+            ``labels`` except with joints=True and a single tau (docs/python.md).
     """
 
     labels: np.ndarray
@@ -124,22 +125,33 @@ class SegmentationResult:
 
 @dataclasses.dataclass(frozen=True, eq=False)
 class Level:
-    """One level of a hierarchy run (tau=[...]), as the CLI's levels/k/.
+    """One level of a hierarchy run (tau=[...] or joints=True), as the CLI's levels/k/.
 
     Attributes:
-        tau: the level's tau as given ("1%").
+        tau: the level's tau as given ("1%"); the joint level has the finest
+            junction-rule level's.
         labels: uint16 labels of the level (the mask's shape), nested: every
             segment lies inside one segment of the next coarser level.
         parents: uint16 array of n_segments entries, parents[l - 1] = the
             label at the next coarser level of label l (hierarchy.json's
             parent); None at the coarsest level.
         n_segments: the number of segments at this level.
+        cuts: the level's cut loops, (K, 3) float64 arrays in world (mesh)
+            coordinates: its own and every coarser level's (levels/k/cuts.ply).
+        face_labels: segment_mesh() only: int32, one label per input face,
+            0..F-1 (levels/k/segmentation.seg); nested like ``labels``:
+            faces with one label here have one label at the next coarser
+            level. None for segment().
+        joints: True for the joint level (joints=True), the finest.
     """
 
     tau: str
     labels: np.ndarray
     parents: Optional[np.ndarray]
     n_segments: int
+    cuts: List[np.ndarray] = dataclasses.field(default_factory=list)
+    face_labels: Optional[np.ndarray] = None
+    joints: bool = False
 
 
 @dataclasses.dataclass(frozen=True, eq=False, repr=False)
@@ -257,7 +269,9 @@ def _result(raw: dict, cls: type = SegmentationResult, **extra: Any) -> Segmenta
         warnings.warn(message, SkelsegWarning, stacklevel=3)
     levels = tuple(Level(tau=level["tau"],
                          labels=raw["labels"] if level["labels"] is None else level["labels"],
-                         parents=level["parents"], n_segments=int(level["segments"]))
+                         parents=level["parents"], n_segments=int(level["segments"]),
+                         cuts=list(level["cuts"]), face_labels=level["face_labels"],
+                         joints=bool(level["joints"]))
                    for level in raw["levels"])
     return cls(labels=raw["labels"], skeleton=Skeleton(**raw["skeleton"]), cuts=raw["cuts"],
                report=raw["report"], levels=levels, **extra)
@@ -287,7 +301,9 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
             loops are the cuts: the RT07 baseline).
         joints: also cut inside parts where a limb narrows clearly between
             two wider stretches (elbows, knees, necks), like the CLI's
-            --joints (with its default thresholds); each cut's kind is in
+            --joints (with its default thresholds): one more level, below
+            the finest (.levels[0]); with a single tau the result is that
+            joint level, as the CLI's top-level files. Each cut's kind is in
             report["cuts"].
         spacing: voxel size along the three axes; scales the skeleton's and
             the cuts' coordinates (the segmentation works in voxels, as the CLI).
@@ -354,7 +370,9 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
     Returns:
         MeshSegmentationResult: .face_labels (int32, one per input face in
         input order, 0..K-1) beside .labels (the voxel labels), .skeleton and
-        .cuts (in the mesh's coordinates), .report, .n_segments.
+        .cuts (in the mesh's coordinates), .report, .n_segments, and
+        .levels, each with its own .face_labels and .cuts (a tau list or
+        joints=True: nested level to level, as the CLI's levels/k/).
 
     Raises:
         ValueError: bad arrays (shapes, indices out of range, non-finite

@@ -30,6 +30,9 @@ class Level:
     labels: npt.NDArray[np.uint16]
     parents: Optional[npt.NDArray[np.uint16]]
     n_segments: int
+    cuts: List[npt.NDArray[np.float64]]
+    face_labels: Optional[npt.NDArray[np.int32]]
+    joints: bool
 
 class SegmentationResult:
     labels: npt.NDArray[np.uint16]
