@@ -59,6 +59,9 @@ struct SegmentCommandOptions {
     bool force = false;                // replace earlier results in OUTDIR
     std::uint64_t maxMemoryBytes = 0;  // 0: default share of physical memory
     bool writePreview = true;
+    /// Hierarchy runs: also levels/k/preview.png for every level (each costs
+    /// a preview, so off by default).
+    bool writeLevelPreviews = false;
     bool writeVdb = true;
 };
 

@@ -136,6 +136,20 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
         scene.triangles = std::move(surface.triangles);
         scene.triangleLabels = std::move(surface.triangleLabels);
     }
+    // Hierarchy runs: every level on the one surface, labelled as labels.nrrd.
+    std::vector<std::vector<std::uint32_t>> levelLabels;
+    if (result.levelCount() > 1) {
+        if (source.isMesh()) {
+            const TriangleMesh& mesh = *source.mesh;
+            levelLabels.resize(shape.levels.faceVoxelLabels.size());
+            for (std::size_t k = 0; k < levelLabels.size(); ++k)
+                for (std::uint32_t face : mesh.triangleFace)
+                    levelLabels[k].push_back(shape.levels.faceVoxelLabels[k][face]);
+        } else {
+            levelLabels =
+                levelTriangleLabels(result, scene.vertices, scene.triangles, scene.triangleLabels);
+        }
+    }
     {
         // Inside the surfaces stage (whose time includes it), as its own too.
         Stage views(timer, interrupter, "write segments.glb, viewer.html", true);
@@ -152,18 +166,7 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
                                  {},
                                  nullptr};
         if (result.levelCount() > 1) {
-            // Every level on the one surface, labelled as labels.nrrd.
-            if (source.isMesh()) {
-                const TriangleMesh& mesh = *source.mesh;
-                inputs.levelTriangleLabels.resize(shape.levels.faceVoxelLabels.size());
-                for (std::size_t k = 0; k < inputs.levelTriangleLabels.size(); ++k)
-                    for (std::uint32_t face : mesh.triangleFace)
-                        inputs.levelTriangleLabels[k].push_back(
-                            shape.levels.faceVoxelLabels[k][face]);
-            } else {
-                inputs.levelTriangleLabels = levelTriangleLabels(
-                    result, scene.vertices, scene.triangles, scene.triangleLabels);
-            }
+            inputs.levelTriangleLabels = levelLabels;
             inputs.levelCutLoops = &shape.levels.cutLoops;
         }
         writeSegmentViews(out, inputs);
@@ -182,6 +185,30 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
         (options.parameters.mode == CutMode::Junctions ? "   mode: junctions (RT07)" : "");
     PreviewOptions previewOptions;  // default: the longest side of the shape points up
     renderPreviewPng(out.stagingPath("preview.png"), scene, previewOptions);
+    if (!options.writeLevelPreviews || levelLabels.empty()) return;
+    // levels/k/preview.png: the same views of each level. Mesh faces take
+    // their segmentation.seg label + 1, as in the top-level preview.
+    for (std::size_t k = 0; k < levelLabels.size(); ++k) {
+        if (source.isMesh()) {
+            const TriangleMesh& mesh = *source.mesh;
+            for (std::size_t t = 0; t < scene.triangleLabels.size(); ++t)
+                scene.triangleLabels[t] = shape.levels.faceLabels[k][mesh.triangleFace[t]] + 1;
+        } else {
+            scene.triangleLabels = levelLabels[k];
+        }
+        scene.cutLoops = shape.levels.cutLoops[k];
+        scene.title = options.input.filename().string() + "   level " + std::to_string(k) +
+                      "   parts: " + std::to_string(result.levelSegments(k).size()) +
+                      "   tau: " + result.levelTau(k).toString() +
+                      (result.levelIsJoints(k) ? " + joints" : "");
+        const std::filesystem::path directory = out.stagingPath("levels") / std::to_string(k);
+        std::error_code ec;
+        std::filesystem::create_directories(directory, ec);  // writeLevels may be first
+        if (!std::filesystem::is_directory(directory))
+            throw OutputError(directory.string() + ": cannot create directory: " + ec.message());
+        renderPreviewPng(directory / "preview.png", scene, previewOptions);
+        throwIfInterrupted(interrupter);
+    }
 }
 
 }  // namespace skelseg

@@ -49,6 +49,8 @@ void writeSegmentViews(OutputDirectory& out, const SegmentViewInputs& inputs) {
                 level.cutLoops = (*inputs.levelCutLoops)[k];
                 scene.levels.push_back(std::move(level));
             }
+            // --joints with one tau: open at the joint level, the top-level files'.
+            if (!result.topIsCoarsestLevel) scene.openLevel = 0;
         }
         writeViewerHtml(out.stagingPath("viewer.html"), scene);
     };

@@ -172,6 +172,8 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
     command->add_flag("--quiet,-q", cli.quiet,
                       "No progress output (warnings and errors are still printed)");
     command->add_flag("!--no-preview", seg.writePreview, "Skip preview.png");
+    command->add_flag("--level-previews", seg.writeLevelPreviews,
+                      "Hierarchy runs (--tau list, --joints): also levels/k/preview.png per level");
 }
 
 }  // namespace

@@ -149,20 +149,22 @@ std::string viewerHtml(const ViewerScene& scene, const ViewerOptions& options) {
     std::vector<std::uint32_t> edges;
     for (const auto& e : scene.skeletonEdges) edges.insert(edges.end(), e.begin(), e.end());
 
-    const json data = {{"title", scene.title},
-                       {"facts", scene.facts},
-                       {"surface",
-                        {{"positions", base64Of(positions)},
-                         {"indices", base64Of(indices)},
-                         {"vertexStarts", vertexStarts},
-                         {"fullTriangles", fullTriangles},
-                         {"shownTriangles", indices.size() / 3}}},
-                       {"skeleton",
-                        {{"positions", base64Of(skeletonPositions)},
-                         {"edges", base64Of(edges)},
-                         {"sigma", base64Of(sigma)},
-                         {"rhoC", base64Of(rhoC)}}},
-                       {"levels", levels}};
+    json data = {{"title", scene.title},
+                 {"facts", scene.facts},
+                 {"surface",
+                  {{"positions", base64Of(positions)},
+                   {"indices", base64Of(indices)},
+                   {"vertexStarts", vertexStarts},
+                   {"fullTriangles", fullTriangles},
+                   {"shownTriangles", indices.size() / 3}}},
+                 {"skeleton",
+                  {{"positions", base64Of(skeletonPositions)},
+                   {"edges", base64Of(edges)},
+                   {"sigma", base64Of(sigma)},
+                   {"rhoC", base64Of(rhoC)}}},
+                 {"levels", levels}};
+    // Only when it is not the coarsest, so pages that open there keep their bytes.
+    if (scene.openLevel + 1 < scene.levels.size()) data["openLevel"] = scene.openLevel;
     // ensure_ascii: every non-ASCII character (U+2028 and U+2029 among them)
     // becomes a \u escape; invalid UTF-8 in a file name becomes U+FFFD.
     const std::string dumped = data.dump(-1, ' ', true, json::error_handler_t::replace);

@@ -65,6 +65,8 @@ struct ViewerScene {
     /// Finest level first; at least one. Levels must nest: triangles with the
     /// same label at level 0 share their label at every level.
     std::vector<ViewerLevel> levels;
+    /// The level the page opens at (past the last: the coarsest).
+    std::size_t openLevel = std::size_t(-1);
 };
 
 struct ViewerOptions {

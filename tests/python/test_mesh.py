@@ -116,3 +116,67 @@ def test_score_of_identical_partitions_is_zero_and_of_one_segment_is_not():
     assert len(whole.per_human) == 2
     with pytest.raises(ValueError):
         skelseg.score(labels, labels[:3])
+
+
+def assert_faces_nest(fine, coarse):
+    """Faces with one label at the finer level share one label at the coarser."""
+    pairs = np.unique(np.stack([fine, coarse], axis=1), axis=0)
+    assert len(np.unique(pairs[:, 0])) == len(pairs), "a fine face label spans coarse labels"
+
+
+@pytest.mark.parametrize("joints", [False, True])
+def test_mesh_levels_give_nested_face_labels_and_cuts_equal_to_the_cli(shapes, joints):
+    """tau=[...] on a mesh: per level face labels (levels/k/segmentation.seg)
+    and cut loops (levels/k/cuts.ply), nested level to level; joints=True adds
+    the joint level below the finest."""
+    off, _ = psb_model(1)
+    mesh = skelseg.read_mesh(off)
+    taus = ["1%", "3%", "9%"]
+    result = skelseg.segment_mesh(mesh.vertices, mesh.faces, triangle_face=mesh.triangle_face,
+                                  resolution=64, tau=taus, joints=joints)
+    assert len(result.levels) == len(taus) + (1 if joints else 0)
+    assert [level.joints for level in result.levels] == \
+        [joints] + [False] * (len(result.levels) - 1)
+    np.testing.assert_array_equal(result.levels[-1].face_labels, result.face_labels)
+    for k in range(len(result.levels) - 1):
+        fine, coarse = result.levels[k], result.levels[k + 1]
+        assert len(fine.face_labels) == mesh.face_count == len(coarse.face_labels)
+        assert_faces_nest(fine.face_labels, coarse.face_labels)
+        assert len(np.unique(fine.face_labels)) >= len(np.unique(coarse.face_labels))
+        # A coarser cut is a cut of every finer level.
+        fine_cuts = {c.tobytes() for c in fine.cuts}
+        assert all(c.tobytes() in fine_cuts for c in coarse.cuts)
+    assert len(np.unique(result.levels[0].face_labels)) > len(np.unique(result.face_labels))
+    extra = ("--joints",) if joints else ()
+    outdir, top = cli_face_labels(shapes, off, 64, "--tau", ",".join(taus), *extra)
+    np.testing.assert_array_equal(result.face_labels, top)
+    for k, level in enumerate(result.levels):
+        seg = skelseg.read_seg(outdir / "levels" / str(k) / "segmentation.seg")
+        np.testing.assert_array_equal(level.face_labels, seg)
+        assert len(level.cuts) == len(read_ply_loops(outdir / "levels" / str(k) / "cuts.ply"))
+
+
+def read_ply_loops(path):
+    """The loop indices of a cuts.ply (binary little-endian, as PlyWriter writes it)."""
+    data = path.read_bytes()
+    header, body = data.split(b"end_header\n", 1)
+    vertices = int([line for line in header.decode().splitlines()
+                    if line.startswith("element vertex")][0].split()[2])
+    records = np.frombuffer(body[:vertices * 16], dtype=[("xyz", "<f4", 3), ("cut", "<i4")])
+    return np.unique(records["cut"])
+
+
+def test_one_tau_with_joints_has_two_levels_and_the_joint_level_on_top(shapes):
+    off, _ = psb_model(1)
+    mesh = skelseg.read_mesh(off)
+    result = skelseg.segment_mesh(mesh.vertices, mesh.faces, triangle_face=mesh.triangle_face,
+                                  resolution=64, joints=True)
+    plain = skelseg.segment_mesh(mesh.vertices, mesh.faces, triangle_face=mesh.triangle_face,
+                                 resolution=64)
+    assert len(result.levels) == 2 and result.levels[0].joints
+    assert len(plain.levels) == 1
+    np.testing.assert_array_equal(result.levels[1].face_labels, plain.face_labels)
+    np.testing.assert_array_equal(result.levels[1].labels, plain.labels)
+    assert_faces_nest(result.levels[0].face_labels, result.levels[1].face_labels)
+    # The result is the joint level (the CLI's top-level files).
+    assert result.levels[0].cuts and len(result.cuts) == len(result.levels[0].cuts)

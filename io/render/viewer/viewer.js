@@ -165,7 +165,7 @@
   });
 
   // ---- state ----------------------------------------------------------------
-  const state = { level: levels.length - 1, skeletonColouring: 'sigma', picked: null };
+  const state = { level: 'openLevel' in data ? data.openLevel : levels.length - 1, skeletonColouring: 'sigma', picked: null };
 
   function setLevel(level) {
     state.level = Math.max(0, Math.min(levels.length - 1, level | 0));
