@@ -139,6 +139,28 @@ TEST(SceneLevels, GeneratedVolumeWritesNestedLevels) {
     EXPECT_TRUE(std::filesystem::exists(dir / "out" / "labels.nrrd"));
 }
 
+TEST(SceneLevels, LevelPreviewsDrawEveryLevelWhenAsked) {
+    TempDir dir;
+    ASSERT_EQ(
+        runSkelseg({"generate", "figure", "-o", (dir / "figure.nrrd").string(), "--size", "80"})
+            .exitCode,
+        0);
+    const auto plain = runSegment(dir / "figure.nrrd", dir / "plain", {"--tau", "1%,30%"});
+    ASSERT_EQ(plain.exitCode, 0) << plain.describe();
+    EXPECT_FALSE(std::filesystem::exists(dir / "plain" / "levels" / "0" / "preview.png"));
+    const auto run =
+        runSegment(dir / "figure.nrrd", dir / "out", {"--tau", "1%,30%", "--level-previews"});
+    ASSERT_EQ(run.exitCode, 0) << run.describe();
+    const std::string fine = fileBytes(dir / "out" / "levels" / "0" / "preview.png");
+    const std::string coarse = fileBytes(dir / "out" / "levels" / "1" / "preview.png");
+    for (const std::string* png : {&fine, &coarse})
+        EXPECT_EQ(png->substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+    // 1% finds more parts than 30% on the figure: other colours, other cuts.
+    EXPECT_NE(fine, coarse);
+    // The top-level preview is the coarsest level's, under its own title.
+    EXPECT_EQ(fileBytes(dir / "out" / "preview.png"), fileBytes(dir / "plain" / "preview.png"));
+}
+
 TEST(SceneLevels, ATimeBudgetKeepsTheLevelsNested) {
     // A budget this small makes the engine segment a coarsened volume and
     // refine every level's labels back onto the input grid (TimeBudget.h).

@@ -174,6 +174,15 @@ TEST(ViewerWriter, DataDescribesLevelsSurfaceAndSkeleton) {
     EXPECT_EQ(decode<std::uint32_t>(data["skeleton"]["edges"]), (std::vector<std::uint32_t>{0, 1}));
 }
 
+TEST(ViewerWriter, OpensAtTheCoarsestLevelUnlessToldOtherwise) {
+    ViewerScene scene = twoSquares("x");
+    EXPECT_FALSE(pageData(viewerHtml(scene)).contains("openLevel"));
+    scene.openLevel = 1;  // the coarsest, said explicitly: the same page
+    EXPECT_EQ(viewerHtml(scene), viewerHtml(twoSquares("x")));
+    scene.openLevel = 0;  // --joints with one tau: the joint level
+    EXPECT_EQ(pageData(viewerHtml(scene))["openLevel"], 0);
+}
+
 TEST(ViewerWriter, RefusesLevelsThatDoNotNest) {
     ViewerScene scene = twoSquares("x");
     scene.levels[1].triangleLabels = {1, 2, 1, 1};  // segment 1 of level 0 in two parents
