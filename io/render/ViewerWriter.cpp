@@ -164,7 +164,7 @@ std::string viewerHtml(const ViewerScene& scene, const ViewerOptions& options) {
                    {"rhoC", base64Of(rhoC)}}},
                  {"levels", levels}};
     // Only when it is not the coarsest, so pages that open there keep their bytes.
-    if (scene.openLevel + 1 < scene.levels.size()) data["openLevel"] = scene.openLevel;
+    if (scene.openLevel < scene.levels.size() - 1) data["openLevel"] = scene.openLevel;
     // ensure_ascii: every non-ASCII character (U+2028 and U+2029 among them)
     // becomes a \u escape; invalid UTF-8 in a file name becomes U+FFFD.
     const std::string dumped = data.dump(-1, ' ', true, json::error_handler_t::replace);
