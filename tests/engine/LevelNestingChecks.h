@@ -16,6 +16,7 @@
 #include "io/mesh/SegFile.h"
 #include "io/volume/NrrdIO.h"
 #include "tests/engine/RobustnessHelpers.h"
+#include "tests/support/FileBytes.h"
 
 namespace skelseg::test {
 
