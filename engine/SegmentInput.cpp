@@ -152,6 +152,7 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
             voxelise(*source, chosen, timer, interrupter, result.estimatedMemory);
         result.mask = std::move(voxelised.mask);
         result.contacts = voxelised.contacts;
+        result.selfOverlaps = voxelised.selfOverlaps;
         {
             Stage stage(timer, interrupter, "genus", true);
             result.meshGenus = meshTopology(*source->mesh);

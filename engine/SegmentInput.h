@@ -51,10 +51,12 @@ struct SegmentMask {
     MaskVolume mask;
     std::uint64_t estimatedMemory = 0;  // bytes: voxelising and segmenting
     std::vector<std::string> warnings;  // about the input (mesh check)
-    // Mesh inputs: genus of the mesh and of its voxel model, contacts separated.
+    // Mesh inputs: genus of the mesh and of its voxel model, contacts and
+    // self-overlaps separated.
     MeshTopology meshGenus{};
     VoxelTopology voxelGenus{};
     ContactSeparation contacts{};
+    SelfOverlapSeparation selfOverlaps{};
     int resolution = 0;  // meshes: the voxelisation's resolution (the budget may lower it)
     // --time-budget: what it chose. A volume segmented `coarsening` times
     // coarser keeps its input mask in `fineMask` for the refinement.

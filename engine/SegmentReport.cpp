@@ -31,6 +31,10 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
         context.input["voxel_genus"] = shape.input->voxelGenus.genus;
         context.input["contacts_separated"] = shape.input->contacts.contacts;
         context.input["contact_voxels_cleared"] = shape.input->contacts.voxelsCleared;
+        context.input["self_overlaps_separated"] = shape.input->selfOverlaps.overlaps;
+        context.input["self_overlaps_kept"] = shape.input->selfOverlaps.overlapsKept;
+        context.input["self_overlap_voxels"] = shape.input->selfOverlaps.overlapVoxels;
+        context.input["self_overlap_voxels_cleared"] = shape.input->selfOverlaps.voxelsCleared;
         std::uint32_t faceSegments = 0;
         for (std::uint32_t l : shape.faceLabels) faceSegments = std::max(faceSegments, l + 1);
         context.faceSegments = faceSegments;

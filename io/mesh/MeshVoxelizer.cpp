@@ -319,6 +319,7 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
 
     MaskVolume mask;
     ContactSeparation contacts;
+    SelfOverlapSeparation selfOverlaps;
     // OpenVDB's tools have no serial switch; a one-thread arena makes every
     // TBB loop inside (theirs and ours) run on this thread. Threaded, the
     // arena is as wide as the caller's, so a caller's thread limit holds.
@@ -333,6 +334,12 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
             if (std::find(mask.values().begin(), mask.values().end(), std::uint8_t(1)) !=
                 mask.values().end()) {
                 if (options.keepMeshTopology) {
+                    // First: the walls of a part sunk into another cross
+                    // instead of facing each other, which the contact tests
+                    // would misread.
+                    SelfOverlapOptions overlapOptions;
+                    overlapOptions.threaded = options.threaded;
+                    selfOverlaps = separateSelfOverlaps(mesh, mask, overlapOptions, interrupter);
                     ContactSeparationOptions contactOptions = options.contactOptions;
                     contactOptions.threaded = options.threaded;
                     contacts =
@@ -354,7 +361,7 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
         }
     });
     throwIfInterrupted(interrupter, 1.0);
-    return MeshVoxelization{std::move(mask), contacts};
+    return MeshVoxelization{std::move(mask), contacts, selfOverlaps};
 }
 
 WorldToIndex::WorldToIndex(const VolumeGeometry& geometry) : mOrigin(geometry.origin) {

@@ -37,6 +37,7 @@
 
 #include "io/mesh/ContactSeparation.h"
 #include "io/mesh/MeshIO.h"
+#include "io/mesh/SelfOverlapSeparation.h"
 #include "kernels/base/Interrupter.h"
 #include "kernels/base/Volume.h"
 
@@ -59,7 +60,8 @@ struct VoxelizeOptions {
     /// so a caller that runs checkMesh() for its warnings passes the answer).
     std::optional<bool> meshIsClosed;
     /// Closed meshes: separate surfaces that touch in the voxel model but are
-    /// far apart on the mesh (ContactSeparation.h).
+    /// far apart on the mesh (ContactSeparation.h), and parts of the mesh that
+    /// pass through each other (SelfOverlapSeparation.h).
     bool keepMeshTopology = true;
     ContactSeparationOptions contactOptions;
 };
@@ -85,6 +87,9 @@ struct MeshVoxelization {
     MaskVolume mask;
     /// Zero unless the mesh is closed and keepMeshTopology is set.
     ContactSeparation contacts;
+    /// Where the mesh passes through itself (SelfOverlapSeparation.h); zero
+    /// unless the mesh is closed and keepMeshTopology is set.
+    SelfOverlapSeparation selfOverlaps;
 };
 
 /// voxelizeMesh() that also reports the contacts it separated.

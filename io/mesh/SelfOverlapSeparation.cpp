@@ -1,0 +1,353 @@
+#include "io/mesh/SelfOverlapSeparation.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include "io/mesh/MeshVoxelizer.h"
+#include "kernels/VoxelGenus.h"
+#include "kernels/base/ParallelFor.h"
+
+namespace skelseg {
+namespace {
+
+// The rays pass a little off the voxel centres, by amounts no mesh vertex is
+// likely to sit at, so that a ray through a shared edge or vertex (counted by
+// two triangles or by none) has no measure; rows where it happens anyway are
+// skipped (see RowCrossing::tie).
+constexpr double kRayOffsetY = 3.1e-5;
+constexpr double kRayOffsetZ = 1.7e-5;
+
+/// A voxel as (x, y, z), ordered for sorting.
+using Cell = std::array<int, 3>;
+
+/// The sign each piece's crossings count with: +1 or -1 for a closed,
+/// consistently oriented piece (outward or inward), 0 for a piece without a
+/// winding number.
+struct MeshPieces {
+    std::vector<std::uint32_t> pieceOfTriangle;
+    std::vector<int> orientation;  // per piece
+};
+
+MeshPieces pieceOrientations(const TriangleMesh& mesh) {
+    const std::size_t vertexCount = mesh.vertices.size();
+    std::vector<std::uint32_t> parent(vertexCount);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](std::uint32_t v) {
+        while (parent[v] != v) v = parent[v] = parent[parent[v]];
+        return v;
+    };
+    for (const auto& t : mesh.triangles) {
+        const std::uint32_t a = find(t[0]);
+        for (int c = 1; c < 3; ++c) {
+            const std::uint32_t b = find(t[std::size_t(c)]);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
+    }
+    MeshPieces pieces;
+    std::unordered_map<std::uint32_t, std::uint32_t> pieceOfRoot;
+    pieces.pieceOfTriangle.reserve(mesh.triangles.size());
+    for (const auto& t : mesh.triangles) {
+        const auto inserted =
+            pieceOfRoot.try_emplace(find(t[0]), std::uint32_t(pieceOfRoot.size()));
+        pieces.pieceOfTriangle.push_back(inserted.first->second);
+    }
+    // Closed and consistently oriented: every directed edge used once, and
+    // its reverse once.
+    std::unordered_map<std::uint64_t, std::uint32_t> directedUses;
+    directedUses.reserve(3 * mesh.triangles.size());
+    auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
+    for (const auto& t : mesh.triangles)
+        for (int c = 0; c < 3; ++c)
+            ++directedUses[key(t[std::size_t(c)], t[std::size_t((c + 1) % 3)])];
+    std::vector<bool> valid(pieceOfRoot.size(), true);
+    std::vector<double> volume(pieceOfRoot.size(), 0.0);
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+        const auto& t = mesh.triangles[i];
+        const std::uint32_t piece = pieces.pieceOfTriangle[i];
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t a = t[std::size_t(c)], b = t[std::size_t((c + 1) % 3)];
+            const auto forward = directedUses.find(key(a, b));
+            const auto backward = directedUses.find(key(b, a));
+            if (a == b || forward->second != 1 || backward == directedUses.end() ||
+                backward->second != 1)
+                valid[piece] = false;
+        }
+        const auto& p = mesh.vertices[t[0]];
+        const auto& q = mesh.vertices[t[1]];
+        const auto& r = mesh.vertices[t[2]];
+        volume[piece] += p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) +
+                         p[2] * (q[0] * r[1] - q[1] * r[0]);
+    }
+    pieces.orientation.resize(pieceOfRoot.size(), 0);
+    for (std::size_t piece = 0; piece < valid.size(); ++piece)
+        if (valid[piece] && volume[piece] != 0.0)
+            pieces.orientation[piece] = volume[piece] > 0 ? 1 : -1;
+    return pieces;
+}
+
+/// Where a triangle crosses the ray of one row of voxel centres.
+struct RowCrossing {
+    std::uint64_t row = 0;  // y + ny * z
+    double x = 0.0;         // continuous voxel index along x
+    std::uint32_t piece = 0;
+    int sign = 0;  // +1: the surface leaves towards +x; 0: the ray hit an edge (a tie)
+    bool operator<(const RowCrossing& other) const {
+        if (row != other.row) return row < other.row;
+        if (x != other.x) return x < other.x;
+        if (piece != other.piece) return piece < other.piece;
+        return sign < other.sign;
+    }
+};
+
+/// Edge function of the ray point (y, z) against the edge a -> b, computed on
+/// the edge with its endpoints in a fixed order (lower vertex index first),
+/// so that the two triangles sharing an edge get exactly opposite values.
+double edgeSide(std::uint32_t ia, std::uint32_t ib, const std::array<double, 3>& a,
+                const std::array<double, 3>& b, double y, double z) {
+    if (ia > ib) return -edgeSide(ib, ia, b, a, y, z);
+    return (b[1] - a[1]) * (z - a[2]) - (b[2] - a[2]) * (y - a[1]);
+}
+
+std::vector<RowCrossing> rowCrossings(const TriangleMesh& mesh, const MeshPieces& pieces,
+                                      const std::vector<std::array<double, 3>>& index,
+                                      const Dims& dims, bool threaded, Interrupter& interrupter) {
+    const std::size_t triangleCount = mesh.triangles.size();
+    constexpr std::size_t kChunk = 4096;
+    const std::size_t chunks = (triangleCount + kChunk - 1) / kChunk;
+    std::vector<std::vector<RowCrossing>> found(chunks);
+    parallelFor(
+        chunks,
+        [&](std::size_t chunkBegin, std::size_t chunkEnd) {
+            for (std::size_t chunk = chunkBegin; chunk < chunkEnd; ++chunk) {
+                throwIfInterrupted(interrupter);
+                std::vector<RowCrossing>& out = found[chunk];
+                const std::size_t end = std::min(triangleCount, (chunk + 1) * kChunk);
+                for (std::size_t t = chunk * kChunk; t < end; ++t) {
+                    const std::uint32_t piece = pieces.pieceOfTriangle[t];
+                    const int orientation = pieces.orientation[piece];
+                    if (orientation == 0) continue;
+                    const auto& tri = mesh.triangles[t];
+                    const auto &p0 = index[tri[0]], &p1 = index[tri[1]], &p2 = index[tri[2]];
+                    // Twice the signed area of the triangle seen along x.
+                    const double area =
+                        (p1[1] - p0[1]) * (p2[2] - p0[2]) - (p1[2] - p0[2]) * (p2[1] - p0[1]);
+                    if (area == 0.0) continue;
+                    const double yLow = std::min({p0[1], p1[1], p2[1]}) - kRayOffsetY;
+                    const double yHigh = std::max({p0[1], p1[1], p2[1]}) - kRayOffsetY;
+                    const double zLow = std::min({p0[2], p1[2], p2[2]}) - kRayOffsetZ;
+                    const double zHigh = std::max({p0[2], p1[2], p2[2]}) - kRayOffsetZ;
+                    const int y0 = std::max(0, int(std::ceil(yLow)));
+                    const int y1 = std::min(dims.y - 1, int(std::floor(yHigh)));
+                    const int z0 = std::max(0, int(std::ceil(zLow)));
+                    const int z1 = std::min(dims.z - 1, int(std::floor(zHigh)));
+                    const int sign = (area > 0 ? 1 : -1) * orientation;
+                    for (int z = z0; z <= z1; ++z)
+                        for (int y = y0; y <= y1; ++y) {
+                            const double ry = y + kRayOffsetY, rz = z + kRayOffsetZ;
+                            const double e0 = edgeSide(tri[1], tri[2], p1, p2, ry, rz);
+                            const double e1 = edgeSide(tri[2], tri[0], p2, p0, ry, rz);
+                            const double e2 = edgeSide(tri[0], tri[1], p0, p1, ry, rz);
+                            const bool tie = e0 == 0.0 || e1 == 0.0 || e2 == 0.0;
+                            const bool inside = area > 0 ? (e0 >= 0 && e1 >= 0 && e2 >= 0)
+                                                         : (e0 <= 0 && e1 <= 0 && e2 <= 0);
+                            if (!inside) continue;
+                            // Barycentric weights are the edge functions over the area.
+                            const double x = (e0 * p0[0] + e1 * p1[0] + e2 * p2[0]) / area;
+                            out.push_back(RowCrossing{
+                                std::uint64_t(y) + std::uint64_t(dims.y) * std::uint64_t(z), x,
+                                piece, tie ? 0 : sign});
+                        }
+                }
+            }
+        },
+        threaded);
+    std::vector<RowCrossing> all;
+    for (auto& part : found) all.insert(all.end(), part.begin(), part.end());
+    return all;
+}
+
+/// Voxels of one row (its crossings sorted by x) that a piece encloses twice
+/// or more, appended to `out` in increasing x.
+void doublyEnclosedInRow(const RowCrossing* begin, const RowCrossing* end, const Dims& dims,
+                         std::vector<int>& winding, std::vector<std::uint64_t>& out) {
+    for (const RowCrossing* c = begin; c != end; ++c)
+        if (c->sign == 0) return;  // a ray through an edge: this row's count is unreliable
+    std::vector<std::uint64_t> row;
+    int doubled = 0;  // pieces whose winding number is >= 2 here
+    // Sweep from +x (winding 0) towards -x: between crossings c-1 and c the
+    // winding numbers are the sums of the signs of the crossings at c and beyond.
+    for (const RowCrossing* c = end; c != begin;) {
+        --c;
+        int& w = winding[c->piece];
+        doubled -= w >= 2;
+        w += c->sign;
+        doubled += w >= 2;
+        if (doubled == 0) continue;
+        const double lowX = c == begin ? -1.0 : (c - 1)->x;
+        const int first = std::max(0, int(std::floor(lowX)) + 1);
+        const int last = std::min(dims.x - 1, int(std::ceil(c->x)) - 1);
+        for (int x = last; x >= first; --x) row.push_back(std::uint64_t(x));
+    }
+    for (const RowCrossing* c = begin; c != end; ++c) winding[c->piece] = 0;
+    const std::uint64_t base = begin->row * std::uint64_t(dims.x);
+    for (auto it = row.rbegin(); it != row.rend(); ++it) out.push_back(base + *it);
+}
+
+/// 26-connected groups of the sorted voxel indices, each as indices into `voxels`.
+std::vector<std::vector<std::size_t>> groupsOf(const std::vector<std::uint64_t>& voxels,
+                                               const Dims& dims) {
+    std::vector<std::size_t> parent(voxels.size());
+    std::iota(parent.begin(), parent.end(), std::size_t(0));
+    auto find = [&](std::size_t v) {
+        while (parent[v] != v) v = parent[v] = parent[parent[v]];
+        return v;
+    };
+    const std::uint64_t nx = std::uint64_t(dims.x), nxy = nx * std::uint64_t(dims.y);
+    for (std::size_t i = 0; i < voxels.size(); ++i) {
+        const std::uint64_t v = voxels[i];
+        const int x = int(v % nx), y = int((v / nx) % std::uint64_t(dims.y)), z = int(v / nxy);
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy, zz = z + dz;
+                    if (xx < 0 || yy < 0 || zz < 0 || xx >= dims.x || yy >= dims.y || zz >= dims.z)
+                        continue;
+                    const std::uint64_t n =
+                        std::uint64_t(xx) + nx * std::uint64_t(yy) + nxy * std::uint64_t(zz);
+                    if (n <= v) continue;
+                    const auto it = std::lower_bound(voxels.begin(), voxels.end(), n);
+                    if (it == voxels.end() || *it != n) continue;
+                    const std::size_t a = find(i), b = find(std::size_t(it - voxels.begin()));
+                    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+                }
+    }
+    std::vector<std::vector<std::size_t>> groups;
+    std::unordered_map<std::size_t, std::size_t> groupOfRoot;
+    for (std::size_t i = 0; i < voxels.size(); ++i) {
+        const auto [it, added] = groupOfRoot.try_emplace(find(i), groups.size());
+        if (added) groups.emplace_back();
+        groups[it->second].push_back(i);
+    }
+    return groups;
+}
+
+/// Clears `cells` from `mask` unless that adds genus or a cavity in the box
+/// around them (two voxels wider); returns whether it cleared them.
+bool clearIfNoTopologyAdded(MaskVolume& mask, const std::vector<Cell>& cells) {
+    constexpr int kBoxMargin = 2;
+    const Dims dims = mask.dims();
+    std::array<int, 3> lo{dims.x, dims.y, dims.z}, hi{-1, -1, -1};
+    for (const Cell& c : cells)
+        for (std::size_t a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], c[a] - kBoxMargin);
+            hi[a] = std::max(hi[a], c[a] + kBoxMargin);
+        }
+    lo = {std::max(lo[0], 0), std::max(lo[1], 0), std::max(lo[2], 0)};
+    hi = {std::min(hi[0], dims.x - 1), std::min(hi[1], dims.y - 1), std::min(hi[2], dims.z - 1)};
+    // One empty voxel around the box, so that its border closes no cavity.
+    MaskVolume box(Dims{hi[0] - lo[0] + 3, hi[1] - lo[1] + 3, hi[2] - lo[2] + 3}, 0);
+    for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+            for (int x = lo[0]; x <= hi[0]; ++x)
+                box(x - lo[0] + 1, y - lo[1] + 1, z - lo[2] + 1) = mask(x, y, z);
+    const VoxelTopologyOptions serial{false};
+    const VoxelTopology before = voxelTopology(box, serial);
+    for (const Cell& c : cells) box(c[0] - lo[0] + 1, c[1] - lo[1] + 1, c[2] - lo[2] + 1) = 0;
+    const VoxelTopology after = voxelTopology(box, serial);
+    if (after.genus > before.genus || after.cavities > before.cavities) return false;
+    for (const Cell& c : cells) mask(c[0], c[1], c[2]) = 0;
+    return true;
+}
+
+}  // namespace
+
+std::vector<std::uint64_t> selfOverlapVoxels(const TriangleMesh& mesh, const Dims& dims,
+                                             const VolumeGeometry& geometry, bool threaded,
+                                             Interrupter& interrupter) {
+    const MeshPieces pieces = pieceOrientations(mesh);
+    if (std::all_of(pieces.orientation.begin(), pieces.orientation.end(),
+                    [](int o) { return o == 0; }))
+        return {};
+    const WorldToIndex toIndex(geometry);
+    std::vector<std::array<double, 3>> index(mesh.vertices.size());
+    parallelFor(
+        mesh.vertices.size(),
+        [&](std::size_t begin, std::size_t end) {
+            for (std::size_t v = begin; v < end; ++v) index[v] = toIndex(mesh.vertices[v]);
+        },
+        threaded, 4096);
+    std::vector<RowCrossing> crossings =
+        rowCrossings(mesh, pieces, index, dims, threaded, interrupter);
+    std::sort(crossings.begin(), crossings.end());
+    // Rows start where the row number changes; they are swept in chunks
+    // whose outputs are joined in order, so the result is the same threaded.
+    std::vector<std::size_t> rowStarts;
+    for (std::size_t i = 0; i < crossings.size(); ++i)
+        if (i == 0 || crossings[i].row != crossings[i - 1].row) rowStarts.push_back(i);
+    rowStarts.push_back(crossings.size());
+    const std::size_t rows = rowStarts.size() - 1;
+    constexpr std::size_t kRowsPerChunk = 1024;
+    const std::size_t chunks = (rows + kRowsPerChunk - 1) / kRowsPerChunk;
+    std::vector<std::vector<std::uint64_t>> found(chunks);
+    parallelFor(
+        chunks,
+        [&](std::size_t chunkBegin, std::size_t chunkEnd) {
+            std::vector<int> winding(pieces.orientation.size(), 0);
+            for (std::size_t chunk = chunkBegin; chunk < chunkEnd; ++chunk) {
+                throwIfInterrupted(interrupter);
+                const std::size_t last = std::min(rows, (chunk + 1) * kRowsPerChunk);
+                for (std::size_t r = chunk * kRowsPerChunk; r < last; ++r)
+                    doublyEnclosedInRow(crossings.data() + rowStarts[r],
+                                        crossings.data() + rowStarts[r + 1], dims, winding,
+                                        found[chunk]);
+            }
+        },
+        threaded);
+    std::vector<std::uint64_t> voxels;
+    for (const auto& part : found) voxels.insert(voxels.end(), part.begin(), part.end());
+    return voxels;
+}
+
+SelfOverlapSeparation separateSelfOverlaps(const TriangleMesh& mesh, MaskVolume& mask,
+                                           const SelfOverlapOptions& options,
+                                           Interrupter& interrupter) {
+    SelfOverlapSeparation result;
+    const Dims dims = mask.dims();
+    const std::vector<std::uint64_t> voxels =
+        selfOverlapVoxels(mesh, dims, mask.geometry, options.threaded, interrupter);
+    result.overlapVoxels = voxels.size();
+    if (voxels.empty()) return result;
+    const std::uint64_t nx = std::uint64_t(dims.x), nxy = nx * std::uint64_t(dims.y);
+    const int reach = std::max(0, options.clearance);
+    for (const auto& group : groupsOf(voxels, dims)) {
+        throwIfInterrupted(interrupter);
+        std::vector<Cell> cells;
+        for (std::size_t i : group) {
+            const std::uint64_t v = voxels[i];
+            const int x = int(v % nx), y = int((v / nx) % std::uint64_t(dims.y)), z = int(v / nxy);
+            for (int dz = -reach; dz <= reach; ++dz)
+                for (int dy = -reach; dy <= reach; ++dy)
+                    for (int dx = -reach; dx <= reach; ++dx) {
+                        const int xx = x + dx, yy = y + dy, zz = z + dz;
+                        if (xx >= 0 && yy >= 0 && zz >= 0 && xx < dims.x && yy < dims.y &&
+                            zz < dims.z && mask(xx, yy, zz))
+                            cells.push_back(Cell{xx, yy, zz});
+                    }
+        }
+        std::sort(cells.begin(), cells.end());
+        cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+        if (cells.empty()) continue;
+        if (clearIfNoTopologyAdded(mask, cells)) {
+            ++result.overlaps;
+            result.voxelsCleared += cells.size();
+        } else {
+            ++result.overlapsKept;
+        }
+    }
+    return result;
+}
+
+}  // namespace skelseg

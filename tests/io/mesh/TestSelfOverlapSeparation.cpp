@@ -1,0 +1,140 @@
+#include "io/mesh/SelfOverlapSeparation.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+
+#include "io/mesh/MeshGenus.h"
+#include "io/mesh/MeshVoxelizer.h"
+#include "kernels/VoxelGenus.h"
+#include "tests/support/CurledTube.h"
+
+namespace skelseg {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+VoxelizeOptions atResolution(int resolution, bool keepTopology = true, bool threaded = true) {
+    VoxelizeOptions options;
+    options.resolution = resolution;
+    options.keepMeshTopology = keepTopology;
+    options.threaded = threaded;
+    return options;
+}
+
+std::array<double, 3> centreOf(std::uint64_t index, const Dims& dims,
+                               const VolumeGeometry& geometry) {
+    const std::uint64_t nx = std::uint64_t(dims.x), ny = std::uint64_t(dims.y);
+    return geometry.indexToWorld(double(index % nx), double((index / nx) % ny),
+                                 double(index / (nx * ny)));
+}
+
+TEST(SelfOverlap, FindsWhereTheCurledTubeRunsInsideItself) {
+    const test::CurledTube tube;
+    const TriangleMesh mesh = tube.mesh();
+    ASSERT_EQ(meshTopology(mesh).genus, 0);
+    const VoxelGrid grid = voxelGridFor(mesh, atResolution(96));
+    const double h = grid.geometry.directions[0][0];
+    const auto voxels = selfOverlapVoxels(mesh, grid.dims, grid.geometry);
+    ASSERT_FALSE(voxels.empty());
+    // Every voxel found lies inside both windings of the tube: at its angle
+    // around the circle (the beginning) and one turn further (the end).
+    for (std::uint64_t v : voxels) {
+        const auto p = centreOf(v, grid.dims, grid.geometry);
+        double angle = std::atan2(p[1], p[0]);
+        if (angle < 0) angle += 2.0 * kPi;
+        ASSERT_TRUE(tube.insideAt(p, angle, h)) << "not in the beginning: voxel " << v;
+        ASSERT_TRUE(tube.insideAt(p, angle + 2.0 * kPi, h)) << "not in the end: voxel " << v;
+    }
+    // Their volume is the volume both windings share: the integral over the
+    // extra angle of pi min(r_begin, r_end)^2 R d(angle).
+    double shared = 0.0;
+    const int steps = 2000;
+    for (int i = 0; i < steps; ++i) {
+        const double angle = tube.extraAngle * (i + 0.5) / steps;
+        const double r = std::min(tube.radiusAt(angle), tube.radiusAt(angle + 2.0 * kPi));
+        shared += kPi * r * r * tube.bendRadius * tube.extraAngle / steps;
+    }
+    EXPECT_NEAR(double(voxels.size()) * h * h * h, shared, 0.1 * shared);
+}
+
+TEST(SelfOverlap, VoxelGenusEqualsMeshGenusOnlyWithTheSeparation) {
+    const TriangleMesh mesh = test::CurledTube{}.mesh();
+    ASSERT_GE(voxelTopology(voxelizeMesh(mesh, atResolution(96, false))).genus, 1)
+        << "without the separation the two windings must fuse into a ring";
+    const MeshVoxelization kept = voxelizeMeshWithContacts(mesh, atResolution(96));
+    EXPECT_GE(kept.selfOverlaps.overlaps, 1u);
+    EXPECT_GT(kept.selfOverlaps.voxelsCleared, kept.selfOverlaps.overlapVoxels / 2);
+    const VoxelTopology topology = voxelTopology(kept.mask);
+    EXPECT_EQ(topology.genus, 0);
+    EXPECT_EQ(topology.objects, 1u);
+}
+
+TEST(SelfOverlap, SeparatePiecesOpenPiecesAndCleanMeshesAreLeftAlone) {
+    // Two spheres overlapping: two pieces, voxelised as their union.
+    TriangleMesh pair = test::sphereMesh({0, 0, 0}, 1.0);
+    const TriangleMesh second = test::sphereMesh({1.2, 0, 0}, 0.8);
+    const auto offset = std::uint32_t(pair.vertices.size());
+    pair.vertices.insert(pair.vertices.end(), second.vertices.begin(), second.vertices.end());
+    for (auto t : second.triangles) {
+        pair.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+        pair.triangleFace.push_back(std::uint32_t(pair.faceCount++));
+    }
+    const VoxelGrid pairGrid = voxelGridFor(pair, atResolution(48));
+    EXPECT_TRUE(selfOverlapVoxels(pair, pairGrid.dims, pairGrid.geometry).empty());
+    const MeshVoxelization union_ = voxelizeMeshWithContacts(pair, atResolution(48));
+    EXPECT_EQ(union_.selfOverlaps.voxelsCleared, 0u);
+    EXPECT_EQ(voxelTopology(union_.mask).objects, 1u);
+
+    // A clean closed mesh.
+    const TriangleMesh sphere = test::sphereMesh({0, 0, 0}, 1.0);
+    const VoxelGrid sphereGrid = voxelGridFor(sphere, atResolution(48));
+    EXPECT_TRUE(selfOverlapVoxels(sphere, sphereGrid.dims, sphereGrid.geometry).empty());
+
+    // The curled tube opened (one triangle less): no winding number.
+    TriangleMesh open = test::CurledTube{}.mesh();
+    open.triangles.pop_back();
+    open.triangleFace.pop_back();
+    const VoxelGrid openGrid = voxelGridFor(open, atResolution(96));
+    EXPECT_TRUE(selfOverlapVoxels(open, openGrid.dims, openGrid.geometry).empty());
+}
+
+TEST(SelfOverlap, InwardOrientationGivesTheSameVoxels) {
+    TriangleMesh mesh = test::CurledTube{}.mesh();
+    const VoxelGrid grid = voxelGridFor(mesh, atResolution(64));
+    const auto outward = selfOverlapVoxels(mesh, grid.dims, grid.geometry);
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+    EXPECT_EQ(selfOverlapVoxels(mesh, grid.dims, grid.geometry), outward);
+    EXPECT_FALSE(outward.empty());
+}
+
+TEST(SelfOverlap, SerialEqualsParallel) {
+    const TriangleMesh mesh = test::CurledTube{}.mesh();
+    const VoxelGrid grid = voxelGridFor(mesh, atResolution(80));
+    EXPECT_EQ(selfOverlapVoxels(mesh, grid.dims, grid.geometry, false),
+              selfOverlapVoxels(mesh, grid.dims, grid.geometry, true));
+    const MeshVoxelization serial = voxelizeMeshWithContacts(mesh, atResolution(80, true, false));
+    const MeshVoxelization parallel = voxelizeMeshWithContacts(mesh, atResolution(80, true, true));
+    EXPECT_EQ(serial.mask.values(), parallel.mask.values());
+    EXPECT_EQ(serial.selfOverlaps.voxelsCleared, parallel.selfOverlaps.voxelsCleared);
+    EXPECT_EQ(serial.selfOverlaps.overlaps, parallel.selfOverlaps.overlaps);
+}
+
+/// Says stop at the first poll.
+class StopNow final : public Interrupter {
+public:
+    bool wasInterrupted(double) override { return ++polls > 0; }
+    std::atomic<int> polls{0};
+};
+
+TEST(SelfOverlap, StopsWhenAsked) {
+    const TriangleMesh mesh = test::CurledTube{}.mesh();
+    const VoxelGrid grid = voxelGridFor(mesh, atResolution(64));
+    StopNow stop;
+    EXPECT_THROW(selfOverlapVoxels(mesh, grid.dims, grid.geometry, true, stop), InterruptedError);
+    EXPECT_GT(stop.polls.load(), 0);
+}
+
+}  // namespace
+}  // namespace skelseg
