@@ -319,6 +319,7 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
 
     MaskVolume mask;
     ContactSeparation contacts;
+    ThinPartFill thinParts;
     // OpenVDB's tools have no serial switch; a one-thread arena makes every
     // TBB loop inside (theirs and ours) run on this thread. Threaded, the
     // arena is as wide as the caller's, so a caller's thread limit holds.
@@ -332,6 +333,11 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
             // (nothing comes out inside): fall back to the shell method.
             if (std::find(mask.values().begin(), mask.values().end(), std::uint8_t(1)) !=
                 mask.values().end()) {
+                if (options.fillThinParts) {
+                    ThinPartOptions thinOptions = options.thinPartOptions;
+                    thinOptions.threaded = options.threaded;
+                    thinParts = fillThinParts(mesh, mask, thinOptions, interrupter);
+                }
                 if (options.keepMeshTopology) {
                     ContactSeparationOptions contactOptions = options.contactOptions;
                     contactOptions.threaded = options.threaded;
@@ -354,7 +360,7 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
         }
     });
     throwIfInterrupted(interrupter, 1.0);
-    return MeshVoxelization{std::move(mask), contacts};
+    return MeshVoxelization{std::move(mask), contacts, thinParts};
 }
 
 WorldToIndex::WorldToIndex(const VolumeGeometry& geometry) : mOrigin(geometry.origin) {

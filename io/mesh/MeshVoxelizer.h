@@ -24,6 +24,9 @@
 //    When a wider hole lets the outside in (the solid is then hardly more
 //    than the surface layer), holeClosing is doubled, up to 16 voxels, and
 //    the pass repeated. A single open sheet becomes a thin plate.
+// Thin parts (closed meshes only; see ThinPartFill.h): the voxels the middle
+// of a part thinner than a voxel or so passes through are made solid, so that
+// such a part is neither perforated nor broken into islands.
 // Mesh topology (closed meshes only; see ContactSeparation.h): surfaces far
 // apart on the mesh but closer than a voxel or two in space are separated
 // again by clearing a one-voxel seam, using the nearest triangle OpenVDB
@@ -37,6 +40,7 @@
 
 #include "io/mesh/ContactSeparation.h"
 #include "io/mesh/MeshIO.h"
+#include "io/mesh/ThinPartFill.h"
 #include "kernels/base/Interrupter.h"
 #include "kernels/base/Volume.h"
 
@@ -62,6 +66,11 @@ struct VoxelizeOptions {
     /// far apart on the mesh (ContactSeparation.h).
     bool keepMeshTopology = true;
     ContactSeparationOptions contactOptions;
+    /// Closed meshes: make solid the voxels the middle of every part thinner
+    /// than a voxel or so passes through (ThinPartFill.h), before contacts
+    /// are separated.
+    bool fillThinParts = true;
+    ThinPartOptions thinPartOptions;
 };
 
 /// Size and placement of the grid voxelizeMesh() makes, without voxelising.
@@ -85,6 +94,8 @@ struct MeshVoxelization {
     MaskVolume mask;
     /// Zero unless the mesh is closed and keepMeshTopology is set.
     ContactSeparation contacts;
+    /// Zero unless the mesh is closed and fillThinParts is set.
+    ThinPartFill thinParts;
 };
 
 /// voxelizeMesh() that also reports the contacts it separated.
