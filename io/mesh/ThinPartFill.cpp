@@ -44,20 +44,52 @@ public:
             [&](std::size_t begin, std::size_t end) {
                 std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;
                 for (std::size_t t = begin; t < end; ++t) {
+                    const auto& c = surface.triangles[t];
                     std::array<std::int64_t, 3> low{}, high{};
                     for (std::size_t a = 0; a < 3; ++a) {
                         double lo = HUGE_VAL, hi = -HUGE_VAL;
-                        for (std::uint32_t v : surface.triangles[t]) {
+                        for (std::uint32_t v : c) {
                             lo = std::min(lo, surface.points[v][a]);
                             hi = std::max(hi, surface.points[v][a]);
                         }
                         low[a] = cellOf(lo);
                         high[a] = cellOf(hi);
                     }
-                    for (std::int64_t z = low[2]; z <= high[2]; ++z)
-                        for (std::int64_t y = low[1]; y <= high[1]; ++y)
-                            for (std::int64_t x = low[0]; x <= high[0]; ++x)
-                                entries.emplace_back(key(x, y, z), std::uint32_t(t));
+                    const std::int64_t boxCells =
+                        (high[0] - low[0] + 1) * (high[1] - low[1] + 1) * (high[2] - low[2] + 1);
+                    if (boxCells <= 27) {
+                        for (std::int64_t z = low[2]; z <= high[2]; ++z)
+                            for (std::int64_t y = low[1]; y <= high[1]; ++y)
+                                for (std::int64_t x = low[0]; x <= high[0]; ++x)
+                                    entries.emplace_back(key(x, y, z), std::uint32_t(t));
+                        continue;
+                    }
+                    // A large triangle: its bounding box can hold far more
+                    // cells than the triangle touches. Every point of the
+                    // triangle lies within a cell of a sample at most one
+                    // cell apart, so the cells around the samples cover it.
+                    const auto &a = surface.points[c[0]], &b = surface.points[c[1]],
+                               &e = surface.points[c[2]];
+                    double longest = 0.0;
+                    for (std::size_t k = 0; k < 3; ++k)
+                        longest = std::max({longest, std::abs(b[k] - a[k]), std::abs(e[k] - b[k]),
+                                            std::abs(a[k] - e[k])});
+                    const int m = std::max(1, int(std::ceil(2.0 * longest / kCellSize)));
+                    std::vector<std::uint64_t> cells;
+                    for (int i = 0; i <= m; ++i)
+                        for (int j = 0; i + j <= m; ++j) {
+                            const double u = double(i) / m, v = double(j) / m;
+                            std::array<std::int64_t, 3> cell{};
+                            for (std::size_t k = 0; k < 3; ++k)
+                                cell[k] = cellOf(a[k] + u * (b[k] - a[k]) + v * (e[k] - a[k]));
+                            for (std::int64_t z = -1; z <= 1; ++z)
+                                for (std::int64_t y = -1; y <= 1; ++y)
+                                    for (std::int64_t x = -1; x <= 1; ++x)
+                                        cells.push_back(key(cell[0] + x, cell[1] + y, cell[2] + z));
+                        }
+                    std::sort(cells.begin(), cells.end());
+                    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+                    for (std::uint64_t cell : cells) entries.emplace_back(cell, std::uint32_t(t));
                 }
                 std::lock_guard<std::mutex> guard(lock);
                 perChunk.push_back(std::move(entries));
@@ -78,8 +110,8 @@ public:
 
     static std::int64_t cellOf(double coordinate) {
         // Index-space coordinates of the mesh are above -1 (margin >= 0), so
-        // the shifted cells are positive.
-        return std::int64_t(std::floor(coordinate / kCellSize)) + 1;
+        // the shifted cells (and their neighbours) are positive.
+        return std::int64_t(std::floor(coordinate / kCellSize)) + 2;
     }
     static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
         return std::uint64_t(x) | (std::uint64_t(y) << 21) | (std::uint64_t(z) << 42);
