@@ -191,7 +191,7 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                 stopped = true;
                 return;
             }
-            std::vector<std::uint32_t> local;
+            std::vector<std::uint32_t> local, candidates;
             std::size_t localThin = 0;
             for (std::size_t t = begin; t < end; ++t) {
                 const Vec3& normal = outward[t];
@@ -203,6 +203,34 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                 const double longest =
                     std::sqrt(std::max({dot(sub(b, a), sub(b, a)), dot(sub(e, b), sub(e, b)),
                                         dot(sub(a, e), sub(a, e))}));
+                // The triangles a ray from this triangle can meet: those in the
+                // cells of the box swept by the triangle along the ray. Only a
+                // wall facing the other way can make the part thin, so most
+                // triangles (of thick parts) stop here.
+                candidates.clear();
+                {
+                    std::array<std::int64_t, 3> low{}, high{};
+                    for (std::size_t k = 0; k < 3; ++k) {
+                        const double lo = std::min({a[k], b[k], e[k]}),
+                                     hi = std::max({a[k], b[k], e[k]});
+                        low[k] = TriangleBins::cellOf(std::min(lo, lo + reach * direction[k]));
+                        high[k] = TriangleBins::cellOf(std::max(hi, hi + reach * direction[k]));
+                    }
+                    bool opposingWall = false;
+                    for (std::int64_t z = low[2]; z <= high[2]; ++z)
+                        for (std::int64_t y = low[1]; y <= high[1]; ++y)
+                            for (std::int64_t x = low[0]; x <= high[0]; ++x)
+                                bins.forEachInCell(x, y, z, [&](std::uint32_t other) {
+                                    if (other == t) return;
+                                    candidates.push_back(other);
+                                    opposingWall |=
+                                        dot(normal, outward[other]) < options.opposingCosine;
+                                });
+                    if (!opposingWall) continue;
+                    std::sort(candidates.begin(), candidates.end());
+                    candidates.erase(std::unique(candidates.begin(), candidates.end()),
+                                     candidates.end());
+                }
                 const int m = std::max(1, int(std::ceil(longest / options.sampleSpacing)));
                 // Centroids of the m x m sub-triangles: (i + 1/3, j + 1/3) / m
                 // for the upright ones, (i + 2/3, j + 2/3) / m for the others.
@@ -215,30 +243,18 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                             const Vec3 origin{a[0] + u * (b[0] - a[0]) + v * (e[0] - a[0]),
                                               a[1] + u * (b[1] - a[1]) + v * (e[1] - a[1]),
                                               a[2] + u * (b[2] - a[2]) + v * (e[2] - a[2])};
-                            std::array<std::int64_t, 3> low{}, high{};
-                            for (std::size_t k = 0; k < 3; ++k) {
-                                const double other = origin[k] + reach * direction[k];
-                                low[k] = TriangleBins::cellOf(std::min(origin[k], other));
-                                high[k] = TriangleBins::cellOf(std::max(origin[k], other));
-                            }
                             double nearest = HUGE_VAL;
                             std::uint32_t hit = 0;
-                            for (std::int64_t z = low[2]; z <= high[2]; ++z)
-                                for (std::int64_t y = low[1]; y <= high[1]; ++y)
-                                    for (std::int64_t x = low[0]; x <= high[0]; ++x)
-                                        bins.forEachInCell(x, y, z, [&](std::uint32_t other) {
-                                            if (other == t) return;
-                                            const auto& o = surface.triangles[other];
-                                            const double distance =
-                                                rayHit(origin, direction, surface.points[o[0]],
-                                                       surface.points[o[1]], surface.points[o[2]]);
-                                            if (distance > 0.0 && distance <= reach &&
-                                                (distance < nearest ||
-                                                 (distance == nearest && other < hit))) {
-                                                nearest = distance;
-                                                hit = other;
-                                            }
-                                        });
+                            for (std::uint32_t other : candidates) {
+                                const auto& o = surface.triangles[other];
+                                const double distance =
+                                    rayHit(origin, direction, surface.points[o[0]],
+                                           surface.points[o[1]], surface.points[o[2]]);
+                                if (distance > 0.0 && distance <= reach && distance < nearest) {
+                                    nearest = distance;
+                                    hit = other;
+                                }
+                            }
                             if (!(nearest <= reach) ||
                                 dot(normal, outward[hit]) >= options.opposingCosine)
                                 continue;
