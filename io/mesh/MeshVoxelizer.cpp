@@ -112,7 +112,9 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid,
     // A narrow band of 2 voxels is enough: only the sign is used; the deep
     // inside is filled with negative tiles by OpenVDB's sign flood fill. It
     // also covers every voxel a contact between two surfaces can involve.
-    openvdb::Int32Grid polygonIndex;
+    // Background -1: voxels OpenVDB gives no triangle (deep inside, far
+    // outside) read as "unknown" rather than as triangle 0.
+    openvdb::Int32Grid polygonIndex(-1);
     auto distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
         vdbInterrupter, adapter, *transformFor(grid.geometry), 2.0f, 2.0f, 0,
         nearestTriangle ? &polygonIndex : nullptr);
