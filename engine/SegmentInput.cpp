@@ -153,10 +153,23 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         result.mask = std::move(voxelised.mask);
         result.contacts = voxelised.contacts;
         result.selfOverlaps = voxelised.selfOverlaps;
+        result.thinParts = voxelised.thinParts;
         {
             Stage stage(timer, interrupter, "genus", true);
             result.meshGenus = meshTopology(*source->mesh);
             result.voxelGenus = voxelTopology(result.mask, {}, interrupter);
+        }
+        // Handles the mesh does not have: where parts thinner than a voxel
+        // (an ear) came out perforated, fill their middles, place by place,
+        // only where that closes handles (docs/meshes.md, "Parts thinner than
+        // a voxel"). Meshes whose voxel genus is right pay nothing.
+        if (source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus) {
+            Stage stage(timer, interrupter, "thin parts", true);
+            ThinPartOptions thinOptions;
+            thinOptions.onlyWhereHandlesClose = true;
+            result.thinParts = fillThinParts(*source->mesh, result.mask, thinOptions, interrupter);
+            if (result.thinParts.voxelsAdded > 0)
+                result.voxelGenus = voxelTopology(result.mask, {}, interrupter);
         }
         for (const auto& w : meshWarnings(source->meshDiagnostics, source->file.string())) {
             result.warnings.push_back(w);

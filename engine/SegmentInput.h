@@ -57,6 +57,7 @@ struct SegmentMask {
     VoxelTopology voxelGenus{};
     ContactSeparation contacts{};
     SelfOverlapSeparation selfOverlaps{};
+    ThinPartFill thinParts{};
     int resolution = 0;  // meshes: the voxelisation's resolution (the budget may lower it)
     // --time-budget: what it chose. A volume segmented `coarsening` times
     // coarser keeps its input mask in `fineMask` for the refinement.

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "io/mesh/MeshCheck.h"
+#include "io/mesh/MeshOrientation.h"
 #include "kernels/VoxelGenus.h"
 #include "kernels/base/ParallelFor.h"
 
@@ -165,27 +166,7 @@ SurfaceGraph buildSurfaceGraph(const TriangleMesh& mesh, const VolumeGeometry& g
     graph.piece.reserve(graph.triangles.size());
     for (const auto& c : graph.triangles) graph.piece.push_back(find(c[0]));
 
-    // Orientation per piece: consistent when no directed edge is used twice;
-    // outward when the enclosed signed volume is positive.
-    std::unordered_map<std::uint64_t, std::uint32_t> directedUses;
-    directedUses.reserve(graph.triangles.size() * 3);
-    std::unordered_map<std::uint32_t, std::pair<bool, double>> pieceOrientation;
-    for (std::size_t t = 0; t < graph.triangles.size(); ++t) {
-        const auto& c = graph.triangles[t];
-        auto& [consistent, volume] =
-            pieceOrientation.try_emplace(graph.piece[t], true, 0.0).first->second;
-        for (std::size_t k = 0; k < 3; ++k)
-            if (++directedUses[(std::uint64_t(c[k]) << 32) | c[(k + 1) % 3]] > 1)
-                consistent = false;
-        const Vec3 &p0 = graph.points[c[0]], &p1 = graph.points[c[1]], &p2 = graph.points[c[2]];
-        volume += p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) -
-                  p0[1] * (p1[0] * p2[2] - p1[2] * p2[0]) + p0[2] * (p1[0] * p2[1] - p1[1] * p2[0]);
-    }
-    graph.orientation.reserve(graph.triangles.size());
-    for (std::size_t t = 0; t < graph.triangles.size(); ++t) {
-        const auto& [consistent, volume] = pieceOrientation.at(graph.piece[t]);
-        graph.orientation.push_back(!consistent || volume == 0.0 ? 0 : volume > 0.0 ? 1 : -1);
-    }
+    graph.orientation = triangleOrientation(graph.triangles, graph.points, graph.piece);
     return graph;
 }
 

@@ -112,7 +112,9 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid,
     // A narrow band of 2 voxels is enough: only the sign is used; the deep
     // inside is filled with negative tiles by OpenVDB's sign flood fill. It
     // also covers every voxel a contact between two surfaces can involve.
-    openvdb::Int32Grid polygonIndex;
+    // Background -1: voxels OpenVDB gives no triangle (deep inside, far
+    // outside) read as "unknown" rather than as triangle 0.
+    openvdb::Int32Grid polygonIndex(-1);
     auto distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
         vdbInterrupter, adapter, *transformFor(grid.geometry), 2.0f, 2.0f, 0,
         nearestTriangle ? &polygonIndex : nullptr);
@@ -320,6 +322,7 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
     MaskVolume mask;
     ContactSeparation contacts;
     SelfOverlapSeparation selfOverlaps;
+    ThinPartFill thinParts;
     // OpenVDB's tools have no serial switch; a one-thread arena makes every
     // TBB loop inside (theirs and ours) run on this thread. Threaded, the
     // arena is as wide as the caller's, so a caller's thread limit holds.
@@ -333,6 +336,11 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
             // (nothing comes out inside): fall back to the shell method.
             if (std::find(mask.values().begin(), mask.values().end(), std::uint8_t(1)) !=
                 mask.values().end()) {
+                if (options.fillThinParts) {
+                    ThinPartOptions thinOptions = options.thinPartOptions;
+                    thinOptions.threaded = options.threaded;
+                    thinParts = fillThinParts(mesh, mask, thinOptions, interrupter);
+                }
                 if (options.keepMeshTopology) {
                     // First: the walls of a part sunk into another cross
                     // instead of facing each other, which the contact tests
@@ -361,7 +369,7 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
         }
     });
     throwIfInterrupted(interrupter, 1.0);
-    return MeshVoxelization{std::move(mask), contacts, selfOverlaps};
+    return MeshVoxelization{std::move(mask), contacts, selfOverlaps, thinParts};
 }
 
 WorldToIndex::WorldToIndex(const VolumeGeometry& geometry) : mOrigin(geometry.origin) {

@@ -24,6 +24,9 @@
 //    When a wider hole lets the outside in (the solid is then hardly more
 //    than the surface layer), holeClosing is doubled, up to 16 voxels, and
 //    the pass repeated. A single open sheet becomes a thin plate.
+// Thin parts (closed meshes only; see ThinPartFill.h): the voxels the middle
+// of a part thinner than a voxel or so passes through are made solid, so that
+// such a part is neither perforated nor broken into islands.
 // Mesh topology (closed meshes only; see ContactSeparation.h): surfaces far
 // apart on the mesh but closer than a voxel or two in space are separated
 // again by clearing a one-voxel seam, using the nearest triangle OpenVDB
@@ -38,6 +41,7 @@
 #include "io/mesh/ContactSeparation.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/SelfOverlapSeparation.h"
+#include "io/mesh/ThinPartFill.h"
 #include "kernels/base/Interrupter.h"
 #include "kernels/base/Volume.h"
 
@@ -64,6 +68,12 @@ struct VoxelizeOptions {
     /// pass through each other (SelfOverlapSeparation.h).
     bool keepMeshTopology = true;
     ContactSeparationOptions contactOptions;
+    /// Closed meshes: make solid the voxels the middle of every part thinner
+    /// than a voxel or so passes through (ThinPartFill.h), before contacts
+    /// are separated. Off by default: the engine fills only where that closes
+    /// handles the mesh does not have (SegmentInput.cpp, docs/meshes.md).
+    bool fillThinParts = false;
+    ThinPartOptions thinPartOptions;
 };
 
 /// Size and placement of the grid voxelizeMesh() makes, without voxelising.
@@ -90,6 +100,8 @@ struct MeshVoxelization {
     /// Where the mesh passes through itself (SelfOverlapSeparation.h); zero
     /// unless the mesh is closed and keepMeshTopology is set.
     SelfOverlapSeparation selfOverlaps;
+    /// Zero unless the mesh is closed and fillThinParts is set.
+    ThinPartFill thinParts;
 };
 
 /// voxelizeMesh() that also reports the contacts it separated.

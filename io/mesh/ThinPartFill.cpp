@@ -1,0 +1,392 @@
+#include "io/mesh/ThinPartFill.h"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <mutex>
+#include <utility>
+#include <vector>
+
+#include "io/mesh/MeshOrientation.h"
+#include "kernels/VoxelGenus.h"
+#include "kernels/base/ParallelFor.h"
+
+namespace skelseg {
+
+namespace {
+
+using Vec3 = std::array<double, 3>;
+
+Vec3 sub(const Vec3& a, const Vec3& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+double dot(const Vec3& a, const Vec3& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+/// Side of the cubic cells the triangles are binned in (voxels). Rays are at
+/// most maxThickness long, so one ray looks at a few cells.
+constexpr double kCellSize = 2.0;
+
+/// Triangles by cell: the cells each triangle's bounding box overlaps, as a
+/// sorted list of occupied cells with their triangles (CSR).
+class TriangleBins {
+public:
+    TriangleBins(const CanonicalSurface& surface, bool threaded) {
+        std::vector<std::vector<std::pair<std::uint64_t, std::uint32_t>>> perChunk;
+        std::mutex lock;
+        parallelFor(
+            surface.triangles.size(),
+            [&](std::size_t begin, std::size_t end) {
+                std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;
+                for (std::size_t t = begin; t < end; ++t) {
+                    const auto& c = surface.triangles[t];
+                    std::array<std::int64_t, 3> low{}, high{};
+                    for (std::size_t a = 0; a < 3; ++a) {
+                        double lo = HUGE_VAL, hi = -HUGE_VAL;
+                        for (std::uint32_t v : c) {
+                            lo = std::min(lo, surface.points[v][a]);
+                            hi = std::max(hi, surface.points[v][a]);
+                        }
+                        low[a] = cellOf(lo);
+                        high[a] = cellOf(hi);
+                    }
+                    const std::int64_t boxCells =
+                        (high[0] - low[0] + 1) * (high[1] - low[1] + 1) * (high[2] - low[2] + 1);
+                    if (boxCells <= 27) {
+                        for (std::int64_t z = low[2]; z <= high[2]; ++z)
+                            for (std::int64_t y = low[1]; y <= high[1]; ++y)
+                                for (std::int64_t x = low[0]; x <= high[0]; ++x)
+                                    entries.emplace_back(key(x, y, z), std::uint32_t(t));
+                        continue;
+                    }
+                    // A large triangle: its bounding box can hold far more
+                    // cells than the triangle touches. Every point of the
+                    // triangle lies within a cell of a sample at most one
+                    // cell apart, so the cells around the samples cover it.
+                    const auto &a = surface.points[c[0]], &b = surface.points[c[1]],
+                               &e = surface.points[c[2]];
+                    double longest = 0.0;
+                    for (std::size_t k = 0; k < 3; ++k)
+                        longest = std::max({longest, std::abs(b[k] - a[k]), std::abs(e[k] - b[k]),
+                                            std::abs(a[k] - e[k])});
+                    const int m = std::max(1, int(std::ceil(2.0 * longest / kCellSize)));
+                    std::vector<std::uint64_t> cells;
+                    for (int i = 0; i <= m; ++i)
+                        for (int j = 0; i + j <= m; ++j) {
+                            const double u = double(i) / m, v = double(j) / m;
+                            std::array<std::int64_t, 3> cell{};
+                            for (std::size_t k = 0; k < 3; ++k)
+                                cell[k] = cellOf(a[k] + u * (b[k] - a[k]) + v * (e[k] - a[k]));
+                            for (std::int64_t z = -1; z <= 1; ++z)
+                                for (std::int64_t y = -1; y <= 1; ++y)
+                                    for (std::int64_t x = -1; x <= 1; ++x)
+                                        cells.push_back(key(cell[0] + x, cell[1] + y, cell[2] + z));
+                        }
+                    std::sort(cells.begin(), cells.end());
+                    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+                    for (std::uint64_t cell : cells) entries.emplace_back(cell, std::uint32_t(t));
+                }
+                std::lock_guard<std::mutex> guard(lock);
+                perChunk.push_back(std::move(entries));
+            },
+            threaded, 4096);
+        std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;
+        for (auto& chunk : perChunk) entries.insert(entries.end(), chunk.begin(), chunk.end());
+        std::sort(entries.begin(), entries.end());
+        for (std::size_t i = 0; i < entries.size(); ++i) {
+            if (i == 0 || entries[i].first != entries[i - 1].first) {
+                mKeys.push_back(entries[i].first);
+                mFirst.push_back(std::uint32_t(i));
+            }
+            mTriangles.push_back(entries[i].second);
+        }
+        mFirst.push_back(std::uint32_t(entries.size()));
+    }
+
+    static std::int64_t cellOf(double coordinate) {
+        // Index-space coordinates of the mesh are above -1 (margin >= 0), so
+        // the shifted cells (and their neighbours) are positive.
+        return std::int64_t(std::floor(coordinate / kCellSize)) + 2;
+    }
+    static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
+        return std::uint64_t(x) | (std::uint64_t(y) << 21) | (std::uint64_t(z) << 42);
+    }
+
+    /// Calls visit(triangle) for every triangle of the cell (a triangle in
+    /// several cells is visited once per cell).
+    template <typename Visit>
+    void forEachInCell(std::int64_t x, std::int64_t y, std::int64_t z, Visit&& visit) const {
+        const auto it = std::lower_bound(mKeys.begin(), mKeys.end(), key(x, y, z));
+        if (it == mKeys.end() || *it != key(x, y, z)) return;
+        const std::size_t cell = std::size_t(it - mKeys.begin());
+        for (std::uint32_t k = mFirst[cell]; k < mFirst[cell + 1]; ++k) visit(mTriangles[k]);
+    }
+
+private:
+    std::vector<std::uint64_t> mKeys;
+    std::vector<std::uint32_t> mFirst, mTriangles;
+};
+
+/// Distance along the ray origin + t * direction to triangle (a, b, c), or a
+/// negative value when the ray misses it (Moller and Trumbore's test).
+double rayHit(const Vec3& origin, const Vec3& direction, const Vec3& a, const Vec3& b,
+              const Vec3& c) {
+    const Vec3 e1 = sub(b, a), e2 = sub(c, a);
+    const Vec3 p = cross(direction, e2);
+    const double determinant = dot(e1, p);
+    if (std::abs(determinant) < 1e-14) return -1.0;
+    const double inverse = 1.0 / determinant;
+    const Vec3 s = sub(origin, a);
+    const double u = dot(s, p) * inverse;
+    if (u < 0.0 || u > 1.0) return -1.0;
+    const Vec3 q = cross(s, e1);
+    const double v = dot(direction, q) * inverse;
+    if (v < 0.0 || u + v > 1.0) return -1.0;
+    return dot(e2, q) * inverse;
+}
+
+/// 26-connected groups of the sorted voxel indices, as coordinates.
+std::vector<std::vector<std::array<int, 3>>> voxelPlaces(const std::vector<std::uint64_t>& voxels,
+                                                         const Dims& dims) {
+    std::vector<std::size_t> parent(voxels.size());
+    for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    auto find = [&](std::size_t v) {
+        while (parent[v] != v) v = parent[v] = parent[parent[v]];
+        return v;
+    };
+    const std::uint64_t nx = std::uint64_t(dims.x), nxy = nx * std::uint64_t(dims.y);
+    auto coordOf = [&](std::uint64_t v) {
+        return std::array<int, 3>{int(v % nx), int((v / nx) % std::uint64_t(dims.y)), int(v / nxy)};
+    };
+    for (std::size_t i = 0; i < voxels.size(); ++i) {
+        const auto c = coordOf(voxels[i]);
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
+                    if (x < 0 || y < 0 || z < 0 || x >= dims.x || y >= dims.y || z >= dims.z)
+                        continue;
+                    const std::uint64_t n =
+                        std::uint64_t(x) + nx * std::uint64_t(y) + nxy * std::uint64_t(z);
+                    if (n <= voxels[i]) continue;
+                    const auto it = std::lower_bound(voxels.begin(), voxels.end(), n);
+                    if (it == voxels.end() || *it != n) continue;
+                    const std::size_t a = find(i), b = find(std::size_t(it - voxels.begin()));
+                    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+                }
+    }
+    std::vector<std::vector<std::array<int, 3>>> places;
+    std::vector<std::size_t> placeOfRoot(voxels.size(), std::numeric_limits<std::size_t>::max());
+    for (std::size_t i = 0; i < voxels.size(); ++i) {
+        std::size_t& place = placeOfRoot[find(i)];
+        if (place == std::numeric_limits<std::size_t>::max()) {
+            place = places.size();
+            places.emplace_back();
+        }
+        places[place].push_back(coordOf(voxels[i]));
+    }
+    return places;
+}
+
+/// Adds `cells` to `mask` if that lowers the genus of the box around them
+/// (two voxels wider) and adds no cavity; returns whether it added them.
+bool addIfHandlesClose(MaskVolume& mask, const std::vector<std::array<int, 3>>& cells) {
+    constexpr int kBoxMargin = 2;
+    const Dims dims = mask.dims();
+    std::array<int, 3> lo{dims.x, dims.y, dims.z}, hi{-1, -1, -1};
+    for (const auto& c : cells)
+        for (std::size_t a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], c[a] - kBoxMargin);
+            hi[a] = std::max(hi[a], c[a] + kBoxMargin);
+        }
+    lo = {std::max(lo[0], 0), std::max(lo[1], 0), std::max(lo[2], 0)};
+    hi = {std::min(hi[0], dims.x - 1), std::min(hi[1], dims.y - 1), std::min(hi[2], dims.z - 1)};
+    // One empty voxel around the box, so that its border closes no cavity.
+    MaskVolume box(Dims{hi[0] - lo[0] + 3, hi[1] - lo[1] + 3, hi[2] - lo[2] + 3}, 0);
+    for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+            for (int x = lo[0]; x <= hi[0]; ++x)
+                box(x - lo[0] + 1, y - lo[1] + 1, z - lo[2] + 1) = mask(x, y, z);
+    const VoxelTopologyOptions serial{false};
+    const VoxelTopology before = voxelTopology(box, serial);
+    for (const auto& c : cells) box(c[0] - lo[0] + 1, c[1] - lo[1] + 1, c[2] - lo[2] + 1) = 1;
+    const VoxelTopology after = voxelTopology(box, serial);
+    if (after.genus >= before.genus || after.cavities > before.cavities) return false;
+    for (const auto& c : cells) mask(c[0], c[1], c[2]) = 1;
+    return true;
+}
+
+}  // namespace
+
+ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
+                           const ThinPartOptions& options, Interrupter& interrupter) {
+    ThinPartFill result;
+    if (mesh.triangles.empty() || mask.empty()) return result;
+    const CanonicalSurface surface = canonicalSurface(mesh, mask.geometry);
+    const std::vector<std::int8_t> orientation =
+        triangleOrientation(surface.triangles, surface.points, surface.piece);
+    throwIfInterrupted(interrupter);
+    // Unit outward normals (zero where the side is unknown or the triangle
+    // has no area).
+    std::vector<Vec3> outward(surface.triangles.size(), Vec3{0, 0, 0});
+    parallelForEach(
+        surface.triangles.size(),
+        [&](std::size_t t) {
+            const auto& c = surface.triangles[t];
+            const Vec3 n = cross(sub(surface.points[c[1]], surface.points[c[0]]),
+                                 sub(surface.points[c[2]], surface.points[c[0]]));
+            const double length = std::sqrt(dot(n, n));
+            if (orientation[t] != 0 && length > 0.0)
+                outward[t] = {orientation[t] * n[0] / length, orientation[t] * n[1] / length,
+                              orientation[t] * n[2] / length};
+        },
+        options.threaded, 4096);
+    const TriangleBins bins(surface, options.threaded);
+    throwIfInterrupted(interrupter);
+
+    const double reach = options.maxThickness;
+    const double radius = options.coverRadius;
+    std::vector<std::uint32_t> filled;
+    std::mutex lock;
+    std::atomic<std::size_t> thinSamples{0};
+    std::atomic<bool> stopped{false};
+    parallelFor(
+        surface.triangles.size(),
+        [&](std::size_t begin, std::size_t end) {
+            if (stopped || interrupter.wasInterrupted()) {
+                stopped = true;
+                return;
+            }
+            std::vector<std::uint32_t> local, candidates;
+            std::size_t localThin = 0;
+            for (std::size_t t = begin; t < end; ++t) {
+                const Vec3& normal = outward[t];
+                if (normal[0] == 0 && normal[1] == 0 && normal[2] == 0) continue;
+                const Vec3 direction{-normal[0], -normal[1], -normal[2]};
+                const auto& c = surface.triangles[t];
+                const Vec3 &a = surface.points[c[0]], &b = surface.points[c[1]],
+                           &e = surface.points[c[2]];
+                const double longest =
+                    std::sqrt(std::max({dot(sub(b, a), sub(b, a)), dot(sub(e, b), sub(e, b)),
+                                        dot(sub(a, e), sub(a, e))}));
+                // The triangles a ray from this triangle can meet: those in the
+                // cells of the box swept by the triangle along the ray. Only a
+                // wall facing the other way can make the part thin, so most
+                // triangles (of thick parts) stop here.
+                candidates.clear();
+                {
+                    std::array<std::int64_t, 3> low{}, high{};
+                    for (std::size_t k = 0; k < 3; ++k) {
+                        const double lo = std::min({a[k], b[k], e[k]}),
+                                     hi = std::max({a[k], b[k], e[k]});
+                        low[k] = TriangleBins::cellOf(std::min(lo, lo + reach * direction[k]));
+                        high[k] = TriangleBins::cellOf(std::max(hi, hi + reach * direction[k]));
+                    }
+                    bool opposingWall = false;
+                    for (std::int64_t z = low[2]; z <= high[2]; ++z)
+                        for (std::int64_t y = low[1]; y <= high[1]; ++y)
+                            for (std::int64_t x = low[0]; x <= high[0]; ++x)
+                                bins.forEachInCell(x, y, z, [&](std::uint32_t other) {
+                                    if (other == t) return;
+                                    candidates.push_back(other);
+                                    opposingWall |=
+                                        dot(normal, outward[other]) < options.opposingCosine;
+                                });
+                    if (!opposingWall) continue;
+                    std::sort(candidates.begin(), candidates.end());
+                    candidates.erase(std::unique(candidates.begin(), candidates.end()),
+                                     candidates.end());
+                }
+                const int m = std::max(1, int(std::ceil(longest / options.sampleSpacing)));
+                // Centroids of the m x m sub-triangles: (i + 1/3, j + 1/3) / m
+                // for the upright ones, (i + 2/3, j + 2/3) / m for the others.
+                for (int i = 0; i < m; ++i)
+                    for (int j = 0; i + j < m; ++j)
+                        for (int flipped = 0; flipped < 2; ++flipped) {
+                            if (flipped && i + j + 1 >= m) continue;
+                            const double shift = flipped ? 2.0 / 3.0 : 1.0 / 3.0;
+                            const double u = (i + shift) / m, v = (j + shift) / m;
+                            const Vec3 origin{a[0] + u * (b[0] - a[0]) + v * (e[0] - a[0]),
+                                              a[1] + u * (b[1] - a[1]) + v * (e[1] - a[1]),
+                                              a[2] + u * (b[2] - a[2]) + v * (e[2] - a[2])};
+                            double nearest = HUGE_VAL;
+                            std::uint32_t hit = 0;
+                            for (std::uint32_t other : candidates) {
+                                const auto& o = surface.triangles[other];
+                                const double distance =
+                                    rayHit(origin, direction, surface.points[o[0]],
+                                           surface.points[o[1]], surface.points[o[2]]);
+                                if (distance > 0.0 && distance <= reach && distance < nearest) {
+                                    nearest = distance;
+                                    hit = other;
+                                }
+                            }
+                            if (!(nearest <= reach) ||
+                                dot(normal, outward[hit]) >= options.opposingCosine)
+                                continue;
+                            ++localThin;
+                            const Vec3 middle{origin[0] + 0.5 * nearest * direction[0],
+                                              origin[1] + 0.5 * nearest * direction[1],
+                                              origin[2] + 0.5 * nearest * direction[2]};
+                            std::array<int, 3> from{}, to{};
+                            for (std::size_t k = 0; k < 3; ++k) {
+                                from[k] = int(std::ceil(middle[k] - radius - 0.5));
+                                to[k] = int(std::floor(middle[k] + radius + 0.5));
+                            }
+                            for (int z = from[2]; z <= to[2]; ++z)
+                                for (int y = from[1]; y <= to[1]; ++y)
+                                    for (int x = from[0]; x <= to[0]; ++x) {
+                                        if (!mask.contains(x, y, z)) continue;
+                                        // Squared distance from the middle to the cube.
+                                        const int voxel[3] = {x, y, z};
+                                        double squared = 0.0;
+                                        for (std::size_t k = 0; k < 3; ++k) {
+                                            const double gap = std::abs(middle[k] - voxel[k]) - 0.5;
+                                            if (gap > 0.0) squared += gap * gap;
+                                        }
+                                        if (squared <= radius * radius)
+                                            local.push_back(std::uint32_t(mask.index(x, y, z)));
+                                    }
+                        }
+            }
+            thinSamples += localThin;
+            std::lock_guard<std::mutex> guard(lock);
+            filled.insert(filled.end(), local.begin(), local.end());
+        },
+        options.threaded, 256);
+    if (stopped) throwIfInterrupted(interrupter);
+    std::sort(filled.begin(), filled.end());
+    filled.erase(std::unique(filled.begin(), filled.end()), filled.end());
+    std::uint8_t* data = mask.data();
+    result.thinSamples = thinSamples;
+    if (options.onlyWhereHandlesClose) {
+        std::vector<std::uint64_t> added;
+        for (std::uint32_t index : filled)
+            if (!data[index]) added.push_back(index);
+        for (const auto& place : voxelPlaces(added, mask.dims())) {
+            throwIfInterrupted(interrupter);
+            if (addIfHandlesClose(mask, place)) {
+                ++result.placesAdded;
+                result.voxelsAdded += place.size();
+            } else {
+                ++result.placesLeftOut;
+            }
+        }
+        return result;
+    }
+    for (std::uint32_t index : filled)
+        if (!data[index]) {
+            data[index] = 1;
+            ++result.voxelsAdded;
+        }
+    return result;
+}
+
+}  // namespace skelseg
