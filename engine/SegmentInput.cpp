@@ -67,13 +67,17 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
 
 namespace {
 
+/// Voxelises the mesh in a stage named `stageName`; `fillThinParts` as in
+/// VoxelizeOptions.
 MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions& options,
                           StageTimer& timer, Interrupter& interrupter,
-                          std::uint64_t& estimatedMemory) {
+                          std::uint64_t& estimatedMemory, bool fillThinParts,
+                          const char* stageName) {
     const TriangleMesh& mesh = *source.mesh;
     VoxelizeOptions voxelizeOptions;
     voxelizeOptions.resolution = options.resolution;
     voxelizeOptions.meshIsClosed = source.meshDiagnostics.closed;
+    voxelizeOptions.fillThinParts = fillThinParts;
     // The voxeliser's refusals (a grid over the cap, a mesh collapsed to a
     // point) do not know the file: name it, as every error must.
     const auto nameTheFile = [&](const UsageError& error) {
@@ -93,7 +97,7 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
                                formatBytes(estimatedMemory) + " at resolution " +
                                std::to_string(options.resolution) + ", over the limit of " +
                                formatBytes(options.memoryLimit) + " (--max-memory)");
-    Stage stage(timer, interrupter, "voxelise", true);
+    Stage stage(timer, interrupter, stageName, true);
     try {
         return voxelizeMeshWithContacts(mesh, voxelizeOptions, interrupter);
     } catch (const UsageError& error) {
@@ -148,29 +152,40 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
             chosen.resolution = result.budget->resolution;
         }
         result.resolution = chosen.resolution;
-        MeshVoxelization voxelised =
-            voxelise(*source, chosen, timer, interrupter, result.estimatedMemory);
+        MeshVoxelization voxelised = voxelise(*source, chosen, timer, interrupter,
+                                              result.estimatedMemory, false, "voxelise");
+        {
+            Stage stage(timer, interrupter, "genus", true);
+            result.meshGenus = meshTopology(*source->mesh);
+            result.voxelGenus = voxelTopology(voxelised.mask, {}, interrupter);
+        }
+        // Handles the mesh does not have: parts thinner than a voxel (an ear)
+        // may have come out perforated. Voxelise again with their middles
+        // filled, and keep that model only if it has fewer handles: a fill
+        // that changes no handle (joining a broken tip, which is an island
+        // and no part anyway) would only change parts that were right
+        // (docs/meshes.md, "Parts thinner than a voxel"). Meshes whose voxel
+        // genus is right pay nothing.
+        if (source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus) {
+            std::uint64_t filledMemory = 0;
+            MeshVoxelization filled = voxelise(*source, chosen, timer, interrupter, filledMemory,
+                                               true, "voxelise with thin parts filled");
+            VoxelTopology filledGenus;
+            {
+                Stage stage(timer, interrupter, "genus with thin parts filled", true);
+                filledGenus = voxelTopology(filled.mask, {}, interrupter);
+            }
+            result.thinPartFill = filledGenus.genus < result.voxelGenus.genus ? "kept" : "rejected";
+            result.thinPartGenus = filledGenus.genus;
+            if (filledGenus.genus < result.voxelGenus.genus) {
+                voxelised = std::move(filled);
+                result.voxelGenus = filledGenus;
+            }
+        }
         result.mask = std::move(voxelised.mask);
         result.contacts = voxelised.contacts;
         result.selfOverlaps = voxelised.selfOverlaps;
         result.thinParts = voxelised.thinParts;
-        {
-            Stage stage(timer, interrupter, "genus", true);
-            result.meshGenus = meshTopology(*source->mesh);
-            result.voxelGenus = voxelTopology(result.mask, {}, interrupter);
-        }
-        // Handles the mesh does not have: where parts thinner than a voxel
-        // (an ear) came out perforated, fill their middles, place by place,
-        // only where that closes handles (docs/meshes.md, "Parts thinner than
-        // a voxel"). Meshes whose voxel genus is right pay nothing.
-        if (source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus) {
-            Stage stage(timer, interrupter, "thin parts", true);
-            ThinPartOptions thinOptions;
-            thinOptions.onlyWhereHandlesClose = true;
-            result.thinParts = fillThinParts(*source->mesh, result.mask, thinOptions, interrupter);
-            if (result.thinParts.voxelsAdded > 0)
-                result.voxelGenus = voxelTopology(result.mask, {}, interrupter);
-        }
         for (const auto& w : meshWarnings(source->meshDiagnostics, source->file.string())) {
             result.warnings.push_back(w);
             warn(w);

@@ -58,6 +58,11 @@ struct SegmentMask {
     ContactSeparation contacts{};
     SelfOverlapSeparation selfOverlaps{};
     ThinPartFill thinParts{};
+    // "not needed" (voxel genus = mesh genus), "kept" or "rejected": the
+    // thin-part fill tried when the voxel model has handles the mesh has not;
+    // thinPartGenus is the voxel genus it gave.
+    std::string thinPartFill = "not needed";
+    std::int64_t thinPartGenus = 0;
     int resolution = 0;  // meshes: the voxelisation's resolution (the budget may lower it)
     // --time-budget: what it chose. A volume segmented `coarsening` times
     // coarser keeps its input mask in `fineMask` for the refinement.

@@ -35,8 +35,9 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
         context.input["self_overlaps_kept"] = shape.input->selfOverlaps.overlapsKept;
         context.input["self_overlap_voxels"] = shape.input->selfOverlaps.overlapVoxels;
         context.input["self_overlap_voxels_cleared"] = shape.input->selfOverlaps.voxelsCleared;
-        context.input["thin_part_places_filled"] = shape.input->thinParts.placesAdded;
-        context.input["thin_part_places_left_out"] = shape.input->thinParts.placesLeftOut;
+        context.input["thin_part_fill"] = shape.input->thinPartFill;
+        if (shape.input->thinPartFill != "not needed")
+            context.input["thin_part_fill_voxel_genus"] = shape.input->thinPartGenus;
         context.input["thin_part_voxels_added"] = shape.input->thinParts.voxelsAdded;
         std::uint32_t faceSegments = 0;
         for (std::uint32_t l : shape.faceLabels) faceSegments = std::max(faceSegments, l + 1);

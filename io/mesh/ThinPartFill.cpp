@@ -5,13 +5,11 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <mutex>
 #include <utility>
 #include <vector>
 
 #include "io/mesh/MeshOrientation.h"
-#include "kernels/VoxelGenus.h"
 #include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
@@ -150,77 +148,6 @@ double rayHit(const Vec3& origin, const Vec3& direction, const Vec3& a, const Ve
     const double v = dot(direction, q) * inverse;
     if (v < 0.0 || u + v > 1.0) return -1.0;
     return dot(e2, q) * inverse;
-}
-
-/// 26-connected groups of the sorted voxel indices, as coordinates.
-std::vector<std::vector<std::array<int, 3>>> voxelPlaces(const std::vector<std::uint64_t>& voxels,
-                                                         const Dims& dims) {
-    std::vector<std::size_t> parent(voxels.size());
-    for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = i;
-    auto find = [&](std::size_t v) {
-        while (parent[v] != v) v = parent[v] = parent[parent[v]];
-        return v;
-    };
-    const std::uint64_t nx = std::uint64_t(dims.x), nxy = nx * std::uint64_t(dims.y);
-    auto coordOf = [&](std::uint64_t v) {
-        return std::array<int, 3>{int(v % nx), int((v / nx) % std::uint64_t(dims.y)), int(v / nxy)};
-    };
-    for (std::size_t i = 0; i < voxels.size(); ++i) {
-        const auto c = coordOf(voxels[i]);
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int x = c[0] + dx, y = c[1] + dy, z = c[2] + dz;
-                    if (x < 0 || y < 0 || z < 0 || x >= dims.x || y >= dims.y || z >= dims.z)
-                        continue;
-                    const std::uint64_t n =
-                        std::uint64_t(x) + nx * std::uint64_t(y) + nxy * std::uint64_t(z);
-                    if (n <= voxels[i]) continue;
-                    const auto it = std::lower_bound(voxels.begin(), voxels.end(), n);
-                    if (it == voxels.end() || *it != n) continue;
-                    const std::size_t a = find(i), b = find(std::size_t(it - voxels.begin()));
-                    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-                }
-    }
-    std::vector<std::vector<std::array<int, 3>>> places;
-    std::vector<std::size_t> placeOfRoot(voxels.size(), std::numeric_limits<std::size_t>::max());
-    for (std::size_t i = 0; i < voxels.size(); ++i) {
-        std::size_t& place = placeOfRoot[find(i)];
-        if (place == std::numeric_limits<std::size_t>::max()) {
-            place = places.size();
-            places.emplace_back();
-        }
-        places[place].push_back(coordOf(voxels[i]));
-    }
-    return places;
-}
-
-/// Adds `cells` to `mask` if that lowers the genus of the box around them
-/// (two voxels wider) and adds no cavity; returns whether it added them.
-bool addIfHandlesClose(MaskVolume& mask, const std::vector<std::array<int, 3>>& cells) {
-    constexpr int kBoxMargin = 2;
-    const Dims dims = mask.dims();
-    std::array<int, 3> lo{dims.x, dims.y, dims.z}, hi{-1, -1, -1};
-    for (const auto& c : cells)
-        for (std::size_t a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], c[a] - kBoxMargin);
-            hi[a] = std::max(hi[a], c[a] + kBoxMargin);
-        }
-    lo = {std::max(lo[0], 0), std::max(lo[1], 0), std::max(lo[2], 0)};
-    hi = {std::min(hi[0], dims.x - 1), std::min(hi[1], dims.y - 1), std::min(hi[2], dims.z - 1)};
-    // One empty voxel around the box, so that its border closes no cavity.
-    MaskVolume box(Dims{hi[0] - lo[0] + 3, hi[1] - lo[1] + 3, hi[2] - lo[2] + 3}, 0);
-    for (int z = lo[2]; z <= hi[2]; ++z)
-        for (int y = lo[1]; y <= hi[1]; ++y)
-            for (int x = lo[0]; x <= hi[0]; ++x)
-                box(x - lo[0] + 1, y - lo[1] + 1, z - lo[2] + 1) = mask(x, y, z);
-    const VoxelTopologyOptions serial{false};
-    const VoxelTopology before = voxelTopology(box, serial);
-    for (const auto& c : cells) box(c[0] - lo[0] + 1, c[1] - lo[1] + 1, c[2] - lo[2] + 1) = 1;
-    const VoxelTopology after = voxelTopology(box, serial);
-    if (after.genus >= before.genus || after.cavities > before.cavities) return false;
-    for (const auto& c : cells) mask(c[0], c[1], c[2]) = 1;
-    return true;
 }
 
 }  // namespace
@@ -365,27 +292,12 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
     std::sort(filled.begin(), filled.end());
     filled.erase(std::unique(filled.begin(), filled.end()), filled.end());
     std::uint8_t* data = mask.data();
-    result.thinSamples = thinSamples;
-    if (options.onlyWhereHandlesClose) {
-        std::vector<std::uint64_t> added;
-        for (std::uint32_t index : filled)
-            if (!data[index]) added.push_back(index);
-        for (const auto& place : voxelPlaces(added, mask.dims())) {
-            throwIfInterrupted(interrupter);
-            if (addIfHandlesClose(mask, place)) {
-                ++result.placesAdded;
-                result.voxelsAdded += place.size();
-            } else {
-                ++result.placesLeftOut;
-            }
-        }
-        return result;
-    }
     for (std::uint32_t index : filled)
         if (!data[index]) {
             data[index] = 1;
             ++result.voxelsAdded;
         }
+    result.thinSamples = thinSamples;
     return result;
 }
 

@@ -48,12 +48,6 @@ struct ThinPartOptions {
     /// Voxels whose cube comes this close (voxels) to a chord's middle are
     /// filled; covers the gaps between samples.
     double coverRadius = 0.25;
-    /// Add a place (26-connected group of voxels to add) only where that
-    /// closes handles: the genus of the box around it (two voxels wider)
-    /// falls and no cavity appears. A perforated sheet is closed; a broken
-    /// tip stays broken (its island is not a part, Islands.h), so parts that
-    /// were already right are not changed.
-    bool onlyWhereHandlesClose = false;
     /// false: everything runs on the calling thread (same result).
     bool threaded = true;
 };
@@ -63,10 +57,6 @@ struct ThinPartFill {
     std::size_t thinSamples = 0;
     /// Voxels that were empty and became solid.
     std::size_t voxelsAdded = 0;
-    /// onlyWhereHandlesClose: places added, and places left out because
-    /// adding them closed no handle.
-    std::size_t placesAdded = 0;
-    std::size_t placesLeftOut = 0;
 };
 
 /// Makes solid the voxels of `mask` that the middle of every part of `mesh`
