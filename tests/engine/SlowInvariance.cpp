@@ -31,10 +31,7 @@ std::size_t partCount(const fs::path& seg) {
     return labels.size();
 }
 
-// Disabled until it passes: one samba frame, whose hand sits inside its hip
-// (the mesh intersects itself), still fuses an arm with the body. Figures:
-// docs/quality.md, "Pose and resolution invariance".
-TEST(Invariance, DISABLED_EveryPoseSequenceKeepsItsPartCount) {
+TEST(Invariance, EveryPoseSequenceKeepsItsPartCount) {
     const fs::path poses = test::sharedDataDir() / "poses";
     if (!fs::is_directory(poses)) GTEST_SKIP() << "no pose data at " << poses << ": skipped";
     if (test::poseSequences(poses).empty()) GTEST_SKIP() << "no pose sequence in " << poses;

@@ -6,47 +6,14 @@
 
 #include "io/mesh/MeshVoxelizer.h"
 #include "kernels/VoxelGenus.h"
+#include "tests/support/BoxMeshes.h"
 
 namespace skelseg {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-using Rotation = std::array<std::array<double, 3>, 3>;
-
-/// Rotation by `degrees` about the (normalised) axis.
-Rotation rotation(std::array<double, 3> axis, double degrees) {
-    const double length = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-    for (double& a : axis) a /= length;
-    const double c = std::cos(degrees * kPi / 180), s = std::sin(degrees * kPi / 180);
-    const double x = axis[0], y = axis[1], z = axis[2];
-    return {{{c + x * x * (1 - c), x * y * (1 - c) - z * s, x * z * (1 - c) + y * s},
-             {y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s},
-             {z * x * (1 - c) - y * s, z * y * (1 - c) + x * s, c + z * z * (1 - c)}}};
-}
-
-/// Appends the closed box [-size/2, size/2] (outward normals), rotated and
-/// moved to `centre`.
-void addBox(TriangleMesh& mesh, const std::array<double, 3>& size, const Rotation& r,
-            const std::array<double, 3>& centre = {0, 0, 0}) {
-    const auto first = std::uint32_t(mesh.vertices.size());
-    for (int corner = 0; corner < 8; ++corner) {
-        const double p[3] = {(corner & 1 ? 0.5 : -0.5) * size[0],
-                             (corner & 2 ? 0.5 : -0.5) * size[1],
-                             (corner & 4 ? 0.5 : -0.5) * size[2]};
-        std::array<double, 3> q{};
-        for (std::size_t i = 0; i < 3; ++i)
-            q[i] = centre[i] + r[i][0] * p[0] + r[i][1] * p[1] + r[i][2] * p[2];
-        mesh.vertices.push_back(q);
-    }
-    const std::uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-    for (const auto& q : quads) {
-        mesh.triangles.push_back({first + q[0], first + q[1], first + q[2]});
-        mesh.triangles.push_back({first + q[0], first + q[2], first + q[3]});
-    }
-    mesh.triangleFace.resize(mesh.triangles.size());
-    mesh.faceCount = mesh.triangles.size();
-}
+using test::addBox;
+using test::Rotation;
+using test::rotation;
 
 /// A square sheet 40 units wide and `thickness` thick, rotated by r.
 TriangleMesh sheet(double thickness, const Rotation& r) {
