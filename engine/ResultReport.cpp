@@ -63,7 +63,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                             {"region_radius", p.regionRadius},
                             {"bridge_gap", p.bridgeGap},
                             {"consecutive_levels", p.consecutiveLevels},
-                            {"skeleton_search", skeletonSearchName(p.skeletonSearch)},
+                            {"skeleton_search", skeletonSearchName(skeletonSearchToRun(p))},
                             {"joints", p.joints}};
     if (p.joints) {
         const JointOptions& j = p.jointOptions;

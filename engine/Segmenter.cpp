@@ -42,6 +42,10 @@ const char* skeletonSearchName(SkeletonSearch search) {
     return search == SkeletonSearch::Band ? "band" : "exhaustive";
 }
 
+SkeletonSearch skeletonSearchToRun(const SegmentationParameters& parameters) {
+    return parameters.finerTaus.empty() ? parameters.skeletonSearch : SkeletonSearch::Exhaustive;
+}
+
 std::vector<TauSpec> parseTauList(const std::string& text) {
     std::vector<TauSpec> taus;
     std::size_t start = 0;
@@ -166,11 +170,8 @@ std::vector<std::vector<std::uint16_t>> assembleLevelLabels(
 
 SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParameters& requested,
                                  Interrupter& interrupter, StageTimer* timerIn) {
-    // The band is found at one tau (kernels/SkeletonBand.h); finer levels
-    // would miss the branches only their tau keeps, so a hierarchy runs the
-    // exhaustive search (the CLI refuses an explicit band with a list).
     SegmentationParameters p = requested;
-    if (!p.finerTaus.empty()) p.skeletonSearch = SkeletonSearch::Exhaustive;
+    p.skeletonSearch = skeletonSearchToRun(p);
     StageTimer localTimer;
     StageTimer& timer = timerIn ? *timerIn : localTimer;
     SegmentationResult result;

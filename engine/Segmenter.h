@@ -104,6 +104,12 @@ struct SegmentationParameters {
     JointOptions jointOptions;
 };
 
+/// The search a run with `parameters` uses: the band is found at one tau
+/// (kernels/SkeletonBand.h) and would miss branches only a finer tau keeps, so
+/// a hierarchy (finerTaus) runs the exhaustive search whatever was asked (the
+/// CLI refuses an explicit band with a list before any work).
+SkeletonSearch skeletonSearchToRun(const SegmentationParameters& parameters);
+
 struct SkeletonVertex {
     std::array<int, 3>
         voxel{};  // in the input grid (may be -1 or dims for border-touching objects)

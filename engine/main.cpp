@@ -74,15 +74,11 @@ struct SegmentCli {
         else if (skeletonSearchText == "band")
             options.parameters.skeletonSearch = skelseg::SkeletonSearch::Band;
         if (!maxMemoryText.empty()) options.maxMemoryBytes = parseBytes(maxMemoryText);
-        // The band is found at one tau (kernels/SkeletonBand.h): a hierarchy
-        // runs the exhaustive search, and refuses an explicit band before any
-        // work (segmentVolume refuses it too, for the library).
-        if (!options.parameters.finerTaus.empty()) {
-            if (skeletonSearchText == "band")
-                throw skelseg::UsageError(
-                    "--skeleton-search band takes a single --tau, not a list of levels");
-            options.parameters.skeletonSearch = skelseg::SkeletonSearch::Exhaustive;
-        }
+        // A hierarchy runs the exhaustive search (skeletonSearchToRun): an
+        // explicit band with a list is refused before any work.
+        if (!options.parameters.finerTaus.empty() && skeletonSearchText == "band")
+            throw skelseg::UsageError(
+                "--skeleton-search band takes a single --tau, not a list of levels");
     }
 };
 

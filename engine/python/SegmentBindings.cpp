@@ -35,9 +35,6 @@ SegmentationParameters parametersFrom(const CallOptions& options) {
     p.tau = taus.back();
     taus.pop_back();
     p.finerTaus = std::move(taus);
-    // A hierarchy runs the exhaustive search, as the CLI's (the band is found
-    // at one tau).
-    if (!p.finerTaus.empty()) p.skeletonSearch = SkeletonSearch::Exhaustive;
     p.sigmaMin = options.sigmaMin;
     p.bodyRatio = options.bodyRatio;
     p.joints = options.joints;
