@@ -14,9 +14,11 @@
 
 #include "bench/BenchShapes.h"
 #include "kernels/ComponentGrowth.h"
+#include "kernels/ConnectedObjects.h"
 #include "kernels/Geodesicness.h"
 #include "kernels/RimCount.h"
 #include "kernels/SkeletonBand.h"
+#include "kernels/VoxelGenus.h"
 
 namespace skelseg::bench {
 namespace {
@@ -89,6 +91,31 @@ void boundaryGraphBench(benchmark::State& state, const std::string& shape) {
     }
     state.counters["nodes"] = double(in.graph.nodeCount());
     state.counters["edges"] = double(in.graph.edgeCount());
+}
+
+void connectedObjectsBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    std::size_t runs = 0;
+    for (auto _ : state) {
+        ConnectedObjects objects = findConnectedObjects(in.mask, {false});
+        runs = objects.runs.runs.size();
+        benchmark::DoNotOptimize(objects.objectOfRun.data());
+    }
+    state.counters["voxels"] = double(in.mask.size());
+    state.counters["runs"] = double(runs);
+}
+
+void voxelGenusBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    VoxelTopologyOptions options;
+    options.threaded = false;
+    std::int64_t genus = 0;
+    for (auto _ : state) {
+        genus = voxelTopology(in.mask, options).genus;
+        benchmark::DoNotOptimize(genus);
+    }
+    state.counters["voxels"] = double(in.mask.size());
+    state.counters["genus"] = double(genus);
 }
 
 void skeletonCandidatesBench(benchmark::State& state, const std::string& shape) {
@@ -268,6 +295,8 @@ void measureSkeletonBench(benchmark::State& state, const std::string& shape) {
     registerForShapes("FeatureTransform", kLinearSizes, featureTransformBench);
     registerForShapes("BoundaryGraph", kLinearSizes, boundaryGraphBench);
     registerForShapes("SkeletonCandidates", kLinearSizes, skeletonCandidatesBench);
+    registerForShapes("ConnectedObjects", kLinearSizes, connectedObjectsBench);
+    registerForShapes("VoxelGenus", kLinearSizes, voxelGenusBench);
     registerForShapes("Landmarks", kSizes, landmarksBench);
     registerForShapes("GeodesicSearch", kSizes,
                       [](benchmark::State& state, const std::string& shape) {

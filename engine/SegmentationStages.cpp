@@ -32,8 +32,7 @@ SkeletonMeasureOptions ObjectState::measureOptions() const {
     return options;
 }
 
-void cropObject(ObjectState& state, const MaskVolume& mask,
-                const std::vector<std::uint32_t>& component) {
+void cropObject(ObjectState& state, const ConnectedObjects& objects) {
     Stage stage(state.timer, state.interrupter, "crop", true);
     const ObjectExtent& extent = state.extent;
     state.origin = {extent.lo[0] - 1, extent.lo[1] - 1, extent.lo[2] - 1};
@@ -42,18 +41,19 @@ void cropObject(ObjectState& state, const MaskVolume& mask,
                         extent.hi[2] - extent.lo[2] + 3};
     state.crop = MaskVolume(cropDims, 0);
     MaskVolume& crop = state.crop;
+    const VoxelRuns& runs = objects.runs;
     // Planes 1 .. cropDims.z - 2 of the crop (the outer ones stay background).
     parallelFor(
         cropDims.z - 2,
         [&](int begin, int end) {
             for (int z = begin + 1; z < end + 1; ++z)
                 for (int y = 1; y < cropDims.y - 1; ++y) {
-                    // Row start at the first object column (x = 1 in the crop): origin[0]
-                    // itself may be -1, and forming a pointer before the array is undefined.
-                    const std::uint32_t* in =
-                        component.data() + mask.index(origin[0] + 1, y + origin[1], z + origin[2]);
-                    for (int x = 1; x < cropDims.x - 1; ++x)
-                        crop(x, y, z) = in[x - 1] == extent.id + 1 ? 1 : 0;
+                    const std::size_t row = runs.rowOf(y + origin[1], z + origin[2]);
+                    std::uint8_t* out = crop.data() + crop.index(0, y, z);
+                    for (std::uint32_t k = runs.rowStart[row]; k < runs.rowStart[row + 1]; ++k)
+                        if (objects.objectOfRun[k] == extent.id)
+                            std::fill(out + (runs.runs[k].x0 - origin[0]),
+                                      out + (runs.runs[k].x1 - origin[0] + 1), 1);
                 }
         },
         state.parameters.threaded);
@@ -304,12 +304,11 @@ void labelObjectInterior(ObjectState& state) {
     state.localLabels = objectInteriorLabels(state, state.segments);
 }
 
-void runObjectStages(ObjectState& state, const MaskVolume& mask,
-                     const std::vector<std::uint32_t>& component) {
+void runObjectStages(ObjectState& state, const ConnectedObjects& objects) {
     state.out.voxelCount = state.extent.voxels;
     state.out.bboxMin = state.extent.lo;
     state.out.bboxMax = state.extent.hi;
-    cropObject(state, mask, component);
+    cropObject(state, objects);
     computeObjectFeatureTransform(state);
     buildObjectBoundaryGraph(state);
     if (state.extent.voxels >= state.parameters.minObjectVoxels) {

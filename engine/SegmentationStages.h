@@ -118,10 +118,9 @@ struct ObjectState {
     SkeletonMeasureOptions measureOptions() const;
 };
 
-/// Copies the object (its id in `component`, the per-voxel object ids of
-/// findConnectedObjects) out of the input grid into `state.crop`.
-void cropObject(ObjectState& state, const MaskVolume& mask,
-                const std::vector<std::uint32_t>& component);
+/// Copies the object (the runs of `objects` with its id) out of the input
+/// grid into `state.crop`.
+void cropObject(ObjectState& state, const ConnectedObjects& objects);
 /// Exact Euclidean feature transform of the crop's boundary voxels.
 void computeObjectFeatureTransform(ObjectState& state);
 /// The boundary graph; sets the boundary area, tau and the noise area.
@@ -153,7 +152,6 @@ Volume<std::uint16_t> objectInteriorLabels(const ObjectState& state,
 /// Runs every stage above in order (the skeleton stages only for objects of
 /// at least minObjectVoxels voxels) and records skeleton, junctions and
 /// critical points in `state.out`.
-void runObjectStages(ObjectState& state, const MaskVolume& mask,
-                     const std::vector<std::uint32_t>& component);
+void runObjectStages(ObjectState& state, const ConnectedObjects& objects);
 
 }  // namespace skelseg

@@ -221,7 +221,7 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
 
     for (const ObjectExtent& extent : found.objects) {
         ObjectState state(p, interrupter, timer, extent);
-        runObjectStages(state, mask, found.component);
+        runObjectStages(state, found);
         objectLabels.push_back({state.origin, state.segments.area, std::move(state.localLabels)});
         for (std::size_t k = 0; k < finerCount; ++k) {
             ObjectLevelWork& level = state.finerLevels[k];

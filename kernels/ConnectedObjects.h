@@ -1,19 +1,19 @@
 // skelseg: the objects of a volume (docs/algorithm.md §1): 26-connected
 // components of the object voxels, each segmented on its own.
 //
-// Labelled through x-runs of object voxels and a union-find over runs: runs
-// are found and joined slab by slab in parallel (a slab only joins its own
-// runs), then the few slab seams are joined serially. Every union links the
-// larger run id to the smaller, so a component's root is its first run in
-// voxel order, and objects are numbered in the order of their first voxel
-// whatever the thread count (the order a serial scan-and-flood would give).
-// The flood fill it replaced was the largest serial stage at 400^3 (1 s).
+// The labelling is kept run-length coded (kernels/VoxelRuns.h): the object
+// voxels' x-runs, each with its object id. Nothing downstream needs a label
+// per voxel of the grid (the crop of an object and the islands' boundary
+// areas read the runs), and at 400^3 such a label volume is 256 MB to
+// allocate, zero and fill. Objects are numbered in the order
+// of their first voxel whatever the thread count.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include "kernels/VoxelRuns.h"
 #include "kernels/base/Interrupter.h"
 #include "kernels/base/Volume.h"
 
@@ -27,8 +27,13 @@ struct ObjectExtent {
 
 struct ConnectedObjects {
     std::vector<ObjectExtent> objects;
-    /// Per voxel of the grid: object id + 1, or 0 for background.
-    std::vector<std::uint32_t> component;
+    /// The object voxels of the grid as x-runs.
+    VoxelRuns runs;
+    /// Per run of `runs`: the id of its object.
+    std::vector<std::uint32_t> objectOfRun;
+
+    /// Object id + 1 of voxel (x, y, z) of the grid, 0 for background.
+    std::uint32_t componentAt(int x, int y, int z) const;
 };
 
 struct ConnectedObjectsOptions {

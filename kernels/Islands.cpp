@@ -17,20 +17,32 @@ std::vector<std::uint64_t> objectBoundaryAreas(const MaskVolume& mask,
     tbb::enumerable_thread_specific<std::vector<std::uint64_t>> partial(
         [&] { return std::vector<std::uint64_t>(objectCount, 0); });
     const std::size_t nx = std::size_t(d.x), plane = nx * std::size_t(d.y);
+    const VoxelRuns& runs = objects.runs;
     auto planes = [&](int z0, int z1) {
         std::vector<std::uint64_t>& area = partial.local();
         const std::uint8_t* m = mask.data();
         for (int z = z0; z < z1; ++z)
-            for (int y = 0; y < d.y; ++y)
-                for (int x = 0; x < d.x; ++x) {
-                    const std::size_t i = mask.index(x, y, z);
-                    if (!m[i]) continue;
-                    const bool boundary = x == 0 || x + 1 == d.x || y == 0 || y + 1 == d.y ||
-                                          z == 0 || z + 1 == d.z || !m[i - 1] || !m[i + 1] ||
-                                          !m[i - nx] || !m[i + nx] || !m[i - plane] ||
-                                          !m[i + plane];
-                    if (boundary) ++area[objects.component[i] - 1];
+            for (int y = 0; y < d.y; ++y) {
+                const std::size_t row = runs.rowOf(y, z);
+                // A row on the grid's side: every voxel has a face outside.
+                const bool side = y == 0 || y + 1 == d.y || z == 0 || z + 1 == d.z;
+                for (std::uint32_t k = runs.rowStart[row]; k < runs.rowStart[row + 1]; ++k) {
+                    const VoxelRun& run = runs.runs[k];
+                    std::uint64_t count = 0;
+                    if (side) {
+                        count = std::uint64_t(run.x1 - run.x0 + 1);
+                    } else {
+                        // A run's ends face the background along x (runs are
+                        // maximal); inside it only the y and z faces decide.
+                        count = run.x1 > run.x0 ? 2 : 1;
+                        for (int x = run.x0 + 1; x < run.x1; ++x) {
+                            const std::size_t i = mask.index(x, y, z);
+                            count += !m[i - nx] || !m[i + nx] || !m[i - plane] || !m[i + plane];
+                        }
+                    }
+                    area[objects.objectOfRun[k]] += count;
                 }
+            }
     };
     parallelFor(d.z, planes, options.threaded);
     std::vector<std::uint64_t> total(objectCount, 0);

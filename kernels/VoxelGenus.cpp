@@ -5,7 +5,7 @@
 #include <atomic>
 #include <vector>
 
-#include "kernels/ConnectedObjects.h"
+#include "kernels/VoxelRuns.h"
 #include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
@@ -43,74 +43,21 @@ std::array<int, 256> makeEulerTable() {
     return table;
 }
 
-/// 6-connected background components that do not touch the grid's border.
-/// A scanline fill: each step takes a whole x-run of background, so memory
-/// is read in rows (a voxel-by-voxel flood was four times the Euler sum).
-std::size_t countCavities(const MaskVolume& mask, Interrupter& interrupter) {
-    const Dims d = mask.dims();
-    const std::uint8_t* in = mask.data();
-    std::vector<std::uint8_t> seen(mask.size(), 0);
-    auto isFree = [&](std::size_t i) { return !in[i] && !seen[i]; };
-    std::vector<std::array<int, 3>> seeds;
-    auto flood = [&](int sx, int sy, int sz) {
-        seeds.push_back({sx, sy, sz});
-        while (!seeds.empty()) {
-            const auto [x0, y, z] = seeds.back();
-            seeds.pop_back();
-            const std::size_t row = mask.index(0, y, z);
-            if (!isFree(row + std::size_t(x0))) continue;
-            int left = x0, right = x0;
-            while (left > 0 && isFree(row + std::size_t(left - 1))) --left;
-            while (right + 1 < d.x && isFree(row + std::size_t(right + 1))) ++right;
-            std::fill(seen.begin() + std::ptrdiff_t(row + std::size_t(left)),
-                      seen.begin() + std::ptrdiff_t(row + std::size_t(right) + 1), 1);
-            auto scanRow = [&](int ny, int nz) {
-                if (ny < 0 || nz < 0 || ny >= d.y || nz >= d.z) return;
-                const std::size_t other = mask.index(0, ny, nz);
-                bool inRun = false;
-                for (int x = left; x <= right; ++x) {
-                    const bool free = isFree(other + std::size_t(x));
-                    if (free && !inRun) seeds.push_back({x, ny, nz});
-                    inRun = free;
-                }
-            };
-            scanRow(y - 1, z);
-            scanRow(y + 1, z);
-            scanRow(y, z - 1);
-            scanRow(y, z + 1);
-        }
-    };
-    // The outside: every background component that reaches the border.
-    for (int z = 0; z < d.z; ++z)
-        for (int y = 0; y < d.y; ++y) {
-            const bool borderRow = y == 0 || z == 0 || y + 1 == d.y || z + 1 == d.z;
-            for (int x = 0; x < d.x; x += (borderRow || x + 1 == d.x) ? 1 : d.x - 1)
-                if (isFree(mask.index(x, y, z))) flood(x, y, z);
-        }
-    throwIfInterrupted(interrupter);
-    std::size_t cavities = 0;
-    for (int z = 0; z < d.z; ++z)
-        for (int y = 0; y < d.y; ++y)
-            for (int x = 0; x < d.x; ++x)
-                if (isFree(mask.index(x, y, z))) {
-                    ++cavities;
-                    flood(x, y, z);
-                }
-    return cavities;
-}
-
-}  // namespace
-
-std::int64_t voxelEulerCharacteristic(const MaskVolume& mask, bool threaded,
-                                      Interrupter& interrupter) {
+/// chi of the union of closed object cubes: per lattice row (y, z), the
+/// four voxel rows around it, walked run boundary to run boundary. Between
+/// two boundaries the four voxels beside a lattice point do not change, so
+/// neither does its code after the first point.
+std::int64_t eulerOfRuns(const VoxelRuns& runs, bool threaded, Interrupter& interrupter) {
     static const std::array<int, 256> table = makeEulerTable();
-    const Dims d = mask.dims();
-    auto at = [&](int x, int y, int z) -> int {
-        return x >= 0 && y >= 0 && z >= 0 && x < d.x && y < d.y && z < d.z && mask(x, y, z) != 0;
-    };
+    const Dims d = runs.dims;
     // Lattice points are (x, y, z) with x in [0, nx] etc.; one task per plane z.
     std::atomic<std::int64_t> total{0};
     std::atomic<bool> stopped{false};
+    constexpr int kRows = 4;
+    // The voxel rows beside a lattice row and the bit of their voxel at dx = 0.
+    constexpr int kDy[kRows] = {-1, 0, -1, 0}, kDz[kRows] = {-1, -1, 0, 0};
+    constexpr int kBit[kRows] = {bitOf(0, -1, -1), bitOf(0, 0, -1), bitOf(0, -1, 0),
+                                 bitOf(0, 0, 0)};
     parallelFor(
         d.z + 1,
         [&](int zBegin, int zEnd) {
@@ -122,17 +69,38 @@ std::int64_t voxelEulerCharacteristic(const MaskVolume& mask, bool threaded,
                     return;
                 }
                 for (int y = 0; y <= d.y; ++y) {
-                    // The codes of consecutive points share four voxels: keep the
-                    // column x - 1 and read only the column x.
-                    int previousColumn = 0;  // voxels x - 1: bits of dx = -1
-                    for (int x = 0; x <= d.x; ++x) {
-                        const int column = at(x, y - 1, z - 1) << bitOf(0, -1, -1) |
-                                           at(x, y, z - 1) << bitOf(0, 0, -1) |
-                                           at(x, y - 1, z) << bitOf(0, -1, 0) |
-                                           at(x, y, z) << bitOf(0, 0, 0);
-                        const int code = column | previousColumn;
-                        if (code != 0) sum += table[std::size_t(code)];
-                        previousColumn = column >> 1;  // dx = 0 bits become dx = -1 bits
+                    std::uint32_t next[kRows], end[kRows];
+                    bool any = false;
+                    for (int k = 0; k < kRows; ++k) {
+                        const int vy = y + kDy[k], vz = z + kDz[k];
+                        next[k] = end[k] = 0;
+                        if (vy < 0 || vz < 0 || vy >= d.y || vz >= d.z) continue;
+                        const std::size_t row = runs.rowOf(vy, vz);
+                        next[k] = runs.rowStart[row];
+                        end[k] = runs.rowStart[row + 1];
+                        any = any || next[k] < end[k];
+                    }
+                    if (!any) continue;
+                    int previousColumn = 0;  // the voxels at x - 1, as bits of dx = 0
+                    for (int x = 0; x <= d.x;) {
+                        int column = 0, boundary = d.x + 1;
+                        for (int k = 0; k < kRows; ++k) {
+                            while (next[k] < end[k] && runs.runs[next[k]].x1 < x) ++next[k];
+                            if (next[k] == end[k]) continue;
+                            const VoxelRun& run = runs.runs[next[k]];
+                            if (run.x0 <= x) {
+                                column |= 1 << kBit[k];
+                                boundary = std::min(boundary, run.x1 + 1);
+                            } else {
+                                boundary = std::min(boundary, run.x0);
+                            }
+                        }
+                        // dx = 0 bits of the column before become its dx = -1 bits.
+                        sum += table[std::size_t(column | previousColumn >> 1)];
+                        sum += std::int64_t(boundary - x - 1) *
+                               table[std::size_t(column | column >> 1)];
+                        previousColumn = column;
+                        x = boundary;
                     }
                 }
             }
@@ -143,14 +111,43 @@ std::int64_t voxelEulerCharacteristic(const MaskVolume& mask, bool threaded,
     return total.load();
 }
 
+/// 6-connected background components that touch no side of the grid.
+std::size_t countCavities(const VoxelRuns& objects, bool threaded, Interrupter& interrupter) {
+    const VoxelRuns background = backgroundRuns(objects, threaded);
+    const std::vector<std::uint32_t> root =
+        runComponents(background, VoxelAdjacency::Face6, threaded, interrupter);
+    const Dims d = background.dims;
+    std::vector<std::uint8_t> reachesSide(root.size(), 0);
+    for (std::size_t row = 0; row < background.rowCount(); ++row) {
+        const int y = int(row % std::size_t(d.y)), z = int(row / std::size_t(d.y));
+        const bool sideRow = y == 0 || z == 0 || y + 1 == d.y || z + 1 == d.z;
+        for (std::uint32_t i = background.rowStart[row]; i < background.rowStart[row + 1]; ++i) {
+            const VoxelRun& run = background.runs[i];
+            if (sideRow || run.x0 == 0 || run.x1 + 1 == d.x) reachesSide[root[i]] = 1;
+        }
+    }
+    std::size_t cavities = 0;
+    for (std::size_t i = 0; i < root.size(); ++i) cavities += root[i] == i && !reachesSide[i];
+    return cavities;
+}
+
+}  // namespace
+
+std::int64_t voxelEulerCharacteristic(const MaskVolume& mask, bool threaded,
+                                      Interrupter& interrupter) {
+    return eulerOfRuns(objectRuns(mask, threaded, interrupter), threaded, interrupter);
+}
+
 VoxelTopology voxelTopology(const MaskVolume& mask, const VoxelTopologyOptions& options,
                             Interrupter& interrupter) {
+    const bool threaded = options.threaded;
+    const VoxelRuns runs = objectRuns(mask, threaded, interrupter);
     VoxelTopology topology;
-    topology.eulerCharacteristic = voxelEulerCharacteristic(mask, options.threaded, interrupter);
-    ConnectedObjectsOptions objectOptions;
-    objectOptions.threaded = options.threaded;
-    topology.objects = findConnectedObjects(mask, objectOptions, interrupter).objects.size();
-    topology.cavities = countCavities(mask, interrupter);
+    topology.eulerCharacteristic = eulerOfRuns(runs, threaded, interrupter);
+    const std::vector<std::uint32_t> root =
+        runComponents(runs, VoxelAdjacency::Full26, threaded, interrupter);
+    for (std::size_t i = 0; i < root.size(); ++i) topology.objects += root[i] == i;
+    topology.cavities = countCavities(runs, threaded, interrupter);
     topology.genus = std::int64_t(topology.objects) + std::int64_t(topology.cavities) -
                      topology.eulerCharacteristic;
     return topology;

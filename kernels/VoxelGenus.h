@@ -19,6 +19,11 @@
 // complement of 26 for the objects). Where cubes touch along an edge only,
 // the boundary is not a surface; the formula then still counts the tunnel
 // such a contact closes, which is what the skeleton sees.
+//
+// All three counts work on the mask's x-runs (kernels/VoxelRuns.h), read
+// once: the lattice points between two run boundaries of a row share one
+// table entry, and objects and cavities are union-finds over runs, so no
+// array per voxel of the grid is made.
 #pragma once
 
 #include <cstddef>
@@ -41,8 +46,8 @@ struct VoxelTopology {
 };
 
 struct VoxelTopologyOptions {
-    /// false: the Euler sum and the object labelling run on the calling thread
-    /// (the result is the same: integer sums).
+    /// false: everything runs on the calling thread (the result is the same:
+    /// integer sums and run components that do not depend on the split).
     bool threaded = true;
 };
 

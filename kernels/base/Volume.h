@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "kernels/base/Error.h"
+#include "kernels/base/LargeArray.h"
 
 namespace skelseg {
 
@@ -65,7 +66,10 @@ public:
     using ValueType = T;
 
     Volume() = default;
-    explicit Volume(Dims dims, T fill = T()) : mDims(dims), mData(dims.voxelCount(), fill) {}
+    /// Large volumes ask for huge pages (LargeArray.h).
+    explicit Volume(Dims dims, T fill = T()) : mDims(dims) {
+        assignLarge(mData, std::size_t(dims.voxelCount()), fill);
+    }
 
     const Dims& dims() const noexcept { return mDims; }
     std::size_t size() const noexcept { return mData.size(); }

@@ -10,10 +10,16 @@
 namespace skelseg {
 namespace {
 
+/// A labelling per voxel: object id + 1, 0 for background.
+struct FloodLabels {
+    std::vector<ObjectExtent> objects;
+    std::vector<std::uint32_t> component;
+};
+
 /// Reference: scan in voxel order, flood each new component (26-adjacency).
-ConnectedObjects floodReference(const MaskVolume& mask) {
+FloodLabels floodReference(const MaskVolume& mask) {
     const Dims d = mask.dims();
-    ConnectedObjects r;
+    FloodLabels r;
     r.component.assign(mask.size(), 0);
     std::vector<std::size_t> stack;
     for (int z = 0; z < d.z; ++z)
@@ -50,6 +56,28 @@ ConnectedObjects floodReference(const MaskVolume& mask) {
     return r;
 }
 
+void expectSameExtents(const std::vector<ObjectExtent>& a, const std::vector<ObjectExtent>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a[i].id, b[i].id);
+        EXPECT_EQ(a[i].voxels, b[i].voxels) << "object " << i;
+        EXPECT_EQ(a[i].lo, b[i].lo) << "object " << i;
+        EXPECT_EQ(a[i].hi, b[i].hi) << "object " << i;
+    }
+}
+
+/// The run-length labelling says the same as the flood, voxel by voxel.
+void expectSameLabels(const ConnectedObjects& found, const FloodLabels& reference,
+                      const MaskVolume& mask) {
+    expectSameExtents(found.objects, reference.objects);
+    const Dims d = mask.dims();
+    for (int z = 0; z < d.z; ++z)
+        for (int y = 0; y < d.y; ++y)
+            for (int x = 0; x < d.x; ++x)
+                ASSERT_EQ(found.componentAt(x, y, z), reference.component[mask.index(x, y, z)])
+                    << "voxel " << x << " " << y << " " << z;
+}
+
 void expectSameObjects(const ConnectedObjects& a, const ConnectedObjects& b) {
     ASSERT_EQ(a.objects.size(), b.objects.size());
     for (std::size_t i = 0; i < a.objects.size(); ++i) {
@@ -58,7 +86,9 @@ void expectSameObjects(const ConnectedObjects& a, const ConnectedObjects& b) {
         EXPECT_EQ(a.objects[i].lo, b.objects[i].lo) << "object " << i;
         EXPECT_EQ(a.objects[i].hi, b.objects[i].hi) << "object " << i;
     }
-    EXPECT_TRUE(a.component == b.component);
+    EXPECT_TRUE(a.runs.rowStart == b.runs.rowStart);
+    EXPECT_TRUE(a.runs.runs == b.runs.runs);
+    EXPECT_TRUE(a.objectOfRun == b.objectOfRun);
 }
 
 MaskVolume randomMask(Dims d, double density, unsigned seed) {
@@ -77,12 +107,12 @@ TEST(ConnectedObjects, RandomMasksMatchAFloodFillSerialAndParallel) {
         for (double density : {0.05, 0.15, 0.3, 0.6})
             for (unsigned seed = 1; seed <= 2; ++seed) {
                 const MaskVolume mask = randomMask(d, density, seed);
-                const ConnectedObjects reference = floodReference(mask);
+                const FloodLabels reference = floodReference(mask);
                 SCOPED_TRACE(::testing::Message()
                              << d.x << "x" << d.y << "x" << d.z << " density " << density);
                 const ConnectedObjects serial = findConnectedObjects(mask, {false});
                 const ConnectedObjects parallel = findConnectedObjects(mask, {true});
-                expectSameObjects(serial, reference);
+                expectSameLabels(serial, reference, mask);
                 expectSameObjects(parallel, serial);
             }
 }
@@ -97,16 +127,17 @@ TEST(ConnectedObjects, DiagonalContactJoinsAcrossASlabSeam) {
     ASSERT_EQ(found.objects.size(), 2u);
     EXPECT_EQ(found.objects[0].voxels, 2u);
     EXPECT_EQ(found.objects[1].voxels, 1u);
-    EXPECT_EQ(found.component[mask.index(2, 2, 8)], 1u);
-    EXPECT_EQ(found.component[mask.index(0, 3, 11)], 2u);
+    EXPECT_EQ(found.componentAt(2, 2, 8), 1u);
+    EXPECT_EQ(found.componentAt(0, 3, 11), 2u);
 }
 
 TEST(ConnectedObjects, EmptyMaskHasNoObjects) {
     const MaskVolume mask(Dims{5, 6, 7}, 0);
     const ConnectedObjects found = findConnectedObjects(mask);
     EXPECT_TRUE(found.objects.empty());
-    EXPECT_EQ(found.component.size(), mask.size());
-    for (std::uint32_t c : found.component) ASSERT_EQ(c, 0u);
+    EXPECT_TRUE(found.runs.runs.empty());
+    EXPECT_EQ(found.runs.rowStart.size(), std::size_t(6 * 7 + 1));
+    EXPECT_EQ(found.componentAt(2, 3, 4), 0u);
 }
 
 }  // namespace

@@ -30,7 +30,11 @@ TEST(Islands, BoundaryAreasCountSixBoundaryVoxels) {
     // Each object's area equals the node count of its own boundary graph.
     for (std::uint32_t o = 0; o < objects.objects.size(); ++o) {
         MaskVolume alone(mask.dims(), 0);
-        for (std::size_t i = 0; i < mask.size(); ++i) alone[i] = objects.component[i] == o + 1;
+        const Dims d = mask.dims();
+        for (int z = 0; z < d.z; ++z)
+            for (int y = 0; y < d.y; ++y)
+                for (int x = 0; x < d.x; ++x)
+                    alone(x, y, z) = objects.componentAt(x, y, z) == o + 1;
         EXPECT_EQ(areas[o], buildBoundaryGraph(alone, {false}).nodeCount()) << "object " << o;
     }
     // A 3x3x3 cube has 26 boundary voxels, a single voxel 1.

@@ -26,6 +26,7 @@ FORWARDS_UNKNOWN_OPTIONS = {"tools/run-asan-tests.sh"}
 # Placeholders for required positional arguments, so that argparse reaches
 # the unknown option (it reports missing positionals first).
 POSITIONALS = {
+    "bench/alternate_stages.py": ["skelseg"],
     "bench/compare_search.py": ["mesh.off"],
     "bench/joint_candidates.py": ["out"],
     "bench/scaling.py": ["mesh.off"],
