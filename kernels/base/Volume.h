@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "kernels/base/Error.h"
+#include "kernels/base/HugePages.h"
 
 namespace skelseg {
 
@@ -65,7 +66,11 @@ public:
     using ValueType = T;
 
     Volume() = default;
-    explicit Volume(Dims dims, T fill = T()) : mDims(dims), mData(dims.voxelCount(), fill) {}
+    /// Crop-sized volumes get huge pages (HugePages.h): their first touch is
+    /// otherwise mostly page faults.
+    explicit Volume(Dims dims, T fill = T()) : mDims(dims) {
+        assignWithHugePages(mData, std::size_t(dims.voxelCount()), fill);
+    }
 
     const Dims& dims() const noexcept { return mDims; }
     std::size_t size() const noexcept { return mData.size(); }
