@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "kernels/base/HugePages.h"
 #include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
@@ -72,7 +73,7 @@ BoundaryGraph buildBoundaryGraph(const MaskVolume& mask, const BoundaryGraphOpti
     const std::uint32_t nodes = perSlab.back();
     graph.voxel.resize(nodes);
     graph.coord.resize(nodes);
-    graph.nodeOfVoxel.assign(mask.size(), kNoNode);
+    assignWithHugePages(graph.nodeOfVoxel, mask.size(), kNoNode);
     parallelForEach(
         slabs,
         [&](int slab) {

@@ -150,14 +150,23 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
                                 scratch.cost[std::size_t(i)] = kInfiniteCost;
                                 continue;
                             }
-                            const std::int64_t fx = std::int64_t(f % std::uint32_t(nx));
-                            const std::int64_t dx = fx - x;
-                            std::int64_t c = dx * dx;
-                            if (axis == 2) {
-                                const std::int64_t fy =
-                                    std::int64_t((f / std::uint32_t(nx)) % std::uint32_t(ny));
-                                const std::int64_t dy = fy - o;
-                                c += dy * dy;
+                            // The earlier passes move features only within a
+                            // row (pass 1), then within a slice (pass 2), so
+                            // f's row or slice is the sample's own: its
+                            // coordinates need one division, not three.
+                            std::int64_t c;
+                            if (axis == 1) {
+                                const std::int64_t dx =
+                                    std::int64_t(f - std::uint32_t(voxelIndex(i, 0))) - x;
+                                c = dx * dx;
+                            } else {
+                                const std::uint32_t inSlice =
+                                    f - std::uint32_t(std::size_t(i) * sliceSize);
+                                const std::uint32_t fy = inSlice / std::uint32_t(nx);
+                                const std::int64_t dx =
+                                    std::int64_t(inSlice - fy * std::uint32_t(nx)) - x;
+                                const std::int64_t dy = std::int64_t(fy) - o;
+                                c = dx * dx + dy * dy;
                             }
                             scratch.cost[std::size_t(i)] = c;
                         }

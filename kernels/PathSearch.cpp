@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 
+#include "kernels/base/HugePages.h"
 #include "kernels/base/ParallelFor.h"
 
 #if defined(__SSE2__)
@@ -125,7 +126,7 @@ float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to,
 }
 
 void Landmarks::allocateRows(std::uint32_t nodes) {
-    mRows.assign(std::size_t(nodes) * kStride + 16, 0.0f);
+    assignWithHugePages(mRows, std::size_t(nodes) * kStride + 16, 0.0f);
     // Offset so that row 0 starts on a 64-byte boundary (vector data is only
     // 16-byte aligned); moving the vector keeps its buffer, so the offset stays
     // valid (a copy may lose the line alignment, hence unaligned loads).
@@ -181,17 +182,35 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded, Interrupte
     }
     result.count = std::uint32_t(result.node.size());
     result.allocateRows(n);
+    // The fields are computed a row cache line (16 landmarks) at a time and
+    // then written into the rows by node ranges: a thread writing one
+    // landmark's column into every row would share each row's cache lines
+    // with the threads writing the neighbouring columns.
     GeodesicSearch plain(graph);
     std::atomic<std::uint32_t> fieldsDone{0};
-    parallelForEach(
-        result.count,
-        [&](std::uint32_t k) {
-            throwIfInterrupted(interrupter, 0.5 + 0.5 * double(fieldsDone.load()) / result.count);
-            const std::vector<float> d = plain.distancesFrom(result.node[k]);
-            for (std::uint32_t v = 0; v < n; ++v) result.row(v)[k] = d[v];
-            ++fieldsDone;
-        },
-        threaded);
+    constexpr std::uint32_t kGroup = 16;
+    std::vector<std::vector<float>> fields(kGroup);
+    for (std::uint32_t first = 0; first < result.count; first += kGroup) {
+        const std::uint32_t group = std::min(kGroup, result.count - first);
+        parallelForEach(
+            group,
+            [&](std::uint32_t k) {
+                throwIfInterrupted(interrupter,
+                                   0.5 + 0.5 * double(fieldsDone.load()) / result.count);
+                fields[k] = plain.distancesFrom(result.node[first + k]);
+                ++fieldsDone;
+            },
+            threaded);
+        parallelFor(
+            n,
+            [&](std::uint32_t begin, std::uint32_t end) {
+                for (std::uint32_t v = begin; v < end; ++v) {
+                    float* row = result.row(v) + first;
+                    for (std::uint32_t k = 0; k < group; ++k) row[k] = fields[k][v];
+                }
+            },
+            threaded, 4096);
+    }
     return result;
 }
 

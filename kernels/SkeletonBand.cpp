@@ -165,6 +165,17 @@ std::vector<SkeletonPoint> bandSearch(
         const std::uint32_t f = featureTransform[voxel];
         return f == kNoFeature ? std::int64_t(0) : squaredDistance(dims, std::uint32_t(voxel), f);
     };
+    // depth2 of voxel q = (qx, qy, qz): the same value, with q's coordinates
+    // known and 32-bit divisions for its feature's (the ascent below asks it
+    // 26 times per step, for every candidate).
+    auto depth2At = [&](std::size_t q, int qx, int qy, int qz) {
+        const std::uint32_t f = featureTransform[q];
+        if (f == kNoFeature) return std::int64_t(0);
+        const std::uint32_t fyz = f / nx;
+        const std::int64_t dx = std::int64_t(f - fyz * nx) - qx, dy = std::int64_t(fyz % ny) - qy,
+                           dz = std::int64_t(fyz / ny) - qz;
+        return dx * dx + dy * dy + dz * dz;
+    };
     CoarseView coarse;
     if (band.coarseSeeds && !candidates.empty())
         coarse = coarseSearch(mask, options, band, level, bandStats, stats, interrupter);
@@ -178,7 +189,7 @@ std::vector<SkeletonPoint> bandSearch(
     // climbs deeper than the threshold, while in a thin wall it stops below.
     const int ascentSteps = 4 * int(std::ceil(band.thinWallDepth)) + 4;
     auto inThinWall = [&](int x, int y, int z) {
-        std::int64_t own = depth2(mask.index(x, y, z));
+        std::int64_t own = depth2At(mask.index(x, y, z), x, y, z);
         for (int step = 0; step < ascentSteps; ++step) {
             if (double(own) >= thinDepth2) return false;
             std::int64_t best = own;
@@ -189,7 +200,7 @@ std::vector<SkeletonPoint> bandSearch(
                         if (!mask.contains(x + dx, y + dy, z + dz)) continue;
                         const std::size_t q = mask.index(x + dx, y + dy, z + dz);
                         if (!mask[q]) continue;
-                        const std::int64_t d = depth2(q);
+                        const std::int64_t d = depth2At(q, x + dx, y + dy, z + dz);
                         if (d > best) best = d, bx = x + dx, by = y + dy, bz = z + dz;
                     }
             if (best == own) return true;  // a local maximum below the threshold

@@ -4,6 +4,7 @@
 #include <atomic>
 
 #include "kernels/FeatureTransform.h"
+#include "kernels/base/HugePages.h"
 #include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
@@ -38,6 +39,7 @@ std::vector<SkeletonCandidate> selectSkeletonCandidates(
     Interrupter& interrupter) {
     InterrupterScope scope(interrupter, "skeleton candidates");
     const Dims d = mask.dims();
+    const std::uint32_t nx = std::uint32_t(d.x), ny = std::uint32_t(d.y);
     std::vector<std::vector<SkeletonCandidate>> perSlice(std::size_t(d.z));
     std::atomic<std::uint64_t> objectVoxels{0}, withThree{0};
     std::atomic<bool> stop{false};
@@ -62,9 +64,16 @@ std::vector<SkeletonCandidate> selectSkeletonCandidates(
                     extendedFeatureSet(mask, featureTransform, graph, x, y, z, c.feature);
                 if (n < 3) continue;
                 ++three;
+                // squaredDistance(d, p, fp) with p's coordinates known.
                 const std::uint32_t fp = featureTransform[p];
-                const double depth2 =
-                    fp == kNoFeature ? 0.0 : double(squaredDistance(d, std::uint32_t(p), fp));
+                double depth2 = 0.0;
+                if (fp != kNoFeature) {
+                    const std::uint32_t fyz = fp / nx;
+                    const std::int64_t dx = std::int64_t(fp - fyz * nx) - x,
+                                       dy = std::int64_t(fyz % ny) - y,
+                                       dz = std::int64_t(fyz / ny) - z;
+                    depth2 = double(dx * dx + dy * dy + dz * dz);
+                }
                 const double threshold2 = std::max(ratio2 * depth2, minGap2);
                 double maxGap2 = 0.0;
                 for (std::uint32_t i = 0; i < n; ++i)
@@ -87,7 +96,7 @@ std::vector<SkeletonCandidate> selectSkeletonCandidates(
     std::vector<SkeletonCandidate> all;
     std::size_t total = 0;
     for (const auto& s : perSlice) total += s.size();
-    all.reserve(total);
+    reserveWithHugePages(all, total);
     for (auto& s : perSlice) all.insert(all.end(), s.begin(), s.end());
     if (stats) {
         stats->objectVoxels = objectVoxels;

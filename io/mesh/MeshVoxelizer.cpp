@@ -122,7 +122,7 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid,
     if (nearestTriangle) {
         // Outside the band the index grid holds its background; voxels whose
         // distance OpenVDB did not compute get -1.
-        nearestTriangle->assign(grid.dims.voxelCount(), -1);
+        assignWithHugePages(*nearestTriangle, grid.dims.voxelCount(), -1);
         const std::int32_t polygons = std::int32_t(mesh.triangles.size());
         std::int32_t* out = nearestTriangle->data();
         const Dims dims = grid.dims;

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "kernels/base/Error.h"
-#include "kernels/base/LargeArray.h"
+#include "kernels/base/HugePages.h"
 
 namespace skelseg {
 
@@ -66,9 +66,10 @@ public:
     using ValueType = T;
 
     Volume() = default;
-    /// Large volumes ask for huge pages (LargeArray.h).
+    /// Crop-sized volumes get huge pages (HugePages.h): their first touch is
+    /// otherwise mostly page faults.
     explicit Volume(Dims dims, T fill = T()) : mDims(dims) {
-        assignLarge(mData, std::size_t(dims.voxelCount()), fill);
+        assignWithHugePages(mData, std::size_t(dims.voxelCount()), fill);
     }
 
     const Dims& dims() const noexcept { return mDims; }
