@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "io/mesh/MeshCheck.h"
+#include "kernels/base/HugePages.h"
 
 namespace skelseg {
 
