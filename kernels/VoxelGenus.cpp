@@ -153,4 +153,29 @@ VoxelTopology voxelTopology(const MaskVolume& mask, const VoxelTopologyOptions& 
     return topology;
 }
 
+bool changeAddsTopology(const MaskVolume& mask, const std::vector<std::array<int, 3>>& cells,
+                        std::uint8_t value, int margin) {
+    if (cells.empty()) return false;
+    const Dims d = mask.dims();
+    std::array<int, 3> lo{d.x, d.y, d.z}, hi{-1, -1, -1};
+    for (const auto& c : cells)
+        for (std::size_t a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], c[a] - margin);
+            hi[a] = std::max(hi[a], c[a] + margin);
+        }
+    lo = {std::max(lo[0], 0), std::max(lo[1], 0), std::max(lo[2], 0)};
+    hi = {std::min(hi[0], d.x - 1), std::min(hi[1], d.y - 1), std::min(hi[2], d.z - 1)};
+    MaskVolume box(Dims{hi[0] - lo[0] + 3, hi[1] - lo[1] + 3, hi[2] - lo[2] + 3}, 0);
+    for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+            for (int x = lo[0]; x <= hi[0]; ++x)
+                box(x - lo[0] + 1, y - lo[1] + 1, z - lo[2] + 1) = mask(x, y, z);
+    VoxelTopologyOptions serial;
+    serial.threaded = false;
+    const VoxelTopology before = voxelTopology(box, serial);
+    for (const auto& c : cells) box(c[0] - lo[0] + 1, c[1] - lo[1] + 1, c[2] - lo[2] + 1) = value;
+    const VoxelTopology after = voxelTopology(box, serial);
+    return after.genus > before.genus || after.cavities > before.cavities;
+}
+
 }  // namespace skelseg

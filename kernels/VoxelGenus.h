@@ -26,8 +26,10 @@
 // array per voxel of the grid is made.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "kernels/base/Interrupter.h"
 #include "kernels/base/Volume.h"
@@ -59,5 +61,15 @@ VoxelTopology voxelTopology(const MaskVolume& mask, const VoxelTopologyOptions& 
 /// Euler characteristic alone (the union of closed object cubes).
 std::int64_t voxelEulerCharacteristic(const MaskVolume& mask, bool threaded = true,
                                       Interrupter& interrupter = nullInterrupter());
+
+/// Whether setting `cells` (x, y, z) of `mask` to `value` would add topology
+/// around them: judged on the box around the cells, `margin` voxels wider
+/// (clipped to the grid, with one empty voxel around it so that its border
+/// closes no cavity), the genus grows or a cavity appears. The local check of
+/// the voxeliser's separations (io/mesh/ContactSeparation.h,
+/// SelfOverlapSeparation.h): clearing voxels to separate two surfaces must not
+/// punch a hole or leave a cavity instead. Serial: the boxes are small.
+bool changeAddsTopology(const MaskVolume& mask, const std::vector<std::array<int, 3>>& cells,
+                        std::uint8_t value, int margin = 2);
 
 }  // namespace skelseg

@@ -12,6 +12,7 @@
 
 #include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshOrientation.h"
+#include "io/mesh/Vec3Arithmetic.h"
 #include "kernels/VoxelGenus.h"
 #include "kernels/base/ParallelFor.h"
 
@@ -19,14 +20,10 @@ namespace skelseg {
 
 namespace {
 
-using Vec3 = std::array<double, 3>;
+using vec3::dot;
+using vec3::sub;
+using vec3::Vec3;
 
-Vec3 sub(const Vec3& a, const Vec3& b) {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
-double dot(const Vec3& a, const Vec3& b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 double distance(const Vec3& a, const Vec3& b) {
     return std::sqrt(dot(sub(a, b), sub(a, b)));
 }
@@ -375,35 +372,12 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
     //    Judged on the box around the contact, two voxels wider, before and
     //    after clearing: accepted when its genus does not grow and no cavity
     //    appears.
-    constexpr int kBoxMargin = 2;
     for (const auto& contact : contacts) {
         throwIfInterrupted(interrupter);
-        std::array<int, 3> lo{d.x, d.y, d.z}, hi{-1, -1, -1};
-        for (std::uint32_t i : contact) {
-            const auto c = coordOf(i);
-            for (std::size_t a = 0; a < 3; ++a) {
-                lo[a] = std::min(lo[a], c[a] - kBoxMargin);
-                hi[a] = std::max(hi[a], c[a] + kBoxMargin);
-            }
-        }
-        lo = {std::max(lo[0], 0), std::max(lo[1], 0), std::max(lo[2], 0)};
-        hi = {std::min(hi[0], d.x - 1), std::min(hi[1], d.y - 1), std::min(hi[2], d.z - 1)};
-        // One empty voxel around the box, so that the box's own border does
-        // not close cavities.
-        MaskVolume box(Dims{hi[0] - lo[0] + 3, hi[1] - lo[1] + 3, hi[2] - lo[2] + 3}, 0);
-        for (int z = lo[2]; z <= hi[2]; ++z)
-            for (int y = lo[1]; y <= hi[1]; ++y)
-                for (int x = lo[0]; x <= hi[0]; ++x)
-                    box(x - lo[0] + 1, y - lo[1] + 1, z - lo[2] + 1) = mask(x, y, z);
-        VoxelTopologyOptions serial;
-        serial.threaded = false;
-        const VoxelTopology before = voxelTopology(box, serial);
-        for (std::uint32_t i : contact) {
-            const auto c = coordOf(i);
-            box(c[0] - lo[0] + 1, c[1] - lo[1] + 1, c[2] - lo[2] + 1) = 0;
-        }
-        const VoxelTopology after = voxelTopology(box, serial);
-        if (after.genus > before.genus || after.cavities > before.cavities) {
+        std::vector<std::array<int, 3>> cells;
+        cells.reserve(contact.size());
+        for (std::uint32_t i : contact) cells.push_back(coordOf(i));
+        if (changeAddsTopology(mask, cells, 0)) {
             ++result.contactsKept;
             continue;
         }

@@ -234,34 +234,6 @@ std::vector<std::vector<std::size_t>> groupsOf(const std::vector<std::uint64_t>&
     return groups;
 }
 
-/// Clears `cells` from `mask` unless that adds genus or a cavity in the box
-/// around them (two voxels wider); returns whether it cleared them.
-bool clearIfNoTopologyAdded(MaskVolume& mask, const std::vector<Cell>& cells) {
-    constexpr int kBoxMargin = 2;
-    const Dims dims = mask.dims();
-    std::array<int, 3> lo{dims.x, dims.y, dims.z}, hi{-1, -1, -1};
-    for (const Cell& c : cells)
-        for (std::size_t a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], c[a] - kBoxMargin);
-            hi[a] = std::max(hi[a], c[a] + kBoxMargin);
-        }
-    lo = {std::max(lo[0], 0), std::max(lo[1], 0), std::max(lo[2], 0)};
-    hi = {std::min(hi[0], dims.x - 1), std::min(hi[1], dims.y - 1), std::min(hi[2], dims.z - 1)};
-    // One empty voxel around the box, so that its border closes no cavity.
-    MaskVolume box(Dims{hi[0] - lo[0] + 3, hi[1] - lo[1] + 3, hi[2] - lo[2] + 3}, 0);
-    for (int z = lo[2]; z <= hi[2]; ++z)
-        for (int y = lo[1]; y <= hi[1]; ++y)
-            for (int x = lo[0]; x <= hi[0]; ++x)
-                box(x - lo[0] + 1, y - lo[1] + 1, z - lo[2] + 1) = mask(x, y, z);
-    const VoxelTopologyOptions serial{false};
-    const VoxelTopology before = voxelTopology(box, serial);
-    for (const Cell& c : cells) box(c[0] - lo[0] + 1, c[1] - lo[1] + 1, c[2] - lo[2] + 1) = 0;
-    const VoxelTopology after = voxelTopology(box, serial);
-    if (after.genus > before.genus || after.cavities > before.cavities) return false;
-    for (const Cell& c : cells) mask(c[0], c[1], c[2]) = 0;
-    return true;
-}
-
 }  // namespace
 
 std::vector<std::uint64_t> selfOverlapVoxels(const TriangleMesh& mesh, const Dims& dims,
@@ -340,7 +312,8 @@ SelfOverlapSeparation separateSelfOverlaps(const TriangleMesh& mesh, MaskVolume&
         std::sort(cells.begin(), cells.end());
         cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
         if (cells.empty()) continue;
-        if (clearIfNoTopologyAdded(mask, cells)) {
+        if (!changeAddsTopology(mask, cells, 0)) {
+            for (const Cell& c : cells) mask(c[0], c[1], c[2]) = 0;
             ++result.overlaps;
             result.voxelsCleared += cells.size();
         } else {

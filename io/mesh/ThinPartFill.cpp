@@ -10,23 +10,17 @@
 #include <vector>
 
 #include "io/mesh/MeshOrientation.h"
+#include "io/mesh/Vec3Arithmetic.h"
 #include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
 
 namespace {
 
-using Vec3 = std::array<double, 3>;
-
-Vec3 sub(const Vec3& a, const Vec3& b) {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-}
-double dot(const Vec3& a, const Vec3& b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-Vec3 cross(const Vec3& a, const Vec3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
+using vec3::cross;
+using vec3::dot;
+using vec3::sub;
+using vec3::Vec3;
 
 /// Side of the cubic cells the triangles are binned in (voxels). Rays are at
 /// most maxThickness long, so one ray looks at a few cells.
