@@ -68,11 +68,12 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
 namespace {
 
 /// Voxelises the mesh in a stage named `stageName`; `fillThinParts` as in
-/// VoxelizeOptions.
+/// VoxelizeOptions. `heldBytes` is memory the caller keeps alive meanwhile (a
+/// first voxelisation), counted in the estimate checked against the limit.
 MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions& options,
                           StageTimer& timer, Interrupter& interrupter,
-                          std::uint64_t& estimatedMemory, bool fillThinParts,
-                          const char* stageName) {
+                          std::uint64_t& estimatedMemory, bool fillThinParts, const char* stageName,
+                          std::uint64_t heldBytes = 0) {
     const TriangleMesh& mesh = *source.mesh;
     VoxelizeOptions voxelizeOptions;
     voxelizeOptions.resolution = options.resolution;
@@ -91,7 +92,8 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
     }
     estimatedMemory =
         estimateSegmentationMemory(grid.dims, grid.dims.voxelCount() / 4, options.threads) +
-        grid.dims.voxelCount() * 12;  // level set, dense copy, nearest-triangle grid
+        grid.dims.voxelCount() * 12 +  // level set, dense copy, nearest-triangle grid
+        heldBytes;
     if (estimatedMemory > options.memoryLimit)
         throw MemoryLimitError(source.file.string() + ": needs about " +
                                formatBytes(estimatedMemory) + " at resolution " +
@@ -168,8 +170,10 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         // genus is right pay nothing.
         if (source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus) {
             std::uint64_t filledMemory = 0;
-            MeshVoxelization filled = voxelise(*source, chosen, timer, interrupter, filledMemory,
-                                               true, "voxelise with thin parts filled");
+            MeshVoxelization filled =
+                voxelise(*source, chosen, timer, interrupter, filledMemory, true,
+                         "voxelise with thin parts filled", voxelised.mask.dims().voxelCount());
+            result.estimatedMemory = std::max(result.estimatedMemory, filledMemory);
             VoxelTopology filledGenus;
             {
                 Stage stage(timer, interrupter, "genus with thin parts filled", true);
