@@ -110,19 +110,31 @@ float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to,
         float& slot;
         BoundScope(float& s, float b) : slot(s) { slot = b; }
         ~BoundScope() { slot = kUnreachable; }
-    } scope(mBound, bound);
+    };
+    // The stop test runs at the slackened bound, the answer is filtered at
+    // the exact one (see the header).
+    const float stopBound = bound == kUnreachable ? kUnreachable : bound * (1.0f + kBoundSlack);
+    BoundScope scope(mBound, stopBound);
     const BoundaryGraph& g = mGraph;
     auto all = [](std::uint32_t) { return true; };
-    if (!mLandmarks)
-        return search(
+    float length;
+    if (!mLandmarks) {
+        length = search(
             from, to, [&](std::uint32_t n) { return g.euclidean(n, to); }, all, path);
-    alignas(64) float target[Landmarks::kStride];
-    std::memcpy(target, mLandmarks->row(to), sizeof target);
-    const Landmarks& lm = *mLandmarks;
-    auto heuristic = [&](std::uint32_t n) {
-        return landmarkBound(lm.row(n), target, g.euclidean(n, to));
-    };
-    return search(from, to, heuristic, all, path);
+    } else {
+        alignas(64) float target[Landmarks::kStride];
+        std::memcpy(target, mLandmarks->row(to), sizeof target);
+        const Landmarks& lm = *mLandmarks;
+        auto heuristic = [&](std::uint32_t n) {
+            return landmarkBound(lm.row(n), target, g.euclidean(n, to));
+        };
+        length = search(from, to, heuristic, all, path);
+    }
+    if (length != kUnreachable && length > bound) {
+        if (path) path->clear();
+        return kUnreachable;
+    }
+    return length;
 }
 
 void Landmarks::allocateRows(std::uint32_t nodes) {
@@ -256,7 +268,15 @@ const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a,
     while (mTable[i].key) {
         if (mTable[i].key == key) {
             Entry& e = mTable[i].entry;
-            if (e.length != kUnreachable || e.bound >= bound) {
+            if (e.length != kUnreachable) {
+                ++hits;
+                if (e.length <= bound) return e;
+                // Found under a larger bound: an uncached search with this
+                // bound gives up, and so does the cache.
+                mBeyondBound = Entry{kUnreachable, 0, 0, bound};
+                return mBeyondBound;
+            }
+            if (e.bound >= bound) {
                 ++hits;
                 return e;
             }

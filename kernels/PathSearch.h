@@ -90,9 +90,14 @@ public:
 
     /// Length of a shortest path from `from` to `to` (A*), or kUnreachable.
     /// If `path` is given it receives the nodes from `from` to `to` inclusive.
-    /// With a finite `bound` the search gives up (kUnreachable) once every
-    /// remaining path is known to be longer than `bound`; a path it does find
-    /// is the same as without the bound (same settle order, earlier stop).
+    /// With a finite `bound` the answer is the unbounded one if its length is
+    /// at most `bound`, else kUnreachable: the search gives up once every
+    /// remaining path is known to be longer, and a path it does find is the
+    /// same as without the bound (same settle order, earlier stop). The stop
+    /// test allows a relative slack of kBoundSlack over `bound` so that float
+    /// rounding in the heuristic cannot stop it before a path of length <=
+    /// `bound`; a path found in the slack is reported as kUnreachable. So the
+    /// answer is a function of (from, to, bound), which PathCache relies on.
     float shortestPath(std::uint32_t from, std::uint32_t to,
                        std::vector<std::uint32_t>* path = nullptr, float bound = kUnreachable);
 
@@ -109,6 +114,9 @@ public:
 
     const BoundaryGraph& graph() const noexcept { return mGraph; }
     SearchCounters counters;
+
+    /// Relative slack of the bounded stop test (see shortestPath).
+    static constexpr float kBoundSlack = 1.0f / 4096;
 
 private:
     /// All per-node search state in one 16-byte record: a relaxation touches
@@ -154,9 +162,11 @@ public:
     /// Shortest path between a and b (searched from min(a,b) so that the
     /// result does not depend on the order of the arguments). The returned
     /// entry's nodes are valid until the next call.
-    /// `bound`: see GeodesicSearch::shortestPath. A pair cached as "longer than
-    /// B" is searched again when asked with a larger bound, so the answer never
-    /// depends on which request came first.
+    /// `bound`: see GeodesicSearch::shortestPath; the answer is the same as an
+    /// uncached search with the same bound, whatever was asked before. A pair
+    /// cached as "longer than B" is searched again when asked with a larger
+    /// bound; a pair cached with its path (found under a larger bound) reads
+    /// as kUnreachable when asked with a bound below its length.
     const Entry& path(GeodesicSearch& search, std::uint32_t a, std::uint32_t b,
                       float bound = kUnreachable);
     const std::uint32_t* nodes(const Entry& e) const noexcept { return mPool.data() + e.begin; }
@@ -177,6 +187,7 @@ private:
     std::vector<Slot> mTable;
     std::size_t mUsed = 0;
     Entry mSelf{};
+    Entry mBeyondBound{};  // the answer for a cached path longer than the bound asked
     std::vector<std::uint32_t> mPool;
     std::vector<std::uint32_t> mScratch;
 };

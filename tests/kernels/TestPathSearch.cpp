@@ -343,6 +343,56 @@ TEST_F(PathSearchOnBlob, PathCacheStaysCorrectWhenItOverflows) {
     }
 }
 
+TEST_F(PathSearchOnBlob, PathCacheAnswerDoesNotDependOnEarlierBounds) {
+    // Each pair is asked with a bound below, at and above its length, in an
+    // order that first caches the path (large bound) and then asks below it:
+    // the cache must answer as an uncached search with the same bound, or
+    // which candidates count would depend on a thread's earlier requests.
+    Landmarks landmarks = computeLandmarks(graph, false);
+    GeodesicSearch search(graph, &landmarks), plain(graph, &landmarks);
+    PathCache cache;
+    std::vector<std::uint32_t> path;
+    int belowLength = 0;
+    for (std::uint32_t i = 0; i < 40; ++i) {
+        const std::uint32_t a = (i * 53) % graph.nodeCount(), b = (i * 211 + 7) % graph.nodeCount();
+        const float length = plain.shortestPath(std::min(a, b), std::max(a, b));
+        if (length == kUnreachable || length < 2.0f) continue;
+        for (float bound : {kUnreachable, 2.0f * length, length, 0.5f * length, length,
+                            0.9f * length, kUnreachable}) {
+            const float reference =
+                plain.shortestPath(std::min(a, b), std::max(a, b), &path, bound);
+            const PathCache::Entry& e = cache.path(search, a, b, bound);
+            EXPECT_EQ(e.length, reference) << "pair " << a << "-" << b << " bound " << bound;
+            if (bound < length) {
+                ++belowLength;
+                EXPECT_EQ(reference, kUnreachable);
+            } else {
+                EXPECT_EQ(reference, length);
+                ASSERT_EQ(e.count, path.size());
+                EXPECT_TRUE(std::equal(path.begin(), path.end(), cache.nodes(e)));
+            }
+        }
+    }
+    EXPECT_GT(belowLength, 20);
+}
+
+TEST_F(PathSearchOnBlob, BoundedSearchFindsPathsUpToTheBoundExactly) {
+    // At a bound equal to the length the path is found; just below it, not.
+    GeodesicSearch search(graph);
+    std::vector<std::uint32_t> unbounded, bounded;
+    for (std::uint32_t i = 0; i < 30; ++i) {
+        const std::uint32_t a = (i * 29) % graph.nodeCount(), b = (i * 97 + 3) % graph.nodeCount();
+        const float length = search.shortestPath(std::min(a, b), std::max(a, b), &unbounded);
+        if (length == kUnreachable || length == 0.0f) continue;
+        EXPECT_EQ(search.shortestPath(std::min(a, b), std::max(a, b), &bounded, length), length);
+        EXPECT_EQ(bounded, unbounded);
+        EXPECT_EQ(search.shortestPath(std::min(a, b), std::max(a, b), &bounded,
+                                      std::nextafter(length, 0.0f)),
+                  kUnreachable);
+        EXPECT_TRUE(bounded.empty());
+    }
+}
+
 /// Says stop after `allowed` polls; records the stage and the fractions.
 class StopAfter final : public Interrupter {
 public:
