@@ -30,13 +30,15 @@ namespace {
 /// with their candidate index rewritten to the full list.
 void measureBatch(const BoundaryGraph& graph, const std::vector<SkeletonCandidate>& candidates,
                   const std::vector<std::uint32_t>& batch, const SkeletonMeasureOptions& options,
-                  SkeletonMeasureStats& stats, Interrupter& interrupter,
-                  std::vector<SkeletonPoint>& found, std::vector<SkeletonPoint>& newInTau) {
+                  SkeletonMeasureWorkspaces& workspaces, SkeletonMeasureStats& stats,
+                  Interrupter& interrupter, std::vector<SkeletonPoint>& found,
+                  std::vector<SkeletonPoint>& newInTau) {
     std::vector<SkeletonCandidate> subset;
     subset.reserve(batch.size());
     for (std::uint32_t i : batch) subset.push_back(candidates[i]);
     SkeletonMeasureStats part;
-    std::vector<SkeletonPoint> points = measureSkeleton(graph, subset, options, &part, interrupter);
+    std::vector<SkeletonPoint> points =
+        measureSkeleton(graph, subset, options, workspaces, &part, interrupter);
     addMeasureStats(stats, part);
     newInTau.clear();
     for (SkeletonPoint& p : points) {
@@ -272,10 +274,12 @@ std::vector<SkeletonPoint> bandSearch(
     if (level == 0) bandStats.seeds = batch.size(), bandStats.thinWallSeeds = thinSeeds;
     std::vector<SkeletonPoint> found, newInTau;
     const int r = band.closureRadius;
+    SkeletonMeasureWorkspaces workspaces;  // one graph and options for every round
     while (!batch.empty()) {
         measuredHere += batch.size();
         if (level == 0) ++bandStats.closureRounds;
-        measureBatch(graph, candidates, batch, options, stats, interrupter, found, newInTau);
+        measureBatch(graph, candidates, batch, options, workspaces, stats, interrupter, found,
+                     newInTau);
         batch.clear();
         for (const SkeletonPoint& p : newInTau) {
             const std::array<int, 3> v = {int(p.voxel % nx), int((p.voxel / nx) % ny),

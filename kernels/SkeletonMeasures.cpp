@@ -180,15 +180,56 @@ bool measurePoint(const BoundaryGraph& graph, const SkeletonCandidate& candidate
     return measure(ws, candidate, 0, exact, out);
 }
 
+struct SkeletonMeasureWorkspaces::Impl {
+    tbb::enumerable_thread_specific<std::unique_ptr<Workspace>> local;
+    /// What the workspaces were built for: their caches hold answers for
+    /// this graph, landmarks and options only.
+    const BoundaryGraph* graph = nullptr;
+    SkeletonMeasureOptions options;
+
+    bool builtFor(const BoundaryGraph& g, const SkeletonMeasureOptions& o) const {
+        return graph == &g && options.landmarks == o.landmarks && options.tau == o.tau &&
+               options.noiseArea == o.noiseArea && options.sigmaTau == o.sigmaTau &&
+               options.exactRhoC == o.exactRhoC;
+    }
+};
+
+SkeletonMeasureWorkspaces::SkeletonMeasureWorkspaces() : mImpl(std::make_unique<Impl>()) {}
+SkeletonMeasureWorkspaces::~SkeletonMeasureWorkspaces() = default;
+
 std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
                                            const std::vector<SkeletonCandidate>& candidates,
                                            const SkeletonMeasureOptions& options,
+                                           SkeletonMeasureStats* stats, Interrupter& interrupter) {
+    SkeletonMeasureWorkspaces fresh;
+    return measureSkeleton(graph, candidates, options, fresh, stats, interrupter);
+}
+
+std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
+                                           const std::vector<SkeletonCandidate>& candidates,
+                                           const SkeletonMeasureOptions& options,
+                                           SkeletonMeasureWorkspaces& kept,
                                            SkeletonMeasureStats* stats, Interrupter& interrupter) {
     InterrupterScope scope(interrupter, "path sets, rims, areas, sigma");
     const std::size_t n = candidates.size();
     std::vector<SkeletonPoint> slots(n);
     std::vector<std::uint8_t> isPoint(n, 0);
-    tbb::enumerable_thread_specific<std::unique_ptr<Workspace>> workspaces;
+    SkeletonMeasureWorkspaces::Impl& impl = kept.impl();
+    if (!impl.builtFor(graph, options)) {
+        impl.local.clear();
+        impl.graph = &graph;
+        impl.options = options;
+    }
+    auto& workspaces = impl.local;
+    // Counters are per call: a kept workspace starts each call at zero.
+    for (auto& slot : workspaces) {
+        if (!slot) continue;
+        Workspace& ws = *slot;
+        ws.search.counters = SearchCounters{};
+        ws.sigmaSearch.counters = SearchCounters{};
+        ws.cache.hits = ws.cache.misses = 0;
+        ws.rimTests = ws.growthSteps = ws.sigmaEvaluations = ws.repeats = 0;
+    }
     std::atomic<bool> stop{false};
     std::atomic<std::size_t> done{0};
 

@@ -25,6 +25,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "kernels/BoundaryGraph.h"
@@ -89,6 +90,35 @@ struct SkeletonMeasureStats {
 std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
                                            const std::vector<SkeletonCandidate>& candidates,
                                            const SkeletonMeasureOptions& options,
+                                           SkeletonMeasureStats* stats = nullptr,
+                                           Interrupter& interrupter = nullInterrupter());
+
+/// The per-thread workspaces of measureSkeleton(), kept between calls that
+/// measure parts of one candidate list (the band search's closure rounds):
+/// the per-node arrays are allocated and cleared once instead of per call,
+/// and the pair-path caches and the repeated-feature-set memo carry over.
+/// Both caches answer as a fresh computation would, so keeping them changes
+/// cost, never results. A call with another graph, other landmarks or other
+/// measure options starts from fresh workspaces.
+class SkeletonMeasureWorkspaces {
+public:
+    SkeletonMeasureWorkspaces();
+    ~SkeletonMeasureWorkspaces();
+    SkeletonMeasureWorkspaces(const SkeletonMeasureWorkspaces&) = delete;
+    SkeletonMeasureWorkspaces& operator=(const SkeletonMeasureWorkspaces&) = delete;
+
+    struct Impl;
+    Impl& impl() noexcept { return *mImpl; }
+
+private:
+    std::unique_ptr<Impl> mImpl;
+};
+
+/// measureSkeleton() on kept workspaces (see SkeletonMeasureWorkspaces).
+std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
+                                           const std::vector<SkeletonCandidate>& candidates,
+                                           const SkeletonMeasureOptions& options,
+                                           SkeletonMeasureWorkspaces& workspaces,
                                            SkeletonMeasureStats* stats = nullptr,
                                            Interrupter& interrupter = nullInterrupter());
 
