@@ -179,6 +179,60 @@ TEST(SkeletonMeasures, SerialEqualsParallel) {
     }
 }
 
+TEST(SkeletonMeasures, KeptWorkspacesAnswerAsFreshOnes) {
+    // The band search measures a candidate list in rounds on kept workspaces,
+    // whose path caches and feature-set memo then hold answers of earlier
+    // rounds (asked with other sheet bounds, in another order). Every point
+    // must be what a fresh, serial measure of the whole list gives.
+    for (const char* shape : {"figure", "disc-limbs"}) {
+        const Prepared& p = prepared(shape, 64);
+        SCOPED_TRACE(shape);
+        for (bool threaded : {false, true}) {
+            const SkeletonMeasureOptions options = p.options(0.03, false, threaded);
+            const std::vector<SkeletonPoint> reference =
+                measureSkeleton(p.graph, p.candidates, p.options(0.03, false, false));
+            std::map<std::uint32_t, SkeletonPoint> byVoxel;
+            for (const SkeletonPoint& q : reference) byVoxel[q.voxel] = q;
+            // Rounds: every third candidate backwards, then the rest forwards,
+            // then everything again (all answered from the kept caches).
+            std::vector<SkeletonCandidate> first, second;
+            for (std::size_t i = p.candidates.size(); i-- > 0;)
+                (i % 3 == 0 ? first : second).push_back(p.candidates[i]);
+            std::reverse(second.begin(), second.end());
+            SkeletonMeasureWorkspaces kept;
+            std::size_t found = 0;
+            for (const std::vector<SkeletonCandidate>* round :
+                 std::initializer_list<const std::vector<SkeletonCandidate>*>{&first, &second,
+                                                                              &p.candidates}) {
+                SkeletonMeasureStats stats;
+                const std::vector<SkeletonPoint> points =
+                    measureSkeleton(p.graph, *round, options, kept, &stats);
+                EXPECT_LE(stats.rimTests + stats.repeatedFeatureSets, round->size());
+                for (const SkeletonPoint& q : points) {
+                    const auto it = byVoxel.find(q.voxel);
+                    ASSERT_NE(it, byVoxel.end()) << "voxel " << q.voxel << " is no point";
+                    SkeletonPoint expected = it->second;
+                    expected.candidate = q.candidate;
+                    test::expectSamePoint(expected, q);
+                }
+                if (round != &p.candidates)
+                    found += points.size();
+                else
+                    EXPECT_EQ(points.size(), reference.size());
+            }
+            EXPECT_EQ(found, reference.size());
+            // Other options on the same workspaces: as fresh ones with them.
+            const std::vector<SkeletonPoint> exact =
+                measureSkeleton(p.graph, p.candidates, p.options(0.03, true, threaded), kept);
+            const std::vector<SkeletonPoint> exactFresh =
+                measureSkeleton(p.graph, p.candidates, p.options(0.03, true, false));
+            ASSERT_EQ(exact.size(), exactFresh.size());
+            for (std::size_t i = 0; i < exact.size(); ++i)
+                test::expectSamePoint(exactFresh[i], exact[i]);
+        }
+    }
+}
+
 TEST(SkeletonMeasures, CappedRhoCDecidesTauLikeExact) {
     // The growth cap changes only rho_C's value above tau (a lower bound),
     // never which points are in C, their rims, or the tau decision.
