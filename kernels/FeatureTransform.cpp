@@ -60,6 +60,7 @@ struct LineScratch {
     std::vector<int> nearest, apex;
     std::vector<double> boundary;
     std::vector<std::uint32_t> features;
+    std::vector<std::uint32_t> result;  // the slab's new features, same layout
 };
 
 }  // namespace
@@ -125,6 +126,7 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
                 scratch.cost.resize(std::size_t(lineLength));
                 scratch.nearest.resize(std::size_t(lineLength));
                 scratch.features.resize(std::size_t(lineLength) * std::size_t(nx));
+                scratch.result.resize(std::size_t(lineLength) * std::size_t(nx));
                 for (int o = o0; o < o1; ++o) {
                     if (stop.load(std::memory_order_relaxed)) return;
                     if (interrupter.wasInterrupted((double(axis) + double(o) / outer) / 3.0)) {
@@ -174,11 +176,19 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
                                          scratch.apex, scratch.boundary);
                         for (int j = 0; j < lineLength; ++j) {
                             const int i = scratch.nearest[std::size_t(j)];
-                            feature[voxelIndex(j, x)] =
+                            scratch.result[std::size_t(j) * std::size_t(nx) + std::size_t(x)] =
                                 i < 0 ? kNoFeature
                                       : scratch.features[std::size_t(i) * std::size_t(nx) +
                                                          std::size_t(x)];
                         }
+                    }
+                    // Scatter the slab back row by row, as it was gathered:
+                    // writing each line's results straight into the volume
+                    // would touch a new page per sample along z.
+                    for (int i = 0; i < lineLength; ++i) {
+                        const std::uint32_t* src =
+                            scratch.result.data() + std::ptrdiff_t(i) * std::ptrdiff_t(nx);
+                        std::copy(src, src + nx, feature + voxelIndex(i, 0));
                     }
                 }
             },

@@ -75,13 +75,21 @@ void markBox(const std::vector<SkeletonCandidate>& candidates, const Dims& dims,
 /// 2c - 1 and 2c on each axis (any object voxel makes it object, which keeps
 /// thin limbs; coarse voxel 0 covers the fine padding, so the coarse grid is
 /// padded too).
-MaskVolume halveMask(const MaskVolume& mask) {
+MaskVolume halveMask(const MaskVolume& mask, bool threaded) {
     const Dims d = mask.dims();
     MaskVolume coarse(Dims{d.x / 2 + 2, d.y / 2 + 2, d.z / 2 + 2}, 0);
-    for (int z = 0; z < d.z; ++z)
-        for (int y = 0; y < d.y; ++y)
-            for (int x = 0; x < d.x; ++x)
-                if (mask(x, y, z)) coarse((x + 1) / 2, (y + 1) / 2, (z + 1) / 2) = 1;
+    // One task per coarse slice: coarse slice cz covers the fine slices
+    // 2cz - 1 and 2cz, so no two tasks write the same coarse voxel.
+    parallelFor(
+        d.z / 2 + 2,
+        [&](int cz0, int cz1) {
+            for (int cz = cz0; cz < cz1; ++cz)
+                for (int z = std::max(2 * cz - 1, 0); z <= std::min(2 * cz, d.z - 1); ++z)
+                    for (int y = 0; y < d.y; ++y)
+                        for (int x = 0; x < d.x; ++x)
+                            if (mask(x, y, z)) coarse((x + 1) / 2, (y + 1) / 2, cz) = 1;
+        },
+        threaded, 4);
     return coarse;
 }
 
@@ -108,7 +116,7 @@ std::vector<SkeletonPoint> bandSearch(
 CoarseView coarseSearch(const MaskVolume& mask, const SkeletonMeasureOptions& options,
                         const SkeletonBandOptions& band, int level, SkeletonBandStats& bandStats,
                         SkeletonMeasureStats& stats, Interrupter& interrupter) {
-    const MaskVolume coarse = halveMask(mask);
+    const MaskVolume coarse = halveMask(mask, options.threaded);
     const Dims cd = coarse.dims();
     const BoundaryGraphOptions graphOptions{options.threaded};
     const Volume<std::uint32_t> ft =
