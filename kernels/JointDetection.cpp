@@ -126,10 +126,11 @@ std::vector<ProfileJoint> findProfileJoints(const BranchProfile& profile,
         if (rho[i] < rho[i - 1] && rho[i] <= rho[i + 1]) {
             const double s = profile.arc[i], window = options.sideWindow * radius;
             double leftMax = 0.0, rightMax = 0.0;
+            std::size_t leftAt = i, rightAt = i;
             for (std::size_t j = 0; j < count; ++j) {
                 if (profile.arc[j] < s - window || profile.arc[j] > s + window) continue;
-                if (j < i) leftMax = std::max(leftMax, rho[j]);
-                if (j > i) rightMax = std::max(rightMax, rho[j]);
+                if (j < i && rho[j] > leftMax) leftMax = rho[j], leftAt = j;
+                if (j > i && rho[j] > rightMax) rightMax = rho[j], rightAt = j;
             }
             const double ratio = rho[i] / std::max(std::min(leftMax, rightMax), 1e-9);
             if (ratio <= options.reportRatio) {
@@ -138,6 +139,8 @@ std::vector<ProfileJoint> findProfileJoints(const BranchProfile& profile,
                 joint.sample = i;
                 joint.ratio = ratio;
                 joint.radius = radius;
+                joint.wideBefore = leftAt;
+                joint.wideAfter = rightAt;
                 const double side = options.minSideLength * radius;
                 joint.passes = ratio <= options.narrowingRatio && s - profile.arc.front() >= side &&
                                profile.arc.back() - s >= side;
@@ -259,15 +262,18 @@ std::vector<JointCandidate> detectJoints(const SkeletonGraph& g,
     std::vector<std::vector<std::uint32_t>> branchNodes(branchCount);
     for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
         if (nodeBranch[n] != kNoJunction) branchNodes[nodeBranch[n]].push_back(n);
-    std::vector<double> nodeArc;
+    std::vector<double> nodeArc, arcOfNode(g.nodeCount(), -1.0);
     for (std::uint32_t branch = 0; branch < branchCount; ++branch) {
         throwIfInterrupted(interrupter, double(branch) / double(branchCount));
         const BranchProfile profile = branchProfile(g, points, nodeBranch, branch, &nodeArc);
+        for (std::uint32_t n : branchNodes[branch]) arcOfNode[n] = nodeArc[n];
         for (const ProfileJoint& joint : findProfileJoints(profile, options)) {
             JointCandidate c;
             c.kind = joint.kind;
             c.branch = branch;
             c.arc = profile.arc[joint.sample];
+            c.wideBeforeArc = profile.arc[joint.wideBefore];
+            c.wideAfterArc = profile.arc[joint.wideAfter];
             c.ratio = joint.ratio;
             c.angleDegrees = joint.angleDegrees;
             c.radius = joint.radius;
@@ -315,8 +321,15 @@ std::vector<JointCandidate> detectJoints(const SkeletonGraph& g,
         JointCandidate& c = candidates[i];
         const auto here = position(g.coord[c.node]);
         bool near = false;
-        for (std::uint32_t k : kept)
+        for (std::uint32_t k : kept) {
             near = near || distance(here, position(g.coord[k])) < options.minCutDistance * c.radius;
+            // A cut on the branch between the two wider stretches already
+            // parts them: this narrowing adds only a sliver.
+            if (c.kind == JointKind::Narrowing && nodeBranch[k] == c.branch &&
+                arcOfNode[k] >= std::min(c.wideBeforeArc, c.wideAfterArc) &&
+                arcOfNode[k] <= std::max(c.wideBeforeArc, c.wideAfterArc))
+                near = true;
+        }
         if (near) {
             c.status = JointStatus::NearCut;
         } else {

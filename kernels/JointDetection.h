@@ -77,10 +77,12 @@ struct BranchProfile {
 struct ProfileJoint {
     JointKind kind = JointKind::Narrowing;
     std::size_t sample = 0;
-    double ratio = 1.0;         // smoothed minimum / smaller side maximum (narrowings)
-    double angleDegrees = 0.0;  // turning angle (bends)
-    double radius = 0.0;        // local radius at the sample, voxels
-    bool passes = false;        // meets the thresholds and the side-length rule
+    double ratio = 1.0;          // smoothed minimum / smaller side maximum (narrowings)
+    double angleDegrees = 0.0;   // turning angle (bends)
+    double radius = 0.0;         // local radius at the sample, voxels
+    bool passes = false;         // meets the thresholds and the side-length rule
+    std::size_t wideBefore = 0;  // narrowings: the samples of the side maxima
+    std::size_t wideAfter = 0;
 };
 
 /// The profile smoothed as detection sees it (rho_S and positions).
@@ -101,9 +103,11 @@ enum class JointStatus : std::uint8_t {
 struct JointCandidate {
     JointKind kind = JointKind::Narrowing;
     JointStatus status = JointStatus::BelowThreshold;
-    std::uint32_t branch = 0;  // see jointBranches()
-    std::uint32_t node = 0;    // skeleton graph node (the best-sigma node near the extremum)
-    double arc = 0.0;          // arc length from the branch's first end, voxels
+    std::uint32_t branch = 0;    // see jointBranches()
+    std::uint32_t node = 0;      // skeleton graph node (the best-sigma node near the extremum)
+    double arc = 0.0;            // arc length from the branch's first end, voxels
+    double wideBeforeArc = 0.0;  // narrowings: arc lengths of the two wider stretches
+    double wideAfterArc = 0.0;
     double ratio = 1.0;
     double angleDegrees = 0.0;
     double radius = 0.0;

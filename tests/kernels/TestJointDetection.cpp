@@ -197,6 +197,38 @@ TEST(JointDetection, GraphNarrowingNextToAnExistingCutIsNotCut) {
     EXPECT_TRUE(near);
 }
 
+/// The joint candidates of the narrowed chain with one existing cut at x.
+std::vector<JointCandidate> narrowedChainWithCutAt(int x) {
+    NarrowedChain chain(0.9f);
+    const std::vector<SkeletonPoint> points = chain.set.points();
+    const SkeletonGraph graph = buildSkeletonGraph(points, chain.set.dims(), {});
+    std::uint32_t existing = 0;
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
+        if (graph.coord[n].x == x) existing = n;
+    return detectJoints(graph, points, {existing}, {});
+}
+
+std::size_t cutCount(const std::vector<JointCandidate>& found) {
+    std::size_t cuts = 0;
+    for (const auto& c : found) cuts += c.status == JointStatus::Cut;
+    return cuts;
+}
+
+TEST(JointDetection, NarrowingWhoseWiderStretchesACutAlreadyPartsIsNotCut) {
+    // The dip (minimum at x = 70, radius about 5 voxels) has its wider
+    // stretches at the ends of the 6 r side window, about 30 voxels either
+    // side. A cut 16 voxels away passes the distance rule (2 r) but lies
+    // between the minimum and a wider stretch: the narrowing adds a sliver.
+    const auto between = narrowedChainWithCutAt(86);
+    EXPECT_EQ(cutCount(between), 0u);
+    bool near = false;
+    for (const auto& c : between) near = near || c.status == JointStatus::NearCut;
+    EXPECT_TRUE(near);
+    // Beyond the wider stretch the cut does not part them: the joint stays.
+    EXPECT_EQ(cutCount(narrowedChainWithCutAt(112)), 1u);
+    EXPECT_EQ(cutCount(narrowedChainWithCutAt(28)), 1u);
+}
+
 TEST(JointDetection, GraphProfileFollowsTheBranchInArcOrder) {
     NarrowedChain chain(0.9f);
     const std::vector<SkeletonPoint> points = chain.set.points();
