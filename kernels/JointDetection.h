@@ -27,7 +27,10 @@
 // snapDistance * r of arc length (the smoothest loop there), when that sigma
 // reaches sigmaMin and the node is at least minCutDistance * r away from
 // every existing cut and every joint kept before it (narrowings first, the
-// deepest first; then bends, the sharpest first). Handle loops are never cut.
+// deepest first; then bends, the sharpest first), and, for a narrowing, when
+// no such cut lies on the branch between its two wider stretches (the side
+// maxima): that cut parts them already, and where it sits along a neck
+// depends on the pose. Handle loops are never cut.
 #pragma once
 
 #include <array>
@@ -58,7 +61,7 @@ struct JointOptions {
     double sigmaMin = 0.8;
     /// Segments of a run with joint cuts merge into a neighbour below this
     /// fraction of tau (the labelling's rule; kept here with the joint options).
-    double minSegmentTauFraction = 0.5;
+    double minSegmentTauFraction = 0.25;
     /// Extrema weaker than these are not even reported as candidates.
     double reportRatio = 0.95;
     double reportAngleDegrees = 20.0;
@@ -96,7 +99,7 @@ enum class JointStatus : std::uint8_t {
     Cut,             // kept: its loop becomes a cut
     BelowThreshold,  // reported for measurements only
     LowSigma,        // no node near it has sigma >= sigmaMin
-    NearCut,         // too close to an existing cut or a stronger joint
+    NearCut,         // too close to an existing cut or a stronger joint, or one parts its sides
     Handle,          // on a handle loop
 };
 
