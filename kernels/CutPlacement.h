@@ -48,7 +48,9 @@ struct CutCandidate {
     std::uint32_t level = 0;  // BFS level from the junction region
     float sigma = 0.0f;
     float similarity = 0.0f;
+    float baseRhoS = 0.0f;    // rho_S where sigma first holds (around the part's base)
     float limbRhoS = 0.0f;    // the circumference the body test compared
+    float bodyRhoS = 0.0f;    // ... against this body circumference
     double exactRhoC = -1.0;  // filled where the tie rule needed it
     bool onBody = false;
     bool isCut = false;
@@ -71,9 +73,10 @@ struct CutPlan {
 /// consecutiveLevels.
 std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels);
 
-/// The body test of one junction's candidates (limbRhoS filled): sets
-/// similarity (limbRhoS against the larger of the junction's rho_S and the
-/// thickest candidate's) and onBody, before the "more than two" rule.
+/// The body test of one junction's candidates (baseRhoS and limbRhoS filled):
+/// sets bodyRhoS (the largest of the junction's rho_S and every candidate's
+/// baseRhoS and limbRhoS), similarity (limbRhoS against bodyRhoS) and onBody,
+/// before the "more than two" rule.
 void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandidate* candidates,
                         std::size_t count);
 
