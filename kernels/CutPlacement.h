@@ -11,9 +11,13 @@
 // smallest rho_S of the tight levels (sigma >= sigmaMin) from the candidate
 // to one body radius further out (rho_S(j) / pi levels), because the first
 // tight levels past a junction still wrap the part's base, whose loop is
-// about as long as the body's (docs/algorithm.md §8, "limb circumference"); when more than two are
-// similar, only the one carrying the most surface (largest exact rho_C) is dropped, ties broken by
-// voxel index. The loops Gamma(q) of the rest are the cuts.
+// about as long as the body's (docs/algorithm.md §8.6, "limb circumference"); the body's
+// circumference is the largest of the junction's rho_S and every candidate's first tight loop and
+// limb circumference. When more than two are similar, only the one carrying the most surface
+// (largest exact rho_C) is dropped, ties broken by voxel index. Each remaining candidate's cut
+// moves to the first tight level of that window whose loop is closer to the limb's circumference
+// than to the body's (a loop as long as the body's still wraps the body); the loops Gamma of those
+// points are the cuts.
 #pragma once
 
 #include <cstdint>
