@@ -7,14 +7,23 @@ namespace skelseg {
 
 namespace {
 
+/// One tight level of a branch walk (sigma >= sigmaMin): its best node.
+struct TightLevel {
+    std::uint32_t node = 0;
+    std::uint32_t level = 0;
+    float sigma = 0.0f;
+    float rhoS = 0.0f;
+};
+
 /// Walks one branch from junction j's region; returns the candidate node or
 /// kNoJunction. `taken` marks nodes already walked from this junction.
 /// Also returns in limbRhoSOut the limb's circumference for the body test
-/// (limbCircumferenceLevels).
+/// (limbCircumferenceLevels) and in tightOut the tight levels from the
+/// candidate to the end of that window (where the cut may move).
 std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                          std::uint32_t junction, std::uint32_t piece, const CutOptions& options,
                          std::vector<std::uint8_t>& taken, std::uint32_t& levelOut, float& sigmaOut,
-                         float& limbRhoSOut) {
+                         float& limbRhoSOut, std::vector<TightLevel>& tightOut) {
     std::vector<std::uint32_t> level;
     for (std::uint32_t n : g.junctions[junction].region)
         for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
@@ -29,6 +38,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     bool found = false;
     std::uint32_t lastLevel = 0;
     float limbRhoS = 0.0f;
+    std::vector<TightLevel> tight;
     const std::uint32_t extraLevels =
         limbCircumferenceLevels(g.junctions[junction].rhoS, options.consecutiveLevels);
     for (std::uint32_t depth = 1; !level.empty(); ++depth) {
@@ -39,17 +49,23 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
             const float s = points[g.point[n]].sigma;
             if (s > best) best = s, bestNode = n;
         }
+        const bool isTight = best >= float(options.sigmaMin);
+        const float rhoS = points[g.point[bestNode]].rhoS;
         if (found) {
-            if (best >= float(options.sigmaMin))
-                limbRhoS = std::min(limbRhoS, points[g.point[bestNode]].rhoS);
+            if (isTight) {
+                limbRhoS = std::min(limbRhoS, rhoS);
+                tight.push_back({bestNode, depth, best, rhoS});
+            }
             if (depth >= lastLevel) break;
-        } else if (best >= float(options.sigmaMin)) {
+        } else if (isTight) {
             if (runLength == 0) {
                 runStart = bestNode, runStartLevel = depth, runStartSigma = best;
-                limbRhoS = points[g.point[bestNode]].rhoS;
+                limbRhoS = rhoS;
+                tight.clear();
             } else {
-                limbRhoS = std::min(limbRhoS, points[g.point[bestNode]].rhoS);
+                limbRhoS = std::min(limbRhoS, rhoS);
             }
+            tight.push_back({bestNode, depth, best, rhoS});
             if (++runLength >= std::uint32_t(options.consecutiveLevels)) {
                 found = true;
                 lastLevel = runStartLevel + extraLevels;
@@ -71,6 +87,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     levelOut = runStartLevel;
     sigmaOut = runStartSigma;
     limbRhoSOut = limbRhoS;
+    tightOut = std::move(tight);
     return runStart;
 }
 
@@ -79,12 +96,15 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
 void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandidate* candidates,
                         std::size_t count) {
     // The body passes through the junction, so the junction's loops are at
-    // least as long as the body's; a candidate thicker than the junction's
-    // median rho_S shows that the median fell on thin core voxels.
+    // least as long as the body's; a tight loop next to the junction longer
+    // than the junction's median rho_S shows that the median fell on a few
+    // thin core voxels.
     float body = junctionRhoS;
-    for (std::size_t i = 0; i < count; ++i) body = std::max(body, candidates[i].limbRhoS);
+    for (std::size_t i = 0; i < count; ++i)
+        body = std::max({body, candidates[i].baseRhoS, candidates[i].limbRhoS});
     for (std::size_t i = 0; i < count; ++i) {
         CutCandidate& c = candidates[i];
+        c.bodyRhoS = body;
         c.similarity = body > 0.0f ? 1.0f - std::fabs(body - c.limbRhoS) / body : 0.0f;
         c.onBody = c.similarity >= float(options.bodyRatio);
     }
@@ -137,17 +157,21 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
 
         std::vector<std::uint8_t> taken(g.nodeCount(), 0);
         const std::size_t first = plan.candidates.size();
+        std::vector<std::vector<TightLevel>> tightOf;  // per candidate of this junction
         for (std::uint32_t piece : branches) {
             std::uint32_t level = 0;
             float sigma = 0.0f, limbRhoS = 0.0f;
+            std::vector<TightLevel> tight;
             const std::uint32_t node =
-                walkBranch(g, points, j, piece, options, taken, level, sigma, limbRhoS);
+                walkBranch(g, points, j, piece, options, taken, level, sigma, limbRhoS, tight);
             if (node == kNoJunction) continue;
+            tightOf.push_back(std::move(tight));
             CutCandidate c;
             c.junction = j;
             c.node = node;
             c.level = level;
             c.sigma = sigma;
+            c.baseRhoS = points[g.point[node]].rhoS;
             c.limbRhoS = limbRhoS;
             plan.candidates.push_back(c);
         }
@@ -175,6 +199,17 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
             CutCandidate& c = plan.candidates[i];
             c.isCut = !c.onBody;
             if (c.isCut) {
+                // The cut loop is the limb's border: the first tight level
+                // whose loop is closer to the limb's girth than to the
+                // body's (a loop as long as the body's still wraps the
+                // body, e.g. a skirt around a leg).
+                const float border = 0.5f * (c.bodyRhoS + c.limbRhoS);
+                for (const TightLevel& t : tightOf[i - first])
+                    if (t.rhoS <= border) {
+                        if (t.node != c.node) c.exactRhoC = -1.0;
+                        c.node = t.node, c.level = t.level, c.sigma = t.sigma;
+                        break;
+                    }
                 plan.cutNodes.push_back(c.node);
                 ++plan.junctions[j].cuts;
             }

@@ -11,9 +11,13 @@
 // smallest rho_S of the tight levels (sigma >= sigmaMin) from the candidate
 // to one body radius further out (rho_S(j) / pi levels), because the first
 // tight levels past a junction still wrap the part's base, whose loop is
-// about as long as the body's (docs/algorithm.md §8, "limb circumference"); when more than two are
-// similar, only the one carrying the most surface (largest exact rho_C) is dropped, ties broken by
-// voxel index. The loops Gamma(q) of the rest are the cuts.
+// about as long as the body's (docs/algorithm.md §8.6, "limb circumference"); the body's
+// circumference is the largest of the junction's rho_S and every candidate's first tight loop and
+// limb circumference. When more than two are similar, only the one carrying the most surface
+// (largest exact rho_C) is dropped, ties broken by voxel index. Each remaining candidate's cut
+// moves to the first tight level of that window whose loop is closer to the limb's circumference
+// than to the body's (a loop as long as the body's still wraps the body); the loops Gamma of those
+// points are the cuts.
 #pragma once
 
 #include <cstdint>
@@ -48,7 +52,9 @@ struct CutCandidate {
     std::uint32_t level = 0;  // BFS level from the junction region
     float sigma = 0.0f;
     float similarity = 0.0f;
+    float baseRhoS = 0.0f;    // rho_S where sigma first holds (around the part's base)
     float limbRhoS = 0.0f;    // the circumference the body test compared
+    float bodyRhoS = 0.0f;    // ... against this body circumference
     double exactRhoC = -1.0;  // filled where the tie rule needed it
     bool onBody = false;
     bool isCut = false;
@@ -71,9 +77,10 @@ struct CutPlan {
 /// consecutiveLevels.
 std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels);
 
-/// The body test of one junction's candidates (limbRhoS filled): sets
-/// similarity (limbRhoS against the larger of the junction's rho_S and the
-/// thickest candidate's) and onBody, before the "more than two" rule.
+/// The body test of one junction's candidates (baseRhoS and limbRhoS filled):
+/// sets bodyRhoS (the largest of the junction's rho_S and every candidate's
+/// baseRhoS and limbRhoS), similarity (limbRhoS against bodyRhoS) and onBody,
+/// before the "more than two" rule.
 void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandidate* candidates,
                         std::size_t count);
 

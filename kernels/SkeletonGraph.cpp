@@ -10,6 +10,8 @@ namespace skelseg {
 
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+
 struct UnionFind {
     std::vector<std::uint32_t> parent;
     explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
@@ -96,26 +98,44 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
     const std::uint32_t parts = labelComponents(
         g, [](std::uint32_t) { return true; }, part);
     if (parts > 1 && options.bridgeGap >= 1.0) {
-        const int r = int(std::floor(options.bridgeGap));
-        const double gap2 = options.bridgeGap * options.bridgeGap;
+        // A node reaches bridgeGap voxels, or the radius of the part around
+        // it (rho_S of a round loop is pi r) where that is larger: a gap
+        // shorter than the part's radius lies inside the part at any
+        // resolution. A pair needs the reach of both nodes.
+        std::vector<double> reach(g.nodeCount());
+        double maxReach = 0.0;
+        for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
+            reach[n] = std::max(options.bridgeGap, double(points[g.point[n]].rhoS) / kPi);
+            maxReach = std::max(maxReach, reach[n]);
+        }
+        // Sweep along x: only nodes within maxReach in x can pair.
+        std::vector<std::uint32_t> byX(g.nodeCount());
+        for (std::uint32_t n = 0; n < g.nodeCount(); ++n) byX[n] = n;
+        std::sort(byX.begin(), byX.end(), [&](std::uint32_t a, std::uint32_t b) {
+            return std::make_pair(g.coord[a].x, a) < std::make_pair(g.coord[b].x, b);
+        });
         // Closest pair per pair of parts; std::map keeps the order deterministic.
         std::map<std::pair<std::uint32_t, std::uint32_t>,
                  std::tuple<double, std::uint32_t, std::uint32_t>>
             best;
-        for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
-            const Coord c = g.coord[n];
-            for (int dz = -r; dz <= r; ++dz)
-                for (int dy = -r; dy <= r; ++dy)
-                    for (int dx = -r; dx <= r; ++dx) {
-                        const double d2 = double(dx * dx + dy * dy + dz * dz);
-                        if (d2 > gap2) continue;
-                        const std::uint32_t m = lookup(c.x + dx, c.y + dy, c.z + dz);
-                        if (m == kNoJunction || part[m] <= part[n]) continue;
-                        const auto key = std::make_pair(part[n], part[m]);
-                        const auto candidate = std::make_tuple(d2, n, m);
-                        auto it = best.find(key);
-                        if (it == best.end() || candidate < it->second) best[key] = candidate;
-                    }
+        for (std::size_t i = 0; i < byX.size(); ++i) {
+            const std::uint32_t a = byX[i];
+            const Coord ca = g.coord[a];
+            for (std::size_t k = i + 1; k < byX.size(); ++k) {
+                const std::uint32_t b = byX[k];
+                const Coord cb = g.coord[b];
+                if (double(cb.x - ca.x) > maxReach) break;
+                if (part[a] == part[b]) continue;
+                const double dx = cb.x - ca.x, dy = cb.y - ca.y, dz = cb.z - ca.z;
+                const double d2 = dx * dx + dy * dy + dz * dz;
+                const double gap = std::min(reach[a], reach[b]);
+                if (d2 > gap * gap) continue;
+                const std::uint32_t n = part[a] < part[b] ? a : b, m = part[a] < part[b] ? b : a;
+                const auto key = std::make_pair(part[n], part[m]);
+                const auto candidate = std::make_tuple(d2, n, m);
+                auto it = best.find(key);
+                if (it == best.end() || candidate < it->second) best[key] = candidate;
+            }
         }
         // Join parts with the shortest bridges first (a spanning forest), so
         // that a piece is not tied to everything within reach.

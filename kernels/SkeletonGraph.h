@@ -8,8 +8,10 @@
 // within `regionRadius` steps of it; clusters whose regions touch are one
 // junction. Branches are the 26-connected pieces of C_tau outside the
 // regions. Noise can break the skeleton into pieces; gaps of up to `bridgeGap`
-// voxels between different connected parts of C_tau are bridged by one edge
-// (the closest voxel pair), which the walks and branch pieces then follow.
+// voxels, or up to the radius of the parts around both ends (rho_S / pi)
+// where that is larger, between different connected parts of C_tau are
+// bridged by one edge (the closest voxel pair, shortest bridges first), which
+// the walks and branch pieces then follow.
 #pragma once
 
 #include <array>
@@ -52,6 +54,7 @@ struct SkeletonGraph {
 struct SkeletonGraphOptions {
     double tau = 0.0;
     int regionRadius = 3;
+    /// Smallest reach of a bridge in voxels; 0 turns bridging off.
     double bridgeGap = 4.0;
 };
 

@@ -1,8 +1,9 @@
 // Slow: every pose sequence of ../shared/data/poses keeps its part count in
 // all its frames (issue 12), segmented as a new user would
-// (`skelseg segment MESH -o OUT --resolution 192`, defaults otherwise).
-// Skipped where the data is absent. bench/invariance.py measures the same and
-// more (Rand Index error between frames, resolution sweeps).
+// (`skelseg segment MESH -o OUT --resolution 192`, defaults otherwise), and
+// two meshes of ../shared/data/shapes keep theirs at resolutions 128, 192,
+// 256 and 320. Skipped where the data is absent. bench/invariance.py measures
+// the same and more (Rand Index error between frames, all resolution sweeps).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/CliRunner.h"
 #include "tests/support/PoseSequences.h"
 #include "tests/support/TempDir.h"
 #include "tests/support/TestPaths.h"
@@ -41,6 +43,30 @@ TEST(Invariance, EveryPoseSequenceKeepsItsPartCount) {
         for (const fs::path& out : outputs) parts.push_back(partCount(out / "segmentation.seg"));
         EXPECT_EQ(std::set<std::size_t>(parts.begin(), parts.end()).size(), 1u)
             << name << ": parts per frame " << test::countList(parts);
+    }
+}
+
+TEST(Invariance, SharedShapesKeepTheirPartCountAcrossResolutions) {
+    // The shapes whose count is stable on the current build (docs/quality.md,
+    // "Pose and resolution invariance", lists the others and why they flip).
+    const fs::path shapes = test::sharedDataDir() / "shapes";
+    if (!fs::is_directory(shapes)) GTEST_SKIP() << "no shape data at " << shapes << ": skipped";
+    test::TempDir dir;
+    for (const std::string name : {"elephant.obj", "homer.obj"}) {
+        const fs::path mesh = shapes / name;
+        if (!fs::exists(mesh)) GTEST_SKIP() << mesh << " absent: skipped";
+        std::vector<std::size_t> parts;
+        for (const int resolution : {128, 192, 256, 320}) {
+            const fs::path out = dir.path() / (name + "-" + std::to_string(resolution));
+            const test::CliResult run =
+                test::runSkelseg({"segment", mesh.string(), "-o", out.string(), "--resolution",
+                                  std::to_string(resolution), "-q", "--no-preview"});
+            ASSERT_EQ(run.exitCode, 0) << mesh << " at " << resolution << ": " << run.describe();
+            parts.push_back(partCount(out / "segmentation.seg"));
+        }
+        EXPECT_GE(parts.front(), 2u) << name << ": no cut at all";
+        EXPECT_EQ(std::set<std::size_t>(parts.begin(), parts.end()).size(), 1u)
+            << name << ": parts at 128, 192, 256, 320: " << test::countList(parts);
     }
 }
 

@@ -243,15 +243,56 @@ TEST(CutPlacement, LimbCircumferenceIsMeasuredOneBodyRadiusOut) {
     j.setRhoSPerLevel(2, {18.0f, 18.0f, 16.0f, 12.0f, 9.0f, 2.0f, 8.0f, 7.0f, 3.0f, 7.0f});
     const auto r = place(j);
     ASSERT_EQ(r->plan.candidates.size(), 2u);
-    const CutCandidate* limb = r->byVoxel.at(j.armVoxelAtLevel(2, 1));
-    EXPECT_EQ(limb->level, 1u) << "the cut stays where sigma first holds";
+    // The cut moves to the first tight level whose loop is closer to the
+    // limb's girth (7) than to the body's (20): level 4 (rho_S 12 <= 13.5).
+    const CutCandidate* limb = r->byVoxel.at(j.armVoxelAtLevel(2, 4));
+    EXPECT_EQ(limb->level, 4u);
+    EXPECT_FLOAT_EQ(limb->baseRhoS, 18.0f) << "where sigma first holds";
     EXPECT_FLOAT_EQ(limb->limbRhoS, 7.0f);
+    EXPECT_FLOAT_EQ(limb->bodyRhoS, 20.0f);
     EXPECT_NEAR(limb->similarity, 0.35f, 1e-5f);
     EXPECT_TRUE(limb->isCut);
     const CutCandidate* body = r->byVoxel.at(j.armVoxelAtLevel(0, 1));
     EXPECT_FLOAT_EQ(body->limbRhoS, 19.0f);
     EXPECT_TRUE(body->onBody);
-    EXPECT_EQ(r->cutVoxels, std::vector<std::uint32_t>{j.armVoxelAtLevel(2, 1)});
+    EXPECT_EQ(body->level, 1u) << "a body candidate does not move";
+    EXPECT_EQ(r->cutVoxels, std::vector<std::uint32_t>{j.armVoxelAtLevel(2, 4)});
+}
+
+TEST(CutPlacement, CutStaysWhereSigmaHoldsWhenThatLoopIsAlreadyLimbSized) {
+    // Arm 2 is 7 thick from its first tight level: nothing to move.
+    Junction j;
+    j.setSigma(0, {0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f});
+    j.setRhoS(0, 19.0f);
+    j.setSigma(1, {0.1f});
+    j.setSigma(2, {0.2f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f});
+    j.setRhoS(2, 7.0f);
+    const auto r = place(j);
+    EXPECT_EQ(r->cutVoxels, std::vector<std::uint32_t>{j.armVoxelAtLevel(2, 2)});
+}
+
+TEST(CutPlacement, TightLoopLongerThanTheJunctionSetsTheBodyReference) {
+    // The junction's median (20) fell on thin core voxels: the body's first
+    // tight loop is 30 long (further out 24). Against 24, arm 1 (16) would
+    // be body (similarity 0.67); against the body's 30 it is a limb (0.53).
+    Junction j;
+    for (int arm = 0; arm < 3; ++arm)
+        j.setSigma(arm, {0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f});
+    j.setRhoS(0, 24.0f);
+    j.setRhoSPerLevel(0, {30.0f});
+    j.setRhoS(1, 16.0f);
+    j.setRhoS(2, 5.0f);
+    const auto r = place(j);
+    ASSERT_EQ(r->plan.candidates.size(), 3u);
+    const CutCandidate* body = r->byVoxel.at(j.armVoxelAtLevel(0, 1));
+    EXPECT_FLOAT_EQ(body->baseRhoS, 30.0f);
+    EXPECT_FLOAT_EQ(body->limbRhoS, 24.0f);
+    EXPECT_TRUE(body->onBody);
+    const CutCandidate* arm1 = r->byVoxel.at(j.armVoxelAtLevel(1, 1));
+    EXPECT_FLOAT_EQ(arm1->bodyRhoS, 30.0f);
+    EXPECT_NEAR(arm1->similarity, 1.0f - 14.0f / 30.0f, 1e-5f);
+    EXPECT_TRUE(arm1->isCut);
+    EXPECT_TRUE(r->byVoxel.at(j.armVoxelAtLevel(2, 1))->isCut);
 }
 
 TEST(CutPlacement, BodyThickerThanTheJunctionIsStillBody) {

@@ -163,6 +163,34 @@ TEST(SkeletonGraph, LargeGapIsNotBridged) {
     EXPECT_EQ(buildSkeletonGraph(set.points(), set.dims(), options).bridgeCount, 0u);
 }
 
+TEST(SkeletonGraph, GapWithinThePartsRadiusIsBridgedAtAnyResolution) {
+    // The same break of a limb's skeleton, drawn at 1x and 2x the
+    // resolution: 3 and 6 empty voxels between chains whose loops have
+    // rho_S 15 and 30 (radius 4.8 and 9.5 voxels). Both are bridged.
+    for (const int scale : {1, 2}) {
+        SkeletonPointSet set(Dims{60, 11, 3});
+        const float rhoS = 15.0f * float(scale);
+        const std::uint32_t endA = set.chain({2, 5, 1}, {1, 0, 0}, 10 * scale, rhoS).back();
+        const std::uint32_t startB =
+            set.chain({2 + 10 * scale + 3 * scale, 5, 1}, {1, 0, 0}, 10, rhoS).front();
+        const std::vector<SkeletonPoint> points = set.points();
+        const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+        EXPECT_EQ(g.bridgeCount, 1u) << "scale " << scale;
+        const std::uint32_t a = nodeOf(g, points, endA), b = nodeOf(g, points, startB);
+        EXPECT_NE(std::find(g.edges.begin(), g.edges.end(),
+                            std::array<std::uint32_t, 2>{std::min(a, b), std::max(a, b)}),
+                  g.edges.end())
+            << "scale " << scale;
+        EXPECT_EQ(g.pieceCount, 1u) << "scale " << scale;
+    }
+    // The reach of both ends counts: a thin piece (rho_S 10, radius 3.2,
+    // so the bridgeGap of 4) 6 voxels from a thick one stays apart.
+    SkeletonPointSet set(Dims{40, 11, 3});
+    set.chain({2, 5, 1}, {1, 0, 0}, 10, 30.0f);
+    set.chain({18, 5, 1}, {1, 0, 0}, 10, 10.0f);
+    EXPECT_EQ(buildSkeletonGraph(set.points(), set.dims(), {}).bridgeCount, 0u);
+}
+
 TEST(SkeletonGraph, OneBridgePerPairOfParts) {
     // Two parallel chains 3 voxels apart: many pairs within reach, one bridge.
     SkeletonPointSet set(Dims{30, 12, 3});
