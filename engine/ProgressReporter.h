@@ -43,6 +43,8 @@ public:
     /// Sets the time limit (seconds from the start; <= 0: none) after
     /// construction: --time-budget falls back to it when nothing fits.
     void setTimeLimit(double seconds) { mTimeLimit = seconds; }
+    /// Seconds from construction; <= 0: no limit.
+    double timeLimit() const { return mTimeLimit.load(); }
 
     /// SIGINT and SIGTERM set a process-wide flag that every reporter sees.
     static void installSignalHandlers();

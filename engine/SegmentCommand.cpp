@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <tuple>
@@ -64,6 +65,8 @@ struct RunContext {
     int threads;
     std::chrono::steady_clock::time_point wallStart;
     double cpuStart;
+    /// Set by the surfaces writer when --time-budget left no time for preview.png.
+    std::atomic<bool>& previewSkippedForBudget;
 
     void warn(const std::string& warning) const {
         progress.message("skelseg: warning: " + warning);
@@ -74,9 +77,6 @@ MaskMessage maskShape(const RunContext& run, SourceMessage source) {
     auto mask = std::make_shared<SegmentMask>(
         maskSegmentSource(std::move(source), run.inputOptions, run.timer, run.progress,
                           [&](const std::string& w) { run.warn(w); }));
-    // Nothing fits the budget: it becomes a time limit, as --time-limit.
-    if (mask->budget && !mask->budget->fits)
-        run.progress.setTimeLimit(run.options.timeBudgetSeconds);
     return mask;
 }
 
@@ -120,6 +120,24 @@ ShapeMessage completeShape(const RunContext& run, SegmentingMessage shape) {
     return shape;
 }
 
+/// Under --time-budget: whether preview.png was planned (planPreview) and
+/// still fits in what is left of the budget now; records a skip.
+bool previewFitsBudget(const RunContext& run, const SegmentedShape& shape) {
+    const std::optional<BudgetChoice>& budget = shape.input->budget;
+    if (!budget) return true;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - run.wallStart).count();
+    const bool fits =
+        budget->writePreview &&
+        elapsed + budget->previewSeconds * (1.0 + budget->safetyMargin) <= budget->budgetSeconds;
+    if (!fits) {
+        run.previewSkippedForBudget.store(true);
+        run.warn("preview.png skipped to fit --time-budget " +
+                 std::to_string(budget->budgetSeconds).substr(0, 5) + " s");
+    }
+    return fits;
+}
+
 void writeReport(const RunContext& run, const SegmentedShape& shape) {
     // Last: the report holds the timings of every stage above.
     SegmentRunFigures figures;
@@ -128,6 +146,7 @@ void writeReport(const RunContext& run, const SegmentedShape& shape) {
     figures.wallSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - run.wallStart).count();
     figures.cpuSeconds = processCpuSeconds() - run.cpuStart;
+    figures.previewSkippedForBudget = run.previewSkippedForBudget.load();
     writeFileAtomically(run.out.stagingPath("report.json"),
                         segmentReportJson(run.options, shape, run.timer.timings(), figures));
 }
@@ -173,7 +192,8 @@ void runGraph(const RunContext& run) {
         writeSkeletonAndCuts(run.out, shape, run.timer, run.progress);
     });
     auto writeSurfaces = writer([&](const SegmentedShape& shape) {
-        writeSurfacesAndPreview(run.out, shape, run.options, run.timer, run.progress);
+        const bool preview = run.options.writePreview && previewFitsBudget(run, shape);
+        writeSurfacesAndPreview(run.out, shape, run.options, preview, run.timer, run.progress);
     });
     auto writeLevelFiles = writer(
         [&](const SegmentedShape& shape) { writeLevels(run.out, shape, run.timer, run.progress); });
@@ -230,8 +250,16 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         out.removeOnCommit("levels");
         out.removeOnCommit("hierarchy.json");
     }
+    // The budget is also a time limit: a run its prediction fitted but that
+    // overruns it stops as --time-limit does instead of ending late.
+    if (options.timeBudgetSeconds > 0 &&
+        (progress.timeLimit() <= 0 || progress.timeLimit() > options.timeBudgetSeconds))
+        progress.setTimeLimit(options.timeBudgetSeconds);
     StageTimer timer;
-    const RunContext run{options, progress, timer, out, inputOptions, threads, wallStart, cpuStart};
+    std::atomic<bool> previewSkippedForBudget{false};
+    const RunContext run{options,   progress,     timer,
+                         out,       inputOptions, threads,
+                         wallStart, cpuStart,     previewSkippedForBudget};
     tbb::task_arena arena(threads);
     arena.execute([&] { runGraph(run); });
     throwIfInterrupted(progress);

@@ -55,6 +55,7 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
             checkReadableFile(file);
             source.mesh = readMesh(file);
         }
+        Stage stage(timer, interrupter, "check mesh", false);
         source.meshDiagnostics = checkMesh(*source.mesh);
     } else {
         Stage stage(timer, interrupter, "read volume", false);

@@ -101,8 +101,8 @@ void writeLevels(OutputDirectory& out, const SegmentedShape& shape, StageTimer& 
 }
 
 void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
-                             const SegmentCommandOptions& options, StageTimer& timer,
-                             Interrupter& interrupter) {
+                             const SegmentCommandOptions& options, bool writePreview,
+                             StageTimer& timer, Interrupter& interrupter) {
     Stage stage(timer, interrupter, "segment surfaces and preview", true);
     const SegmentSource& source = *shape.input->source;
     const SegmentationResult& result = shape.result;
@@ -171,7 +171,7 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
         }
         writeSegmentViews(out, inputs);
     }
-    if (!options.writePreview) return;
+    if (!writePreview) return;
     for (const auto& p : shape.world.skeletonPoints) scene.skeletonPoints.push_back(p.position);
     scene.skeletonEdges = shape.world.skeletonEdges;
     scene.cutLoops = shape.world.cutLoops;

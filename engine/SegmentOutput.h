@@ -72,9 +72,10 @@ void writeLevels(OutputDirectory& out, const SegmentedShape& shape, StageTimer& 
 /// segments.ply (a mesh input's own triangles, else the smoothed surfaces of
 /// the label volume), segmentation.seg for meshes, segments.glb and
 /// viewer.html of the same surface (engine/SegmentViews.h), and preview.png
-/// unless options.writePreview is off.
+/// when `writePreview` (options.writePreview, unless --time-budget left no
+/// time for it).
 void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
-                             const SegmentCommandOptions& options, StageTimer& timer,
-                             Interrupter& interrupter);
+                             const SegmentCommandOptions& options, bool writePreview,
+                             StageTimer& timer, Interrupter& interrupter);
 
 }  // namespace skelseg

@@ -67,6 +67,10 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
             {"coarsening", budget->coarsening},
             {"coarsened", budget->coarsened},
             {"fits", budget->fits},
+            {"safety_margin", budget->safetyMargin},
+            {"preview_predicted_seconds", budget->previewSeconds},
+            {"skipped",
+             figures.previewSkippedForBudget ? json::array({"preview.png"}) : json::array()},
             {"chosen", describeBudgetChoice(*budget)}};
     return report.dump(2) + "\n";
 }

@@ -22,8 +22,9 @@ namespace skelseg {
 struct SegmentRunFigures {
     int threads = 1;
     std::uint64_t memoryLimit = 0;
-    double wallSeconds = 0.0;  // from the start of the command
-    double cpuSeconds = 0.0;   // process CPU time since the start of the command
+    double wallSeconds = 0.0;              // from the start of the command
+    double cpuSeconds = 0.0;               // process CPU time since the start of the command
+    bool previewSkippedForBudget = false;  // --time-budget left no time for preview.png
 };
 
 /// The text of report.json (indented, ending in a newline).

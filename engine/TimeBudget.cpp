@@ -43,6 +43,18 @@ CostModel CostModel::fitted() {
     return m;
 }
 
+double CostModel::predictPreviewSeconds(double triangles) const {
+    return previewSeconds + previewPerTriangle * triangles;
+}
+
+double planPreview(const CostModel& model, double triangles, double secondsLeft,
+                   BudgetChoice& choice) {
+    choice.previewSeconds = model.predictPreviewSeconds(triangles);
+    const double withMargin = choice.previewSeconds * (1.0 + model.safetyMargin);
+    choice.writePreview = withMargin <= 0.25 * secondsLeft;
+    return choice.writePreview ? secondsLeft - withMargin : secondsLeft;
+}
+
 double CostModel::predictSeconds(const WorkCounts& w) const {
     return seconds + perGridVoxel * w.gridVoxels + perObjectVoxel * w.objectVoxels +
            perCandidatePath * w.candidates * std::sqrt(w.boundaryVoxels) +
@@ -67,10 +79,11 @@ BudgetChoice chooseMeshResolution(const CostModel& model, const WorkCounts& prob
         choice.resolution = r;
         choice.predictedSeconds =
             model.predictSeconds(model.scale(probe, double(r) / double(probeResolution)));
-        choice.fits = choice.predictedSeconds <= seconds;
+        choice.fits = choice.predictedSeconds * (1.0 + model.safetyMargin) <= seconds;
         if (choice.fits || r == minimum) break;
     }
     choice.coarsened = choice.resolution < maximum;
+    choice.safetyMargin = model.safetyMargin;
     return choice;
 }
 
@@ -82,10 +95,11 @@ BudgetChoice chooseVolumeCoarsening(const CostModel& model, const WorkCounts& pr
         choice.coarsening = factor;
         choice.predictedSeconds =
             model.predictSeconds(model.scale(probe, double(probeCoarsening) / double(factor)));
-        choice.fits = choice.predictedSeconds <= seconds;
+        choice.fits = choice.predictedSeconds * (1.0 + model.safetyMargin) <= seconds;
         if (choice.fits) break;
     }
     choice.coarsened = choice.coarsening > 1;
+    choice.safetyMargin = model.safetyMargin;
     return choice;
 }
 
@@ -138,15 +152,24 @@ BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxeli
                          const CostModel& model, Interrupter& interrupter) {
     const auto start = std::chrono::steady_clock::now();
     VoxelizeOptions probeOptions = voxelize;
-    probeOptions.resolution = std::min(voxelize.resolution, 64);
+    probeOptions.resolution = std::min(voxelize.resolution, kProbeResolution);
+    // Separating contacts and self-overlaps moves a few voxels and costs as
+    // much as the rest of the probe on a large mesh: the counts do without,
+    // and inside/outside alone needs the narrowest distance band.
+    probeOptions.keepMeshTopology = false;
+    probeOptions.bandWidth = 1.0;
     WorkCounts probe =
         countWork(voxelizeMesh(mesh, probeOptions, interrupter), voxelize.threaded, interrupter);
     probe.meshFaces = double(mesh.faceCount);
     const double spent = secondsSince(start);
-    BudgetChoice choice = chooseMeshResolution(model, probe, probeOptions.resolution,
-                                               voxelize.resolution, 16, seconds - spent);
+    BudgetChoice preview;
+    const double left = planPreview(model, double(mesh.triangles.size()), seconds - spent, preview);
+    BudgetChoice choice =
+        chooseMeshResolution(model, probe, probeOptions.resolution, voxelize.resolution, 16, left);
     choice.budgetSeconds = seconds;
     choice.probeSeconds = spent;
+    choice.previewSeconds = preview.previewSeconds;
+    choice.writePreview = preview.writePreview;
     return choice;
 }
 
@@ -157,9 +180,17 @@ BudgetChoice planVolumeRun(const MaskVolume& mask, double seconds, const CostMod
     const int probeCoarsening = small ? 1 : 2;
     const WorkCounts probe = countWork(small ? mask : coarsenMask(mask, 2), true, interrupter);
     const double spent = secondsSince(start);
-    BudgetChoice choice = chooseVolumeCoarsening(model, probe, probeCoarsening, seconds - spent);
+    // The preview draws the segment surfaces: about two triangles per
+    // boundary voxel of the full grid.
+    BudgetChoice preview;
+    const double left =
+        planPreview(model, 2.0 * model.scale(probe, double(probeCoarsening)).boundaryVoxels,
+                    seconds - spent, preview);
+    BudgetChoice choice = chooseVolumeCoarsening(model, probe, probeCoarsening, left);
     choice.budgetSeconds = seconds;
     choice.probeSeconds = spent;
+    choice.previewSeconds = preview.previewSeconds;
+    choice.writePreview = preview.writePreview;
     return choice;
 }
 

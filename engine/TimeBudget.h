@@ -5,13 +5,18 @@
 // first stages (grid, object and boundary voxels, skeleton candidates) on a
 // coarse grid; a cost model fitted on the benchmark shapes
 // (bench/fit_cost_model.py, docs/performance.md) predicts the wall time of a
-// full run from them; the engine then takes
+// full run from them, with a safety margin chosen from the fit's residuals;
+// the engine then takes
 //   - for meshes: the largest resolution up to --resolution that fits;
 //   - for volumes: the finest of 1, 2 or 4 times coarser grids that fits
 //     (coarsenMask: a coarse voxel is object when any of its fine voxels is;
 //     refineLabels gives each fine object voxel its coarse voxel's label).
-// When even the coarsest choice does not fit, the run takes it with the
-// budget as a time limit: it stops as --time-limit does.
+// preview.png costs about as much as a small run on a large mesh, so it is
+// skipped (and report.json says so) when it would take more than a quarter of
+// the budget left after the probe, or when the run reaches it too late.
+// The budget is always also the run's time limit: a run that overruns its
+// prediction stops as --time-limit does (exit 3, no output) instead of ending
+// late; when even the coarsest choice does not fit, that is what happens.
 #pragma once
 
 #include <cstdint>
@@ -46,15 +51,23 @@ WorkCounts countWork(const MaskVolume& mask, bool threaded,
 /// candidates times the typical path length (square root of the boundary
 /// voxels) and the mesh faces, fitted by bench/fit_cost_model.py.
 struct CostModel {
-    double seconds = 0.0;            // fixed per run
-    double perGridVoxel = 0.0;       // voxelising, labels, outputs
-    double perObjectVoxel = 0.0;     // feature transform, candidates, interior labels
-    double perCandidatePath = 0.0;   // path sets: candidates * sqrt(boundary voxels)
-    double perMeshFace = 0.0;        // reading, voxelising, face labels
-    double candidateExponent = 2.0;  // candidates grow as resolution^this
+    double seconds = 0.0;             // fixed per run
+    double perGridVoxel = 0.0;        // voxelising, labels, outputs
+    double perObjectVoxel = 0.0;      // feature transform, candidates, interior labels
+    double perCandidatePath = 0.0;    // path sets: candidates * sqrt(boundary voxels)
+    double perMeshFace = 0.0;         // reading, voxelising, face labels
+    double candidateExponent = 2.0;   // candidates grow as resolution^this
+    double previewSeconds = 0.0;      // preview.png: fixed part
+    double previewPerTriangle = 0.0;  // preview.png: per triangle drawn
+    /// A choice fits when predicted * (1 + safetyMargin) is within the
+    /// seconds left: the fit's relative residuals, so that a run the model
+    /// under-predicts still ends within the budget.
+    double safetyMargin = 0.0;
     /// The model fitted on the benchmark shapes (docs/performance.md).
     static CostModel fitted();
     double predictSeconds(const WorkCounts& work) const;
+    /// Predicted seconds of preview.png for a scene of `triangles` triangles.
+    double predictPreviewSeconds(double triangles) const;
     /// The counters of the same shape on a grid `factor` times finer
     /// (voxels grow with factor^3, boundary with factor^2).
     WorkCounts scale(const WorkCounts& work, double factor) const;
@@ -69,7 +82,16 @@ struct BudgetChoice {
     int coarsening = 1;             // volumes: 1, 2 or 4
     bool coarsened = false;         // resolution below --resolution, or coarsening > 1
     bool fits = true;               // false: even the coarsest choice is predicted over
+    double safetyMargin = 0.0;      // CostModel::safetyMargin used in the choice
+    double previewSeconds = 0.0;    // predicted cost of preview.png
+    bool writePreview = true;       // false: preview.png skipped to fit the budget
 };
+
+/// Whether preview.png fits: its predicted cost, with the safety margin, is
+/// at most a quarter of `secondsLeft`. Sets choice.previewSeconds and
+/// choice.writePreview; returns the seconds left for the run itself.
+double planPreview(const CostModel& model, double triangles, double secondsLeft,
+                   BudgetChoice& choice);
 
 /// Meshes: the largest resolution in [minimum, maximum] whose predicted time
 /// fits in `seconds`, from counters measured at `probeResolution` (the mesh
@@ -102,10 +124,15 @@ void refineSegmentationResult(SegmentationResult& result, const MaskVolume& fine
 /// (...)": the choice in words, for the preview title and report.json.
 std::string describeBudgetChoice(const BudgetChoice& choice);
 
-/// The whole plan for a mesh: voxelises at a probe resolution (64, or
-/// --resolution when lower), counts the work and chooses a resolution from
-/// `voxelize.resolution` down to 16 that fits in `seconds` minus the probe's
-/// own time.
+/// Resolution of the mesh probe: the counts scale well from it
+/// (docs/performance.md), and it costs little beyond the per-face work.
+constexpr int kProbeResolution = 64;
+
+/// The whole plan for a mesh: voxelises at a probe resolution
+/// (kProbeResolution, or --resolution when lower; without the topology
+/// separations), counts the work, decides the preview (planPreview) and
+/// chooses a resolution from `voxelize.resolution` down to 16 that fits in
+/// `seconds` minus the probe's own time and the preview's.
 BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxelize, double seconds,
                          const CostModel& model, Interrupter& interrupter = nullInterrupter());
 

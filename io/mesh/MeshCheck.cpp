@@ -5,23 +5,10 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
-#include <unordered_map>
 
 namespace skelseg {
 
 namespace {
-
-struct PositionHash {
-    std::size_t operator()(const std::array<double, 3>& p) const noexcept {
-        std::uint64_t h = 1469598103934665603ull;
-        for (double c : p) {
-            std::uint64_t bits;
-            std::memcpy(&bits, &c, 8);
-            h = (h ^ bits) * 1099511628211ull + (h >> 29);
-        }
-        return std::size_t(h);
-    }
-};
 
 /// Union-find with path halving; union by smaller index keeps it deterministic.
 class DisjointSets {
@@ -53,15 +40,26 @@ private:
 }  // namespace
 
 std::vector<std::uint32_t> canonicalVertices(const TriangleMesh& mesh) {
-    std::vector<std::uint32_t> canonical(mesh.vertices.size());
-    std::unordered_map<std::array<double, 3>, std::uint32_t, PositionHash> first;
-    first.reserve(mesh.vertices.size());
-    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-        std::array<double, 3> p = mesh.vertices[v];
-        for (double& c : p)
-            if (c == 0.0) c = 0.0;  // -0 and +0 are one position
-        canonical[v] = first.emplace(p, std::uint32_t(v)).first->second;
-    }
+    // Sorting the positions' bit patterns groups equal positions; a stable
+    // sort keeps each group in index order, so its first vertex is the
+    // smallest index. Several times faster than hashing every position on
+    // meshes of 100k vertices and more (docs/performance.md).
+    const std::size_t n = mesh.vertices.size();
+    std::vector<std::array<std::uint64_t, 3>> bits(n);
+    for (std::size_t v = 0; v < n; ++v)
+        for (std::size_t c = 0; c < 3; ++c) {
+            double coordinate = mesh.vertices[v][c];
+            if (coordinate == 0.0) coordinate = 0.0;  // -0 and +0 are one position
+            std::memcpy(&bits[v][c], &coordinate, 8);
+        }
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return bits[a] < bits[b]; });
+    std::vector<std::uint32_t> canonical(n);
+    for (std::size_t i = 0; i < n; ++i)
+        canonical[order[i]] =
+            i > 0 && bits[order[i]] == bits[order[i - 1]] ? canonical[order[i - 1]] : order[i];
     return canonical;
 }
 
@@ -91,9 +89,10 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
 
     // Edges: count uses of every undirected edge between distinct (canonical)
     // vertices. Fan diagonals inside a polygon are used twice, like any
-    // interior edge.
-    std::unordered_map<std::uint64_t, std::uint32_t> edgeUses;
-    edgeUses.reserve(mesh.triangles.size() * 2);
+    // interior edge. A sorted list of edge keys counts them: equal keys are
+    // adjacent (faster than a hash map of a million edges).
+    std::vector<std::uint64_t> edgeKeys;
+    edgeKeys.reserve(mesh.triangles.size() * 3);
     DisjointSets pieces(mesh.vertices.size());
     std::vector<char> used(mesh.vertices.size(), 0);
     for (const auto& triangle : mesh.triangles) {
@@ -104,17 +103,21 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
             if (a == b) continue;
             pieces.unite(a, b);
             if (a > b) std::swap(a, b);
-            ++edgeUses[(std::uint64_t(a) << 32) | b];
+            edgeKeys.push_back((std::uint64_t(a) << 32) | b);
         }
     }
+    std::sort(edgeKeys.begin(), edgeKeys.end());
     bool everyEdgeEven = true;
-    for (const auto& [edge, uses] : edgeUses) {
-        (void)edge;
+    for (std::size_t first = 0; first < edgeKeys.size();) {
+        std::size_t last = first + 1;
+        while (last < edgeKeys.size() && edgeKeys[last] == edgeKeys[first]) ++last;
+        const std::size_t uses = last - first;
         if (uses == 1) ++diagnostics.boundaryEdges;
         if (uses > 2) ++diagnostics.nonManifoldEdges;
         if (uses % 2 != 0) everyEdgeEven = false;
+        first = last;
     }
-    diagnostics.closed = everyEdgeEven && !edgeUses.empty();
+    diagnostics.closed = everyEdgeEven && !edgeKeys.empty();
     for (std::uint32_t v = 0; v < std::uint32_t(mesh.vertices.size()); ++v)
         if (used[v] && pieces.find(v) == v) ++diagnostics.pieces;
     return diagnostics;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <numeric>
-#include <unordered_map>
 #include <vector>
 
 #include "io/mesh/MeshCheck.h"
@@ -36,12 +35,17 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
         std::int64_t vertices = 0, edges = 0, faces = 0;
         bool manifold = true;
     };
-    std::unordered_map<std::uint32_t, PieceCounts> pieces;
+    // Indexed by the piece's root vertex; a sorted list of edge keys counts
+    // the uses of every edge (equal keys adjacent), faster than a hash map.
+    std::vector<PieceCounts> pieces(vertexCount);
+    std::vector<char> isPiece(vertexCount, 0);
     std::vector<char> used(vertexCount, 0);
-    std::unordered_map<std::uint64_t, std::uint32_t> edgeUses;
-    edgeUses.reserve(triangles.size() * 2);
+    std::vector<std::uint64_t> edgeKeys;
+    edgeKeys.reserve(triangles.size() * 3);
     for (const auto& t : triangles) {
-        ++pieces[find(t[0])].faces;
+        const std::uint32_t root = find(t[0]);
+        isPiece[root] = 1;
+        ++pieces[root].faces;
         for (int k = 0; k < 3; ++k) {
             std::uint32_t a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)];
             if (!used[a]) {
@@ -49,18 +53,23 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
                 ++pieces[find(a)].vertices;
             }
             if (a > b) std::swap(a, b);
-            ++edgeUses[(std::uint64_t(a) << 32) | b];
+            edgeKeys.push_back((std::uint64_t(a) << 32) | b);
         }
     }
-    for (const auto& [edge, uses] : edgeUses) {
-        PieceCounts& piece = pieces[find(std::uint32_t(edge >> 32))];
+    std::sort(edgeKeys.begin(), edgeKeys.end());
+    for (std::size_t first = 0; first < edgeKeys.size();) {
+        std::size_t last = first + 1;
+        while (last < edgeKeys.size() && edgeKeys[last] == edgeKeys[first]) ++last;
+        PieceCounts& piece = pieces[find(std::uint32_t(edgeKeys[first] >> 32))];
         ++piece.edges;
-        if (uses != 2) piece.manifold = false;
+        if (last - first != 2) piece.manifold = false;
+        first = last;
     }
 
     MeshTopology topology;
-    for (const auto& [root, piece] : pieces) {
-        (void)root;
+    for (std::size_t root = 0; root < vertexCount; ++root) {
+        if (!isPiece[root]) continue;
+        const PieceCounts& piece = pieces[root];
         const std::int64_t chi = piece.vertices - piece.edges + piece.faces;
         if (!piece.manifold || chi % 2 != 0) {
             ++topology.otherPieces;

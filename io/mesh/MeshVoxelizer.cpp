@@ -105,7 +105,7 @@ void forEachGridValue(const Grid& grid, const Dims& dims, const std::array<int, 
 
 /// nearestTriangle: when not null, filled with the index of the triangle
 /// nearest to each voxel of the narrow band (-1 elsewhere).
-MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid,
+MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, double bandWidth,
                               Interrupter& interrupter,
                               std::vector<std::int32_t>* nearestTriangle = nullptr) {
     VdbInterrupter vdbInterrupter(interrupter);
@@ -117,8 +117,8 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid,
     // outside) read as "unknown" rather than as triangle 0.
     openvdb::Int32Grid polygonIndex(-1);
     auto distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        vdbInterrupter, adapter, *transformFor(grid.geometry), 2.0f, 2.0f, 0,
-        nearestTriangle ? &polygonIndex : nullptr);
+        vdbInterrupter, adapter, *transformFor(grid.geometry), float(bandWidth), float(bandWidth),
+        0, nearestTriangle ? &polygonIndex : nullptr);
     throwIfInterrupted(interrupter);
     if (nearestTriangle) {
         // Outside the band the index grid holds its background; voxels whose
@@ -265,6 +265,9 @@ VoxelGrid voxelGridFor(const TriangleMesh& mesh, const VoxelizeOptions& options)
     if (!(options.holeClosing >= 0.0 && options.holeClosing <= 16.0))
         throw UsageError("hole closing " + std::to_string(options.holeClosing) +
                          " is outside [0, 16] voxels");
+    if (!(options.bandWidth >= 1.0 && options.bandWidth <= 4.0))
+        throw UsageError("distance band width " + std::to_string(options.bandWidth) +
+                         " is outside [1, 4] voxels");
     if (mesh.vertices.empty() || mesh.triangles.empty())
         throw UsageError("cannot voxelise a mesh without faces");
 
@@ -331,7 +334,7 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
     arena.execute([&] {
         if (closed) {
             std::vector<std::int32_t> nearestTriangle;
-            mask = signedVoxelization(mesh, grid, interrupter,
+            mask = signedVoxelization(mesh, grid, options.bandWidth, interrupter,
                                       options.keepMeshTopology ? &nearestTriangle : nullptr);
             // The sign computation can fail on badly broken "closed" meshes
             // (nothing comes out inside): fall back to the shell method.

@@ -67,6 +67,12 @@ struct VoxelizeOptions {
     /// far apart on the mesh (ContactSeparation.h), and parts of the mesh that
     /// pass through each other (SelfOverlapSeparation.h).
     bool keepMeshTopology = true;
+    /// Closed meshes: half-width, in voxels, of the band of distances
+    /// OpenVDB computes around the surface, in [1, 4]. Its cost per triangle
+    /// grows as the cube of the width (a triangle smaller than a voxel
+    /// visits (2 width + 1)^3 voxels). The contact separation needs 2; inside
+    /// and outside alone (keepMeshTopology off: the --time-budget probe) need 1.
+    double bandWidth = 2.0;
     ContactSeparationOptions contactOptions;
     /// Closed meshes: make solid the voxels the middle of every part thinner
     /// than a voxel or so passes through (ThinPartFill.h), before contacts
