@@ -11,7 +11,8 @@ log-log plot to OUT/scaling.png.
 import argparse, json, math, os, subprocess, sys
 
 GROUPS = {
-    "voxelise": ["voxelise"],
+    "read, checks, genus": ["read mesh", "check mesh", "genus", "genus with thin parts filled"],
+    "voxelise": ["voxelise", "voxelise with thin parts filled"],
     "feature transform": ["feature transform"],
     "graph + candidates": ["boundary graph", "skeleton candidates", "landmarks", "objects", "crop"],
     "path sets, rims, areas, sigma": ["path sets, rims, areas, sigma"],

@@ -12,7 +12,8 @@ counts runs whose CPU seconds are at most B (the model predicts CPU
 seconds, which a loaded machine inflates less than wall seconds). Runs that stop
 (exit 3: nothing fitted, the budget acted as --time-limit) count as not
 within budget. Prints a Markdown table per budget and one row per run in
-OUT/budget.json.
+OUT/budget.json. The 1-minute load average is printed at the start and the
+end (the machine is shared: repeat a table measured under a load over 3).
 """
 import argparse, json, os, statistics, subprocess, sys, time
 from pathlib import Path
@@ -33,6 +34,7 @@ def main():
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     rows = []
+    load_start = os.getloadavg()[0]
     for budget in map(float, args.budgets.split(",")):
         for inp in map(Path, args.inputs):
             d = out / f"{inp.stem}-{budget:g}"
@@ -50,16 +52,18 @@ def main():
                 tb = rep["time_budget"]
                 row["cpu"] = rep["timing"]["cpu_seconds"]
                 row.update(resolution=tb["resolution"], coarsening=tb["coarsening"],
-                           predicted=tb["predicted_seconds"], probe=tb["probe_seconds"], fits=tb["fits"])
+                           predicted=tb["predicted_seconds"], probe=tb["probe_seconds"], fits=tb["fits"],
+                           skipped=tb.get("skipped", []))
             rows.append(row)
             print(f"{inp.name} budget {budget:g}: exit {proc.returncode}, {wall:.2f} s, "
                   f"resolution {row.get('resolution')}, predicted {row.get('predicted', 0):.2f}",
                   file=sys.stderr, flush=True)
     (out / "budget.json").write_text(json.dumps(rows, indent=1))
-    print(f"1-minute load average at the end: {os.getloadavg()[0]:.1f}\n")
+    print(f"1-minute load average: {load_start:.1f} at the start, {os.getloadavg()[0]:.1f} at the end\n")
     print("| budget s | runs | within budget (wall) | within budget (CPU s) | stopped (exit 3) | "
-          "resolution chosen (median, range) | wall s (median, worst) | CPU s (median, worst) | predicted s (median) |")
-    print("| ---: | ---: | ---: | ---: | ---: | --- | --- | --- | ---: |")
+          "resolution chosen (median, range) | wall s (median, worst) | CPU s (median, worst) | predicted s (median) | "
+          "preview skipped |")
+    print("| ---: | ---: | ---: | ---: | ---: | --- | --- | --- | ---: | ---: |")
     for budget in map(float, args.budgets.split(",")):
         rs = [r for r in rows if r["budget"] == budget]
         ok = [r for r in rs if r["exit"] == 0 and r["wall"] <= budget]
@@ -74,7 +78,8 @@ def main():
               f"{len(ok_cpu)} ({100.0 * len(ok_cpu) / max(len(rs), 1):.0f}%) | "
               f"{len(stopped)} | {res_text} | {statistics.median(walls):.2f}, {max(walls):.2f} | "
               f"{statistics.median(cpus):.2f}, {max(cpus):.2f} | "
-              f"{statistics.median(pred) if pred else 0:.2f} |")
+              f"{statistics.median(pred) if pred else 0:.2f} | "
+              f"{sum(1 for r in rs if r.get('skipped'))} |")
     return 0
 
 

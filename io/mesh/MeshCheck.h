@@ -4,7 +4,8 @@
 // surface. checkMesh() counts what can make it inexact and meshWarnings()
 // turns the counts into one-line warnings for the user. Vertices at identical
 // positions count as one vertex here (STL-like soups and seams where a writer
-// duplicated vertices are still closed surfaces). Linear time: edges are hashed.
+// duplicated vertices are still closed surfaces). Edges and positions are
+// counted in sorted lists (n log n), faster than hashing on large meshes.
 #pragma once
 
 #include <cstddef>

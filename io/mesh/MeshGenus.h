@@ -30,8 +30,8 @@ struct MeshTopology {
     std::int64_t eulerCharacteristic = 0;
 };
 
-/// Pieces, Euler characteristic and genus of `mesh` (linear time: edges are
-/// hashed). Triangles with two equal (canonical) corners are ignored.
+/// Pieces, Euler characteristic and genus of `mesh` (edges counted in a
+/// sorted list: n log n). Triangles with two equal (canonical) corners are ignored.
 MeshTopology meshTopology(const TriangleMesh& mesh);
 
 }  // namespace skelseg

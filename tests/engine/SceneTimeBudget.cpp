@@ -67,7 +67,49 @@ TEST(SceneTimeBudget, ATightBudgetCoarsensAVolumeAndKeepsItsGrid) {
     EXPECT_EQ(r["time_budget"]["coarsened"], true);
     EXPECT_EQ(r["grid"]["size"], full["grid"]["size"]);  // labels on the input grid
     EXPECT_GE(r["segment_count"].get<int>(), 1);
-    EXPECT_TRUE(std::filesystem::exists(dir / "budget" / "preview.png"));
+    // The preview is written unless the budget left no time for it, which
+    // the report then says.
+    const bool skipped = !r["time_budget"]["skipped"].empty();
+    EXPECT_EQ(std::filesystem::exists(dir / "budget" / "preview.png"), !skipped);
+    if (skipped) EXPECT_EQ(r["time_budget"]["skipped"][0], "preview.png");
+}
+
+/// Runs a shared mesh with a budget of `fraction` of its unbudgeted wall time:
+/// it ends within the budget, or stops with exit code 3 and no output.
+void expectWithinBudgetOrStopped(const std::string& mesh, int resolution, double fraction) {
+    TempDir dir;
+    const std::string exe = skelsegBinary();
+    const auto input = sharedDataDir() / "shapes" / mesh;
+    const std::string common =
+        exe + " segment " + input.string() + " -q --resolution " + std::to_string(resolution);
+    ASSERT_EQ(runQuietly(common + " -o " + (dir / "full").string()), 0);
+    const double full = report(dir / "full")["timing"]["wall_seconds"].get<double>();
+    const double budget = fraction * full;
+    const int code = runQuietly(common + " -o " + (dir / "budget").string() + " --time-budget " +
+                                std::to_string(budget));
+    if (code == 3) {
+        // Over the budget: stopped as --time-limit does, nothing written.
+        EXPECT_FALSE(std::filesystem::exists(dir / "budget"));
+        return;
+    }
+    ASSERT_EQ(code, 0);
+    const nlohmann::json r = report(dir / "budget");
+    const nlohmann::json& b = r["time_budget"];
+    // A run that finishes has ended within its budget: the engine's own clock
+    // against the budget it was given (a ratio, not a speed).
+    EXPECT_LE(b["actual_seconds"].get<double>() / b["budget_seconds"].get<double>(), 1.0);
+    EXPECT_LE(b["resolution"].get<int>(), resolution);
+    const bool skipped = !b["skipped"].empty();
+    EXPECT_EQ(std::filesystem::exists(dir / "budget" / "preview.png"), !skipped);
+    EXPECT_TRUE(std::filesystem::exists(dir / "budget" / "segmentation.seg"));
+}
+
+TEST(SceneTimeBudget, AMeshRunWithASmallBudgetEndsWithinItOrStops) {
+    if (!hasSharedData()) GTEST_SKIP() << "no shared data at " << sharedDataDir();
+    // A third and two thirds of the unbudgeted run: the probe, the chosen
+    // resolution and the preview decision all have to fit.
+    expectWithinBudgetOrStopped("camel.off", 200, 1.0 / 3.0);
+    expectWithinBudgetOrStopped("camel.off", 200, 2.0 / 3.0);
 }
 
 TEST(SceneTimeBudget, ABudgetNothingFitsStopsLikeTheTimeLimit) {

@@ -61,6 +61,42 @@ TEST(TimeBudget, NothingFitsTakesTheCoarsestChoiceAndSaysSo) {
     EXPECT_FALSE(ample.coarsened);
 }
 
+TEST(TimeBudget, TheSafetyMarginLeavesRoomForAnUnderPrediction) {
+    CostModel model = CostModel::fitted();
+    model.safetyMargin = 0.0;
+    const BudgetChoice bare = chooseMeshResolution(model, someWork(), 64, 400, 16, 2.0);
+    model.safetyMargin = 0.5;
+    const BudgetChoice margin = chooseMeshResolution(model, someWork(), 64, 400, 16, 2.0);
+    ASSERT_TRUE(bare.fits);
+    ASSERT_TRUE(margin.fits);
+    EXPECT_LT(margin.resolution, bare.resolution);
+    // The chosen run, 50% slower than predicted, still ends within the budget.
+    EXPECT_LE(margin.predictedSeconds * 1.5, 2.0);
+    EXPECT_DOUBLE_EQ(margin.safetyMargin, 0.5);
+}
+
+TEST(TimeBudget, ThePreviewIsSkippedWhenItTakesMoreThanAQuarterOfWhatIsLeft) {
+    CostModel model;
+    model.previewSeconds = 0.5;
+    model.previewPerTriangle = 1e-6;  // 1 s for 500k triangles
+    model.safetyMargin = 0.0;
+    BudgetChoice small, large;
+    // 0.6 s of preview with 10 s left: kept, 9.4 s left for the run.
+    EXPECT_DOUBLE_EQ(planPreview(model, 1e5, 10.0, small), 10.0 - 0.6);
+    EXPECT_TRUE(small.writePreview);
+    EXPECT_DOUBLE_EQ(small.previewSeconds, 0.6);
+    // 1 s of preview with 2 s left: skipped, the whole 2 s go to the run.
+    EXPECT_DOUBLE_EQ(planPreview(model, 5e5, 2.0, large), 2.0);
+    EXPECT_FALSE(large.writePreview);
+    // With a margin the preview counts larger, also against what is left.
+    model.safetyMargin = 1.0;
+    BudgetChoice margin;
+    EXPECT_DOUBLE_EQ(planPreview(model, 1e5, 10.0, margin), 10.0 - 1.2);
+    EXPECT_TRUE(margin.writePreview);
+    EXPECT_FALSE(planPreview(model, 1e5, 4.0, margin) < 4.0);
+    EXPECT_FALSE(margin.writePreview);
+}
+
 TEST(TimeBudget, CoarsenedMaskKeepsEveryObjectVoxelAndRefinesBack) {
     const MaskVolume fine = rasterise(makeShape("y-arms"), {48, 2});
     const MaskVolume coarse = coarsenMask(fine, 2);

@@ -1,0 +1,214 @@
+// checkMesh, canonicalVertices and meshTopology count edges and positions in
+// sorted lists; the oracles below are the hash-map versions they replaced, and
+// must agree with them on every mesh, shared files included.
+#include "io/mesh/MeshCheck.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <unordered_map>
+
+#include "io/mesh/MeshGenus.h"
+#include "tests/support/TestPaths.h"
+
+namespace skelseg {
+namespace {
+
+struct PositionHash {
+    std::size_t operator()(const std::array<double, 3>& p) const noexcept {
+        std::uint64_t h = 1469598103934665603ull;
+        for (double c : p) {
+            std::uint64_t bits;
+            std::memcpy(&bits, &c, 8);
+            h = (h ^ bits) * 1099511628211ull + (h >> 29);
+        }
+        return std::size_t(h);
+    }
+};
+
+std::vector<std::uint32_t> hashedCanonicalVertices(const TriangleMesh& mesh) {
+    std::vector<std::uint32_t> canonical(mesh.vertices.size());
+    std::unordered_map<std::array<double, 3>, std::uint32_t, PositionHash> first;
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+        std::array<double, 3> p = mesh.vertices[v];
+        for (double& c : p)
+            if (c == 0.0) c = 0.0;
+        canonical[v] = first.emplace(p, std::uint32_t(v)).first->second;
+    }
+    return canonical;
+}
+
+std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+/// Boundary edges, non-manifold edges, closed and pieces, with a hash map.
+MeshDiagnostics hashedEdgeDiagnostics(const TriangleMesh& mesh) {
+    const std::vector<std::uint32_t> canonical = hashedCanonicalVertices(mesh);
+    MeshDiagnostics d;
+    std::unordered_map<std::uint64_t, std::uint32_t> uses;
+    std::vector<std::uint32_t> parent(mesh.vertices.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    std::vector<char> used(mesh.vertices.size(), 0);
+    for (const auto& t : mesh.triangles)
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t a = canonical[t[std::size_t(k)]],
+                          b = canonical[t[std::size_t(k + 1) % 3]];
+            used[a] = 1;
+            if (a == b) continue;
+            const std::uint32_t ra = findRoot(parent, a), rb = findRoot(parent, b);
+            if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+            if (a > b) std::swap(a, b);
+            ++uses[(std::uint64_t(a) << 32) | b];
+        }
+    bool even = true;
+    for (const auto& [edge, n] : uses) {
+        (void)edge;
+        d.boundaryEdges += n == 1;
+        d.nonManifoldEdges += n > 2;
+        even = even && n % 2 == 0;
+    }
+    d.closed = even && !uses.empty();
+    for (std::uint32_t v = 0; v < std::uint32_t(mesh.vertices.size()); ++v)
+        d.pieces += used[v] && findRoot(parent, v) == v;
+    return d;
+}
+
+/// Genus and pieces with hash maps (meshTopology as it was).
+MeshTopology hashedTopology(const TriangleMesh& mesh) {
+    const std::vector<std::uint32_t> canonical = hashedCanonicalVertices(mesh);
+    std::vector<std::uint32_t> parent(mesh.vertices.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    for (const auto& t : mesh.triangles) {
+        const std::array<std::uint32_t, 3> c{canonical[t[0]], canonical[t[1]], canonical[t[2]]};
+        if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
+        triangles.push_back(c);
+        for (int k = 1; k < 3; ++k) {
+            const std::uint32_t a = findRoot(parent, c[0]), b = findRoot(parent, c[std::size_t(k)]);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
+    }
+    struct Counts {
+        std::int64_t v = 0, e = 0, f = 0;
+        bool manifold = true;
+    };
+    std::unordered_map<std::uint32_t, Counts> pieces;
+    std::vector<char> used(mesh.vertices.size(), 0);
+    std::unordered_map<std::uint64_t, std::uint32_t> uses;
+    for (const auto& t : triangles) {
+        ++pieces[findRoot(parent, t[0])].f;
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t a = t[std::size_t(k)], b = t[std::size_t(k + 1) % 3];
+            if (!used[a]) {
+                used[a] = 1;
+                ++pieces[findRoot(parent, a)].v;
+            }
+            if (a > b) std::swap(a, b);
+            ++uses[(std::uint64_t(a) << 32) | b];
+        }
+    }
+    for (const auto& [edge, n] : uses) {
+        Counts& piece = pieces[findRoot(parent, std::uint32_t(edge >> 32))];
+        ++piece.e;
+        if (n != 2) piece.manifold = false;
+    }
+    MeshTopology topology;
+    for (const auto& [root, piece] : pieces) {
+        (void)root;
+        const std::int64_t chi = piece.v - piece.e + piece.f;
+        if (!piece.manifold || chi % 2 != 0) {
+            ++topology.otherPieces;
+            continue;
+        }
+        ++topology.closedPieces;
+        topology.eulerCharacteristic += chi;
+        topology.genus += (2 - chi) / 2;
+    }
+    return topology;
+}
+
+void expectSameAsHashed(const TriangleMesh& mesh, const std::string& name) {
+    EXPECT_EQ(canonicalVertices(mesh), hashedCanonicalVertices(mesh)) << name;
+    const MeshDiagnostics sorted = checkMesh(mesh), hashed = hashedEdgeDiagnostics(mesh);
+    EXPECT_EQ(sorted.boundaryEdges, hashed.boundaryEdges) << name;
+    EXPECT_EQ(sorted.nonManifoldEdges, hashed.nonManifoldEdges) << name;
+    EXPECT_EQ(sorted.closed, hashed.closed) << name;
+    EXPECT_EQ(sorted.pieces, hashed.pieces) << name;
+    const MeshTopology topology = meshTopology(mesh), expected = hashedTopology(mesh);
+    EXPECT_EQ(topology.closedPieces, expected.closedPieces) << name;
+    EXPECT_EQ(topology.otherPieces, expected.otherPieces) << name;
+    EXPECT_EQ(topology.genus, expected.genus) << name;
+    EXPECT_EQ(topology.eulerCharacteristic, expected.eulerCharacteristic) << name;
+}
+
+TriangleMesh meshOf(std::vector<std::array<double, 3>> vertices,
+                    std::vector<std::array<std::uint32_t, 3>> triangles) {
+    TriangleMesh mesh;
+    mesh.vertices = std::move(vertices);
+    mesh.triangles = std::move(triangles);
+    mesh.triangleFace.resize(mesh.triangles.size());
+    std::iota(mesh.triangleFace.begin(), mesh.triangleFace.end(), 0u);
+    mesh.faceCount = mesh.triangles.size();
+    return mesh;
+}
+
+TEST(MeshCheck, DuplicatedAndSignedZeroVerticesAreOneVertex) {
+    // A tetrahedron whose apex is written three times (once as -0) and one
+    // base corner twice: closed once duplicates are merged.
+    const TriangleMesh mesh =
+        meshOf({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-0.0, 0, 1}, {0, -0.0, 1}, {1, 0, 0}},
+               {{0, 2, 1}, {0, 1, 3}, {6, 2, 4}, {0, 5, 2}});
+    const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
+    EXPECT_EQ(canonical, (std::vector<std::uint32_t>{0, 1, 2, 3, 3, 3, 1}));
+    const MeshDiagnostics d = checkMesh(mesh);
+    EXPECT_TRUE(d.closed);
+    EXPECT_EQ(d.boundaryEdges, 0u);
+    EXPECT_EQ(d.pieces, 1u);
+    expectSameAsHashed(mesh, "tetrahedron");
+}
+
+TEST(MeshCheck, OpenNonManifoldAndSeveralPiecesAgreeWithTheHashedCount) {
+    // Three triangles on one edge (non-manifold), a lone open triangle, and a
+    // degenerate triangle whose corners coincide.
+    const TriangleMesh mesh = meshOf({{0, 0, 0},
+                                      {1, 0, 0},
+                                      {0, 1, 0},
+                                      {0, -1, 0},
+                                      {0, 0, 1},
+                                      {5, 5, 5},
+                                      {6, 5, 5},
+                                      {5, 6, 5},
+                                      {9, 9, 9}},
+                                     {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}, {5, 6, 7}, {8, 8, 8}});
+    const MeshDiagnostics d = checkMesh(mesh);
+    EXPECT_FALSE(d.closed);
+    EXPECT_EQ(d.nonManifoldEdges, 1u);
+    EXPECT_EQ(d.boundaryEdges, 9u);
+    EXPECT_EQ(d.pieces, 3u);
+    EXPECT_EQ(d.degenerateFaces, 1u);
+    expectSameAsHashed(mesh, "open");
+}
+
+TEST(MeshCheck, EverySharedMeshAgreesWithTheHashedCount) {
+    if (!test::hasSharedData()) GTEST_SKIP() << "no shared data at " << test::sharedDataDir();
+    std::size_t meshes = 0;
+    for (const char* folder : {"shapes", "psb/off"}) {
+        const auto dir = test::sharedDataDir() / folder;
+        if (!std::filesystem::is_directory(dir)) continue;
+        for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+            const std::string ext = entry.path().extension().string();
+            if (ext != ".off" && ext != ".obj") continue;
+            expectSameAsHashed(readMesh(entry.path()), entry.path().filename().string());
+            ++meshes;
+        }
+    }
+    if (meshes == 0) GTEST_SKIP() << "no shared meshes";
+}
+
+}  // namespace
+}  // namespace skelseg
