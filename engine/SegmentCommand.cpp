@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <memory>
@@ -126,7 +127,8 @@ bool previewFitsBudget(const RunContext& run, const SegmentedShape& shape) {
     const std::optional<BudgetChoice>& budget = shape.input->budget;
     if (!budget) return true;
     const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - run.wallStart).count();
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - run.inputOptions.start)
+            .count();
     const bool fits =
         budget->writePreview &&
         elapsed + budget->previewSeconds * (1.0 + budget->safetyMargin) <= budget->budgetSeconds;
@@ -250,11 +252,19 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         out.removeOnCommit("levels");
         out.removeOnCommit("hierarchy.json");
     }
-    // The budget is also a time limit: a run its prediction fitted but that
-    // overruns it stops as --time-limit does instead of ending late.
-    if (options.timeBudgetSeconds > 0 &&
-        (progress.timeLimit() <= 0 || progress.timeLimit() > options.timeBudgetSeconds))
-        progress.setTimeLimit(options.timeBudgetSeconds);
+    if (options.timeBudgetSeconds > 0) {
+        // The budget counts from the start of the process: loading the
+        // libraries is part of what the user waits for.
+        const double age = processAgeSeconds();
+        inputOptions.start -= std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>(age));
+        // The budget is also a time limit: a run its prediction fitted but
+        // that overruns it stops as --time-limit does instead of ending late.
+        // (A limit <= 0 would mean none: a budget already spent stops at once.)
+        const double limit =
+            std::max(1e-9, options.timeBudgetSeconds - (age - progress.elapsedSeconds()));
+        if (progress.timeLimit() <= 0 || progress.timeLimit() > limit) progress.setTimeLimit(limit);
+    }
     StageTimer timer;
     std::atomic<bool> previewSkippedForBudget{false};
     const RunContext run{options,   progress,     timer,

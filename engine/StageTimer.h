@@ -24,6 +24,10 @@ struct StageTiming {
 
 /// Process CPU time (all threads), seconds.
 double processCpuSeconds() noexcept;
+/// Seconds since the process started (dynamic loading and static
+/// initialisation included), from /proc/self/stat and /proc/uptime to 10 ms;
+/// 0 when they cannot be read.
+double processAgeSeconds() noexcept;
 /// Peak resident set size of the process, bytes.
 std::uint64_t peakResidentBytes() noexcept;
 

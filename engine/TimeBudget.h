@@ -4,9 +4,10 @@
 // picks a run that fits. A cheap probe measures the work counters of the
 // first stages (grid, object and boundary voxels, skeleton candidates) on a
 // coarse grid; a cost model fitted on the benchmark shapes
-// (bench/fit_cost_model.py, docs/performance.md) predicts the wall time of a
-// full run from them, with a safety margin chosen from the fit's residuals;
-// the engine then takes
+// (bench/fit_cost_model.py, docs/performance.md) predicts the seconds of a
+// full run from them (CPU seconds at 2 threads, compared with the wall-clock
+// budget counted from the start of the process), with a safety margin chosen
+// from the fit's residuals; the engine then takes
 //   - for meshes: the largest resolution up to --resolution that fits;
 //   - for volumes: the finest of 1, 2 or 4 times coarser grids that fits
 //     (coarsenMask: a coarse voxel is object when any of its fine voxels is;
@@ -46,7 +47,7 @@ struct WorkCounts {
 WorkCounts countWork(const MaskVolume& mask, bool threaded,
                      Interrupter& interrupter = nullInterrupter());
 
-/// Predicted wall seconds of `skelseg segment` (all outputs) from the work
+/// Predicted seconds of `skelseg segment` (all outputs but preview.png) from the work
 /// counters: a linear model in the grid voxels, the object voxels, the
 /// candidates times the typical path length (square root of the boundary
 /// voxels) and the mesh faces, fitted by bench/fit_cost_model.py.

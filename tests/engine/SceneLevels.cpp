@@ -171,6 +171,13 @@ TEST(SceneLevels, ATimeBudgetKeepsTheLevelsNested) {
         0);
     const auto run = runSegment(dir / "figure.nrrd", dir / "out",
                                 {"--no-preview", "--tau", "1%,3%,9%", "--time-budget", "1"});
+    if (run.exitCode == 3) {
+        // The budget is also the time limit: on a loaded machine the run
+        // overran it and stopped as --time-limit does, leaving nothing.
+        EXPECT_TRUE(leftNothing(dir / "out"));
+        std::cout << "note: the run overran its budget and stopped; nesting not exercised\n";
+        return;
+    }
     ASSERT_EQ(run.exitCode, 0) << run.describe();
     expectWrittenLevelsNest(dir / "out", false, {"1%", "3%", "9%"});
     // On a machine fast enough to fit the whole grid, the refinement is not
