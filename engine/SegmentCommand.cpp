@@ -253,9 +253,14 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         out.removeOnCommit("hierarchy.json");
     }
     if (options.timeBudgetSeconds > 0) {
-        // The budget counts from the start of the process: loading the
-        // libraries is part of what the user waits for.
-        const double age = processAgeSeconds();
+        // The first run of the process counts from the start of the process:
+        // loading the libraries is part of what the user of `skelseg segment`
+        // waits for. Later runs (the inputs of a batch) count from their own
+        // start, or each would be charged for the ones before it.
+        static std::atomic<bool> processStartCounted{false};
+        const double age = processStartCounted.exchange(true)
+                               ? progress.elapsedSeconds()
+                               : std::max(processAgeSeconds(), progress.elapsedSeconds());
         inputOptions.start -= std::chrono::duration_cast<std::chrono::steady_clock::duration>(
             std::chrono::duration<double>(age));
         // The budget is also a time limit: a run its prediction fitted but
