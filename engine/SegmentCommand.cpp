@@ -68,6 +68,9 @@ struct RunContext {
     double cpuStart;
     /// Set by the surfaces writer when --time-budget left no time for preview.png.
     std::atomic<bool>& previewSkippedForBudget;
+    /// Under --time-budget, the budget as a limit on the progress clock
+    /// (seconds since this run's start); 0 without a budget.
+    double budgetAsTimeLimit;
 
     void warn(const std::string& warning) const {
         progress.message("skelseg: warning: " + warning);
@@ -78,6 +81,14 @@ MaskMessage maskShape(const RunContext& run, SourceMessage source) {
     auto mask = std::make_shared<SegmentMask>(
         maskSegmentSource(std::move(source), run.inputOptions, run.timer, run.progress,
                           [&](const std::string& w) { run.warn(w); }));
+    // Nothing fits the budget: it becomes a time limit, as --time-limit. A
+    // run whose choice fits finishes even when it overruns the prediction:
+    // a late answer is worth more to the user than none.
+    if (mask->budget && !mask->budget->fits) {
+        const double limit = run.budgetAsTimeLimit;
+        if (run.progress.timeLimit() <= 0 || run.progress.timeLimit() > limit)
+            run.progress.setTimeLimit(limit);
+    }
     return mask;
 }
 
@@ -252,6 +263,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         out.removeOnCommit("levels");
         out.removeOnCommit("hierarchy.json");
     }
+    double budgetAsTimeLimit = 0.0;
     if (options.timeBudgetSeconds > 0) {
         // The first run of the process counts from the start of the process:
         // loading the libraries is part of what the user of `skelseg segment`
@@ -263,18 +275,22 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
                                : std::max(processAgeSeconds(), progress.elapsedSeconds());
         inputOptions.start -= std::chrono::duration_cast<std::chrono::steady_clock::duration>(
             std::chrono::duration<double>(age));
-        // The budget is also a time limit: a run its prediction fitted but
-        // that overruns it stops as --time-limit does instead of ending late.
         // (A limit <= 0 would mean none: a budget already spent stops at once.)
-        const double limit =
+        budgetAsTimeLimit =
             std::max(1e-9, options.timeBudgetSeconds - (age - progress.elapsedSeconds()));
-        if (progress.timeLimit() <= 0 || progress.timeLimit() > limit) progress.setTimeLimit(limit);
     }
     StageTimer timer;
     std::atomic<bool> previewSkippedForBudget{false};
-    const RunContext run{options,   progress,     timer,
-                         out,       inputOptions, threads,
-                         wallStart, cpuStart,     previewSkippedForBudget};
+    const RunContext run{options,
+                         progress,
+                         timer,
+                         out,
+                         inputOptions,
+                         threads,
+                         wallStart,
+                         cpuStart,
+                         previewSkippedForBudget,
+                         budgetAsTimeLimit};
     tbb::task_arena arena(threads);
     arena.execute([&] { runGraph(run); });
     throwIfInterrupted(progress);

@@ -15,9 +15,10 @@
 // preview.png costs about as much as a small run on a large mesh, so it is
 // skipped (and report.json says so) when it would take more than a quarter of
 // the budget left after the probe, or when the run reaches it too late.
-// The budget is always also the run's time limit: a run that overruns its
-// prediction stops as --time-limit does (exit 3, no output) instead of ending
-// late; when even the coarsest choice does not fit, that is what happens.
+// When even the coarsest choice does not fit, the budget becomes the run's
+// time limit: it stops as --time-limit does (exit 3, no output). A run whose
+// choice fits finishes even if it overruns the prediction (a late answer is
+// worth more than none; report.json gives predicted and actual seconds).
 #pragma once
 
 #include <cstdint>
