@@ -31,10 +31,9 @@ WorkCounts countWork(const MaskVolume& mask, bool threaded, Interrupter& interru
 
 CostModel CostModel::fitted() {
     // bench/fit_cost_model.py --target cpu --resolutions 64,128,192 on the
-    // eleven shared shapes and seven PSB models (docs/performance.md,
-    // "--time-budget on the current build": median error 14.5%, leaving one
-    // mesh out 17.1%). CPU seconds at 2 threads, not wall: under the load of
-    // this session a wall fit measured the load (median error 43%). The
+    // shared shapes and PSB models (docs/performance.md, "--time-budget on
+    // the current build": data, residuals). CPU seconds at 2 threads, not
+    // wall: on a shared machine a wall fit measures the machine's load. The
     // margin is the 90th percentile of the leave-one-mesh-out
     // under-prediction.
     CostModel m;

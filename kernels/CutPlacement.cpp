@@ -124,8 +124,7 @@ void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandid
 }
 
 std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels) {
-    // rho_S of a loop around a round part is half its circumference, pi r.
-    const double bodyRadius = std::max(0.0, double(junctionRhoS)) / 3.14159265358979323846;
+    const double bodyRadius = loopRadius(std::max(0.0, double(junctionRhoS)));
     return std::max<std::uint32_t>(std::uint32_t(std::max(consecutiveLevels, 1)),
                                    std::uint32_t(std::ceil(bodyRadius)));
 }

@@ -14,7 +14,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 double radiusOf(double rhoS) {
-    return std::max(rhoS / kPi, 0.5);
+    return std::max(loopRadius(rhoS), 0.5);
 }
 
 double distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {

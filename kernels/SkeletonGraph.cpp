@@ -10,8 +10,6 @@ namespace skelseg {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 struct UnionFind {
     std::vector<std::uint32_t> parent;
     explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
@@ -99,13 +97,13 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
         g, [](std::uint32_t) { return true; }, part);
     if (parts > 1 && options.bridgeGap >= 1.0) {
         // A node reaches bridgeGap voxels, or the radius of the part around
-        // it (rho_S of a round loop is pi r) where that is larger: a gap
+        // it (loopRadius) where that is larger: a gap
         // shorter than the part's radius lies inside the part at any
         // resolution. A pair needs the reach of both nodes.
         std::vector<double> reach(g.nodeCount());
         double maxReach = 0.0;
         for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
-            reach[n] = std::max(options.bridgeGap, double(points[g.point[n]].rhoS) / kPi);
+            reach[n] = std::max(options.bridgeGap, loopRadius(double(points[g.point[n]].rhoS)));
             maxReach = std::max(maxReach, reach[n]);
         }
         // Sweep along x: only nodes within maxReach in x can pair.

@@ -54,6 +54,13 @@ struct SkeletonPoint {
     std::uint32_t featureA = kNoNode, featureB = kNoNode;  // pair realising rho_S
 };
 
+/// Radius of a round part whose loop has rho_S = `rhoS` (rho_S, the longest
+/// feature-pair geodesic, is half the loop's length: pi r). The graph stages
+/// turn loop lengths into distances in voxels with it.
+constexpr double loopRadius(double rhoS) noexcept {
+    return rhoS / 3.14159265358979323846;
+}
+
 struct SkeletonMeasureOptions {
     /// Simplification threshold in boundary-node (voxel-area) units.
     double tau = 0.0;

@@ -89,8 +89,7 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
 
     // Edges: count uses of every undirected edge between distinct (canonical)
     // vertices. Fan diagonals inside a polygon are used twice, like any
-    // interior edge. A sorted list of edge keys counts them: equal keys are
-    // adjacent (faster than a hash map of a million edges).
+    // interior edge (forEachEdgeUseCount).
     std::vector<std::uint64_t> edgeKeys;
     edgeKeys.reserve(mesh.triangles.size() * 3);
     DisjointSets pieces(mesh.vertices.size());
@@ -102,21 +101,15 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
             used[a] = 1;
             if (a == b) continue;
             pieces.unite(a, b);
-            if (a > b) std::swap(a, b);
-            edgeKeys.push_back((std::uint64_t(a) << 32) | b);
+            edgeKeys.push_back(undirectedEdgeKey(a, b));
         }
     }
-    std::sort(edgeKeys.begin(), edgeKeys.end());
     bool everyEdgeEven = true;
-    for (std::size_t first = 0; first < edgeKeys.size();) {
-        std::size_t last = first + 1;
-        while (last < edgeKeys.size() && edgeKeys[last] == edgeKeys[first]) ++last;
-        const std::size_t uses = last - first;
+    forEachEdgeUseCount(edgeKeys, [&](std::uint64_t, std::size_t uses) {
         if (uses == 1) ++diagnostics.boundaryEdges;
         if (uses > 2) ++diagnostics.nonManifoldEdges;
         if (uses % 2 != 0) everyEdgeEven = false;
-        first = last;
-    }
+    });
     diagnostics.closed = everyEdgeEven && !edgeKeys.empty();
     for (std::uint32_t v = 0; v < std::uint32_t(mesh.vertices.size()); ++v)
         if (used[v] && pieces.find(v) == v) ++diagnostics.pieces;

@@ -8,6 +8,7 @@
 // counted in sorted lists (n log n), faster than hashing on large meshes.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -33,6 +34,26 @@ struct MeshDiagnostics {
 
 /// Counts degenerate faces, boundary and non-manifold edges and pieces.
 MeshDiagnostics checkMesh(const TriangleMesh& mesh);
+
+/// The key of the undirected edge between vertices a and b.
+inline std::uint64_t undirectedEdgeKey(std::uint32_t a, std::uint32_t b) noexcept {
+    return a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a;
+}
+
+/// Sorts `edgeKeys` (undirected edges, undirectedEdgeKey) and calls
+/// visit(key, uses) once per distinct edge in key order: equal keys are
+/// adjacent after sorting, which counts a million edges faster than a hash
+/// map. checkMesh() and meshTopology() count edge uses with it.
+template <class Visit>
+void forEachEdgeUseCount(std::vector<std::uint64_t>& edgeKeys, Visit&& visit) {
+    std::sort(edgeKeys.begin(), edgeKeys.end());
+    for (std::size_t first = 0; first < edgeKeys.size();) {
+        std::size_t last = first + 1;
+        while (last < edgeKeys.size() && edgeKeys[last] == edgeKeys[first]) ++last;
+        visit(edgeKeys[first], last - first);
+        first = last;
+    }
+}
 
 /// One line per problem found, each starting with "FILE: ", e.g.
 /// "hand.off: mesh is not closed (124 boundary edges); the inside is estimated".

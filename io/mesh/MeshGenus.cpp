@@ -35,8 +35,8 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
         std::int64_t vertices = 0, edges = 0, faces = 0;
         bool manifold = true;
     };
-    // Indexed by the piece's root vertex; a sorted list of edge keys counts
-    // the uses of every edge (equal keys adjacent), faster than a hash map.
+    // Indexed by the piece's root vertex; edge uses are counted in a sorted
+    // list (forEachEdgeUseCount).
     std::vector<PieceCounts> pieces(vertexCount);
     std::vector<char> isPiece(vertexCount, 0);
     std::vector<char> used(vertexCount, 0);
@@ -47,24 +47,19 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
         isPiece[root] = 1;
         ++pieces[root].faces;
         for (int k = 0; k < 3; ++k) {
-            std::uint32_t a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)];
+            const std::uint32_t a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)];
             if (!used[a]) {
                 used[a] = 1;
                 ++pieces[find(a)].vertices;
             }
-            if (a > b) std::swap(a, b);
-            edgeKeys.push_back((std::uint64_t(a) << 32) | b);
+            edgeKeys.push_back(undirectedEdgeKey(a, b));
         }
     }
-    std::sort(edgeKeys.begin(), edgeKeys.end());
-    for (std::size_t first = 0; first < edgeKeys.size();) {
-        std::size_t last = first + 1;
-        while (last < edgeKeys.size() && edgeKeys[last] == edgeKeys[first]) ++last;
-        PieceCounts& piece = pieces[find(std::uint32_t(edgeKeys[first] >> 32))];
+    forEachEdgeUseCount(edgeKeys, [&](std::uint64_t key, std::size_t uses) {
+        PieceCounts& piece = pieces[find(std::uint32_t(key >> 32))];
         ++piece.edges;
-        if (last - first != 2) piece.manifold = false;
-        first = last;
-    }
+        if (uses != 2) piece.manifold = false;
+    });
 
     MeshTopology topology;
     for (std::size_t root = 0; root < vertexCount; ++root) {
