@@ -250,12 +250,19 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
                             if (graph.piece[std::size_t(ta)] != graph.piece[std::size_t(tb)])
                                 continue;
                             const Vec3 b{double(bx), double(by), double(bz)};
-                            if (dot(sub(b, pa), inA) >= 0) continue;
+                            // Which side of the other's wall each voxel lies
+                            // on (negative: outside that wall's solid).
+                            const double bSideOfA = dot(sub(b, pa), inA);
+                            if (bSideOfA >= 0 && depthA >= 0) continue;
                             const Vec3 pb = surfacePoint(tb, b);
                             double depthB = 0;
                             const Vec3 inB = inwardAt(tb, b, pb, depthB);
-                            if (std::abs(depthB) < kOnSurface || dot(sub(a, pb), inB) >= 0)
-                                continue;
+                            if (std::abs(depthB) < kOnSurface) continue;
+                            const double aSideOfB = dot(sub(a, pb), inB);
+                            const bool facing = bSideOfA < 0 && aSideOfB < 0;
+                            const bool crossed =
+                                depthA < 0 && depthB < 0 && bSideOfA > 0 && aSideOfB > 0;
+                            if (!facing && !crossed) continue;
                             CandidatePair pair{std::uint32_t(ia),
                                                std::uint32_t(ib),
                                                ta,
@@ -316,7 +323,9 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
     if (stopped) throwIfInterrupted(interrupter);
 
     // 3. The shallower voxel of every contact pair is to be cleared.
+    //    Both voxels of each pair are kept too, for the wider seam of step 5.
     std::vector<std::uint32_t> cleared;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairVoxels;  // (cleared, other)
     std::size_t pairs = 0;
     for (std::size_t r = 0; r < representatives.size(); ++r) {
         if (!far[r]) continue;
@@ -325,8 +334,10 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
         for (std::size_t k = representatives[r]; k < end; ++k) {
             const auto& p = candidates[order[k]];
             ++pairs;
-            if (p.depthA <= p.depthB) cleared.push_back(p.a);
-            if (p.depthB <= p.depthA) cleared.push_back(p.b);
+            const std::uint32_t shallower = p.depthA <= p.depthB ? p.a : p.b;
+            cleared.push_back(shallower);
+            if (p.depthA == p.depthB) cleared.push_back(p.b);
+            pairVoxels.emplace_back(shallower, shallower == p.a ? p.b : p.a);
         }
     }
     std::sort(cleared.begin(), cleared.end());
@@ -356,13 +367,22 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
             if (ra != rb) group[std::max(ra, rb)] = std::min(ra, rb);
         }
     }
-    std::vector<std::vector<std::uint32_t>> contacts;
+    std::vector<std::vector<std::uint32_t>> contacts, wideContacts;
     {
         std::unordered_map<std::uint32_t, std::size_t> contactOf;
         for (std::size_t k = 0; k < cleared.size(); ++k) {
             const auto [it, inserted] = contactOf.emplace(root(std::uint32_t(k)), contacts.size());
             if (inserted) contacts.emplace_back();
             contacts[it->second].push_back(cleared[k]);
+        }
+        wideContacts = contacts;
+        for (const auto& [shallower, other] : pairVoxels) {
+            const auto it = std::lower_bound(cleared.begin(), cleared.end(), shallower);
+            wideContacts[contactOf.at(root(std::uint32_t(it - cleared.begin())))].push_back(other);
+        }
+        for (auto& wide : wideContacts) {
+            std::sort(wide.begin(), wide.end());
+            wide.erase(std::unique(wide.begin(), wide.end()), wide.end());
         }
     }
 
@@ -372,18 +392,30 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
     //    Judged on the box around the contact, two voxels wider, before and
     //    after clearing: accepted when its genus does not grow and no cavity
     //    appears.
-    for (const auto& contact : contacts) {
-        throwIfInterrupted(interrupter);
+    //    Where the walls cross or touch at a slant, the shallower voxels of
+    //    neighbouring pairs can lie on alternate sides of the contact and
+    //    leave diagonal links between them (a staircase seam, which the check
+    //    rejects): then both voxels of every pair, a seam two voxels wide,
+    //    are tried under the same check.
+    auto cellsOf = [&](const std::vector<std::uint32_t>& voxels) {
         std::vector<std::array<int, 3>> cells;
-        cells.reserve(contact.size());
-        for (std::uint32_t i : contact) cells.push_back(coordOf(i));
-        if (changeAddsTopology(mask, cells, 0)) {
-            ++result.contactsKept;
-            continue;
+        cells.reserve(voxels.size());
+        for (std::uint32_t i : voxels) cells.push_back(coordOf(i));
+        return cells;
+    };
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+        throwIfInterrupted(interrupter);
+        const std::vector<std::uint32_t>* seam = &contacts[c];
+        if (changeAddsTopology(mask, cellsOf(*seam), 0)) {
+            seam = &wideContacts[c];
+            if (seam->size() == contacts[c].size() || changeAddsTopology(mask, cellsOf(*seam), 0)) {
+                ++result.contactsKept;
+                continue;
+            }
         }
-        for (std::uint32_t i : contact) mask.data()[i] = 0;
+        for (std::uint32_t i : *seam) mask.data()[i] = 0;
         ++result.contacts;
-        result.voxelsCleared += contact.size();
+        result.voxelsCleared += seam->size();
     }
     result.contactPairs = pairs;
     return result;
