@@ -11,7 +11,8 @@
 // voxels, or up to the radius of the parts around both ends (rho_S / pi)
 // where that is larger, between different connected parts of C_tau are
 // bridged by one edge (the closest voxel pair, shortest bridges first), which
-// the walks and branch pieces then follow.
+// the walks and branch pieces then follow. Given the object's voxels, parts
+// still apart are then joined through the object (SkeletonGraphOptions).
 #pragma once
 
 #include <array>
@@ -56,6 +57,13 @@ struct SkeletonGraphOptions {
     int regionRadius = 3;
     /// Smallest reach of a bridge in voxels; 0 turns bridging off.
     double bridgeGap = 4.0;
+    /// The object's voxels (same dims), or null. When given, parts of the
+    /// object's skeleton still apart after the bridges within reach are
+    /// joined too, each by its closest node pair whose straight segment stays
+    /// inside the object (shortest first, a spanning forest): the skeleton
+    /// of a connected object is connected, and a piece left floating is a
+    /// limb whose skeleton broke near its base, whatever the gap's length.
+    const MaskVolume* inside = nullptr;
 };
 
 SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const Dims& dims,
