@@ -191,6 +191,39 @@ TEST(SkeletonGraph, GapWithinThePartsRadiusIsBridgedAtAnyResolution) {
     EXPECT_EQ(buildSkeletonGraph(set.points(), set.dims(), {}).bridgeCount, 0u);
 }
 
+TEST(SkeletonGraph, PieceLeftFloatingIsJoinedThroughTheObject) {
+    // A limb's skeleton (rho_S 15, radius 4.8) that stops 14 voxels short of
+    // the body's (rho_S 30), as the horse's hind leg at 128, drawn at 1x and
+    // 2x: beyond every reach, but the segment between them lies inside the
+    // object, so it is joined; without the object's voxels it is not.
+    for (const int scale : {1, 2}) {
+        const Dims dims{20 + 40 * scale, 11, 3};
+        SkeletonPointSet set(dims);
+        const std::uint32_t endA = set.chain({2, 5, 1}, {1, 0, 0}, 10, 30.0f).back();
+        const std::uint32_t startB =
+            set.chain({11 + 15 * scale, 5, 1}, {1, 0, 0}, 10 * scale, 15.0f * float(scale)).front();
+        MaskVolume object(dims, 0);
+        for (int x = 1; x < dims.x - 1; ++x)
+            for (int y = 1; y < dims.y - 1; ++y) object(x, y, 1) = 1;
+        const std::vector<SkeletonPoint> points = set.points();
+        EXPECT_EQ(buildSkeletonGraph(points, dims, {}).pieceCount, 2u) << "scale " << scale;
+        SkeletonGraphOptions options;
+        options.inside = &object;
+        const SkeletonGraph g = buildSkeletonGraph(points, dims, options);
+        EXPECT_EQ(g.bridgeCount, 1u) << "scale " << scale;
+        EXPECT_EQ(g.pieceCount, 1u) << "scale " << scale;
+        const std::uint32_t a = nodeOf(g, points, endA), b = nodeOf(g, points, startB);
+        EXPECT_NE(std::find(g.edges.begin(), g.edges.end(),
+                            std::array<std::uint32_t, 2>{std::min(a, b), std::max(a, b)}),
+                  g.edges.end())
+            << "scale " << scale;
+        // Where the segment leaves the object (a gap of background across
+        // it), the pieces stay apart.
+        for (int y = 0; y < dims.y; ++y) object(18, y, 1) = 0;
+        EXPECT_EQ(buildSkeletonGraph(points, dims, options).pieceCount, 2u) << "scale " << scale;
+    }
+}
+
 TEST(SkeletonGraph, OneBridgePerPairOfParts) {
     // Two parallel chains 3 voxels apart: many pairs within reach, one bridge.
     SkeletonPointSet set(Dims{30, 12, 3});
