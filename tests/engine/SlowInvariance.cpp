@@ -1,7 +1,7 @@
 // Slow: every pose sequence of ../shared/data/poses keeps its part count in
 // all its frames (issue 12), segmented as a new user would
 // (`skelseg segment MESH -o OUT --resolution 192`, defaults otherwise), and
-// two meshes of ../shared/data/shapes keep theirs at resolutions 128, 192,
+// five meshes of ../shared/data/shapes keep theirs at resolutions 128, 192,
 // 256 and 320. Skipped where the data is absent. bench/invariance.py measures
 // the same and more (Rand Index error between frames, all resolution sweeps).
 #include <gtest/gtest.h>
@@ -52,7 +52,8 @@ TEST(Invariance, SharedShapesKeepTheirPartCountAcrossResolutions) {
     const fs::path shapes = test::sharedDataDir() / "shapes";
     if (!fs::is_directory(shapes)) GTEST_SKIP() << "no shape data at " << shapes << ": skipped";
     test::TempDir dir;
-    for (const std::string name : {"elephant.obj", "homer.obj"}) {
+    for (const std::string name :
+         {"elephant.obj", "homer.obj", "camel.off", "horse.off", "armadillo.obj"}) {
         const fs::path mesh = shapes / name;
         if (!fs::exists(mesh)) GTEST_SKIP() << mesh << " absent: skipped";
         std::vector<std::size_t> parts;
