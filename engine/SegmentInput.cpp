@@ -71,10 +71,12 @@ namespace {
 /// Voxelises the mesh in a stage named `stageName`; `fillThinParts` as in
 /// VoxelizeOptions. `heldBytes` is memory the caller keeps alive meanwhile (a
 /// first voxelisation), counted in the estimate checked against the limit.
+/// `signedVoxels`: the mesh conversion, kept by the first voxelisation and
+/// reused by the second (MeshVoxelizer.h).
 MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions& options,
                           StageTimer& timer, Interrupter& interrupter,
                           std::uint64_t& estimatedMemory, bool fillThinParts, const char* stageName,
-                          std::uint64_t heldBytes = 0) {
+                          std::uint64_t heldBytes, SignedVoxelization& signedVoxels) {
     const TriangleMesh& mesh = *source.mesh;
     VoxelizeOptions voxelizeOptions;
     voxelizeOptions.resolution = options.resolution;
@@ -102,7 +104,7 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
                                formatBytes(options.memoryLimit) + " (--max-memory)");
     Stage stage(timer, interrupter, stageName, true);
     try {
-        return voxelizeMeshWithContacts(mesh, voxelizeOptions, interrupter);
+        return voxelizeMeshWithContacts(mesh, voxelizeOptions, interrupter, &signedVoxels);
     } catch (const UsageError& error) {
         throw nameTheFile(error);
     }
@@ -155,8 +157,10 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
             chosen.resolution = result.budget->resolution;
         }
         result.resolution = chosen.resolution;
-        MeshVoxelization voxelised = voxelise(*source, chosen, timer, interrupter,
-                                              result.estimatedMemory, false, "voxelise");
+        SignedVoxelization signedVoxels;
+        MeshVoxelization voxelised =
+            voxelise(*source, chosen, timer, interrupter, result.estimatedMemory, false, "voxelise",
+                     0, signedVoxels);
         {
             Stage stage(timer, interrupter, "genus", true);
             result.meshGenus = meshTopology(*source->mesh);
@@ -169,11 +173,14 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         // and no part anyway) would only change parts that were right
         // (docs/meshes.md, "Parts thinner than a voxel"). Meshes whose voxel
         // genus is right pay nothing.
+        if (!(source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus))
+            signedVoxels = SignedVoxelization{};  // not needed: free it before the skeleton
         if (source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus) {
             std::uint64_t filledMemory = 0;
-            MeshVoxelization filled =
-                voxelise(*source, chosen, timer, interrupter, filledMemory, true,
-                         "voxelise with thin parts filled", voxelised.mask.dims().voxelCount());
+            MeshVoxelization filled = voxelise(*source, chosen, timer, interrupter, filledMemory,
+                                               true, "voxelise with thin parts filled",
+                                               voxelised.mask.dims().voxelCount(), signedVoxels);
+            signedVoxels = SignedVoxelization{};
             result.estimatedMemory = std::max(result.estimatedMemory, filledMemory);
             VoxelTopology filledGenus;
             {

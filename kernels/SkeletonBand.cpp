@@ -134,6 +134,7 @@ CoarseView coarseSearch(const MaskVolume& mask, const SkeletonMeasureOptions& op
     coarseOptions.tau = options.tau / 4.0 * band.coarseTauShare;
     coarseOptions.noiseArea = std::max(1.0, std::min(options.noiseArea / 4.0, coarseOptions.tau));
     coarseOptions.exactRhoC = false;
+    coarseOptions.evaluateSigma = false;  // the coarse view keeps only voxels and rho_C
     bandStats.coarseCandidates += candidates.size();
     bandStats.levels = std::max(bandStats.levels, std::uint32_t(level + 1));
     SkeletonMeasureStats coarseStats;

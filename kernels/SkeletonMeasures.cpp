@@ -139,8 +139,9 @@ bool measure(Workspace& ws, const SkeletonCandidate& c, std::uint32_t candidateI
     out.rhoC = out.isHandle ? std::numeric_limits<double>::infinity() : double(areas.rhoC);
     out.rhoCExact = out.isHandle || areas.rhoCExact;
     out.sigma = -1.0f;
-    if (out.rhoC >=
-        (options.sigmaTau >= 0.0 ? std::min(options.sigmaTau, options.tau) : options.tau)) {
+    if (options.evaluateSigma &&
+        out.rhoC >=
+            (options.sigmaTau >= 0.0 ? std::min(options.sigmaTau, options.tau) : options.tau)) {
         ++ws.sigmaEvaluations;
         out.sigma = ws.geodesicness.evaluate(ws.rims, a, b, ws.sigmaSearch).sigma;
     }
@@ -190,7 +191,7 @@ struct SkeletonMeasureWorkspaces::Impl {
     bool builtFor(const BoundaryGraph& g, const SkeletonMeasureOptions& o) const {
         return graph == &g && options.landmarks == o.landmarks && options.tau == o.tau &&
                options.noiseArea == o.noiseArea && options.sigmaTau == o.sigmaTau &&
-               options.exactRhoC == o.exactRhoC;
+               options.exactRhoC == o.exactRhoC && options.evaluateSigma == o.evaluateSigma;
     }
 };
 

@@ -73,6 +73,9 @@ struct SkeletonMeasureOptions {
     /// Compute rho_C exactly for every point (slower); otherwise growth stops
     /// once the comparison with tau is decided.
     bool exactRhoC = false;
+    /// false: sigma is not evaluated (every point's sigma is -1); for
+    /// searches that use only rho_C, such as the band's coarser levels.
+    bool evaluateSigma = true;
     /// Landmarks for A* (PathSearch.h), or null for the Euclidean bound only.
     /// They change which of several equally short paths is found, so every
     /// search of one run (measures, cut loops, exact re-measures) must use

@@ -315,8 +315,31 @@ MaskVolume voxelizeMesh(const TriangleMesh& mesh, const VoxelizeOptions& options
     return voxelizeMeshWithContacts(mesh, options, interrupter).mask;
 }
 
+namespace {
+
+MaskVolume copyOfMask(const MaskVolume& mask) {
+    MaskVolume copy(mask.dims(), 0);
+    copy.geometry = mask.geometry;
+    std::copy(mask.values().begin(), mask.values().end(), copy.values().begin());
+    return copy;
+}
+
+bool sameGeometry(const VolumeGeometry& a, const VolumeGeometry& b) {
+    return a.origin == b.origin && a.directions == b.directions && a.spaceName == b.spaceName;
+}
+
+}  // namespace
+
+bool SignedVoxelization::fits(const TriangleMesh& forMesh, const VoxelGrid& grid,
+                              const VoxelizeOptions& options) const noexcept {
+    return mesh == &forMesh && !mask.empty() && dims == grid.dims &&
+           sameGeometry(geometry, grid.geometry) && bandWidth == options.bandWidth &&
+           (!options.keepMeshTopology || nearestTriangle.size() == grid.dims.voxelCount());
+}
+
 MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const VoxelizeOptions& options,
-                                          Interrupter& interrupter) {
+                                          Interrupter& interrupter,
+                                          SignedVoxelization* signedVoxels) {
     const VoxelGrid grid = voxelGridFor(mesh, options);
     InterrupterScope scope(interrupter, "voxelize");
     openvdb::initialize();
@@ -332,33 +355,52 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
     // arena is as wide as the caller's, so a caller's thread limit holds.
     tbb::task_arena arena(options.threaded ? tbb::this_task_arena::max_concurrency() : 1);
     arena.execute([&] {
-        if (closed) {
-            std::vector<std::int32_t> nearestTriangle;
+        std::vector<std::int32_t> ownTriangles;  // the nearest triangles when nobody keeps them
+        const std::vector<std::int32_t>* nearestTriangle = &ownTriangles;
+        bool hasInside = false;
+        if (closed && signedVoxels && signedVoxels->fits(mesh, grid, options)) {
+            mask = copyOfMask(signedVoxels->mask);
+            nearestTriangle = &signedVoxels->nearestTriangle;
+            hasInside = true;  // kept only when it had one
+        } else if (closed) {
             mask = signedVoxelization(mesh, grid, options.bandWidth, interrupter,
-                                      options.keepMeshTopology ? &nearestTriangle : nullptr);
+                                      options.keepMeshTopology ? &ownTriangles : nullptr);
             // The sign computation can fail on badly broken "closed" meshes
             // (nothing comes out inside): fall back to the shell method.
-            if (std::find(mask.values().begin(), mask.values().end(), std::uint8_t(1)) !=
-                mask.values().end()) {
-                if (options.fillThinParts) {
-                    ThinPartOptions thinOptions = options.thinPartOptions;
-                    thinOptions.threaded = options.threaded;
-                    thinParts = fillThinParts(mesh, mask, thinOptions, interrupter);
+            hasInside = std::find(mask.values().begin(), mask.values().end(), std::uint8_t(1)) !=
+                        mask.values().end();
+            if (signedVoxels) {
+                *signedVoxels = SignedVoxelization{};
+                if (hasInside) {
+                    signedVoxels->mesh = &mesh;
+                    signedVoxels->dims = grid.dims;
+                    signedVoxels->geometry = grid.geometry;
+                    signedVoxels->bandWidth = options.bandWidth;
+                    signedVoxels->mask = copyOfMask(mask);
+                    signedVoxels->nearestTriangle = std::move(ownTriangles);
+                    nearestTriangle = &signedVoxels->nearestTriangle;
                 }
-                if (options.keepMeshTopology) {
-                    // First: the walls of a part sunk into another cross
-                    // instead of facing each other, which the contact tests
-                    // would misread.
-                    SelfOverlapOptions overlapOptions;
-                    overlapOptions.threaded = options.threaded;
-                    selfOverlaps = separateSelfOverlaps(mesh, mask, overlapOptions, interrupter);
-                    ContactSeparationOptions contactOptions = options.contactOptions;
-                    contactOptions.threaded = options.threaded;
-                    contacts =
-                        separateContacts(mesh, mask, nearestTriangle, contactOptions, interrupter);
-                }
-                return;
             }
+        }
+        if (hasInside) {
+            if (options.fillThinParts) {
+                ThinPartOptions thinOptions = options.thinPartOptions;
+                thinOptions.threaded = options.threaded;
+                thinParts = fillThinParts(mesh, mask, thinOptions, interrupter);
+            }
+            if (options.keepMeshTopology) {
+                // First: the walls of a part sunk into another cross
+                // instead of facing each other, which the contact tests
+                // would misread.
+                SelfOverlapOptions overlapOptions;
+                overlapOptions.threaded = options.threaded;
+                selfOverlaps = separateSelfOverlaps(mesh, mask, overlapOptions, interrupter);
+                ContactSeparationOptions contactOptions = options.contactOptions;
+                contactOptions.threaded = options.threaded;
+                contacts =
+                    separateContacts(mesh, mask, *nearestTriangle, contactOptions, interrupter);
+            }
+            return;
         }
         // A hole wider than the closing lets the flood fill in, and leaves
         // little more than the surface layer: retry with twice the closing

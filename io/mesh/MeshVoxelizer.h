@@ -36,7 +36,9 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "io/mesh/ContactSeparation.h"
 #include "io/mesh/MeshIO.h"
@@ -110,9 +112,33 @@ struct MeshVoxelization {
     ThinPartFill thinParts;
 };
 
+/// The signed voxelisation of a closed mesh as OpenVDB gives it, before thin
+/// parts are filled and surfaces separated. The conversion is most of a
+/// voxelisation's cost and depends only on the mesh, the grid and the band
+/// width, so a second voxelisation of the same mesh with other fill options
+/// (the engine's retry with thin parts filled) starts from it.
+struct SignedVoxelization {
+    const TriangleMesh* mesh = nullptr;  // what it was made from; null: nothing kept
+    Dims dims;
+    VolumeGeometry geometry;
+    double bandWidth = 0.0;
+    MaskVolume mask;                            // 1 where the signed distance is negative
+    std::vector<std::int32_t> nearestTriangle;  // empty unless made with keepMeshTopology
+
+    /// Whether a voxelisation of `mesh` with `options` on `grid` can start here.
+    bool fits(const TriangleMesh& forMesh, const VoxelGrid& grid,
+              const VoxelizeOptions& options) const noexcept;
+};
+
 /// voxelizeMesh() that also reports the contacts it separated.
+/// signedVoxels: when not null, the voxelisation starts from it if it fits
+/// (same mesh object, grid and band width; the nearest triangles when
+/// keepMeshTopology is set), and otherwise converts the mesh and keeps the
+/// conversion there (closed meshes whose conversion found an inside; else
+/// it is left empty). The result is the same either way.
 MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const VoxelizeOptions& options,
-                                          Interrupter& interrupter = nullInterrupter());
+                                          Interrupter& interrupter = nullInterrupter(),
+                                          SignedVoxelization* signedVoxels = nullptr);
 
 /// World point -> continuous voxel index (voxel centres at integers) for any
 /// VolumeGeometry; the inverse of VolumeGeometry::indexToWorld. The matrix is

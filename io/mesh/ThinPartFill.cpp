@@ -69,18 +69,30 @@ public:
                         longest = std::max({longest, std::abs(b[k] - a[k]), std::abs(e[k] - b[k]),
                                             std::abs(a[k] - e[k])});
                     const int m = std::max(1, int(std::ceil(2.0 * longest / kCellSize)));
-                    std::vector<std::uint64_t> cells;
+                    // Samples are at most half a cell apart, so several
+                    // share a cell: their cells are made unique before the
+                    // 27 around each are listed.
+                    std::vector<std::uint64_t> sampleCells, cells;
                     for (int i = 0; i <= m; ++i)
                         for (int j = 0; i + j <= m; ++j) {
                             const double u = double(i) / m, v = double(j) / m;
                             std::array<std::int64_t, 3> cell{};
                             for (std::size_t k = 0; k < 3; ++k)
                                 cell[k] = cellOf(a[k] + u * (b[k] - a[k]) + v * (e[k] - a[k]));
-                            for (std::int64_t z = -1; z <= 1; ++z)
-                                for (std::int64_t y = -1; y <= 1; ++y)
-                                    for (std::int64_t x = -1; x <= 1; ++x)
-                                        cells.push_back(key(cell[0] + x, cell[1] + y, cell[2] + z));
+                            sampleCells.push_back(key(cell[0], cell[1], cell[2]));
                         }
+                    std::sort(sampleCells.begin(), sampleCells.end());
+                    sampleCells.erase(std::unique(sampleCells.begin(), sampleCells.end()),
+                                      sampleCells.end());
+                    for (std::uint64_t centre : sampleCells) {
+                        const std::int64_t cx = std::int64_t(centre & kKeyMask),
+                                           cy = std::int64_t((centre >> 21) & kKeyMask),
+                                           cz = std::int64_t(centre >> 42);
+                        for (std::int64_t z = -1; z <= 1; ++z)
+                            for (std::int64_t y = -1; y <= 1; ++y)
+                                for (std::int64_t x = -1; x <= 1; ++x)
+                                    cells.push_back(key(cx + x, cy + y, cz + z));
+                    }
                     std::sort(cells.begin(), cells.end());
                     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
                     for (std::uint64_t cell : cells) entries.emplace_back(cell, std::uint32_t(t));
@@ -107,6 +119,7 @@ public:
         // the shifted cells (and their neighbours) are positive.
         return std::int64_t(std::floor(coordinate / kCellSize)) + 2;
     }
+    static constexpr std::uint64_t kKeyMask = (std::uint64_t(1) << 21) - 1;
     static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
         return std::uint64_t(x) | (std::uint64_t(y) << 21) | (std::uint64_t(z) << 42);
     }

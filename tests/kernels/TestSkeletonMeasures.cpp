@@ -233,6 +233,32 @@ TEST(SkeletonMeasures, KeptWorkspacesAnswerAsFreshOnes) {
     }
 }
 
+TEST(SkeletonMeasures, WithoutSigmaEverythingElseIsTheSame) {
+    // The band's coarser levels skip sigma: the points and every other
+    // measure must be those of a run with it, on kept workspaces too.
+    const Prepared& p = prepared("figure", 64);
+    for (bool threaded : {false, true}) {
+        SkeletonMeasureStats withStats, withoutStats;
+        const std::vector<SkeletonPoint> with =
+            measureSkeleton(p.graph, p.candidates, p.options(0.03, false, threaded), &withStats);
+        SkeletonMeasureOptions noSigma = p.options(0.03, false, threaded);
+        noSigma.evaluateSigma = false;
+        SkeletonMeasureWorkspaces kept;
+        measureSkeleton(p.graph, p.candidates, p.options(0.03, false, threaded), kept);
+        const std::vector<SkeletonPoint> without =
+            measureSkeleton(p.graph, p.candidates, noSigma, kept, &withoutStats);
+        EXPECT_GT(withStats.sigmaEvaluations, 0u);
+        EXPECT_EQ(withoutStats.sigmaEvaluations, 0u);
+        ASSERT_EQ(with.size(), without.size());
+        for (std::size_t i = 0; i < with.size(); ++i) {
+            EXPECT_EQ(without[i].sigma, -1.0f);
+            SkeletonPoint expected = with[i];
+            expected.sigma = -1.0f;
+            test::expectSamePoint(expected, without[i]);
+        }
+    }
+}
+
 TEST(SkeletonMeasures, CappedRhoCDecidesTauLikeExact) {
     // The growth cap changes only rho_C's value above tau (a lower bound),
     // never which points are in C, their rims, or the tau decision.

@@ -65,6 +65,28 @@ TEST(ContactSeparation, TouchingKneesStayApartAtEveryResolution) {
     }
 }
 
+TEST(ContactSeparation, KeptConversionSeparatesTheSame) {
+    const TriangleMesh mesh = cutRing();
+    SignedVoxelization kept;
+    const MeshVoxelization first =
+        voxelizeMeshWithContacts(mesh, coarse(true), nullInterrupter(), &kept);
+    ASSERT_FALSE(kept.nearestTriangle.empty());
+    const MeshVoxelization again =
+        voxelizeMeshWithContacts(mesh, coarse(true), nullInterrupter(), &kept);
+    EXPECT_EQ(first.contacts.contacts, 1u);
+    EXPECT_EQ(again.contacts.contacts, first.contacts.contacts);
+    EXPECT_EQ(again.contacts.voxelsCleared, first.contacts.voxelsCleared);
+    EXPECT_EQ(again.mask.values(), first.mask.values());
+    // Kept without the nearest triangles, it cannot serve a separation.
+    SignedVoxelization signOnly;
+    voxelizeMeshWithContacts(mesh, coarse(false), nullInterrupter(), &signOnly);
+    ASSERT_FALSE(signOnly.mask.empty());
+    EXPECT_FALSE(signOnly.fits(mesh, voxelGridFor(mesh, coarse(true)), coarse(true)));
+    EXPECT_EQ(
+        voxelizeMeshWithContacts(mesh, coarse(true), nullInterrupter(), &signOnly).mask.values(),
+        first.mask.values());
+}
+
 TEST(ContactSeparation, ThinPlateAndTorusAreLeftAlone) {
     Shape plate;
     plate.box({0, 0, 0}, {60.5, 40.5, 2.5});  // 5 fine voxels: under 2 voxels thick

@@ -100,5 +100,31 @@ TEST(ThinPartFill, SerialEqualsParallel) {
     EXPECT_EQ(serial.mask.values(), threaded.mask.values());
 }
 
+TEST(ThinPartFill, SecondVoxelisationFromTheKeptConversionIsTheSame) {
+    // The engine voxelises without the fill, then again with it starting
+    // from the kept conversion: both must equal a voxelisation from scratch.
+    const TriangleMesh mesh = sheet(0.3, rotation({1, 2, 3}, 37));
+    SignedVoxelization kept;
+    const MeshVoxelization first =
+        voxelizeMeshWithContacts(mesh, options(false, 64), nullInterrupter(), &kept);
+    ASSERT_EQ(kept.mesh, &mesh);
+    ASSERT_FALSE(kept.mask.empty());
+    EXPECT_EQ(first.mask.values(), voxelizeMesh(mesh, options(false, 64)).values());
+    for (bool threaded : {false, true}) {
+        const MeshVoxelization again =
+            voxelizeMeshWithContacts(mesh, options(true, 64, threaded), nullInterrupter(), &kept);
+        const MeshVoxelization fresh = voxelizeMeshWithContacts(mesh, options(true, 64, threaded));
+        EXPECT_GT(fresh.thinParts.voxelsAdded, 0u);
+        EXPECT_EQ(again.thinParts.voxelsAdded, fresh.thinParts.voxelsAdded);
+        EXPECT_EQ(again.thinParts.thinSamples, fresh.thinParts.thinSamples);
+        EXPECT_EQ(again.mask.values(), fresh.mask.values());
+    }
+    // Another grid does not fit: converted anew, and kept for that grid.
+    const MeshVoxelization other =
+        voxelizeMeshWithContacts(mesh, options(true, 48), nullInterrupter(), &kept);
+    EXPECT_EQ(other.mask.values(), voxelizeMesh(mesh, options(true, 48)).values());
+    EXPECT_EQ(kept.dims, other.mask.dims());
+}
+
 }  // namespace
 }  // namespace skelseg
