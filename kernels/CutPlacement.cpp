@@ -23,7 +23,8 @@ struct TightLevel {
 std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                          std::uint32_t junction, std::uint32_t piece, const CutOptions& options,
                          std::vector<std::uint8_t>& taken, std::uint32_t& levelOut, float& sigmaOut,
-                         float& limbRhoSOut, std::vector<TightLevel>& tightOut) {
+                         float& limbRhoSOut, std::vector<TightLevel>& tightOut,
+                         std::uint32_t& windowEndOut, std::uint32_t& walkEndOut) {
     std::vector<std::uint32_t> level;
     for (std::uint32_t n : g.junctions[junction].region)
         for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
@@ -33,15 +34,17 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     std::sort(level.begin(), level.end());
     std::uint32_t runStart = kNoJunction, runLength = 0, runStartLevel = 0;
     float runStartSigma = 0.0f;
-    // Once the run is complete (found), the walk goes on for `extraLevels`
-    // more levels to measure the limb's circumference beyond the junction.
+    // Once the run is complete (found), the next `extraLevels` levels give
+    // the limb's circumference; the walk goes on to the branch's end for the
+    // tight levels where the cut may settle (settledLevel).
     bool found = false;
     std::uint32_t lastLevel = 0;
     float limbRhoS = 0.0f;
     std::vector<TightLevel> tight;
     const std::uint32_t extraLevels =
         limbCircumferenceLevels(g.junctions[junction].rhoS, options.consecutiveLevels);
-    for (std::uint32_t depth = 1; !level.empty(); ++depth) {
+    std::uint32_t depth = 1;
+    for (; !level.empty(); ++depth) {
         // Best sigma on this level; ties by lowest node id (levels are sorted).
         std::uint32_t bestNode = level.front();
         float best = -1.0f;
@@ -53,10 +56,9 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
         const float rhoS = points[g.point[bestNode]].rhoS;
         if (found) {
             if (isTight) {
-                limbRhoS = std::min(limbRhoS, rhoS);
+                if (depth <= lastLevel) limbRhoS = std::min(limbRhoS, rhoS);
                 tight.push_back({bestNode, depth, best, rhoS});
             }
-            if (depth >= lastLevel) break;
         } else if (isTight) {
             if (runLength == 0) {
                 runStart = bestNode, runStartLevel = depth, runStartSigma = best;
@@ -69,7 +71,6 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
             if (++runLength >= std::uint32_t(options.consecutiveLevels)) {
                 found = true;
                 lastLevel = runStartLevel + extraLevels;
-                if (depth >= lastLevel) break;
             }
         } else {
             runLength = 0;
@@ -84,11 +85,34 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
         level.swap(next);
     }
     if (!found) return kNoJunction;
+    windowEndOut = lastLevel;
+    walkEndOut = depth - 1;
     levelOut = runStartLevel;
     sigmaOut = runStartSigma;
     limbRhoSOut = limbRhoS;
     tightOut = std::move(tight);
     return runStart;
+}
+
+/// From tight level `start` on, the first tight level whose loop no longer
+/// shrinks by more than `taper` over the next loop diameter (2 rho_S / pi
+/// levels, at least `minLevels`): no tight loop in that reach is shorter
+/// than (1 - taper) times its own. `start` itself when the walk ends before
+/// a level can be judged (a limb that keeps tapering to its end).
+std::size_t settledLevel(const std::vector<TightLevel>& tight, std::size_t start,
+                         std::uint32_t walkEnd, double taper, int minLevels) {
+    for (std::size_t i = start; i < tight.size(); ++i) {
+        const std::uint32_t reach = std::max<std::uint32_t>(
+            std::uint32_t(std::max(minLevels, 1)),
+            std::uint32_t(std::ceil(2.0 * loopRadius(std::max(0.0, double(tight[i].rhoS))))));
+        if (tight[i].level + reach > walkEnd) return start;
+        float ahead = tight[i].rhoS;
+        for (std::size_t k = i + 1; k < tight.size() && tight[k].level <= tight[i].level + reach;
+             ++k)
+            ahead = std::min(ahead, tight[k].rhoS);
+        if (double(ahead) >= (1.0 - taper) * double(tight[i].rhoS)) return i;
+    }
+    return start;
 }
 
 }  // namespace
@@ -157,14 +181,17 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         std::vector<std::uint8_t> taken(g.nodeCount(), 0);
         const std::size_t first = plan.candidates.size();
         std::vector<std::vector<TightLevel>> tightOf;  // per candidate of this junction
+        std::vector<std::uint32_t> walkEndOf;
         for (std::uint32_t piece : branches) {
             std::uint32_t level = 0;
             float sigma = 0.0f, limbRhoS = 0.0f;
             std::vector<TightLevel> tight;
-            const std::uint32_t node =
-                walkBranch(g, points, j, piece, options, taken, level, sigma, limbRhoS, tight);
+            std::uint32_t windowEnd = 0, walkEnd = 0;
+            const std::uint32_t node = walkBranch(g, points, j, piece, options, taken, level, sigma,
+                                                  limbRhoS, tight, windowEnd, walkEnd);
             if (node == kNoJunction) continue;
             tightOf.push_back(std::move(tight));
+            walkEndOf.push_back(walkEnd);
             CutCandidate c;
             c.junction = j;
             c.node = node;
@@ -203,12 +230,21 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                 // body's (a loop as long as the body's still wraps the
                 // body, e.g. a skirt around a leg).
                 const float border = 0.5f * (c.bodyRhoS + c.limbRhoS);
-                for (const TightLevel& t : tightOf[i - first])
-                    if (t.rhoS <= border) {
-                        if (t.node != c.node) c.exactRhoC = -1.0;
-                        c.node = t.node, c.level = t.level, c.sigma = t.sigma;
-                        break;
-                    }
+                const std::vector<TightLevel>& tight = tightOf[i - first];
+                std::size_t at = 0;
+                while (at < tight.size() && tight[at].rhoS > border) ++at;
+                // Something lying against the limb (a skirt on a thigh) keeps
+                // the loop longer than the limb's own and lets it shrink
+                // slowly; the limb's border is where the loop stops
+                // shrinking faster than a limb tapers.
+                if (at < tight.size())
+                    at = settledLevel(tight, at, walkEndOf[i - first], options.limbTaper,
+                                      options.consecutiveLevels);
+                if (at < tight.size()) {
+                    const TightLevel& t = tight[at];
+                    if (t.node != c.node) c.exactRhoC = -1.0;
+                    c.node = t.node, c.level = t.level, c.sigma = t.sigma;
+                }
                 plan.cutNodes.push_back(c.node);
                 ++plan.junctions[j].cuts;
             }

@@ -42,6 +42,10 @@ struct CutOptions {
     /// fraction of the thinner of two body candidates counts as body-similar
     /// too (then the "more than two" rule decides).
     double siblingTolerance = 0.1;
+    /// A cut moves further out along the limb while its loop still shrinks
+    /// by more than this fraction over the next loop diameter (a limb's own
+    /// taper is less; a skirt lying on a thigh shrinks faster).
+    double limbTaper = 0.3;
     CutMode mode = CutMode::JunctionRule;
 };
 
