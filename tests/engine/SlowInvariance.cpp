@@ -1,5 +1,6 @@
 // Slow: every pose sequence of ../shared/data/poses keeps its part count in
-// all its frames (issue 12), segmented as a new user would
+// all its frames and its faces in the same parts (mean Rand Index error
+// between frames at most 0.05; issue 12), segmented as a new user would
 // (`skelseg segment MESH -o OUT --resolution 192`, defaults otherwise), and
 // five meshes of ../shared/data/shapes keep theirs at resolutions 128, 192,
 // 256 and 320. Skipped where the data is absent. bench/invariance.py measures
@@ -8,12 +9,14 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <fstream>
 #include <map>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "engine/SegmentationScore.h"
 #include "tests/support/CliRunner.h"
 #include "tests/support/PoseSequences.h"
 #include "tests/support/TempDir.h"
@@ -24,13 +27,33 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Distinct labels of a .seg file (one label per line).
-std::size_t partCount(const fs::path& seg) {
+/// Labels of a .seg file (one label per line, one line per face).
+std::vector<std::int64_t> faceLabels(const fs::path& seg) {
     std::ifstream in(seg);
-    std::set<long> labels;
-    long label = 0;
-    while (in >> label) labels.insert(label);
-    return labels.size();
+    std::vector<std::int64_t> labels;
+    long long label = 0;
+    while (in >> label) labels.push_back(label);
+    return labels;
+}
+
+/// Distinct labels of a .seg file.
+std::size_t partCount(const fs::path& seg) {
+    const std::vector<std::int64_t> labels = faceLabels(seg);
+    return std::set<std::int64_t>(labels.begin(), labels.end()).size();
+}
+
+/// Mean Rand Index error (faces counted once) over all pairs of frames; the
+/// frames share their faces, so their labels compare face by face.
+double meanErrorBetweenFrames(const std::vector<fs::path>& outputs) {
+    std::vector<std::vector<std::int64_t>> labels;
+    for (const fs::path& out : outputs) labels.push_back(faceLabels(out / "segmentation.seg"));
+    double sum = 0.0;
+    int pairs = 0;
+    for (std::size_t a = 0; a < labels.size(); ++a)
+        for (std::size_t b = a + 1; b < labels.size(); ++b, ++pairs)
+            sum += comparePartitions(labels[a], labels[b], nullptr, ScoreWeighting::Faces)
+                       .randIndexError;
+    return pairs > 0 ? sum / pairs : 0.0;
 }
 
 TEST(Invariance, EveryPoseSequenceKeepsItsPartCount) {
@@ -43,6 +66,8 @@ TEST(Invariance, EveryPoseSequenceKeepsItsPartCount) {
         for (const fs::path& out : outputs) parts.push_back(partCount(out / "segmentation.seg"));
         EXPECT_EQ(std::set<std::size_t>(parts.begin(), parts.end()).size(), 1u)
             << name << ": parts per frame " << test::countList(parts);
+        EXPECT_LE(meanErrorBetweenFrames(outputs), 0.05)
+            << name << ": faces change parts between frames";
     }
 }
 

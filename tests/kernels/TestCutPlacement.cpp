@@ -346,6 +346,69 @@ TEST(CutPlacement, SiblingsAlikeInThicknessGetTheSameAnswer) {
     EXPECT_EQ(t->callbackCalls, 0);
 }
 
+/// A body (rho_S 40) and one long limb meeting at a junction, all tight.
+/// Levels are numbered as in Junction: level L of an arm is its voxel L + 2.
+struct LongLimb {
+    static constexpr int kLength = 60;
+    SkeletonPointSet set{Dims{2 * kLength + 5, 5, 3}};
+    std::vector<std::uint32_t> body, limb;
+    LongLimb() {
+        set.add({kLength + 2, 2, 1}, 40.0f, 5000.0, 3);
+        body = set.chain({kLength + 1, 2, 1}, {-1, 0, 0}, kLength, 40.0f);
+        limb = set.chain({kLength + 3, 2, 1}, {1, 0, 0}, kLength);
+        for (std::uint32_t v : body) set.point(v).sigma = 0.9f;
+        for (std::uint32_t v : limb) set.point(v).sigma = 0.9f;
+    }
+    /// The limb's rho_S at level L (1-based) is rhoOfLevel(L).
+    template <class F>
+    void setLimbProfile(F rhoOfLevel) {
+        for (std::size_t i = 3; i < limb.size(); ++i)
+            set.point(limb[i]).rhoS = float(rhoOfLevel(int(i) - 2));
+    }
+    /// Level of the cut on the limb (0: none).
+    std::uint32_t cutLevel(const CutOptions& options = {}) const {
+        const std::vector<SkeletonPoint> points = set.points();
+        const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+        const CutPlan plan = placeCuts(g, points, options, [](std::uint32_t) { return 0.0; });
+        for (const CutCandidate& c : plan.candidates)
+            if (c.isCut) return c.level;
+        return 0;
+    }
+};
+
+TEST(CutPlacement, SleeveLyingOnALimbDoesNotMoveItsBorder) {
+    // The limb is 12 thick (radius about 4 levels). Bare, its loop drops
+    // from the body's to the limb's within two levels: the cut is at level
+    // 3. With a sleeve lying on it (a skirt on a thigh) the loop shrinks by
+    // 2 per level from 38 and reaches the limb's own 12 at level 14 only;
+    // the midpoint rule alone would cut at level 7, inside the sleeve (rho_S
+    // 26, more than twice the limb's). The cut settles where the loop stops
+    // shrinking faster than a limb tapers: within one limb radius of the
+    // sleeve's end.
+    LongLimb bare;
+    bare.setLimbProfile([](int level) { return level == 1 ? 36.0 : level == 2 ? 30.0 : 12.0; });
+    EXPECT_EQ(bare.cutLevel(), 3u);
+
+    LongLimb sleeved;
+    sleeved.setLimbProfile([](int level) { return std::max(12.0, 38.0 - 2.0 * (level - 1)); });
+    const std::uint32_t level = sleeved.cutLevel();
+    EXPECT_GE(level, 14u - 4u);
+    EXPECT_LE(level, 14u);
+    CutOptions midpointOnly;
+    midpointOnly.limbTaper = 1.0;  // never moves past the midpoint level
+    EXPECT_EQ(sleeved.cutLevel(midpointOnly), 7u) << "the rule this test guards";
+}
+
+TEST(CutPlacement, TaperingLimbKeepsItsCutAtTheBase) {
+    // A limb that tapers gently all along (a trunk, a tentacle: 0.2 per
+    // level from 14, about 13 % over a loop diameter) never shrinks faster
+    // than a limb tapers: the cut stays at the midpoint level, where the
+    // loop is first the limb's, and does not slide out along the limb.
+    LongLimb cone;
+    cone.setLimbProfile([](int level) { return level == 1 ? 34.0 : 14.0 - 0.2 * (level - 2); });
+    EXPECT_EQ(cone.cutLevel(), 2u);
+}
+
 TEST(CutPlacement, JunctionModeCutsAtTheJunction) {
     Junction j;
     for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f});
