@@ -173,9 +173,10 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         // and no part anyway) would only change parts that were right
         // (docs/meshes.md, "Parts thinner than a voxel"). Meshes whose voxel
         // genus is right pay nothing.
-        if (!(source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus))
-            signedVoxels = SignedVoxelization{};  // not needed: free it before the skeleton
-        if (source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus) {
+        const bool fillThinParts =
+            source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus;
+        if (!fillThinParts) signedVoxels = SignedVoxelization{};  // free it before the skeleton
+        if (fillThinParts) {
             std::uint64_t filledMemory = 0;
             MeshVoxelization filled = voxelise(*source, chosen, timer, interrupter, filledMemory,
                                                true, "voxelise with thin parts filled",
