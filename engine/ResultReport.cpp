@@ -73,6 +73,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
             {"min_segment_tau_fraction", j.minSegmentTauFraction},
             {"smoothing_scale", j.smoothingScale},
             {"side_window", j.sideWindow},
+            {"side_median_window", j.sideMedianWindow},
             {"min_side_length", j.minSideLength},
             {"bend_window", j.bendWindow},
             {"min_cut_distance", j.minCutDistance},

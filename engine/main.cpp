@@ -119,7 +119,8 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
         "Also cut inside parts at joints: where a branch narrows clearly (bends: --bend-angle)");
     command
         ->add_option("--joint-ratio", seg.parameters.jointOptions.narrowingRatio,
-                     "--joints: a narrowing is at most this fraction of the wider sides")
+                     "--joints: a narrowing is at most this fraction of the limb's median "
+                     "thickness on both sides")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     command
@@ -231,7 +232,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(16, 2048));
     generate
         ->add_option("--pose", pose,
-                     "figure: pose 0, 1 or 2; capsule-chain, bent-tube: orientation 0, 1 or 2")
+                     "figure: pose 0, 1 or 2; capsule-chain, bent-capsule-chain, bent-tube: "
+                     "orientation 0, 1 or 2")
         ->capture_default_str()
         ->check(CLI::Range(0, 2));
     generate->add_option("--noise", noise, "Fraction of boundary voxels to flip")

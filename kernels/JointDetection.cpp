@@ -132,7 +132,19 @@ std::vector<ProfileJoint> findProfileJoints(const BranchProfile& profile,
                 if (j < i && rho[j] > leftMax) leftMax = rho[j], leftAt = j;
                 if (j > i && rho[j] > rightMax) rightMax = rho[j], rightAt = j;
             }
-            const double ratio = rho[i] / std::max(std::min(leftMax, rightMax), 1e-9);
+            // The ratio's reference on each side is the limb's typical
+            // thickness there (the median within sideMedianWindow * r), not
+            // its widest point: the widest point next to a joint is where a
+            // neighbouring joint bends or an end part (a foot, a hand) is not
+            // resolved, and both move with the pose (docs/algorithm.md §14.5).
+            const double medianWindow = options.sideMedianWindow * radius;
+            std::vector<double> left, right;
+            for (std::size_t j = 0; j < count; ++j) {
+                if (j < i && profile.arc[j] >= s - medianWindow) left.push_back(rho[j]);
+                if (j > i && profile.arc[j] <= s + medianWindow) right.push_back(rho[j]);
+            }
+            if (left.empty() || right.empty()) continue;
+            const double ratio = rho[i] / std::max(std::min(median(left), median(right)), 1e-9);
             if (ratio <= options.reportRatio) {
                 ProfileJoint joint;
                 joint.kind = JointKind::Narrowing;

@@ -16,10 +16,13 @@
 // so the same thresholds hold at any resolution and pose:
 //   smoothing  Gaussian along arc length, width smoothingScale * r;
 //   narrowing  a local minimum whose value, divided by the smaller of the
-//              maxima within sideWindow * r on each side, is at most
-//              narrowingRatio, with at least minSideLength * r of branch on
-//              each side (so end caps, where rho_S falls to the tip, and
-//              noise wiggles are not joints);
+//              medians within sideMedianWindow * r on each side (the limb's
+//              typical thickness there, which a flexed neighbouring joint
+//              or an unresolved foot changes far less than its widest
+//              point), is at most narrowingRatio, with at least
+//              minSideLength * r of branch on each side (so end caps, where
+//              rho_S falls to the tip, and noise wiggles are not joints);
+//              its wider stretches are the maxima within sideWindow * r;
 //   bend       a local maximum of the angle between the mean directions over
 //              bendWindow * r before and after a point, at least
 //              bendAngleDegrees (off by default: kNoBends).
@@ -51,8 +54,9 @@ constexpr double kNoBends = 360.0;
 
 struct JointOptions {
     double smoothingScale = 0.5;
-    double narrowingRatio = 0.8;
-    double sideWindow = 6.0;
+    double narrowingRatio = 0.82;
+    double sideWindow = 6.0;        // where the wider stretches (the side maxima) are sought
+    double sideMedianWindow = 4.0;  // the ratio's reference: the median within this on each side
     double minSideLength = 1.5;
     double bendAngleDegrees = kNoBends;  // 30 is the measured choice when bends are wanted
     double bendWindow = 2.0;
@@ -80,7 +84,7 @@ struct BranchProfile {
 struct ProfileJoint {
     JointKind kind = JointKind::Narrowing;
     std::size_t sample = 0;
-    double ratio = 1.0;          // smoothed minimum / smaller side maximum (narrowings)
+    double ratio = 1.0;          // smoothed minimum / smaller side median (narrowings)
     double angleDegrees = 0.0;   // turning angle (bends)
     double radius = 0.0;         // local radius at the sample, voxels
     bool passes = false;         // meets the thresholds and the side-length rule

@@ -185,8 +185,9 @@ MaskVolume rasterise(const Shape& shape, const RasterOptions& options) {
 }
 
 std::vector<std::string> shapeNames() {
-    return {"disc-limbs", "y-arms",   "t-body", "slab", "box-tubes", "torus-limb",    "figure",
-            "capsule",    "cylinder", "sphere", "box",  "torus",     "capsule-chain", "bent-tube"};
+    return {"disc-limbs", "y-arms", "t-body",        "slab",      "box-tubes",
+            "torus-limb", "figure", "capsule",       "cylinder",  "sphere",
+            "box",        "torus",  "capsule-chain", "bent-tube", "bent-capsule-chain"};
 }
 
 namespace {
@@ -255,6 +256,18 @@ Shape makeShape(const std::string& name, int pose) {
         const double ends[3][2] = {{-0.85, -0.85 + 0.5}, {-0.35 + gap, 0.35 - gap}, {0.35, 0.85}};
         for (const auto& e : ends)
             s.capsule(orient({e[0], 0, 0}, pose), orient({e[1], 0, 0}, pose), r);
+    } else if (name == "bent-capsule-chain") {
+        // The capsule chain flexed by 45 degrees at both waists, in a zigzag
+        // in one plane, as a knee and an ankle flex: each capsule turns about
+        // the centre of the end sphere it meets, so the two spheres of a
+        // waist stay 1.5 r apart and the waist keeps its 0.66 r.
+        const double r = 0.12, gap = 1.5 * r;
+        const Vec straight = {1.0, 0.0, 0.0}, flexed = rotateZ(straight, 45.0);
+        const Vec first = {-0.35, 0.0, 0.0}, second = add(first, scale(flexed, gap + 0.34));
+        s.capsule(orient(add(first, scale(straight, -0.5)), pose), orient(first, pose), r);
+        s.capsule(orient(add(first, scale(flexed, gap)), pose), orient(second, pose), r);
+        s.capsule(orient(add(second, scale(straight, gap)), pose),
+                  orient(add(second, scale(straight, gap + 0.5)), pose), r);
     } else if (name == "bent-tube") {
         // A uniform tube with one 90 degree bend in its middle.
         const double r = 0.1;

@@ -15,7 +15,9 @@
 //   capsule, cylinder, sphere, box, torus   single solids
 //   capsule-chain three capsules end to end, two narrowings (1 part; 3 with joints)
 //   bent-tube     a uniform tube with one 90 degree bend    (1 part; 2 with joints)
-// The two limb shapes take a pose too: 0 along the grid axes, 1 and 2 oblique.
+//   bent-capsule-chain  the capsule chain flexed by 45 degrees at both waists
+//                       (1 part; 3 with joints)
+// The limb shapes take a pose too: 0 along the grid axes, 1 and 2 oblique.
 #pragma once
 
 #include <array>
