@@ -52,6 +52,25 @@ TEST(SceneJoints, CapsuleChainAtOtherOrientationsAndSizes) {
     EXPECT_EQ(parts(segmentShape("capsule-chain", 160, withJoints(), 1)), 3u) << "size 160";
 }
 
+TEST(SceneJoints, FlexedCapsuleChainKeepsItsJoints) {
+    // The chain flexed by 45 degrees at both waists (a knee and an ankle
+    // flexing): the joints are measured against the limb on each side, which
+    // the flexing leaves as it was, so the same two cuts part the capsules.
+    for (int pose : {0, 1, 2}) {
+        EXPECT_EQ(parts(segmentShape("bent-capsule-chain", kSize, {}, pose)), 1u)
+            << "orientation " << pose;
+        const SceneRun joints = segmentShape("bent-capsule-chain", kSize, withJoints(), pose);
+        ASSERT_EQ(parts(joints), 3u) << "orientation " << pose;
+        EXPECT_EQ(cutsOfKind(joints, CutKind::Joint), 2u) << "orientation " << pose;
+        const auto& s = joints.result.segments;
+        EXPECT_NEAR(double(s[0].voxelCount), double(s[1].voxelCount),
+                    0.15 * double(s[0].voxelCount))
+            << "orientation " << pose;
+        EXPECT_LT(s[2].voxelCount, s[1].voxelCount) << "orientation " << pose;
+        EXPECT_GT(s[2].voxelCount, s[1].voxelCount / 3) << "orientation " << pose;
+    }
+}
+
 TEST(SceneJoints, StraightUniformTubesStayOnePart) {
     for (const char* name : {"capsule", "cylinder"}) {
         EXPECT_EQ(parts(segmentShape(name, kSize)), 1u) << name;

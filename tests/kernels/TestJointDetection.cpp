@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "kernels/base/Error.h"
 #include "tests/kernels/SkeletonTestPoints.h"
@@ -100,6 +101,37 @@ TEST(JointDetection, ThresholdsAreInRadiusUnits) {
     ASSERT_EQ(fine.size(), 1u);
     EXPECT_NEAR(fine[0].ratio, coarse[0].ratio, 0.03);
     EXPECT_NEAR(fine[0].radius, 2.0 * coarse[0].radius, 0.1 * coarse[0].radius);
+}
+
+TEST(JointDetection, AShortBulgeBesideANarrowingLeavesItsRatio) {
+    // A limb (rho_S 30) narrowing into a thinner end part (24), with a
+    // shallow dip between them; then the same with a short bulge on the thin
+    // side, as a flexed neighbouring joint or an unresolved foot makes one.
+    // The ratio is taken against the sides' typical thickness (their
+    // medians), which three wide samples barely move (0.877 to 0.857);
+    // against the sides' widest points it would fall from 0.871 to 0.771
+    // and cross the threshold.
+    const auto limb = [](int i) {
+        return 27.0 + 3.0 * std::tanh((70.0 - i) / 3.0) -
+               6.0 * std::exp(-0.5 * (i - 70) * (i - 70) / 25.0);
+    };
+    const auto bulged = [&](int i) { return limb(i) + (i >= 84 && i <= 86 ? 12.0 : 0.0); };
+    const auto plain = findProfileJoints(straightProfile(160, limb), {});
+    const auto bulge = findProfileJoints(straightProfile(160, bulged), {});
+    std::vector<ProfileJoint> plainDips, bulgeDips;
+    for (const auto& j : plain)
+        if (j.kind == JointKind::Narrowing) plainDips.push_back(j);
+    for (const auto& j : bulge)
+        if (j.kind == JointKind::Narrowing) bulgeDips.push_back(j);
+    ASSERT_EQ(plainDips.size(), 1u);
+    ASSERT_EQ(bulgeDips.size(), 1u);
+    EXPECT_EQ(bulgeDips[0].sample, plainDips[0].sample);
+    EXPECT_NEAR(bulgeDips[0].ratio, plainDips[0].ratio, 0.03);
+    EXPECT_GT(plainDips[0].ratio, JointOptions{}.narrowingRatio);
+    EXPECT_FALSE(bulgeDips[0].passes);
+    // The wider stretch on the thin side is still its widest point: the bulge.
+    EXPECT_GE(bulgeDips[0].wideAfter, 83u);
+    EXPECT_LE(bulgeDips[0].wideAfter, 87u);
 }
 
 /// A branch of constant rho_S along two straight legs that meet at
