@@ -93,10 +93,8 @@ std::size_t sharedCount(const std::set<std::uint32_t>& a, const std::set<std::ui
 // of every frame must be matched in every other frame, and the counts agree.
 //
 // And no decision is marginal: every narrowing candidate's ratio is at least
-// kRatioMargin from --joint-ratio, so a pose that moves a ratio by less than
-// that cannot add or drop a joint. (With the rule before the side medians of
-// docs/algorithm.md §14.2 the dance's ankles, a wrist and a knee sat within
-// 0.01 of the threshold and came and went with the pose, §14.5.)
+// kRatioMargin from --joint-ratio, so which joints these figures get does not
+// hinge on the last hundredths of the threshold (docs/algorithm.md §14.5).
 TEST(Joints, EveryPoseSequenceKeepsItsJointCuts) {
     constexpr double kRatioMargin = 0.02;
     const fs::path poses = test::sharedDataDir() / "poses";

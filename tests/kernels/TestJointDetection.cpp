@@ -108,9 +108,8 @@ TEST(JointDetection, AShortBulgeBesideANarrowingLeavesItsRatio) {
     // shallow dip between them; then the same with a short bulge on the thin
     // side, as a flexed neighbouring joint or an unresolved foot makes one.
     // The ratio is taken against the sides' typical thickness (their
-    // medians), which three wide samples barely move (0.877 to 0.857);
-    // against the sides' widest points it would fall from 0.871 to 0.771
-    // and cross the threshold.
+    // medians), which three wide samples barely move; against the sides'
+    // widest points it would fall by about 0.1 and cross the threshold.
     const auto limb = [](int i) {
         return 27.0 + 3.0 * std::tanh((70.0 - i) / 3.0) -
                6.0 * std::exp(-0.5 * (i - 70) * (i - 70) / 25.0);
