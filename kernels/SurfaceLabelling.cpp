@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <utility>
 
 #include "kernels/FeatureTransform.h"
 #include "kernels/base/ParallelFor.h"
@@ -51,6 +52,40 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph,
     std::vector<std::uint64_t> area(count, 0);
     for (std::uint32_t v = 0; v < n; ++v) ++area[label[v]];
 
+    // The merge test measures a segment as rho_C measures a part: with the
+    // whole dilated loop of every cut bounding it (rho_C(p) is the surface
+    // minus the largest piece left without Gamma'(p), so it counts
+    // Gamma'(p)). The sweep above gives a segment only its share of a band,
+    // about one loop's worth of nodes: a fixed number of voxels across, so a
+    // larger fraction of a small part at a low resolution. Without this, a
+    // limb that the junction rule kept (rho_C >= tau) could be merged away at
+    // one resolution and kept at the next (docs/algorithm.md §9.2).
+    std::vector<std::uint64_t> bandExtra(count, 0);
+    {
+        std::vector<std::uint32_t> stamp(n, kNoNode);
+        std::vector<std::uint32_t> band;
+        std::vector<std::pair<std::uint32_t, std::uint64_t>> share;  // segment, band nodes it got
+        for (std::uint32_t i = 0; i < cutLoops.size(); ++i) {
+            band.clear();
+            for (std::uint32_t v : cutLoops[i]) {
+                if (stamp[v] != i) stamp[v] = i, band.push_back(v);
+                for (std::uint32_t e = graph.offset[v]; e < graph.offset[v + 1]; ++e)
+                    if (const std::uint32_t m = graph.neighbour[e]; stamp[m] != i)
+                        stamp[m] = i, band.push_back(m);
+            }
+            share.clear();
+            for (std::uint32_t v : band) {
+                auto it = std::find_if(share.begin(), share.end(),
+                                       [&](const auto& entry) { return entry.first == label[v]; });
+                if (it == share.end())
+                    share.emplace_back(label[v], 1);
+                else
+                    ++it->second;
+            }
+            for (const auto& [segment, got] : share) bandExtra[segment] += band.size() - got;
+        }
+    }
+
     std::vector<std::uint32_t> parent(count);
     std::iota(parent.begin(), parent.end(), 0u);
     auto find = [&](std::uint32_t x) {
@@ -77,7 +112,7 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph,
     for (;;) {
         std::uint32_t smallest = kNoNode;
         for (std::uint32_t s = 0; s < count; ++s)
-            if (find(s) == s && double(area[s]) < minSegmentArea &&
+            if (find(s) == s && double(area[s] + bandExtra[s]) < minSegmentArea &&
                 (smallest == kNoNode || area[s] < area[smallest]))
                 smallest = s;
         if (smallest == kNoNode) break;
@@ -93,6 +128,7 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph,
         }
         if (target == kNoNode) {
             area[smallest] = std::uint64_t(minSegmentArea) + 1;  // isolated: keep it
+            bandExtra[smallest] = 0;
             continue;
         }
         parent[smallest] = target;

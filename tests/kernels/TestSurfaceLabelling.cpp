@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <string>
 
 #include "io/shapes/SyntheticShapes.h"
 #include "kernels/FeatureTransform.h"
@@ -31,6 +32,16 @@ protected:
         for (std::uint32_t n = 0; n < graph->nodeCount(); ++n)
             if (graph->coord[n].x == x) nodes.push_back(n);
         return nodes;
+    }
+    /// Nodes of the cut band of ring(x): the ring and its graph neighbours.
+    static std::uint64_t bandSize(int x) {
+        std::vector<std::uint8_t> in(graph->nodeCount(), 0);
+        for (std::uint32_t v : ring(x)) {
+            in[v] = 1;
+            for (std::uint32_t e = graph->offset[v]; e < graph->offset[v + 1]; ++e)
+                in[graph->neighbour[e]] = 1;
+        }
+        return std::uint64_t(std::count(in.begin(), in.end(), std::uint8_t(1)));
     }
     /// x at a fraction of the capsule's length.
     static int at(double fraction) { return xMin + int(std::lround(fraction * (xMax - xMin))); }
@@ -114,7 +125,9 @@ TEST_F(LabellingOnCapsule, SmallSegmentMergesIntoItsNeighbour) {
     ASSERT_EQ(unmerged.segmentCount, 3u);
     const std::uint64_t tip = unmerged.area[unmerged.nodeLabel[nodeAt(xMax)]];
     ASSERT_LT(tip, unmerged.area[1]);
-    const SurfaceSegments merged = labelSurface(*graph, {ring(x1), ring(x2)}, double(tip) + 1.0);
+    // The merge measures the cap with its whole cut band, as rho_C does.
+    const SurfaceSegments merged =
+        labelSurface(*graph, {ring(x1), ring(x2)}, double(tip + bandSize(x2)) + 1.0);
     ASSERT_EQ(merged.segmentCount, 2u);
     expectWellFormed(merged);
     EXPECT_EQ(merged.nodeLabel[nodeAt(xMax)], merged.nodeLabel[nodeAt(at(0.6))]);
@@ -125,22 +138,68 @@ TEST_F(LabellingOnCapsule, SmallSegmentMergesIntoItsNeighbour) {
 TEST_F(LabellingOnCapsule, SmallBandMergesIntoItsLargestNeighbour) {
     // A narrow band between two close cuts touches the left piece and the
     // (larger) middle piece: it must join the middle one.
-    const int x1 = at(0.15), x2 = x1 + 8, x3 = at(0.8);
+    const int x1 = at(0.25), x2 = x1 + 4, x3 = at(0.72);
     const SurfaceSegments unmerged = labelSurface(*graph, {ring(x1), ring(x2), ring(x3)}, 0.0);
     ASSERT_EQ(unmerged.segmentCount, 4u);
-    const std::uint32_t band = unmerged.nodeLabel[nodeAt(x1 + 4)];
+    const std::uint32_t band = unmerged.nodeLabel[nodeAt(x1 + 2)];
     const std::uint32_t left = unmerged.nodeLabel[nodeAt(xMin)],
                         middle = unmerged.nodeLabel[nodeAt(at(0.6))],
                         right = unmerged.nodeLabel[nodeAt(xMax)];
     ASSERT_LT(unmerged.area[band], unmerged.area[left]);
     ASSERT_LT(unmerged.area[band], unmerged.area[right]);
     ASSERT_GT(unmerged.area[middle], unmerged.area[left]);
-    const double threshold = double(unmerged.area[band]) + 1.0;
+    // The band is measured with both of its cut bands (as rho_C would).
+    const double threshold = double(unmerged.area[band] + bandSize(x1) + bandSize(x2)) + 1.0;
+    ASSERT_LT(threshold, double(std::min(unmerged.area[left], unmerged.area[right])));
     const SurfaceSegments merged = labelSurface(*graph, {ring(x1), ring(x2), ring(x3)}, threshold);
     ASSERT_EQ(merged.segmentCount, 3u);
     expectWellFormed(merged);
-    EXPECT_EQ(merged.nodeLabel[nodeAt(x1 + 4)], merged.nodeLabel[nodeAt(at(0.6))]);
-    EXPECT_NE(merged.nodeLabel[nodeAt(x1 + 4)], merged.nodeLabel[nodeAt(xMin)]);
+    EXPECT_EQ(merged.nodeLabel[nodeAt(x1 + 2)], merged.nodeLabel[nodeAt(at(0.6))]);
+    EXPECT_NE(merged.nodeLabel[nodeAt(x1 + 2)], merged.nodeLabel[nodeAt(xMin)]);
+}
+
+/// The tip beyond a cut near one end of a capsule rasterised at `size`
+/// voxels: a part whose rho_C (the tip's piece plus the whole cut band) just
+/// reaches the smallest segment area is kept, although the sweep gives it
+/// only part of the band; one node more and it merges. The band is a fixed
+/// number of voxels across, so the share it takes grows as the resolution
+/// drops (dino.off's arms at 128: docs/algorithm.md §9.2).
+void expectTipMeasuredWithItsCutBand(int size) {
+    SCOPED_TRACE("capsule at " + std::to_string(size));
+    const MaskVolume mask = rasterise(makeShape("capsule"), {size, 2});
+    const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
+    int xMin = graph.coord[0].x, xMax = xMin;
+    for (const Coord& c : graph.coord) xMin = std::min(xMin, c.x), xMax = std::max(xMax, c.x);
+    const int x = xMax - (xMax - xMin) / 6;
+    std::vector<std::uint32_t> loop;
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
+        if (graph.coord[n].x == x) loop.push_back(n);
+    std::vector<std::uint8_t> inBand(graph.nodeCount(), 0);
+    for (std::uint32_t v : loop) {
+        inBand[v] = 1;
+        for (std::uint32_t e = graph.offset[v]; e < graph.offset[v + 1]; ++e)
+            inBand[graph.neighbour[e]] = 1;
+    }
+    // rho_C of the loop: the surface minus the larger side without the band.
+    std::uint64_t tipPiece = 0, band = 0;
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n) {
+        band += inBand[n];
+        tipPiece += !inBand[n] && graph.coord[n].x > x;
+    }
+    const double rhoC = double(tipPiece + band);
+    const SurfaceSegments unmerged = labelSurface(graph, {loop}, 0.0);
+    ASSERT_EQ(unmerged.segmentCount, 2u);
+    const std::uint64_t tipSegment = unmerged.area[1];
+    ASSERT_LT(double(tipSegment) + 1.0, rhoC) << "the tip got the whole band";
+    EXPECT_EQ(labelSurface(graph, {loop}, double(tipSegment) + 1.0).segmentCount, 2u)
+        << "a tip whose rho_C reaches the smallest area was merged";
+    EXPECT_EQ(labelSurface(graph, {loop}, rhoC).segmentCount, 2u);
+    EXPECT_EQ(labelSurface(graph, {loop}, rhoC + 1.0).segmentCount, 1u);
+}
+
+TEST(SurfaceLabelling, SmallSegmentIsMeasuredWithItsCutBandAtTwoScales) {
+    expectTipMeasuredWithItsCutBand(48);
+    expectTipMeasuredWithItsCutBand(96);
 }
 
 TEST_F(LabellingOnCapsule, InteriorTakesTheLabelOfItsFeatureVoxel) {
