@@ -41,8 +41,10 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     std::uint32_t lastLevel = 0;
     float limbRhoS = 0.0f;
     std::vector<TightLevel> tight;
+    const float junctionRhoS = g.junctions[junction].rhoS;
     const std::uint32_t extraLevels =
-        limbCircumferenceLevels(g.junctions[junction].rhoS, options.consecutiveLevels);
+        limbCircumferenceLevels(junctionRhoS, options.consecutiveLevels);
+    std::uint32_t lastBodyLoop = 0;  // in the current run
     std::uint32_t depth = 1;
     for (; !level.empty(); ++depth) {
         // Best sigma on this level; ties by lowest node id (levels are sorted).
@@ -54,9 +56,15 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
         }
         const bool isTight = best >= float(options.sigmaMin);
         const float rhoS = points[g.point[bestNode]].rhoS;
+        // A tight loop as long as the junction's still goes round the body:
+        // the limb starts after it, so its window does too.
+        const bool isBodyLoop = isTight && rhoS >= junctionRhoS;
         if (found) {
             if (isTight) {
-                if (depth <= lastLevel) limbRhoS = std::min(limbRhoS, rhoS);
+                if (depth <= lastLevel) {
+                    limbRhoS = std::min(limbRhoS, rhoS);
+                    if (isBodyLoop) lastLevel = std::max(lastLevel, depth + extraLevels);
+                }
                 tight.push_back({bestNode, depth, best, rhoS});
             }
         } else if (isTight) {
@@ -64,13 +72,15 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
                 runStart = bestNode, runStartLevel = depth, runStartSigma = best;
                 limbRhoS = rhoS;
                 tight.clear();
+                lastBodyLoop = 0;
             } else {
                 limbRhoS = std::min(limbRhoS, rhoS);
             }
             tight.push_back({bestNode, depth, best, rhoS});
+            if (isBodyLoop) lastBodyLoop = depth;
             if (++runLength >= std::uint32_t(options.consecutiveLevels)) {
                 found = true;
-                lastLevel = runStartLevel + extraLevels;
+                lastLevel = std::max(runStartLevel, lastBodyLoop) + extraLevels;
             }
         } else {
             runLength = 0;

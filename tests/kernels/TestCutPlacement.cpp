@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <string>
 
 #include "tests/kernels/SkeletonTestPoints.h"
 
@@ -407,6 +408,52 @@ TEST(CutPlacement, TaperingLimbKeepsItsCutAtTheBase) {
     LongLimb cone;
     cone.setLimbProfile([](int level) { return level == 1 ? 34.0 : 14.0 - 0.2 * (level - 2); });
     EXPECT_EQ(cone.cutLevel(), 2u);
+}
+
+/// The body test of a branch that stays as thick as the body (a chest,
+/// rho_S 1.1 times the junction's) for `chest` levels, narrows to 0.75 of
+/// the junction's for 12 levels and then to a waist of half the junction's,
+/// at `scale` times the levels and loop lengths of scale 1. Returns the
+/// branch's candidate.
+CutCandidate waistCandidate(int scale) {
+    const int length = 60 * scale;
+    SkeletonPointSet set{Dims{2 * length + 5, 5, 3}};
+    const float junction = 40.0f * float(scale);
+    set.add({length + 2, 2, 1}, junction, 5000.0, 3);
+    const std::vector<std::uint32_t> body =
+        set.chain({length + 1, 2, 1}, {-1, 0, 0}, length, junction);
+    const std::vector<std::uint32_t> trunk = set.chain({length + 3, 2, 1}, {1, 0, 0}, length);
+    for (std::uint32_t v : body) set.point(v).sigma = 0.9f;
+    for (std::uint32_t v : trunk) set.point(v).sigma = 0.9f;
+    const int chest = 10 * scale, narrowing = 12 * scale;
+    for (std::size_t i = 3; i < trunk.size(); ++i) {
+        const int level = int(i) - 2;
+        set.point(trunk[i]).rhoS = level <= chest               ? 1.1f * junction
+                                   : level <= chest + narrowing ? 0.75f * junction
+                                                                : 0.5f * junction;
+    }
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    const CutPlan plan = placeCuts(g, points, {}, [](std::uint32_t) { return 0.0; });
+    for (const CutCandidate& c : plan.candidates)
+        if (points[g.point[c.node]].voxel == trunk[3] || c.level > 1) return c;
+    ADD_FAILURE() << "no candidate on the trunk";
+    return {};
+}
+
+TEST(CutPlacement, LimbWindowStartsPastTheLoopsAsLongAsTheBodysAtTwoScales) {
+    // The window for the limb's circumference is one body radius (13 levels
+    // at scale 1): from the candidate it would end in the 0.75 stretch and
+    // read the branch as body; the chest's loops are body loops, so the
+    // window starts after them and reaches the waist (dino.off's waist: the
+    // front junction read it as body at 320 only, docs/algorithm.md §8.6).
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const CutCandidate c = waistCandidate(scale);
+        EXPECT_FLOAT_EQ(c.limbRhoS, 20.0f * float(scale));
+        EXPECT_NEAR(c.similarity, 1.0f - 0.6f / 1.1f, 1e-5f) << "against the chest's loop";
+        EXPECT_TRUE(c.isCut);
+    }
 }
 
 TEST(CutPlacement, JunctionModeCutsAtTheJunction) {
