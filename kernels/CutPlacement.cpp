@@ -41,10 +41,8 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     std::uint32_t lastLevel = 0;
     float limbRhoS = 0.0f;
     std::vector<TightLevel> tight;
-    const float junctionRhoS = g.junctions[junction].rhoS;
     const std::uint32_t extraLevels =
-        limbCircumferenceLevels(junctionRhoS, options.consecutiveLevels);
-    std::uint32_t lastBodyLoop = 0;  // in the current run
+        limbCircumferenceLevels(g.junctions[junction].rhoS, options.consecutiveLevels);
     std::uint32_t depth = 1;
     for (; !level.empty(); ++depth) {
         // Best sigma on this level; ties by lowest node id (levels are sorted).
@@ -56,15 +54,9 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
         }
         const bool isTight = best >= float(options.sigmaMin);
         const float rhoS = points[g.point[bestNode]].rhoS;
-        // A tight loop as long as the junction's still goes round the body:
-        // the limb starts after it, so its window does too.
-        const bool isBodyLoop = isTight && rhoS >= junctionRhoS;
         if (found) {
             if (isTight) {
-                if (depth <= lastLevel) {
-                    limbRhoS = std::min(limbRhoS, rhoS);
-                    if (isBodyLoop) lastLevel = std::max(lastLevel, depth + extraLevels);
-                }
+                if (depth <= lastLevel) limbRhoS = std::min(limbRhoS, rhoS);
                 tight.push_back({bestNode, depth, best, rhoS});
             }
         } else if (isTight) {
@@ -72,15 +64,13 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
                 runStart = bestNode, runStartLevel = depth, runStartSigma = best;
                 limbRhoS = rhoS;
                 tight.clear();
-                lastBodyLoop = 0;
             } else {
                 limbRhoS = std::min(limbRhoS, rhoS);
             }
             tight.push_back({bestNode, depth, best, rhoS});
-            if (isBodyLoop) lastBodyLoop = depth;
             if (++runLength >= std::uint32_t(options.consecutiveLevels)) {
                 found = true;
-                lastLevel = std::max(runStartLevel, lastBodyLoop) + extraLevels;
+                lastLevel = runStartLevel + extraLevels;
             }
         } else {
             runLength = 0;
@@ -191,7 +181,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         std::vector<std::uint8_t> taken(g.nodeCount(), 0);
         const std::size_t first = plan.candidates.size();
         std::vector<std::vector<TightLevel>> tightOf;  // per candidate of this junction
-        std::vector<std::uint32_t> walkEndOf;
+        std::vector<std::uint32_t> walkEndOf, windowEndOf;
         for (std::uint32_t piece : branches) {
             std::uint32_t level = 0;
             float sigma = 0.0f, limbRhoS = 0.0f;
@@ -202,6 +192,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
             if (node == kNoJunction) continue;
             tightOf.push_back(std::move(tight));
             walkEndOf.push_back(walkEnd);
+            windowEndOf.push_back(windowEnd);
             CutCandidate c;
             c.junction = j;
             c.node = node;
@@ -213,6 +204,28 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         }
         markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
                            plan.candidates.size() - first);
+        // A tight loop as long as the body's still goes round the body: the
+        // limb starts after it, so its window does too (a chest before a
+        // waist). The body's reference is the one just measured, not the
+        // junction's median, which can fall on thin core voxels.
+        bool windowMoved = false;
+        const std::uint32_t bodyLevels =
+            limbCircumferenceLevels(junction.rhoS, options.consecutiveLevels);
+        for (std::size_t i = first; i < plan.candidates.size(); ++i) {
+            CutCandidate& c = plan.candidates[i];
+            const std::vector<TightLevel>& tight = tightOf[i - first];
+            std::uint32_t windowEnd = windowEndOf[i - first];
+            float limb = c.limbRhoS;
+            for (const TightLevel& t : tight) {
+                if (t.level > windowEnd) break;
+                limb = std::min(limb, t.rhoS);
+                if (t.rhoS >= c.bodyRhoS) windowEnd = std::max(windowEnd, t.level + bodyLevels);
+            }
+            if (limb < c.limbRhoS) c.limbRhoS = limb, windowMoved = true;
+        }
+        if (windowMoved)
+            markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
+                               plan.candidates.size() - first);
         // Body passes through a junction at most once: drop at most two.
         std::vector<std::size_t> body;
         for (std::size_t i = first; i < plan.candidates.size(); ++i)
