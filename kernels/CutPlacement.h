@@ -10,7 +10,7 @@
 // test) lie on the body and are dropped; a candidate's circumference is the
 // smallest rho_S of the tight levels (sigma >= sigmaMin) from the candidate
 // to one body radius further out (rho_S(j) / pi levels; past the last tight
-// loop as long as the junction's, which still goes round the body), because the first
+// loop as long as the body's, which still goes round the body), because the first
 // tight levels past a junction still wrap the part's base, whose loop is
 // about as long as the body's (docs/algorithm.md §8.6, "limb circumference"); the body's
 // circumference is the largest of the junction's rho_S and every candidate's first tight loop and
