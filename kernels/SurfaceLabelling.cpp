@@ -82,7 +82,10 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph,
                 else
                     ++it->second;
             }
-            for (const auto& [segment, got] : share) bandExtra[segment] += band.size() - got;
+            // A piece smaller than the band it touches is a pocket between
+            // the paths of a wide loop, not a part behind it.
+            for (const auto& [segment, got] : share)
+                if (area[segment] > band.size()) bandExtra[segment] += band.size() - got;
         }
     }
 
