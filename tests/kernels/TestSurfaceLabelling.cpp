@@ -202,6 +202,23 @@ TEST(SurfaceLabelling, SmallSegmentIsMeasuredWithItsCutBandAtTwoScales) {
     expectTipMeasuredWithItsCutBand(96);
 }
 
+TEST_F(LabellingOnCapsule, PocketOfAWideLoopIsNotAPart) {
+    // One cut loop made of two rings 4 apart (a wide path set): the slice
+    // between them is a piece of its own, smaller than the loop's band. It
+    // is a pocket of the loop, not a part behind it, so it is measured
+    // without the band and merges below the smallest area.
+    const int x = at(0.5);
+    std::vector<std::uint32_t> wide = ring(x);
+    for (std::uint32_t n : ring(x + 4)) wide.push_back(n);
+    const SurfaceSegments unmerged = labelSurface(*graph, {wide}, 0.0);
+    ASSERT_EQ(unmerged.segmentCount, 3u);
+    const std::uint64_t pocket = unmerged.area[unmerged.nodeLabel[nodeAt(x + 2)]];
+    ASSERT_LT(pocket, bandSize(x) + bandSize(x + 4));
+    const SurfaceSegments merged = labelSurface(*graph, {wide}, double(pocket) + 1.0);
+    EXPECT_EQ(merged.segmentCount, 2u) << "the pocket was kept as a part";
+    expectWellFormed(merged);
+}
+
 TEST_F(LabellingOnCapsule, InteriorTakesTheLabelOfItsFeatureVoxel) {
     const int x1 = at(0.30), x2 = at(0.85);
     const SurfaceSegments s = labelSurface(*graph, {ring(x1), ring(x2)}, 0.0);
