@@ -5,7 +5,9 @@
 // are removed from the boundary graph; the connected components of the rest
 // are the surface segments. Cut nodes take the label of the segment that
 // reaches them first in a breadth-first sweep seeded in node order. Segments
-// smaller than `minSegmentArea` merge into their largest neighbour. Closed
+// smaller than `minSegmentArea` merge into their largest neighbour; a segment
+// is measured as rho_C measures a part, with the whole band of each cut it
+// touches (unless it is smaller than that band: a pocket of a wide loop). Closed
 // surfaces without any cut that are not the object's outer surface (inner
 // cavities) join the largest segment. Segment ids are 0..K-1 by decreasing
 // area, ties by smallest node: stable and deterministic.
