@@ -147,6 +147,11 @@ void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandid
             c.onBody = true;
 }
 
+bool isCapOfTheBody(std::uint32_t cutLevel, std::uint32_t walkEnd, float cutRhoS) {
+    return double(walkEnd - std::min(walkEnd, cutLevel)) <
+           loopRadius(std::max(0.0, double(cutRhoS)));
+}
+
 std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels) {
     const double bodyRadius = loopRadius(std::max(0.0, double(junctionRhoS)));
     return std::max<std::uint32_t>(std::uint32_t(std::max(consecutiveLevels, 1)),
@@ -245,6 +250,11 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                     if (t.node != c.node) c.exactRhoC = -1.0;
                     c.node = t.node, c.level = t.level, c.sigma = t.sigma;
                 }
+                c.isCap =
+                    isCapOfTheBody(c.level, walkEndOf[i - first], points[g.point[c.node]].rhoS);
+                c.isCut = !c.isCap;
+            }
+            if (c.isCut) {
                 plan.cutNodes.push_back(c.node);
                 ++plan.junctions[j].cuts;
             }

@@ -16,8 +16,9 @@
 // limb circumference. When more than two are similar, only the one carrying the most surface
 // (largest exact rho_C) is dropped, ties broken by voxel index. Each remaining candidate's cut
 // moves to the first tight level of that window whose loop is closer to the limb's circumference
-// than to the body's (a loop as long as the body's still wraps the body); the loops Gamma of those
-// points are the cuts.
+// than to the body's (a loop as long as the body's still wraps the body); a cut past which the
+// branch ends within the cut loop's radius is a cap or corner of the body and is dropped
+// (isCapOfTheBody); the loops Gamma of the remaining points are the cuts.
 #pragma once
 
 #include <cstdint>
@@ -61,6 +62,9 @@ struct CutCandidate {
     float bodyRhoS = 0.0f;    // ... against this body circumference
     double exactRhoC = -1.0;  // filled where the tie rule needed it
     bool onBody = false;
+    /// Not on the body, but the branch ends within one loop radius past the
+    /// cut (isCapOfTheBody): a corner or cap of the body, not cut.
+    bool isCap = false;
     bool isCut = false;
 };
 
@@ -80,6 +84,15 @@ struct CutPlan {
 /// circumference: one body radius (rho_S of a round loop is pi r), at least
 /// consecutiveLevels.
 std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels);
+
+/// Whether a cut at BFS level `cutLevel` of a branch whose walk ends at
+/// level `walkEnd` cuts off a cap or corner of the body rather than a limb:
+/// the skeleton goes on past the cut for less than the cut loop's radius
+/// (rho_S / pi). A limb reaches out at least about as far as it is wide; the
+/// skeleton of a flat or oblique end forks into its corners, and a loop round
+/// one corner prong passes sigma and the body test like a limb's
+/// (docs/algorithm.md §8.6, "Caps and corners are not limbs").
+bool isCapOfTheBody(std::uint32_t cutLevel, std::uint32_t walkEnd, float cutRhoS);
 
 /// The body test of one junction's candidates (baseRhoS and limbRhoS filled):
 /// sets bodyRhoS (the largest of the junction's rho_S and every candidate's
