@@ -409,6 +409,59 @@ TEST(CutPlacement, TaperingLimbKeepsItsCutAtTheBase) {
     EXPECT_EQ(cone.cutLevel(), 2u);
 }
 
+/// A body (rho_S 40 s) and one limb of constant rho_S 12 s whose skeleton
+/// goes on `levelsPastCut` levels past its first level (the cut), at scale
+/// s: everything in voxels grows with the resolution.
+CutPlan limbEndingPastItsCut(int scale, int levelsPastCut, std::vector<SkeletonPoint>& points) {
+    const int bodyLength = 30 * scale, limbLength = 3 + 1 + levelsPastCut;
+    SkeletonPointSet set{Dims{bodyLength + limbLength + 5, 5, 3}};
+    set.add({bodyLength + 2, 2, 1}, 40.0f * float(scale), 5000.0, 3);
+    for (std::uint32_t v :
+         set.chain({bodyLength + 1, 2, 1}, {-1, 0, 0}, bodyLength, 40.0f * float(scale)))
+        set.point(v).sigma = 0.9f;
+    for (std::uint32_t v :
+         set.chain({bodyLength + 3, 2, 1}, {1, 0, 0}, limbLength, 12.0f * float(scale)))
+        set.point(v).sigma = 0.9f;
+    points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    return placeCuts(g, points, {}, [](std::uint32_t) { return 0.0; });
+}
+
+TEST(CutPlacement, CornerOfTheBodyIsNotALimb) {
+    // The limb's loop radius is 12 s / pi = 3.8 s levels. A skeleton that
+    // ends 2 s levels past the cut is a corner or cap of the body (the
+    // forearm's flat end of hand.off forks into two such prongs, 3 levels
+    // long past loops of radius 17 to 28 voxels); one that goes on 6 s
+    // levels is a limb, at both scales.
+    EXPECT_TRUE(isCapOfTheBody(10, 13, 12.0f));
+    EXPECT_FALSE(isCapOfTheBody(10, 14, 12.0f)) << "exactly one radius (3.8) is enough";
+    EXPECT_TRUE(isCapOfTheBody(12, 10, 12.0f)) << "a cut past the walk's end";
+    for (int scale : {1, 2}) {
+        std::vector<SkeletonPoint> points;
+        const CutPlan corner = limbEndingPastItsCut(scale, 2 * scale, points);
+        const auto limbCandidate = [](const CutPlan& plan) {
+            const CutCandidate* found = nullptr;
+            for (const CutCandidate& c : plan.candidates)
+                if (!c.onBody) found = &c;
+            return found;
+        };
+        const CutCandidate* c = limbCandidate(corner);
+        ASSERT_NE(c, nullptr) << "scale " << scale;
+        EXPECT_LT(c->similarity, 0.6f) << "the body test alone would cut it";
+        EXPECT_TRUE(c->isCap) << "scale " << scale;
+        EXPECT_FALSE(c->isCut) << "scale " << scale;
+        EXPECT_TRUE(corner.cutNodes.empty()) << "scale " << scale;
+        EXPECT_EQ(corner.junctions[0].cuts, 0u);
+
+        const CutPlan limb = limbEndingPastItsCut(scale, 6 * scale, points);
+        c = limbCandidate(limb);
+        ASSERT_NE(c, nullptr) << "scale " << scale;
+        EXPECT_FALSE(c->isCap) << "scale " << scale;
+        EXPECT_TRUE(c->isCut) << "scale " << scale;
+        EXPECT_EQ(limb.cutNodes.size(), 1u) << "scale " << scale;
+    }
+}
+
 TEST(CutPlacement, JunctionModeCutsAtTheJunction) {
     Junction j;
     for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f});
