@@ -147,9 +147,9 @@ void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandid
             c.onBody = true;
 }
 
-bool isCapOfTheBody(std::uint32_t cutLevel, std::uint32_t walkEnd, float cutRhoS) {
-    return double(walkEnd - std::min(walkEnd, cutLevel)) <
-           loopRadius(std::max(0.0, double(cutRhoS)));
+bool isCapOfTheBody(double cutOffArea, float cutRhoS, double capArea) {
+    const double r = loopRadius(std::max(0.0, double(cutRhoS)));
+    return cutOffArea < capArea * 3.14159265358979323846 * r * r;
 }
 
 std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels) {
@@ -250,8 +250,13 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                     if (t.node != c.node) c.exactRhoC = -1.0;
                     c.node = t.node, c.level = t.level, c.sigma = t.sigma;
                 }
-                c.isCap =
-                    isCapOfTheBody(c.level, walkEndOf[i - first], points[g.point[c.node]].rhoS);
+                // A corner or cap of the body: the area the loop cuts off,
+                // exact only where the growth's lower bound cannot decide.
+                const SkeletonPoint& cut = points[g.point[c.node]];
+                double cutOff = c.exactRhoC >= 0.0 ? c.exactRhoC : cut.rhoC;
+                if (!cut.rhoCExact && isCapOfTheBody(cutOff, cut.rhoS, options.capArea))
+                    cutOff = c.exactRhoC = exactRhoC(g.point[c.node]);
+                c.isCap = isCapOfTheBody(cutOff, cut.rhoS, options.capArea);
                 c.isCut = !c.isCap;
             }
             if (c.isCut) {
