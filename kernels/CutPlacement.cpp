@@ -24,7 +24,8 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
                          std::uint32_t junction, std::uint32_t piece, const CutOptions& options,
                          std::vector<std::uint8_t>& taken, std::uint32_t& levelOut, float& sigmaOut,
                          float& limbRhoSOut, std::vector<TightLevel>& tightOut,
-                         std::uint32_t& windowEndOut, std::uint32_t& walkEndOut) {
+                         std::uint32_t& windowEndOut, std::uint32_t& walkEndOut,
+                         bool& endsFreeOut) {
     std::vector<std::uint32_t> level;
     for (std::uint32_t n : g.junctions[junction].region)
         for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
@@ -44,6 +45,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     const std::uint32_t extraLevels =
         limbCircumferenceLevels(g.junctions[junction].rhoS, options.consecutiveLevels);
     std::uint32_t depth = 1;
+    bool endsFree = true;  // no other junction's region next to the branch
     for (; !level.empty(); ++depth) {
         // Best sigma on this level; ties by lowest node id (levels are sorted).
         std::uint32_t bestNode = level.front();
@@ -79,6 +81,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
         for (std::uint32_t n : level)
             for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
                 const std::uint32_t m = g.neighbour[e];
+                if (g.junctionOf[m] != kNoJunction && g.junctionOf[m] != junction) endsFree = false;
                 if (g.pieceOf[m] == piece && !taken[m]) taken[m] = 1, next.push_back(m);
             }
         std::sort(next.begin(), next.end());
@@ -87,6 +90,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     if (!found) return kNoJunction;
     windowEndOut = lastLevel;
     walkEndOut = depth - 1;
+    endsFreeOut = endsFree;
     levelOut = runStartLevel;
     sigmaOut = runStartSigma;
     limbRhoSOut = limbRhoS;
@@ -147,9 +151,11 @@ void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandid
             c.onBody = true;
 }
 
-bool isCapOfTheBody(double cutOffArea, float cutRhoS, double capArea) {
-    const double r = loopRadius(std::max(0.0, double(cutRhoS)));
-    return cutOffArea < capArea * 3.14159265358979323846 * r * r;
+bool isCornerOfTheBody(std::uint32_t cutLevel, std::uint32_t skeletonEnd, float cutRhoS,
+                       double cornerLength) {
+    if (skeletonEnd == kNoJunction) return false;
+    return double(skeletonEnd - std::min(skeletonEnd, cutLevel)) <
+           cornerLength * loopRadius(std::max(0.0, double(cutRhoS)));
 }
 
 std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels) {
@@ -187,16 +193,19 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         const std::size_t first = plan.candidates.size();
         std::vector<std::vector<TightLevel>> tightOf;  // per candidate of this junction
         std::vector<std::uint32_t> walkEndOf;
+        std::vector<std::uint32_t> skeletonEndOf;  // kNoJunction: ends at another junction
         for (std::uint32_t piece : branches) {
             std::uint32_t level = 0;
             float sigma = 0.0f, limbRhoS = 0.0f;
             std::vector<TightLevel> tight;
             std::uint32_t windowEnd = 0, walkEnd = 0;
+            bool endsFree = true;
             const std::uint32_t node = walkBranch(g, points, j, piece, options, taken, level, sigma,
-                                                  limbRhoS, tight, windowEnd, walkEnd);
+                                                  limbRhoS, tight, windowEnd, walkEnd, endsFree);
             if (node == kNoJunction) continue;
             tightOf.push_back(std::move(tight));
             walkEndOf.push_back(walkEnd);
+            skeletonEndOf.push_back(endsFree ? walkEnd : kNoJunction);
             CutCandidate c;
             c.junction = j;
             c.node = node;
@@ -250,13 +259,12 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                     if (t.node != c.node) c.exactRhoC = -1.0;
                     c.node = t.node, c.level = t.level, c.sigma = t.sigma;
                 }
-                // A corner or cap of the body: the area the loop cuts off,
-                // exact only where the growth's lower bound cannot decide.
-                const SkeletonPoint& cut = points[g.point[c.node]];
-                double cutOff = c.exactRhoC >= 0.0 ? c.exactRhoC : cut.rhoC;
-                if (!cut.rhoCExact && isCapOfTheBody(cutOff, cut.rhoS, options.capArea))
-                    cutOff = c.exactRhoC = exactRhoC(g.point[c.node]);
-                c.isCap = isCapOfTheBody(cutOff, cut.rhoS, options.capArea);
+                // Only a loop clearly shorter than the body's: where more than
+                // two candidates look like body (the flukes of a tail), the
+                // loops are the body's own and rule 3 decides.
+                c.isCap = c.similarity < float(options.bodyRatio) &&
+                          isCornerOfTheBody(c.level, skeletonEndOf[i - first],
+                                            points[g.point[c.node]].rhoS, options.cornerLength);
                 c.isCut = !c.isCap;
             }
             if (c.isCut) {

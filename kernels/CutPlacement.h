@@ -16,9 +16,9 @@
 // limb circumference. When more than two are similar, only the one carrying the most surface
 // (largest exact rho_C) is dropped, ties broken by voxel index. Each remaining candidate's cut
 // moves to the first tight level of that window whose loop is closer to the limb's circumference
-// than to the body's (a loop as long as the body's still wraps the body); a cut that takes less
-// area than a short limb would is a cap or corner of the body and is dropped (isCapOfTheBody);
-// the loops Gamma of the remaining points are the cuts.
+// than to the body's (a loop as long as the body's still wraps the body); a cut past which the
+// skeleton ends within half the loop's radius is a corner of a flat end and is dropped
+// (isCornerOfTheBody); the loops Gamma of the remaining points are the cuts.
 #pragma once
 
 #include <cstdint>
@@ -47,10 +47,9 @@ struct CutOptions {
     /// by more than this fraction over the next loop diameter (a limb's own
     /// taper is less; a skirt lying on a thigh shrinks faster).
     double limbTaper = 0.3;
-    /// A cut that takes less area than this many discs of its loop (pi r^2,
-    /// r = rho_S / pi) takes a cap or corner of the body, not a limb: between
-    /// a hemisphere (2) and a limb one radius long (4).
-    double capArea = 3.0;
+    /// A cut past which the branch's skeleton ends within this many loop
+    /// radii takes a corner of a flat end, not a limb (isCornerOfTheBody).
+    double cornerLength = 0.5;
     CutMode mode = CutMode::JunctionRule;
 };
 
@@ -66,8 +65,8 @@ struct CutCandidate {
     float bodyRhoS = 0.0f;    // ... against this body circumference
     double exactRhoC = -1.0;  // filled where the tie rule needed it
     bool onBody = false;
-    /// Not on the body, but the loop cuts off less than CutOptions::capArea
-    /// discs (isCapOfTheBody): a corner or cap of the body, not cut.
+    /// Not on the body, but the skeleton ends right past the cut
+    /// (isCornerOfTheBody): a corner of a flat end, not cut.
     bool isCap = false;
     bool isCut = false;
 };
@@ -89,14 +88,16 @@ struct CutPlan {
 /// consecutiveLevels.
 std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels);
 
-/// Whether a cut loop of rho_S `cutRhoS` that cuts off `cutOffArea` (rho_C,
-/// in voxel faces) takes a cap or corner of the body rather than a limb: the
-/// area is less than `capArea` discs of the loop, pi r^2 with r = rho_S / pi.
-/// A hemisphere on the loop is 2 discs, a limb reaching one radius past the
-/// cut 4. The skeleton of a flat or oblique end forks into its corners, and
-/// a loop round one corner prong passes sigma and the body test like a
-/// limb's (docs/algorithm.md §8.6, "Caps and corners are not limbs").
-bool isCapOfTheBody(double cutOffArea, float cutRhoS, double capArea);
+/// Whether a cut at BFS level `cutLevel` of a branch whose skeleton ends at
+/// level `skeletonEnd` (kNoJunction: the branch reaches another junction)
+/// takes a corner of the body rather than a limb: the skeleton goes on past
+/// the cut for less than `cornerLength` loop radii (rho_S / pi). The skeleton
+/// of a flat end forks into the end's corners, and a loop round one corner
+/// prong, next to the prong's end, passes sigma and the body test like a
+/// limb's; a limb's skeleton reaches on past its border (docs/algorithm.md
+/// §8.6, "Corners of flat ends are not limbs").
+bool isCornerOfTheBody(std::uint32_t cutLevel, std::uint32_t skeletonEnd, float cutRhoS,
+                       double cornerLength);
 
 /// The body test of one junction's candidates (baseRhoS and limbRhoS filled):
 /// sets bodyRhoS (the largest of the junction's rho_S and every candidate's
@@ -106,8 +107,7 @@ void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandid
                         std::size_t count);
 
 /// exactRhoC(pointIndex) returns the exact rho_C of a SkeletonPoint (only
-/// called for the "more than two qualify" rule and for cuts whose bounded
-/// rho_C cannot tell a cap from a limb).
+/// called for the "more than two qualify" rule).
 CutPlan placeCuts(const SkeletonGraph& graph, const std::vector<SkeletonPoint>& points,
                   const CutOptions& options, const std::function<double(std::uint32_t)>& exactRhoC);
 

@@ -199,12 +199,11 @@ TEST(CutPlacement, MoreThanTwoSimilarDropsOnlyTheLargestRhoC) {
     }
     const std::uint32_t q[3] = {j.armVoxelAtLevel(0, 1), j.armVoxelAtLevel(1, 1),
                                 j.armVoxelAtLevel(2, 1)};
-    // Areas of arms (each at least 3 discs of its loop, 382 to 421: not caps).
-    const auto r = place(j, {}, {{q[0], 3000.0}, {q[1], 9000.0}, {q[2], 6000.0}});
+    const auto r = place(j, {}, {{q[0], 300.0}, {q[1], 900.0}, {q[2], 600.0}});
     ASSERT_EQ(r->plan.candidates.size(), 3u);
     EXPECT_EQ(r->callbackCalls, 3);
-    EXPECT_EQ(r->byVoxel.at(q[1])->exactRhoC, 9000.0);
-    EXPECT_EQ(r->byVoxel.at(q[0])->exactRhoC, 3000.0);
+    EXPECT_EQ(r->byVoxel.at(q[1])->exactRhoC, 900.0);
+    EXPECT_EQ(r->byVoxel.at(q[0])->exactRhoC, 300.0);
     EXPECT_TRUE(r->byVoxel.at(q[1])->onBody);
     EXPECT_FALSE(r->byVoxel.at(q[0])->onBody);
     EXPECT_FALSE(r->byVoxel.at(q[2])->onBody);
@@ -411,53 +410,46 @@ TEST(CutPlacement, TaperingLimbKeepsItsCutAtTheBase) {
     EXPECT_EQ(cone.cutLevel(), 2u);
 }
 
-/// A body (rho_S 40 s) and one 20 s long limb of constant rho_S 12 s whose
-/// loops cut off `discs` discs of the loop (pi r^2, r = 12 s / pi), at scale
-/// s: lengths grow with the resolution, areas with its square. The growth
-/// only bounds the limb's rho_C (at 10, below any cap's area), so the exact
-/// area comes from the callback; `exactCalls` counts its calls.
-CutPlan limbCuttingOff(int scale, double discs, int& exactCalls) {
-    const int bodyLength = 30 * scale, limbLength = 20 * scale;
-    const float limbRhoS = 12.0f * float(scale);
-    const double disc = double(limbRhoS) * double(limbRhoS) / 3.14159265358979323846;
-    SkeletonPointSet set{Dims{bodyLength + limbLength + 5, 5, 3}};
+/// A body (rho_S 40 s) and one limb of constant rho_S 20 s (loop radius 6.4
+/// s) whose skeleton goes on `levelsPastCut` levels past its first level,
+/// where it is cut, at scale s: lengths grow with the resolution. With
+/// `secondJunction` the limb ends at another junction (its region takes the
+/// limb's last three voxels).
+CutPlan limbEndingPastItsCut(int scale, int levelsPastCut, bool secondJunction = false) {
+    const int bodyLength = 30 * scale;
+    const int limbLength = 3 + 1 + levelsPastCut + (secondJunction ? 3 : 0);
+    SkeletonPointSet set{Dims{bodyLength + limbLength + 6, 5, 3}};
     set.add({bodyLength + 2, 2, 1}, 40.0f * float(scale), 5000.0, 3);
     for (std::uint32_t v :
          set.chain({bodyLength + 1, 2, 1}, {-1, 0, 0}, bodyLength, 40.0f * float(scale)))
         set.point(v).sigma = 0.9f;
-    for (std::uint32_t v : set.chain({bodyLength + 3, 2, 1}, {1, 0, 0}, limbLength, limbRhoS)) {
+    for (std::uint32_t v :
+         set.chain({bodyLength + 3, 2, 1}, {1, 0, 0}, limbLength, 20.0f * float(scale)))
         set.point(v).sigma = 0.9f;
-        set.point(v).rhoC = 10.0;
-        set.point(v).rhoCExact = false;
-    }
+    if (secondJunction)
+        set.add({bodyLength + 3 + limbLength, 2, 1}, 20.0f * float(scale), 5000.0, 3);
     const std::vector<SkeletonPoint> points = set.points();
     const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
-    exactCalls = 0;
-    return placeCuts(g, points, {}, [&](std::uint32_t) {
-        ++exactCalls;
-        return discs * disc;
-    });
+    return placeCuts(g, points, {}, [](std::uint32_t) { return 0.0; });
+}
+
+const CutCandidate* limbCandidate(const CutPlan& plan) {
+    for (const CutCandidate& c : plan.candidates)
+        if (c.junction == 0 && !c.onBody) return &c;
+    return nullptr;
 }
 
 TEST(CutPlacement, CornerOfTheBodyIsNotALimb) {
-    // A loop of rho_S 12 (radius 3.8, disc 45.8) that cuts off 2.2 discs
-    // takes a corner or cap of the body (the corner prongs of hand.off's
-    // flat forearm end cut off 2.2 to 2.5 discs at 192 to 320); one that cuts
-    // off 6 discs takes a limb (the shortest limbs cut on the shared shapes
-    // take 3.6 and more). The same at two scales.
-    const double disc = 12.0 * 12.0 / 3.14159265358979323846;
-    EXPECT_TRUE(isCapOfTheBody(2.9 * disc, 12.0f, 3.0));
-    EXPECT_FALSE(isCapOfTheBody(3.1 * disc, 12.0f, 3.0));
-    EXPECT_FALSE(isCapOfTheBody(HUGE_VAL, 12.0f, 3.0)) << "a handle's loop";
+    // A skeleton that ends less than half a loop radius (3.2 s levels) past
+    // the cut is a corner of a flat end (hand.off's forearm end forks into
+    // two such prongs: 3 to 5 levels past loops of radius 17 to 28 voxels);
+    // one that goes on 8 s levels is a limb. The same at two scales.
+    EXPECT_TRUE(isCornerOfTheBody(10, 11, 12.0f, 0.5));
+    EXPECT_FALSE(isCornerOfTheBody(10, 12, 12.0f, 0.5)) << "half a radius (1.9) is enough";
+    EXPECT_TRUE(isCornerOfTheBody(12, 10, 12.0f, 0.5)) << "a cut past the skeleton's end";
+    EXPECT_FALSE(isCornerOfTheBody(10, kNoJunction, 12.0f, 0.5)) << "ends at a junction";
     for (int scale : {1, 2}) {
-        int exactCalls = 0;
-        const auto limbCandidate = [](const CutPlan& plan) {
-            const CutCandidate* found = nullptr;
-            for (const CutCandidate& c : plan.candidates)
-                if (!c.onBody) found = &c;
-            return found;
-        };
-        const CutPlan corner = limbCuttingOff(scale, 2.2, exactCalls);
+        const CutPlan corner = limbEndingPastItsCut(scale, 2 * scale);
         const CutCandidate* c = limbCandidate(corner);
         ASSERT_NE(c, nullptr) << "scale " << scale;
         EXPECT_LT(c->similarity, 0.6f) << "the body test alone would cut it";
@@ -465,10 +457,8 @@ TEST(CutPlacement, CornerOfTheBodyIsNotALimb) {
         EXPECT_FALSE(c->isCut) << "scale " << scale;
         EXPECT_TRUE(corner.cutNodes.empty()) << "scale " << scale;
         EXPECT_EQ(corner.junctions[0].cuts, 0u);
-        EXPECT_EQ(exactCalls, 1) << "the bound (10) could not decide";
-        EXPECT_NEAR(c->exactRhoC, 2.2 * 144.0 * scale * scale / 3.14159265358979323846, 1e-6);
 
-        const CutPlan limb = limbCuttingOff(scale, 6.0, exactCalls);
+        const CutPlan limb = limbEndingPastItsCut(scale, 8 * scale);
         c = limbCandidate(limb);
         ASSERT_NE(c, nullptr) << "scale " << scale;
         EXPECT_FALSE(c->isCap) << "scale " << scale;
@@ -477,19 +467,15 @@ TEST(CutPlacement, CornerOfTheBodyIsNotALimb) {
     }
 }
 
-TEST(CutPlacement, ExactAreaIsMeasuredOnlyWhereTheBoundCannotDecide) {
-    // Every limb of the other tests cuts off 1000 (bounded or not) with loops
-    // of rho_S at most 20 (3 discs: 382): no exact measure is needed.
-    Junction j;
-    j.setSigma(0, {0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f});
-    j.setRhoS(0, 19.0f);
-    j.setSigma(1, {0.1f});
-    j.setSigma(2, {0.2f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f});
-    j.setRhoS(2, 7.0f);
-    for (std::uint32_t v : j.arms[2]) j.set.point(v).rhoCExact = false;
-    const auto r = place(j);
-    EXPECT_EQ(r->callbackCalls, 0);
-    EXPECT_EQ(r->cutVoxels, std::vector<std::uint32_t>{j.armVoxelAtLevel(2, 2)});
+TEST(CutPlacement, ShortBranchToAnotherJunctionIsStillCut) {
+    // The same short limb ending at a second junction (a waist between the
+    // chest's and the hips' junctions) goes on past that junction: it is cut.
+    const CutPlan plan = limbEndingPastItsCut(1, 2, true);
+    ASSERT_EQ(plan.junctions.size(), 2u);
+    const CutCandidate* c = limbCandidate(plan);
+    ASSERT_NE(c, nullptr);
+    EXPECT_FALSE(c->isCap);
+    EXPECT_TRUE(c->isCut);
 }
 
 TEST(CutPlacement, JunctionModeCutsAtTheJunction) {
