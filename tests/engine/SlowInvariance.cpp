@@ -2,7 +2,7 @@
 // all its frames and its faces in the same parts (mean Rand Index error
 // between frames at most 0.05; issue 12), segmented as a new user would
 // (`skelseg segment MESH -o OUT --resolution 192`, defaults otherwise), and
-// five meshes of ../shared/data/shapes keep theirs at resolutions 128, 192,
+// six meshes of ../shared/data/shapes keep theirs at resolutions 128, 192,
 // 256 and 320. Skipped where the data is absent. bench/invariance.py measures
 // the same and more (Rand Index error between frames, all resolution sweeps).
 #include <gtest/gtest.h>
@@ -78,7 +78,7 @@ TEST(Invariance, SharedShapesKeepTheirPartCountAcrossResolutions) {
     if (!fs::is_directory(shapes)) GTEST_SKIP() << "no shape data at " << shapes << ": skipped";
     test::TempDir dir;
     for (const std::string name :
-         {"elephant.obj", "homer.obj", "camel.off", "horse.off", "armadillo.obj"}) {
+         {"elephant.obj", "homer.obj", "camel.off", "horse.off", "armadillo.obj", "hand.off"}) {
         const fs::path mesh = shapes / name;
         if (!fs::exists(mesh)) GTEST_SKIP() << mesh << " absent: skipped";
         std::vector<std::size_t> parts;
