@@ -262,10 +262,10 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                 // Only a loop clearly shorter than the body's: where more than
                 // two candidates look like body (the flukes of a tail), the
                 // loops are the body's own and rule 3 decides.
-                c.isCap = c.similarity < float(options.bodyRatio) &&
-                          isCornerOfTheBody(c.level, skeletonEndOf[i - first],
-                                            points[g.point[c.node]].rhoS, options.cornerLength);
-                c.isCut = !c.isCap;
+                c.isCorner = c.similarity < float(options.bodyRatio) &&
+                             isCornerOfTheBody(c.level, skeletonEndOf[i - first],
+                                               points[g.point[c.node]].rhoS, options.cornerLength);
+                c.isCut = !c.isCorner;
             }
             if (c.isCut) {
                 plan.cutNodes.push_back(c.node);

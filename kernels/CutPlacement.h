@@ -67,7 +67,7 @@ struct CutCandidate {
     bool onBody = false;
     /// Not on the body, but the skeleton ends right past the cut
     /// (isCornerOfTheBody): a corner of a flat end, not cut.
-    bool isCap = false;
+    bool isCorner = false;
     bool isCut = false;
 };
 

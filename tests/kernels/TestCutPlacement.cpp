@@ -453,7 +453,7 @@ TEST(CutPlacement, CornerOfTheBodyIsNotALimb) {
         const CutCandidate* c = limbCandidate(corner);
         ASSERT_NE(c, nullptr) << "scale " << scale;
         EXPECT_LT(c->similarity, 0.6f) << "the body test alone would cut it";
-        EXPECT_TRUE(c->isCap) << "scale " << scale;
+        EXPECT_TRUE(c->isCorner) << "scale " << scale;
         EXPECT_FALSE(c->isCut) << "scale " << scale;
         EXPECT_TRUE(corner.cutNodes.empty()) << "scale " << scale;
         EXPECT_EQ(corner.junctions[0].cuts, 0u);
@@ -461,7 +461,7 @@ TEST(CutPlacement, CornerOfTheBodyIsNotALimb) {
         const CutPlan limb = limbEndingPastItsCut(scale, 8 * scale);
         c = limbCandidate(limb);
         ASSERT_NE(c, nullptr) << "scale " << scale;
-        EXPECT_FALSE(c->isCap) << "scale " << scale;
+        EXPECT_FALSE(c->isCorner) << "scale " << scale;
         EXPECT_TRUE(c->isCut) << "scale " << scale;
         EXPECT_EQ(limb.cutNodes.size(), 1u) << "scale " << scale;
     }
@@ -474,7 +474,7 @@ TEST(CutPlacement, ShortBranchToAnotherJunctionIsStillCut) {
     ASSERT_EQ(plan.junctions.size(), 2u);
     const CutCandidate* c = limbCandidate(plan);
     ASSERT_NE(c, nullptr);
-    EXPECT_FALSE(c->isCap);
+    EXPECT_FALSE(c->isCorner);
     EXPECT_TRUE(c->isCut);
 }
 
