@@ -442,8 +442,8 @@ const CutCandidate* limbCandidate(const CutPlan& plan) {
 TEST(CutPlacement, CornerOfTheBodyIsNotALimb) {
     // A skeleton that ends less than half a loop radius (3.2 s levels) past
     // the cut is a corner of a flat end (hand.off's forearm end forks into
-    // two such prongs: 3 to 5 levels past loops of radius 17 to 28 voxels);
-    // one that goes on 8 s levels is a limb. The same at two scales.
+    // two such prongs, docs/algorithm.md §8.6); one that goes on 8 s levels
+    // is a limb. The same at two scales.
     EXPECT_TRUE(isCornerOfTheBody(10, 11, 12.0f, 0.5));
     EXPECT_FALSE(isCornerOfTheBody(10, 12, 12.0f, 0.5)) << "half a radius (1.9) is enough";
     EXPECT_TRUE(isCornerOfTheBody(12, 10, 12.0f, 0.5)) << "a cut past the skeleton's end";
