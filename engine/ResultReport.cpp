@@ -162,6 +162,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                  {"rho_c", areaJson(c.rhoC)},
                  {"limb_rho_s", c.limbRhoS},
                  {"body_similarity", c.similarity},
+                 {"is_corner", c.isCorner},
                  {"is_cut", c.isCut}});
         for (const auto& c : obj.cuts) {
             jointCuts += c.kind == CutKind::Joint;

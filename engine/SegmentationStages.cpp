@@ -256,6 +256,7 @@ void recordSkeleton(ObjectState& state) {
         info.limbRhoS = c.limbRhoS;
         info.rhoC = c.exactRhoC >= 0.0 ? c.exactRhoC : sp.rhoC;
         info.similarity = c.similarity;
+        info.isCorner = c.isCorner;
         info.isCut = c.isCut;
         out.criticalPoints.push_back(info);
     }

@@ -136,6 +136,7 @@ struct CriticalPointInfo {
     float limbRhoS = 0.0f;  // the circumference the body test compared
     double rhoC = 0.0;
     float similarity = 0.0f;
+    bool isCorner = false;  // a corner of a flat end, not cut (CutCandidate::isCorner)
     bool isCut = false;
 };
 

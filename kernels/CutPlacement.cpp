@@ -24,7 +24,8 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
                          std::uint32_t junction, std::uint32_t piece, const CutOptions& options,
                          std::vector<std::uint8_t>& taken, std::uint32_t& levelOut, float& sigmaOut,
                          float& limbRhoSOut, std::vector<TightLevel>& tightOut,
-                         std::uint32_t& windowEndOut, std::uint32_t& walkEndOut) {
+                         std::uint32_t& windowEndOut, std::uint32_t& walkEndOut,
+                         bool& endsFreeOut) {
     std::vector<std::uint32_t> level;
     for (std::uint32_t n : g.junctions[junction].region)
         for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
@@ -44,6 +45,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     const std::uint32_t extraLevels =
         limbCircumferenceLevels(g.junctions[junction].rhoS, options.consecutiveLevels);
     std::uint32_t depth = 1;
+    bool endsFree = true;  // no other junction's region next to the branch
     for (; !level.empty(); ++depth) {
         // Best sigma on this level; ties by lowest node id (levels are sorted).
         std::uint32_t bestNode = level.front();
@@ -79,6 +81,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
         for (std::uint32_t n : level)
             for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
                 const std::uint32_t m = g.neighbour[e];
+                if (g.junctionOf[m] != kNoJunction && g.junctionOf[m] != junction) endsFree = false;
                 if (g.pieceOf[m] == piece && !taken[m]) taken[m] = 1, next.push_back(m);
             }
         std::sort(next.begin(), next.end());
@@ -87,6 +90,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     if (!found) return kNoJunction;
     windowEndOut = lastLevel;
     walkEndOut = depth - 1;
+    endsFreeOut = endsFree;
     levelOut = runStartLevel;
     sigmaOut = runStartSigma;
     limbRhoSOut = limbRhoS;
@@ -147,6 +151,13 @@ void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandid
             c.onBody = true;
 }
 
+bool isCornerOfTheBody(std::uint32_t cutLevel, std::uint32_t skeletonEnd, float cutRhoS,
+                       double cornerLength) {
+    if (skeletonEnd == kNoJunction) return false;
+    return double(skeletonEnd - std::min(skeletonEnd, cutLevel)) <
+           cornerLength * loopRadius(std::max(0.0, double(cutRhoS)));
+}
+
 std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels) {
     const double bodyRadius = loopRadius(std::max(0.0, double(junctionRhoS)));
     return std::max<std::uint32_t>(std::uint32_t(std::max(consecutiveLevels, 1)),
@@ -182,17 +193,20 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         const std::size_t first = plan.candidates.size();
         std::vector<std::vector<TightLevel>> tightOf;  // per candidate of this junction
         std::vector<std::uint32_t> walkEndOf, windowEndOf;
+        std::vector<std::uint32_t> skeletonEndOf;  // kNoJunction: ends at another junction
         for (std::uint32_t piece : branches) {
             std::uint32_t level = 0;
             float sigma = 0.0f, limbRhoS = 0.0f;
             std::vector<TightLevel> tight;
             std::uint32_t windowEnd = 0, walkEnd = 0;
+            bool endsFree = true;
             const std::uint32_t node = walkBranch(g, points, j, piece, options, taken, level, sigma,
-                                                  limbRhoS, tight, windowEnd, walkEnd);
+                                                  limbRhoS, tight, windowEnd, walkEnd, endsFree);
             if (node == kNoJunction) continue;
             tightOf.push_back(std::move(tight));
             walkEndOf.push_back(walkEnd);
             windowEndOf.push_back(windowEnd);
+            skeletonEndOf.push_back(endsFree ? walkEnd : kNoJunction);
             CutCandidate c;
             c.junction = j;
             c.node = node;
@@ -268,6 +282,15 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                     if (t.node != c.node) c.exactRhoC = -1.0;
                     c.node = t.node, c.level = t.level, c.sigma = t.sigma;
                 }
+                // Only a loop clearly shorter than the body's: where more than
+                // two candidates look like body (the flukes of a tail), the
+                // loops are the body's own and rule 3 decides.
+                c.isCorner = c.similarity < float(options.bodyRatio) &&
+                             isCornerOfTheBody(c.level, skeletonEndOf[i - first],
+                                               points[g.point[c.node]].rhoS, options.cornerLength);
+                c.isCut = !c.isCorner;
+            }
+            if (c.isCut) {
                 plan.cutNodes.push_back(c.node);
                 ++plan.junctions[j].cuts;
             }

@@ -17,8 +17,9 @@
 // limb circumference. When more than two are similar, only the one carrying the most surface
 // (largest exact rho_C) is dropped, ties broken by voxel index. Each remaining candidate's cut
 // moves to the first tight level of that window whose loop is closer to the limb's circumference
-// than to the body's (a loop as long as the body's still wraps the body); the loops Gamma of those
-// points are the cuts.
+// than to the body's (a loop as long as the body's still wraps the body); a cut past which the
+// skeleton ends within half the loop's radius is a corner of a flat end and is dropped
+// (isCornerOfTheBody); the loops Gamma of the remaining points are the cuts.
 #pragma once
 
 #include <cstdint>
@@ -47,6 +48,9 @@ struct CutOptions {
     /// by more than this fraction over the next loop diameter (a limb's own
     /// taper is less; a skirt lying on a thigh shrinks faster).
     double limbTaper = 0.3;
+    /// A cut past which the branch's skeleton ends within this many loop
+    /// radii takes a corner of a flat end, not a limb (isCornerOfTheBody).
+    double cornerLength = 0.5;
     CutMode mode = CutMode::JunctionRule;
 };
 
@@ -62,6 +66,9 @@ struct CutCandidate {
     float bodyRhoS = 0.0f;    // ... against this body circumference
     double exactRhoC = -1.0;  // filled where the tie rule needed it
     bool onBody = false;
+    /// Not on the body, but the skeleton ends right past the cut
+    /// (isCornerOfTheBody): a corner of a flat end, not cut.
+    bool isCorner = false;
     bool isCut = false;
 };
 
@@ -81,6 +88,17 @@ struct CutPlan {
 /// circumference: one body radius (rho_S of a round loop is pi r), at least
 /// consecutiveLevels.
 std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels);
+
+/// Whether a cut at BFS level `cutLevel` of a branch whose skeleton ends at
+/// level `skeletonEnd` (kNoJunction: the branch reaches another junction)
+/// takes a corner of the body rather than a limb: the skeleton goes on past
+/// the cut for less than `cornerLength` loop radii (rho_S / pi). The skeleton
+/// of a flat end forks into the end's corners, and a loop round one corner
+/// prong, next to the prong's end, passes sigma and the body test like a
+/// limb's; a limb's skeleton reaches on past its border (docs/algorithm.md
+/// §8.6, "Corners of flat ends are not limbs").
+bool isCornerOfTheBody(std::uint32_t cutLevel, std::uint32_t skeletonEnd, float cutRhoS,
+                       double cornerLength);
 
 /// The body test of one junction's candidates (baseRhoS and limbRhoS filled):
 /// sets bodyRhoS (the largest of the junction's rho_S and every candidate's

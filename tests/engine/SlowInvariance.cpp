@@ -77,8 +77,8 @@ TEST(Invariance, SharedShapesKeepTheirPartCountAcrossResolutions) {
     const fs::path shapes = test::sharedDataDir() / "shapes";
     if (!fs::is_directory(shapes)) GTEST_SKIP() << "no shape data at " << shapes << ": skipped";
     test::TempDir dir;
-    for (const std::string name :
-         {"elephant.obj", "homer.obj", "camel.off", "horse.off", "armadillo.obj", "dino.off"}) {
+    for (const std::string name : {"elephant.obj", "homer.obj", "camel.off", "horse.off",
+                                   "armadillo.obj", "dino.off", "hand.off"}) {
         const fs::path mesh = shapes / name;
         if (!fs::exists(mesh)) GTEST_SKIP() << mesh << " absent: skipped";
         std::vector<std::size_t> parts;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <string>
@@ -454,6 +455,74 @@ TEST(CutPlacement, LimbWindowStartsPastTheLoopsAsLongAsTheBodysAtTwoScales) {
         EXPECT_NEAR(c.similarity, 1.0f - 0.6f / 1.1f, 1e-5f) << "against the chest's loop";
         EXPECT_TRUE(c.isCut);
     }
+}
+
+/// A body (rho_S 40 s) and one limb of constant rho_S 20 s (loop radius 6.4
+/// s) whose skeleton goes on `levelsPastCut` levels past its first level,
+/// where it is cut, at scale s: lengths grow with the resolution. With
+/// `secondJunction` the limb ends at another junction (its region takes the
+/// limb's last three voxels).
+CutPlan limbEndingPastItsCut(int scale, int levelsPastCut, bool secondJunction = false) {
+    const int bodyLength = 30 * scale;
+    const int limbLength = 3 + 1 + levelsPastCut + (secondJunction ? 3 : 0);
+    SkeletonPointSet set{Dims{bodyLength + limbLength + 6, 5, 3}};
+    set.add({bodyLength + 2, 2, 1}, 40.0f * float(scale), 5000.0, 3);
+    for (std::uint32_t v :
+         set.chain({bodyLength + 1, 2, 1}, {-1, 0, 0}, bodyLength, 40.0f * float(scale)))
+        set.point(v).sigma = 0.9f;
+    for (std::uint32_t v :
+         set.chain({bodyLength + 3, 2, 1}, {1, 0, 0}, limbLength, 20.0f * float(scale)))
+        set.point(v).sigma = 0.9f;
+    if (secondJunction)
+        set.add({bodyLength + 3 + limbLength, 2, 1}, 20.0f * float(scale), 5000.0, 3);
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    return placeCuts(g, points, {}, [](std::uint32_t) { return 0.0; });
+}
+
+const CutCandidate* limbCandidate(const CutPlan& plan) {
+    for (const CutCandidate& c : plan.candidates)
+        if (c.junction == 0 && !c.onBody) return &c;
+    return nullptr;
+}
+
+TEST(CutPlacement, CornerOfTheBodyIsNotALimb) {
+    // A skeleton that ends less than half a loop radius (3.2 s levels) past
+    // the cut is a corner of a flat end (hand.off's forearm end forks into
+    // two such prongs, docs/algorithm.md §8.6); one that goes on 8 s levels
+    // is a limb. The same at two scales.
+    EXPECT_TRUE(isCornerOfTheBody(10, 11, 12.0f, 0.5));
+    EXPECT_FALSE(isCornerOfTheBody(10, 12, 12.0f, 0.5)) << "half a radius (1.9) is enough";
+    EXPECT_TRUE(isCornerOfTheBody(12, 10, 12.0f, 0.5)) << "a cut past the skeleton's end";
+    EXPECT_FALSE(isCornerOfTheBody(10, kNoJunction, 12.0f, 0.5)) << "ends at a junction";
+    for (int scale : {1, 2}) {
+        const CutPlan corner = limbEndingPastItsCut(scale, 2 * scale);
+        const CutCandidate* c = limbCandidate(corner);
+        ASSERT_NE(c, nullptr) << "scale " << scale;
+        EXPECT_LT(c->similarity, 0.6f) << "the body test alone would cut it";
+        EXPECT_TRUE(c->isCorner) << "scale " << scale;
+        EXPECT_FALSE(c->isCut) << "scale " << scale;
+        EXPECT_TRUE(corner.cutNodes.empty()) << "scale " << scale;
+        EXPECT_EQ(corner.junctions[0].cuts, 0u);
+
+        const CutPlan limb = limbEndingPastItsCut(scale, 8 * scale);
+        c = limbCandidate(limb);
+        ASSERT_NE(c, nullptr) << "scale " << scale;
+        EXPECT_FALSE(c->isCorner) << "scale " << scale;
+        EXPECT_TRUE(c->isCut) << "scale " << scale;
+        EXPECT_EQ(limb.cutNodes.size(), 1u) << "scale " << scale;
+    }
+}
+
+TEST(CutPlacement, ShortBranchToAnotherJunctionIsStillCut) {
+    // The same short limb ending at a second junction (a waist between the
+    // chest's and the hips' junctions) goes on past that junction: it is cut.
+    const CutPlan plan = limbEndingPastItsCut(1, 2, true);
+    ASSERT_EQ(plan.junctions.size(), 2u);
+    const CutCandidate* c = limbCandidate(plan);
+    ASSERT_NE(c, nullptr);
+    EXPECT_FALSE(c->isCorner);
+    EXPECT_TRUE(c->isCut);
 }
 
 TEST(CutPlacement, JunctionModeCutsAtTheJunction) {
