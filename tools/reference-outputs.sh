@@ -64,6 +64,20 @@ compare_outputs() {
     return $bad
 }
 
+for argument in "$@"; do
+    case $argument in
+        -h | --help)
+            echo "usage: $0 make BINARY OUTDIR | compare DIR_A DIR_B"
+            echo "  make: segment the reference shapes with BINARY into OUTDIR"
+            echo "  compare: byte-compare two such folders; exit 1 when any output differs"
+            exit 0
+            ;;
+        -*)
+            echo "$0: unknown option '$argument'" >&2
+            exit 2
+            ;;
+    esac
+done
 [ $# -eq 3 ] || usage
 case $1 in
     make) make_outputs "$2" "$3" ;;
