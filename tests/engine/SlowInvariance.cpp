@@ -2,7 +2,7 @@
 // all its frames and its faces in the same parts (mean Rand Index error
 // between frames at most 0.05; issue 12), segmented as a new user would
 // (`skelseg segment MESH -o OUT --resolution 192`, defaults otherwise), and
-// six meshes of ../shared/data/shapes keep theirs at resolutions 128, 192,
+// seven meshes of ../shared/data/shapes keep theirs at resolutions 128, 192,
 // 256 and 320. Skipped where the data is absent. bench/invariance.py measures
 // the same and more (Rand Index error between frames, all resolution sweeps).
 #include <gtest/gtest.h>
