@@ -12,18 +12,21 @@ table gives the parts per frame (distinct labels in segmentation.seg) and the
 mean Rand Index error over all pairs of frames (1 - RI, face pairs counted
 once each, as `skelseg score` does).
 
-Resolutions: a few meshes of DATA/shapes are segmented at 128, 192, 256 and
-320; the same measures compare the resolutions of one mesh (the faces are
-the same, only the voxel model changes).
+Resolutions: a few meshes of DATA/shapes, and with --psb the models of the
+Princeton benchmark in DATA/psb/off, are segmented at 128, 192, 256 and 320;
+the same measures compare the resolutions of one mesh (the faces are the
+same, only the voxel model changes).
 
     /usr/bin/python3 bench/invariance.py                      # markdown table
     /usr/bin/python3 bench/invariance.py --json out.json      # and every number
     /usr/bin/python3 bench/invariance.py --skelseg /tmp/old/skelseg --shapes hand.off
+    /usr/bin/python3 bench/invariance.py --sequences none --shapes "" --psb all --jobs 2
 
 Where DATA is absent it says so and exits 0. Needs numpy.
 """
 
 import argparse
+import concurrent.futures
 import itertools
 import json
 import re
@@ -34,6 +37,9 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from psb_benchmark import ARTICULATED, read_categories  # noqa: E402  (one list of categories)
 
 REPO = Path(__file__).resolve().parent.parent
 DEFAULT_SHAPES = ["camel.off", "hand.off", "horse.off", "octopus.off"]
@@ -54,7 +60,13 @@ def parse_args(argv):
     p.add_argument("--shapes", default=",".join(DEFAULT_SHAPES),
                    help="comma-separated files of DATA/shapes (default %(default)s); empty: none")
     p.add_argument("--sequences", default="",
-                   help="comma-separated pose sequence names (default: every one)")
+                   help="comma-separated pose sequence names (default: every one; 'none': none)")
+    p.add_argument("--psb", default="",
+                   help="PSB models to sweep over the resolutions: 'all', 'articulated', "
+                        "category names or model numbers, comma-separated (default: none)")
+    p.add_argument("--jobs", type=int, default=1,
+                   help="segmentations run side by side (default 1; the seconds are then "
+                        "inflated, the labels are not)")
     p.add_argument("--workdir", default=None,
                    help="keep the segmentations here (default: a temporary folder)")
     p.add_argument("--json", default=None, help="write every number to this JSON file")
@@ -125,6 +137,27 @@ def pose_sequences(poses):
             for name, frames in sorted(groups.items())}
 
 
+def psb_models(psb, selection):
+    """The (model number, category) pairs that SELECTION names, in model order."""
+    categories = read_categories(psb)
+    chosen = set()
+    for item in [w.strip() for w in selection.split(",") if w.strip()]:
+        if item == "all":
+            chosen |= set(categories)
+        elif item == "articulated":
+            chosen |= {m for m, c in categories.items() if c in ARTICULATED}
+        elif item.isdigit():
+            if int(item) not in categories:
+                raise ValueError(f"PSB model {item} is not in {psb / 'CATEGORIES.tsv'}")
+            chosen.add(int(item))
+        else:
+            named = {m for m, c in categories.items() if c.lower() == item.lower()}
+            if not named:
+                raise ValueError(f"no PSB category or model '{item}' in {psb / 'CATEGORIES.tsv'}")
+            chosen |= named
+    return [(m, categories[m]) for m in sorted(chosen)]
+
+
 def fmt_list(values):
     return ", ".join("?" if v is None else str(v) for v in values)
 
@@ -156,7 +189,7 @@ def main(argv):
                "sequences": {}, "resolutions": {}}
     wanted = {s for s in args.sequences.split(",") if s}
     for name, frames in pose_sequences(data / "poses").items() if (data / "poses").is_dir() else []:
-        if wanted and name not in wanted:
+        if wanted and name not in wanted or "none" in wanted:
             continue
         runs = [segment(skelseg, f, work / "poses" / f.stem, args.pose_resolution) for f in frames]
         entry = compare(runs)
@@ -166,17 +199,37 @@ def main(argv):
               f"{entry['mean_ri_error']:.3f}", file=sys.stderr)
 
     resolutions = [int(r) for r in args.resolutions.split(",") if r]
+    sweeps = []  # (key, mesh, out stem, table)
     for shape in [s for s in args.shapes.split(",") if s]:
         mesh = data / "shapes" / shape
         if not mesh.exists():
             print(f"invariance.py: {mesh}: missing, skipped", file=sys.stderr)
             continue
-        runs = [segment(skelseg, mesh, work / "shapes" / f"{mesh.stem}-{r}", r) for r in resolutions]
-        entry = compare(runs)
-        entry["resolution"] = resolutions
-        results["resolutions"][shape] = entry
-        print(f"{shape}: parts {fmt_list(entry['parts'])}, mean RI error "
-              f"{entry['mean_ri_error']:.3f}", file=sys.stderr)
+        sweeps.append((shape, mesh, work / "shapes" / mesh.stem, "resolutions"))
+    if args.psb:
+        psb = data / "psb"
+        try:
+            models = psb_models(psb, args.psb) if (psb / "CATEGORIES.tsv").exists() else []
+        except ValueError as error:
+            print(f"invariance.py: error: {error}", file=sys.stderr)
+            return 2
+        if not models:
+            print(f"invariance.py: {psb}: no PSB models; none swept", file=sys.stderr)
+        for model, category in models:
+            mesh = psb / "off" / f"{model}.off"
+            if mesh.exists():
+                sweeps.append((f"{model} ({category})", mesh, work / "psb" / str(model), "psb"))
+    results["psb"] = {}
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        futures = {(key, r): pool.submit(segment, skelseg, mesh, Path(f"{stem}-{r}"), r)
+                   for key, mesh, stem, _ in sweeps for r in resolutions}
+        for key, mesh, stem, table in sweeps:
+            runs = [futures[(key, r)].result() for r in resolutions]
+            entry = compare(runs)
+            entry["resolution"] = resolutions
+            results[table][key] = entry
+            print(f"{key}: parts {fmt_list(entry['parts'])}, mean RI error "
+                  f"{entry['mean_ri_error']:.3f}", file=sys.stderr)
 
     lines = []
     if results["sequences"]:
@@ -193,20 +246,22 @@ def main(argv):
         mean = np.mean([e["mean_ri_error"] for e in results["sequences"].values()])
         lines += ["", f"Same part count in every frame: {same} of {len(results['sequences'])} "
                   f"sequences; mean RI error between frames {mean:.3f}.", ""]
-    if results["resolutions"]:
+    for table, title in (("resolutions", "mesh"), ("psb", "PSB model")):
+        if not results[table]:
+            continue
         lines += [f"Resolutions {fmt_list(resolutions)}:", "",
-                  "| mesh | parts per resolution | mean RI error between resolutions "
+                  f"| {title} | parts per resolution | mean RI error between resolutions "
                   "| voxel genus (mesh genus) | contacts separated |",
                   "| --- | --- | --- | --- | --- |"]
-        for name, e in results["resolutions"].items():
+        for name, e in results[table].items():
             lines.append(f"| {name} | {fmt_list(e['parts'])} | {e['mean_ri_error']:.3f} | "
                          f"{fmt_list(e['voxel_genus'])} "
                          f"({fmt_set(e['mesh_genus'])}) | "
                          f"{fmt_list(e['contacts_separated'])} |")
-        same = sum(e["same_parts"] for e in results["resolutions"].values())
-        mean = np.mean([e["mean_ri_error"] for e in results["resolutions"].values()])
+        same = sum(e["same_parts"] for e in results[table].values())
+        mean = np.mean([e["mean_ri_error"] for e in results[table].values()])
         lines += ["", f"Same part count at every resolution: {same} of "
-                  f"{len(results['resolutions'])} meshes; mean RI error {mean:.3f}."]
+                  f"{len(results[table])} {title}s; mean RI error {mean:.3f}.", ""]
     print("\n".join(lines))
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=2) + "\n")
