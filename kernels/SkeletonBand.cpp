@@ -282,7 +282,7 @@ std::vector<SkeletonPoint> bandSearch(
     std::uint64_t measuredHere = 0;
     if (level == 0) bandStats.seeds = batch.size(), bandStats.thinWallSeeds = thinSeeds;
     std::vector<SkeletonPoint> found, newInTau;
-    const int r = band.closureRadius;
+    const int r = level == 0 ? band.closureRadius : band.coarseClosureRadius;
     SkeletonMeasureWorkspaces workspaces;  // one graph and options for every round
     while (!batch.empty()) {
         measuredHere += batch.size();
@@ -314,9 +314,10 @@ std::vector<SkeletonPoint> measureSkeletonInBand(
     const MaskVolume& mask, const Volume<std::uint32_t>& featureTransform,
     const SkeletonMeasureOptions& options, const SkeletonBandOptions& band,
     SkeletonBandStats* bandStats, SkeletonMeasureStats* measureStats, Interrupter& interrupter) {
-    if (band.seedSpacing < 0 || band.closureRadius < 1 || band.coarseBandRadius < 0)
+    if (band.seedSpacing < 0 || band.closureRadius < 1 || band.coarseClosureRadius < 1 ||
+        band.coarseBandRadius < 0)
         throw UsageError(
-            "the skeleton band needs a closure radius of at least 1 and no negative spacing or "
+            "the skeleton band needs closure radii of at least 1 and no negative spacing or "
             "band radius");
     SkeletonBandStats localBand;
     SkeletonMeasureStats stats;

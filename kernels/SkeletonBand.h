@@ -23,7 +23,8 @@
 //      steps;
 //   3. closure: around every point of C_tau found so far at full resolution,
 //      every candidate within `closureRadius` (Chebyshev) is measured too,
-//      repeated until no new point of C_tau appears.
+//      repeated until no new point of C_tau appears (on the coarser levels
+//      within `coarseClosureRadius`: their points only seed the level above).
 // Every full-resolution measure is the exact per-candidate test of
 // SkeletonMeasures.h (a function of the candidate's feature set alone), so a
 // point found is the exhaustive search's point, bit for bit.
@@ -58,9 +59,13 @@ namespace skelseg {
 
 struct SkeletonBandOptions {
     /// Seeds from the skeleton at half the resolution: the full-resolution
-    /// candidates within coarseBandRadius of its points.
+    /// candidates within coarseBandRadius of its points. A seed need only
+    /// fall on each piece of C_tau once: the closure then measures the
+    /// closureRadius box around every point found, which holds nearly all
+    /// of a wider band (docs/performance.md, "Fewer measures near the
+    /// skeleton").
     bool coarseSeeds = true;
-    int coarseBandRadius = 3;
+    int coarseBandRadius = 1;
     /// The coarse skeleton keeps points with rho_C >= tau / 4 * coarseTauShare
     /// (areas shrink by four at half the resolution; a share below 1 keeps
     /// branches close to tau).
@@ -85,6 +90,11 @@ struct SkeletonBandOptions {
     /// Chebyshev radius around each point of C_tau inside which every
     /// candidate is measured (>= 1; at least the skeleton graph's bridge gap).
     int closureRadius = 4;
+    /// The same radius on the coarser levels (>= 1). Their points are seeds
+    /// for the level above and never reach the skeleton graph, so they need
+    /// no bridging: radius 1 follows each 26-connected piece, and the full
+    /// resolution's own closure bridges the gaps.
+    int coarseClosureRadius = 1;
 };
 
 struct SkeletonBandStats {
@@ -101,7 +111,8 @@ struct SkeletonBandStats {
 /// `candidate` indexing `candidates` (as measureSkeleton() returns them).
 /// `mask` and `featureTransform`: the crop that candidates[].voxel indexes
 /// and its feature transform (SkeletonCandidates.h). options.threaded is the
-/// serial switch. Throws UsageError for a spacing or radius below 1,
+/// serial switch. Throws UsageError for a negative spacing or band radius or
+/// a closure radius below 1,
 /// InterruptedError when interrupted.
 std::vector<SkeletonPoint> measureSkeletonInBand(
     const BoundaryGraph& graph, const std::vector<SkeletonCandidate>& candidates,

@@ -164,6 +164,10 @@ TEST(SkeletonBand, RefusesANegativeSpacingOrARadiusBelowOne) {
     bad.closureRadius = 0;
     EXPECT_THROW(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), bad),
                  UsageError);
+    bad.closureRadius = 4;
+    bad.coarseClosureRadius = 0;
+    EXPECT_THROW(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), bad),
+                 UsageError);
 }
 
 TEST(SkeletonBand, ClosureAloneRecoversTheSkeletonFromOneSeedPiece) {
@@ -232,6 +236,58 @@ TEST(SkeletonBand, RecursiveCoarseLevelsFindTheSameSkeleton) {
     EXPECT_EQ(stats.levels, 2u);
     EXPECT_LT(stats.coarseMeasured, stats.coarseCandidates) << "the coarse level is a band too";
 }
+
+TEST(SkeletonBand, ACoarseBandOfOneVoxelSeedsEveryPieceAndNoneDoesNot) {
+    // The coarse band's radius is what puts a seed on each piece of C_tau;
+    // the closure does the rest. On the t-body at 96 the coarse skeleton
+    // runs beside the fine one: a band of radius 0 (the coarse voxel's own
+    // fine voxels) misses it entirely, the default radius finds all of it.
+    const Prepared& p = prepared("t-body", 96);
+    const SkeletonMeasureOptions o = p.options(false);
+    const auto exhaustive = inTau(measureSkeleton(p.graph, p.candidates, o), o.tau);
+    ASSERT_FALSE(exhaustive.empty());
+    SkeletonBandOptions none = coarseSeedsOnly();
+    none.coarseBandRadius = 0;
+    EXPECT_LT(
+        inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, none), o.tau).size(),
+        exhaustive.size())
+        << "without a band around the coarse points the t-body has no seed";
+    expectSamePoints(
+        inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, coarseSeedsOnly()),
+              o.tau),
+        exhaustive);
+}
+
+class CoarseClosureShapes : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(CoarseClosureShapes, ACoarseClosureOfOneVoxelKeepsTheSkeletonAndMeasuresLess) {
+    // Two coarser levels (a threshold of 500 candidates), coarse seeds
+    // only: the coarse levels follow their skeleton with radius 1 and the
+    // full resolution still finds every point of C_tau.
+    const Prepared& p = prepared(GetParam(), 96);
+    const SkeletonMeasureOptions o = p.options(false);
+    const auto exhaustive = inTau(measureSkeleton(p.graph, p.candidates, o), o.tau);
+    ASSERT_FALSE(exhaustive.empty());
+    SkeletonBandOptions narrow = coarseSeedsOnly();
+    narrow.exhaustiveBelow = 500;
+    SkeletonBandOptions wide = narrow;
+    wide.coarseClosureRadius = wide.closureRadius;
+    SkeletonBandStats narrowStats, wideStats;
+    expectSamePoints(
+        inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, narrow, &narrowStats),
+              o.tau),
+        exhaustive);
+    expectSamePoints(
+        inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, wide, &wideStats),
+              o.tau),
+        exhaustive);
+    ASSERT_GE(narrowStats.levels, 2u);
+    EXPECT_LT(narrowStats.coarseMeasured, wideStats.coarseMeasured);
+}
+
+INSTANTIATE_TEST_SUITE_P(GeneratedShapes, CoarseClosureShapes,
+                         ::testing::Values("disc-limbs", "y-arms", "t-body", "box-tubes",
+                                           "torus-limb", "sphere", "slab", "figure"));
 
 TEST(SkeletonBand, AddMeasureStatsSumsEveryCounter) {
     SkeletonMeasureStats a, b;
