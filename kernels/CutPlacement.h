@@ -42,8 +42,10 @@ struct CutOptions {
     int consecutiveLevels = 3;
     /// A candidate below bodyRatio whose limb circumference is within this
     /// fraction of the thinner of two body candidates counts as body-similar
-    /// too (then the "more than two" rule decides).
-    double siblingTolerance = 0.1;
+    /// too (then the "more than two" rule decides). Wider than the spread of
+    /// one limb's measure between resolutions (about 10 % each, so up to 20 %
+    /// between two limbs); docs/algorithm.md §8.6.
+    double siblingTolerance = 0.3;
     /// A cut moves further out along the limb while its loop still shrinks
     /// by more than this fraction over the next loop diameter (a limb's own
     /// taper is less; a skirt lying on a thigh shrinks faster).

@@ -341,11 +341,49 @@ TEST(CutPlacement, SiblingsAlikeInThicknessGetTheSameAnswer) {
     EXPECT_EQ(s->plan.junctions[0].cuts, 1u);
 
     // A clearly thinner third arm is not pulled in.
-    j.setRhoS(2, 9.0f);
+    j.setRhoS(2, 7.0f);
     const auto t = place(j, {}, areas);
     EXPECT_TRUE(t->byVoxel.at(q[1])->onBody);
     EXPECT_TRUE(t->byVoxel.at(q[2])->isCut);
     EXPECT_EQ(t->callbackCalls, 0);
+}
+
+/// PSB model 3 (Human) at its hips: the legs' limb circumferences are 17.1
+/// and 21.0 against a hip of 34.2 at resolution 192 (similarity 0.50 and
+/// 0.61), 17.8 and 21.0 at 320 (0.51 and 0.60): one leg sits on body_ratio,
+/// and the two legs differ by up to 19 %, more than the spread one leg's
+/// measure has between resolutions. Both legs are limbs whichever side of
+/// the threshold the thicker one falls, at two scales of the junction.
+TEST(CutPlacement, LegsOnEitherSideOfTheThresholdAreBothLimbsAtTwoScales) {
+    for (const float scale : {1.0f, 2.0f}) {
+        for (const float thickerLeg : {0.59f, 0.61f}) {
+            SCOPED_TRACE("scale " + std::to_string(scale) + ", thicker leg " +
+                         std::to_string(thickerLeg));
+            Junction j;
+            for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f, 0.9f});
+            j.setRhoS(0, 15.4f * scale);               // torso, similarity 0.77
+            j.setRhoS(1, 20.0f * thickerLeg * scale);  // the thicker leg
+            j.setRhoS(2, 20.0f * 0.5f * scale);        // the thinner leg, 0.82 of it
+            for (std::uint32_t v : j.arms[0]) j.set.point(v).rhoS = 15.4f * scale;
+            j.set.point(j.centre).rhoS = 20.0f * scale;
+            const std::uint32_t q[3] = {j.armVoxelAtLevel(0, 1), j.armVoxelAtLevel(1, 1),
+                                        j.armVoxelAtLevel(2, 1)};
+            const std::map<std::uint32_t, double> areas{
+                {q[0], 900.0}, {q[1], 300.0}, {q[2], 310.0}};
+            const auto r = place(j, {}, areas);
+            EXPECT_TRUE(r->byVoxel.at(q[0])->onBody);
+            EXPECT_TRUE(r->byVoxel.at(q[1])->isCut);
+            EXPECT_TRUE(r->byVoxel.at(q[2])->isCut);
+            EXPECT_EQ(r->plan.junctions[0].cuts, 2u);
+
+            // The former tolerance (10 %) split them when the thicker leg
+            // read 0.61: that is the flip the wider tolerance removes.
+            CutOptions narrow;
+            narrow.siblingTolerance = 0.1;
+            const auto n = place(j, narrow, areas);
+            EXPECT_EQ(n->plan.junctions[0].cuts, thickerLeg < 0.6f ? 2u : 1u);
+        }
+    }
 }
 
 /// A body (rho_S 40) and one long limb meeting at a junction, all tight.
