@@ -45,7 +45,7 @@ struct CutOptions {
     /// too (then the "more than two" rule decides). Wider than the spread of
     /// one limb's measure between resolutions (about 10 % each, so up to 20 %
     /// between two limbs); docs/algorithm.md §8.6.
-    double siblingTolerance = 0.3;
+    double siblingTolerance = 0.25;
     /// A cut moves further out along the limb while its loop still shrinks
     /// by more than this fraction over the next loop diameter (a limb's own
     /// taper is less; a skirt lying on a thigh shrinks faster).

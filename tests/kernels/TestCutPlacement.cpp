@@ -386,6 +386,37 @@ TEST(CutPlacement, LegsOnEitherSideOfTheThresholdAreBothLimbsAtTwoScales) {
     }
 }
 
+/// elephant.obj's head junction: the body passes through it (two candidates
+/// alike, similarity 0.64) and a thinner branch reads 0.60 to 0.71 of them
+/// between resolutions (0.71 at 320). It stays a limb at every one, so rule
+/// 3 does not cut the body: the tolerance stays below 0.29.
+TEST(CutPlacement, BranchAtSevenTenthsOfTheBodyIsNotPulledInAtTwoScales) {
+    for (const float scale : {1.0f, 2.0f}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        Junction j;
+        for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f, 0.9f});
+        j.set.point(j.centre).rhoS = 20.0f * scale;
+        j.setRhoS(0, 12.8f * scale);          // body, similarity 0.64
+        j.setRhoS(1, 12.8f * scale);          // body, the other side
+        j.setRhoS(2, 0.71f * 12.8f * scale);  // 0.71 of the body's loops
+        const std::uint32_t q[3] = {j.armVoxelAtLevel(0, 1), j.armVoxelAtLevel(1, 1),
+                                    j.armVoxelAtLevel(2, 1)};
+        const auto r = place(j, {}, {{q[0], 4100.0}, {q[1], 4300.0}, {q[2], 2400.0}});
+        EXPECT_TRUE(r->byVoxel.at(q[0])->onBody);
+        EXPECT_TRUE(r->byVoxel.at(q[1])->onBody);
+        EXPECT_TRUE(r->byVoxel.at(q[2])->isCut);
+        EXPECT_EQ(r->plan.junctions[0].cuts, 1u);
+        EXPECT_EQ(r->callbackCalls, 0) << "two body candidates need no tie rule";
+
+        // At 30 % it joined the body candidates and rule 3 cut the body.
+        CutOptions wide;
+        wide.siblingTolerance = 0.3;
+        const auto w = place(j, wide, {{q[0], 4100.0}, {q[1], 4300.0}, {q[2], 2400.0}});
+        EXPECT_EQ(w->plan.junctions[0].cuts, 2u);
+        EXPECT_TRUE(w->byVoxel.at(q[0])->isCut);
+    }
+}
+
 /// A body (rho_S 40) and one long limb meeting at a junction, all tight.
 /// Levels are numbered as in Junction: level L of an arm is its voxel L + 2.
 struct LongLimb {
