@@ -113,6 +113,76 @@ void bridgeThroughObject(SkeletonGraph& g, const std::vector<std::uint32_t>& par
     }
 }
 
+/// Fork test at node s: the nodes within 2R of s along the graph's edges
+/// (Euclidean edge lengths, bridges included), R = the radius of the part at
+/// s (loopRadius(rho_S)), at least `minimumRadius`. The shell (R, 2R] falls
+/// into one connected piece per branch leaving the ball; a piece counts when
+/// it reaches past 1.5R (a branch, not a bump of the thick skeleton). s is a
+/// fork with three or more counting pieces. `bodyRhoS` gets the largest of
+/// the counting pieces' median rho_S: the loop of the body through the fork.
+struct ForkSearch {
+    std::vector<double> distance;
+    std::vector<std::uint32_t> piece, touched, queue;
+    std::vector<std::pair<double, std::uint32_t>> heap;
+    explicit ForkSearch(std::size_t n) : distance(n, HUGE_VAL), piece(n, kNoJunction) {}
+
+    std::uint32_t countBranches(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                                std::uint32_t s, double minimumRadius, float& bodyRhoS) {
+        const double radius = std::max(minimumRadius, loopRadius(double(points[g.point[s]].rhoS)));
+        const double reach = 2.0 * radius;
+        for (std::uint32_t n : touched) distance[n] = HUGE_VAL, piece[n] = kNoJunction;
+        touched.assign(1, s);
+        distance[s] = 0.0;
+        heap.assign(1, {0.0, s});
+        auto later = [](const auto& a, const auto& b) { return a > b; };
+        while (!heap.empty()) {
+            std::pop_heap(heap.begin(), heap.end(), later);
+            const auto [d, n] = heap.back();
+            heap.pop_back();
+            if (d > distance[n]) continue;
+            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
+                const std::uint32_t m = g.neighbour[e];
+                const double dx = g.coord[m].x - g.coord[n].x, dy = g.coord[m].y - g.coord[n].y,
+                             dz = g.coord[m].z - g.coord[n].z;
+                const double dm = d + std::sqrt(dx * dx + dy * dy + dz * dz);
+                if (dm > reach || dm >= distance[m]) continue;
+                if (distance[m] == HUGE_VAL) touched.push_back(m);
+                distance[m] = dm;
+                heap.push_back({dm, m});
+                std::push_heap(heap.begin(), heap.end(), later);
+            }
+        }
+        // A junction point within reach already marks this branching.
+        for (std::uint32_t n : touched)
+            if (points[g.point[n]].robustRims >= 3) return 0;
+        std::uint32_t branches = 0;
+        bodyRhoS = 0.0f;
+        std::vector<float> rho;
+        for (std::uint32_t seed : touched) {
+            if (distance[seed] <= radius || piece[seed] != kNoJunction) continue;
+            piece[seed] = seed;
+            queue.assign(1, seed);
+            double farthest = 0.0;
+            rho.clear();
+            for (std::size_t h = 0; h < queue.size(); ++h) {
+                const std::uint32_t n = queue[h];
+                farthest = std::max(farthest, distance[n]);
+                rho.push_back(points[g.point[n]].rhoS);
+                for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
+                    const std::uint32_t m = g.neighbour[e];
+                    if (distance[m] > radius && distance[m] <= reach && piece[m] == kNoJunction)
+                        piece[m] = seed, queue.push_back(m);
+                }
+            }
+            if (farthest <= 1.5 * radius) continue;
+            ++branches;
+            std::nth_element(rho.begin(), rho.begin() + rho.size() / 2, rho.end());
+            bodyRhoS = std::max(bodyRhoS, rho[rho.size() / 2]);
+        }
+        return branches;
+    }
+};
+
 }  // namespace
 
 SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const Dims& dims,
@@ -212,8 +282,20 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
         if (g.bridgeCount) buildAdjacency(g);
     }
 
+    // Forks: where three or more branches of C_tau meet but no point's path
+    // set goes round three parts (docs/algorithm.md §6, "Forks").
+    std::vector<std::uint8_t> fork(g.nodeCount(), 0);
+    std::vector<float> forkBodyRhoS(g.nodeCount(), 0.0f);
+    if (options.forkJunctions && g.nodeCount()) {
+        ForkSearch search(g.nodeCount());
+        for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
+            if (points[g.point[n]].robustRims < 3)
+                fork[n] = search.countBranches(g, points, n, double(options.regionRadius),
+                                               forkBodyRhoS[n]) >= 3;
+    }
+
     // Junction clusters and their regions.
-    auto isCore = [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; };
+    auto isCore = [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3 || fork[n]; };
     std::vector<std::uint32_t> cluster;
     const std::uint32_t clusters = labelComponents(g, isCore, cluster);
     std::vector<std::uint32_t> owner(g.nodeCount(),
@@ -254,8 +336,18 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
         if (cluster[n] != kNoJunction) g.junctions[j].core.push_back(n);
     }
     for (SkeletonJunction& j : g.junctions) {
+        // A fork's own loop goes round one branch; the body's loop there is
+        // its widest branch's (ForkSearch). Junctions with J_tau points keep
+        // their median over those.
+        const bool anyJunctionPoint =
+            std::any_of(j.core.begin(), j.core.end(),
+                        [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; });
         std::vector<std::pair<float, std::uint32_t>> byRho;
-        for (std::uint32_t n : j.core) byRho.emplace_back(points[g.point[n]].rhoS, n);
+        for (std::uint32_t n : j.core)
+            if (!fork[n])
+                byRho.emplace_back(points[g.point[n]].rhoS, n);
+            else if (!anyJunctionPoint)
+                byRho.emplace_back(forkBodyRhoS[n], n);
         std::sort(byRho.begin(), byRho.end());
         if (byRho.empty()) continue;
         const auto& mid = byRho[byRho.size() / 2];

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 #include <set>
 
@@ -77,10 +78,65 @@ TEST(SkeletonGraph, YGivesOneJunctionWithThreeBranches) {
     }
 }
 
-TEST(SkeletonGraph, WithoutRobustCentreThereIsNoJunction) {
+TEST(SkeletonGraph, WithoutRobustCentreOrForksThereIsNoJunction) {
     YShape y;
     y.set.point(y.centre).robustRims = 2;
-    const SkeletonGraph g = buildSkeletonGraph(y.set.points(), y.set.dims(), {});
+    SkeletonGraphOptions options;
+    options.forkJunctions = false;
+    const SkeletonGraph g = buildSkeletonGraph(y.set.points(), y.set.dims(), options);
+    EXPECT_TRUE(g.junctions.empty());
+    EXPECT_EQ(g.pieceCount, 1u);
+}
+
+/// A Y without any J_tau point, `scale` times the size of YShape: arms of
+/// 12 * scale voxels with rho_S 10 * scale, and the stem (arm 0) twice as
+/// thick as the other two, as a body with two limbs.
+struct ScaledFork {
+    SkeletonPointSet set;
+    std::uint32_t centre;
+    ScaledFork(int scale) : set(Dims{40 * scale + 1, 40 * scale + 1, 3}) {
+        const int c = 20 * scale, length = 12 * scale;
+        const float rho = 10.0f * float(scale);
+        centre = set.add({c, c, 1}, rho, 1000.0, 2);
+        set.chain({c + 1, c, 1}, {1, 0, 0}, length, 2.0f * rho);
+        set.chain({c - 1, c + 1, 1}, {-1, 1, 0}, length, rho);
+        set.chain({c - 1, c - 1, 1}, {-1, -1, 0}, length, rho);
+    }
+};
+
+TEST(SkeletonGraph, ForkWithoutJunctionPointIsOneJunctionAtEveryScale) {
+    // Where no point's path set goes round three parts, the branching of
+    // C_tau still is a junction, whatever the resolution.
+    for (int scale : {1, 2, 3}) {
+        ScaledFork y(scale);
+        const std::vector<SkeletonPoint> points = y.set.points();
+        const SkeletonGraph g = buildSkeletonGraph(points, y.set.dims(), {});
+        ASSERT_EQ(g.junctions.size(), 1u) << "scale " << scale;
+        const SkeletonJunction& j = g.junctions[0];
+        const std::uint32_t centre = nodeOf(g, points, y.centre);
+        EXPECT_NE(std::find(j.core.begin(), j.core.end(), centre), j.core.end());
+        EXPECT_EQ(g.pieceCount, 3u) << "scale " << scale;
+        // The body's loop (the thick stem's), not a limb's: rho_S 20 * scale.
+        EXPECT_EQ(j.rhoS, 20.0f * float(scale)) << "scale " << scale;
+    }
+}
+
+TEST(SkeletonGraph, ForksAroundAJunctionPointAddNoCore) {
+    // With a J_tau point within reach the junction is the paper's alone.
+    YShape y;
+    const std::vector<SkeletonPoint> points = y.set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, y.set.dims(), {});
+    ASSERT_EQ(g.junctions.size(), 1u);
+    EXPECT_EQ(g.junctions[0].core, std::vector<std::uint32_t>{nodeOf(g, points, y.centre)});
+}
+
+TEST(SkeletonGraph, ShortSpurIsNoFork) {
+    // A bump of the thick skeleton shorter than the part's radius is no
+    // branch: a straight chain with a 2-voxel spur stays one piece.
+    SkeletonPointSet set(Dims{41, 11, 3});
+    set.chain({0, 5, 1}, {1, 0, 0}, 41);
+    set.chain({20, 6, 1}, {0, 1, 0}, 2);
+    const SkeletonGraph g = buildSkeletonGraph(set.points(), set.dims(), {});
     EXPECT_TRUE(g.junctions.empty());
     EXPECT_EQ(g.pieceCount, 1u);
 }
