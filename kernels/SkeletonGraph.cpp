@@ -117,9 +117,12 @@ void bridgeThroughObject(SkeletonGraph& g, const std::vector<std::uint32_t>& par
 /// (Euclidean edge lengths, bridges included), R = the radius of the part at
 /// s (loopRadius(rho_S)), at least `minimumRadius`. The shell (R, 2R] falls
 /// into one connected piece per branch leaving the ball; a piece counts when
-/// it reaches past 1.5R (a branch, not a bump of the thick skeleton). s is a
-/// fork with three or more counting pieces. `bodyRhoS` gets the largest of
-/// the counting pieces' median rho_S: the loop of the body through the fork.
+/// it reaches past 1.5R or leaves the ball (a branch, not a bump of the thick
+/// skeleton), and so does a bridge from the inner ball to beyond 2R. s is a
+/// fork with three or more counting branches, unless a J_tau point lies
+/// within R of it (the junction test already marks that branching).
+/// `bodyRhoS` gets the largest of the branches' median rho_S: the loop of the
+/// body through the fork.
 struct ForkSearch {
     std::vector<double> distance;
     std::vector<std::uint32_t> piece, touched, queue;
@@ -154,19 +157,34 @@ struct ForkSearch {
         }
         // A junction point within reach already marks this branching.
         for (std::uint32_t n : touched)
-            if (points[g.point[n]].robustRims >= 3) return 0;
+            if (distance[n] <= radius && points[g.point[n]].robustRims >= 3) return 0;
         std::uint32_t branches = 0;
         bodyRhoS = 0.0f;
+        // Edges from a node to beyond the reach are bridges (no 26-step
+        // leaves the ball from inside it). One from the inner ball (a limb's
+        // skeleton that broke near its base, bridged here) is a branch.
+        auto forEachExit = [&](std::uint32_t n, const auto& visit) {
+            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e)
+                if (distance[g.neighbour[e]] == HUGE_VAL) visit(g.neighbour[e]);
+        };
+        for (std::uint32_t n : touched)
+            if (distance[n] <= radius)
+                forEachExit(n, [&](std::uint32_t far) {
+                    ++branches;
+                    bodyRhoS = std::max(bodyRhoS, points[g.point[far]].rhoS);
+                });
         std::vector<float> rho;
         for (std::uint32_t seed : touched) {
             if (distance[seed] <= radius || piece[seed] != kNoJunction) continue;
             piece[seed] = seed;
             queue.assign(1, seed);
             double farthest = 0.0;
+            bool leavesBall = false;
             rho.clear();
             for (std::size_t h = 0; h < queue.size(); ++h) {
                 const std::uint32_t n = queue[h];
                 farthest = std::max(farthest, distance[n]);
+                forEachExit(n, [&](std::uint32_t) { leavesBall = true; });
                 rho.push_back(points[g.point[n]].rhoS);
                 for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
                     const std::uint32_t m = g.neighbour[e];
@@ -174,7 +192,7 @@ struct ForkSearch {
                         piece[m] = seed, queue.push_back(m);
                 }
             }
-            if (farthest <= 1.5 * radius) continue;
+            if (farthest <= 1.5 * radius && !leavesBall) continue;
             ++branches;
             std::nth_element(rho.begin(), rho.begin() + rho.size() / 2, rho.end());
             bodyRhoS = std::max(bodyRhoS, rho[rho.size() / 2]);

@@ -130,6 +130,55 @@ TEST(SkeletonGraph, ForksAroundAJunctionPointAddNoCore) {
     EXPECT_EQ(g.junctions[0].core, std::vector<std::uint32_t>{nodeOf(g, points, y.centre)});
 }
 
+TEST(SkeletonGraph, ForkBesideAJunctionSeparatesItsLimbs) {
+    // A limb branching off another 0.6 radii from a junction point (two
+    // octopus arms whose skeletons join just before the mouth's junction):
+    // the nodes past one radius from the junction point see the fork, so
+    // the two limbs are different branches. A J_tau point within one radius
+    // of a node (not within its whole ball of two radii) is what marks the
+    // branching as the junction's own.
+    SkeletonPointSet set(Dims{101, 101, 3});
+    set.add({50, 50, 1}, 60.0f, 1000.0, 3);
+    const std::vector<std::uint32_t> stem = set.chain({51, 50, 1}, {1, 0, 0}, 40, 30.0f);
+    set.chain({49, 51, 1}, {-1, 1, 0}, 40, 30.0f);
+    set.chain({49, 49, 1}, {-1, -1, 0}, 40, 30.0f);
+    const std::vector<std::uint32_t> side = set.chain({56, 51, 1}, {0, 1, 0}, 40, 30.0f);
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    const std::uint32_t sidePiece = g.pieceOf[nodeOf(g, points, side[30])];
+    const std::uint32_t stemPiece = g.pieceOf[nodeOf(g, points, stem[35])];
+    ASSERT_NE(sidePiece, kNoJunction);
+    ASSERT_NE(stemPiece, kNoJunction);
+    EXPECT_NE(sidePiece, stemPiece);
+}
+
+TEST(SkeletonGraph, LimbBridgedToTheMiddleOfABranchMakesAFork) {
+    // A limb whose skeleton stops 10 voxels short of a body's branch (the
+    // octopus's arms, bridged to a neighbour's skeleton, at 256), at 1x and
+    // 2x: the bridge leaves the body node's ball of two radii, and still it
+    // is a third branch there.
+    for (const int scale : {1, 2}) {
+        const Dims dims{41 * scale, 31 * scale, 3};
+        SkeletonPointSet set(dims);
+        const float rho = 12.0f * float(scale);
+        const std::vector<std::uint32_t> body =
+            set.chain({0, 5 * scale, 1}, {1, 0, 0}, 41 * scale, rho);
+        const std::vector<std::uint32_t> limb =
+            set.chain({20 * scale, 15 * scale, 1}, {0, 1, 0}, 15 * scale, rho);
+        MaskVolume object(dims, 1);
+        SkeletonGraphOptions options;
+        options.inside = &object;
+        const std::vector<SkeletonPoint> points = set.points();
+        const SkeletonGraph g = buildSkeletonGraph(points, dims, options);
+        ASSERT_EQ(g.bridgeCount, 1u) << "scale " << scale;
+        ASSERT_EQ(g.junctions.size(), 1u) << "scale " << scale;
+        EXPECT_EQ(g.pieceCount, 3u) << "scale " << scale;
+        EXPECT_NE(g.pieceOf[nodeOf(g, points, limb.back())],
+                  g.pieceOf[nodeOf(g, points, body.front())])
+            << "scale " << scale;
+    }
+}
+
 TEST(SkeletonGraph, ShortSpurIsNoFork) {
     // A bump of the thick skeleton shorter than the part's radius is no
     // branch: a straight chain with a 2-voxel spur stays one piece.
