@@ -201,6 +201,78 @@ struct ForkSearch {
     }
 };
 
+/// Junction clusters (J_tau points and forks) and their regions, each
+/// junction's rho_S, and the branch pieces outside the regions.
+void contractJunctions(SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                       const SkeletonGraphOptions& options, const std::vector<std::uint8_t>& fork,
+                       const std::vector<float>& forkBodyRhoS) {
+    g.junctions.clear();
+    // Junction clusters and their regions.
+    auto isCore = [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3 || fork[n]; };
+    std::vector<std::uint32_t> cluster;
+    const std::uint32_t clusters = labelComponents(g, isCore, cluster);
+    std::vector<std::uint32_t> owner(g.nodeCount(),
+                                     kNoJunction);  // cluster whose region took the node first
+    UnionFind merged(clusters);
+    {
+        // Multi-source BFS from all cores at once, `regionRadius` steps.
+        std::vector<std::uint32_t> depth(g.nodeCount(), kNoJunction), queue;
+        for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
+            if (cluster[n] != kNoJunction) depth[n] = 0, owner[n] = cluster[n], queue.push_back(n);
+        for (std::size_t h = 0; h < queue.size(); ++h) {
+            const std::uint32_t n = queue[h];
+            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
+                const std::uint32_t m = g.neighbour[e];
+                if (owner[m] != kNoJunction) {
+                    merged.unite(owner[m], owner[n]);  // regions touch
+                    continue;
+                }
+                if (int(depth[n]) >= options.regionRadius) continue;
+                depth[m] = depth[n] + 1;
+                owner[m] = owner[n];
+                queue.push_back(m);
+            }
+        }
+    }
+    g.junctionOf.assign(g.nodeCount(), kNoJunction);
+    std::vector<std::uint32_t> junctionOfRoot(clusters, kNoJunction);
+    for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
+        if (owner[n] == kNoJunction) continue;
+        const std::uint32_t root = merged.find(owner[n]);
+        if (junctionOfRoot[root] == kNoJunction) {
+            junctionOfRoot[root] = std::uint32_t(g.junctions.size());
+            g.junctions.emplace_back();
+        }
+        const std::uint32_t j = junctionOfRoot[root];
+        g.junctionOf[n] = j;
+        g.junctions[j].region.push_back(n);
+        if (cluster[n] != kNoJunction) g.junctions[j].core.push_back(n);
+    }
+    for (SkeletonJunction& j : g.junctions) {
+        // A fork's own loop goes round one branch; the body's loop there is
+        // its widest branch's (ForkSearch). Junctions with J_tau points keep
+        // their median over those.
+        const bool anyJunctionPoint =
+            std::any_of(j.core.begin(), j.core.end(),
+                        [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; });
+        std::vector<std::pair<float, std::uint32_t>> byRho;
+        for (std::uint32_t n : j.core)
+            if (!fork[n])
+                byRho.emplace_back(points[g.point[n]].rhoS, n);
+            else if (!anyJunctionPoint)
+                byRho.emplace_back(forkBodyRhoS[n], n);
+        std::sort(byRho.begin(), byRho.end());
+        if (byRho.empty()) continue;
+        const auto& mid = byRho[byRho.size() / 2];
+        j.rhoS =
+            byRho.size() % 2 ? mid.first : 0.5f * (byRho[byRho.size() / 2 - 1].first + mid.first);
+        j.representative = mid.second;
+    }
+
+    g.pieceCount = labelComponents(
+        g, [&](std::uint32_t n) { return g.junctionOf[n] == kNoJunction; }, g.pieceOf);
+}
+
 }  // namespace
 
 SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const Dims& dims,
@@ -312,70 +384,26 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
                                                forkBodyRhoS[n]) >= 3;
     }
 
-    // Junction clusters and their regions.
-    auto isCore = [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3 || fork[n]; };
-    std::vector<std::uint32_t> cluster;
-    const std::uint32_t clusters = labelComponents(g, isCore, cluster);
-    std::vector<std::uint32_t> owner(g.nodeCount(),
-                                     kNoJunction);  // cluster whose region took the node first
-    UnionFind merged(clusters);
-    {
-        // Multi-source BFS from all cores at once, `regionRadius` steps.
-        std::vector<std::uint32_t> depth(g.nodeCount(), kNoJunction), queue;
-        for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
-            if (cluster[n] != kNoJunction) depth[n] = 0, owner[n] = cluster[n], queue.push_back(n);
-        for (std::size_t h = 0; h < queue.size(); ++h) {
-            const std::uint32_t n = queue[h];
-            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
-                const std::uint32_t m = g.neighbour[e];
-                if (owner[m] != kNoJunction) {
-                    merged.unite(owner[m], owner[n]);  // regions touch
-                    continue;
-                }
-                if (int(depth[n]) >= options.regionRadius) continue;
-                depth[m] = depth[n] + 1;
-                owner[m] = owner[n];
-                queue.push_back(m);
-            }
-        }
+    contractJunctions(g, points, options, fork, forkBodyRhoS);
+    // A fork is three branches; a junction of forks alone whose region
+    // leaves fewer (a short branch swallowed by the region) is no junction.
+    bool dissolved = false;
+    for (const SkeletonJunction& j : g.junctions) {
+        if (std::any_of(j.core.begin(), j.core.end(),
+                        [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; }))
+            continue;
+        std::vector<std::uint32_t> branches;
+        for (std::uint32_t n : j.region)
+            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e)
+                if (const std::uint32_t piece = g.pieceOf[g.neighbour[e]];
+                    piece != kNoJunction &&
+                    std::find(branches.begin(), branches.end(), piece) == branches.end())
+                    branches.push_back(piece);
+        if (branches.size() >= 3) continue;
+        for (std::uint32_t n : j.core) fork[n] = 0;
+        dissolved = true;
     }
-    g.junctionOf.assign(g.nodeCount(), kNoJunction);
-    std::vector<std::uint32_t> junctionOfRoot(clusters, kNoJunction);
-    for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
-        if (owner[n] == kNoJunction) continue;
-        const std::uint32_t root = merged.find(owner[n]);
-        if (junctionOfRoot[root] == kNoJunction) {
-            junctionOfRoot[root] = std::uint32_t(g.junctions.size());
-            g.junctions.emplace_back();
-        }
-        const std::uint32_t j = junctionOfRoot[root];
-        g.junctionOf[n] = j;
-        g.junctions[j].region.push_back(n);
-        if (cluster[n] != kNoJunction) g.junctions[j].core.push_back(n);
-    }
-    for (SkeletonJunction& j : g.junctions) {
-        // A fork's own loop goes round one branch; the body's loop there is
-        // its widest branch's (ForkSearch). Junctions with J_tau points keep
-        // their median over those.
-        const bool anyJunctionPoint =
-            std::any_of(j.core.begin(), j.core.end(),
-                        [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; });
-        std::vector<std::pair<float, std::uint32_t>> byRho;
-        for (std::uint32_t n : j.core)
-            if (!fork[n])
-                byRho.emplace_back(points[g.point[n]].rhoS, n);
-            else if (!anyJunctionPoint)
-                byRho.emplace_back(forkBodyRhoS[n], n);
-        std::sort(byRho.begin(), byRho.end());
-        if (byRho.empty()) continue;
-        const auto& mid = byRho[byRho.size() / 2];
-        j.rhoS =
-            byRho.size() % 2 ? mid.first : 0.5f * (byRho[byRho.size() / 2 - 1].first + mid.first);
-        j.representative = mid.second;
-    }
-
-    g.pieceCount = labelComponents(
-        g, [&](std::uint32_t n) { return g.junctionOf[n] == kNoJunction; }, g.pieceOf);
+    if (dissolved) contractJunctions(g, points, options, fork, forkBodyRhoS);
     return g;
 }
 

@@ -131,18 +131,18 @@ TEST(SkeletonGraph, ForksAroundAJunctionPointAddNoCore) {
 }
 
 TEST(SkeletonGraph, ForkBesideAJunctionSeparatesItsLimbs) {
-    // A limb branching off another 0.6 radii from a junction point (two
+    // A limb branching off another 1.3 radii from a junction point (two
     // octopus arms whose skeletons join just before the mouth's junction):
-    // the nodes past one radius from the junction point see the fork, so
-    // the two limbs are different branches. A J_tau point within one radius
-    // of a node (not within its whole ball of two radii) is what marks the
-    // branching as the junction's own.
+    // the fork is a junction of its own, so the two limbs are different
+    // branches. A J_tau point within one radius of a node (not within its
+    // whole ball of two radii) is what marks the branching as the
+    // junction's own.
     SkeletonPointSet set(Dims{101, 101, 3});
     set.add({50, 50, 1}, 60.0f, 1000.0, 3);
     const std::vector<std::uint32_t> stem = set.chain({51, 50, 1}, {1, 0, 0}, 40, 30.0f);
     set.chain({49, 51, 1}, {-1, 1, 0}, 40, 30.0f);
     set.chain({49, 49, 1}, {-1, -1, 0}, 40, 30.0f);
-    const std::vector<std::uint32_t> side = set.chain({56, 51, 1}, {0, 1, 0}, 40, 30.0f);
+    const std::vector<std::uint32_t> side = set.chain({62, 51, 1}, {0, 1, 0}, 40, 30.0f);
     const std::vector<SkeletonPoint> points = set.points();
     const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
     const std::uint32_t sidePiece = g.pieceOf[nodeOf(g, points, side[30])];
@@ -150,6 +150,26 @@ TEST(SkeletonGraph, ForkBesideAJunctionSeparatesItsLimbs) {
     ASSERT_NE(sidePiece, kNoJunction);
     ASSERT_NE(stemPiece, kNoJunction);
     EXPECT_NE(sidePiece, stemPiece);
+}
+
+TEST(SkeletonGraph, ForksWhoseRegionsLeaveTwoBranchesAreNoJunction) {
+    // A limb branching off 0.6 radii from a junction point: the branching
+    // itself lies within one radius of the J_tau point, so it is no fork;
+    // the nodes around it see three branches but form two clusters on
+    // either side whose regions leave two branches each. A fork is three
+    // branches, so neither is a junction: the junction point's is the only
+    // one (as on an elephant's head, whose forks' regions swallowed a short
+    // branch and cut the trunk in some poses only).
+    SkeletonPointSet set(Dims{101, 101, 3});
+    const std::uint32_t centre = set.add({50, 50, 1}, 60.0f, 1000.0, 3);
+    set.chain({51, 50, 1}, {1, 0, 0}, 40, 30.0f);
+    set.chain({49, 51, 1}, {-1, 1, 0}, 40, 30.0f);
+    set.chain({49, 49, 1}, {-1, -1, 0}, 40, 30.0f);
+    set.chain({56, 51, 1}, {0, 1, 0}, 40, 30.0f);
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    ASSERT_EQ(g.junctions.size(), 1u);
+    EXPECT_EQ(g.junctions[0].core, std::vector<std::uint32_t>{nodeOf(g, points, centre)});
 }
 
 TEST(SkeletonGraph, LimbBridgedToTheMiddleOfABranchMakesAFork) {
