@@ -130,6 +130,7 @@ void buildObjectSkeletonGraph(ObjectState& state) {
     options.tau = state.out.tauArea;
     options.regionRadius = state.parameters.regionRadius;
     options.bridgeGap = state.parameters.bridgeGap;
+    options.forkJunctions = state.parameters.forkJunctions;
     options.inside = &state.crop;
     state.skeleton = buildSkeletonGraph(state.points, state.crop.dims(), options);
     throwIfInterrupted(state.interrupter);

@@ -92,6 +92,8 @@ struct SegmentationParameters {
     }
     int regionRadius = 3;
     double bridgeGap = 4.0;
+    /// Branchings of C_tau are junctions too (SkeletonGraphOptions::forkJunctions).
+    bool forkJunctions = true;
     int consecutiveLevels = 3;
     /// Objects with fewer voxels are one segment without a skeleton.
     std::uint64_t minObjectVoxels = 27;

@@ -113,6 +113,166 @@ void bridgeThroughObject(SkeletonGraph& g, const std::vector<std::uint32_t>& par
     }
 }
 
+/// Fork test at node s: the nodes within 2R of s along the graph's edges
+/// (Euclidean edge lengths, bridges included), R = the radius of the part at
+/// s (loopRadius(rho_S)), at least `minimumRadius`. The shell (R, 2R] falls
+/// into one connected piece per branch leaving the ball; a piece counts when
+/// it reaches past 1.5R or leaves the ball (a branch, not a bump of the thick
+/// skeleton), and so does a bridge from the inner ball to beyond 2R. s is a
+/// fork with three or more counting branches, unless a J_tau point lies
+/// within R of it (the junction test already marks that branching).
+/// `bodyRhoS` gets the largest of the branches' median rho_S: the loop of the
+/// body through the fork.
+struct ForkSearch {
+    std::vector<double> distance;
+    std::vector<std::uint32_t> piece, touched, queue;
+    std::vector<std::pair<double, std::uint32_t>> heap;
+    explicit ForkSearch(std::size_t n) : distance(n, HUGE_VAL), piece(n, kNoJunction) {}
+
+    std::uint32_t countBranches(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                                std::uint32_t s, double minimumRadius, float& bodyRhoS) {
+        const double radius = std::max(minimumRadius, loopRadius(double(points[g.point[s]].rhoS)));
+        const double reach = 2.0 * radius;
+        for (std::uint32_t n : touched) distance[n] = HUGE_VAL, piece[n] = kNoJunction;
+        touched.assign(1, s);
+        distance[s] = 0.0;
+        heap.assign(1, {0.0, s});
+        auto later = [](const auto& a, const auto& b) { return a > b; };
+        while (!heap.empty()) {
+            std::pop_heap(heap.begin(), heap.end(), later);
+            const auto [d, n] = heap.back();
+            heap.pop_back();
+            if (d > distance[n]) continue;
+            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
+                const std::uint32_t m = g.neighbour[e];
+                const double dx = g.coord[m].x - g.coord[n].x, dy = g.coord[m].y - g.coord[n].y,
+                             dz = g.coord[m].z - g.coord[n].z;
+                const double dm = d + std::sqrt(dx * dx + dy * dy + dz * dz);
+                if (dm > reach || dm >= distance[m]) continue;
+                if (distance[m] == HUGE_VAL) touched.push_back(m);
+                distance[m] = dm;
+                heap.push_back({dm, m});
+                std::push_heap(heap.begin(), heap.end(), later);
+            }
+        }
+        // A junction point within reach already marks this branching.
+        for (std::uint32_t n : touched)
+            if (distance[n] <= radius && points[g.point[n]].robustRims >= 3) return 0;
+        std::uint32_t branches = 0;
+        bodyRhoS = 0.0f;
+        // Edges from a node to beyond the reach are bridges (no 26-step
+        // leaves the ball from inside it). One from the inner ball (a limb's
+        // skeleton that broke near its base, bridged here) is a branch.
+        auto forEachExit = [&](std::uint32_t n, const auto& visit) {
+            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e)
+                if (distance[g.neighbour[e]] == HUGE_VAL) visit(g.neighbour[e]);
+        };
+        for (std::uint32_t n : touched)
+            if (distance[n] <= radius)
+                forEachExit(n, [&](std::uint32_t far) {
+                    ++branches;
+                    bodyRhoS = std::max(bodyRhoS, points[g.point[far]].rhoS);
+                });
+        std::vector<float> rho;
+        for (std::uint32_t seed : touched) {
+            if (distance[seed] <= radius || piece[seed] != kNoJunction) continue;
+            piece[seed] = seed;
+            queue.assign(1, seed);
+            double farthest = 0.0;
+            bool leavesBall = false;
+            rho.clear();
+            for (std::size_t h = 0; h < queue.size(); ++h) {
+                const std::uint32_t n = queue[h];
+                farthest = std::max(farthest, distance[n]);
+                forEachExit(n, [&](std::uint32_t) { leavesBall = true; });
+                rho.push_back(points[g.point[n]].rhoS);
+                for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
+                    const std::uint32_t m = g.neighbour[e];
+                    if (distance[m] > radius && distance[m] <= reach && piece[m] == kNoJunction)
+                        piece[m] = seed, queue.push_back(m);
+                }
+            }
+            if (farthest <= 1.5 * radius && !leavesBall) continue;
+            ++branches;
+            std::nth_element(rho.begin(), rho.begin() + rho.size() / 2, rho.end());
+            bodyRhoS = std::max(bodyRhoS, rho[rho.size() / 2]);
+        }
+        return branches;
+    }
+};
+
+/// Junction clusters (J_tau points and forks) and their regions, each
+/// junction's rho_S, and the branch pieces outside the regions.
+void contractJunctions(SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                       const SkeletonGraphOptions& options, const std::vector<std::uint8_t>& fork,
+                       const std::vector<float>& forkBodyRhoS) {
+    g.junctions.clear();
+    // Junction clusters and their regions.
+    auto isCore = [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3 || fork[n]; };
+    std::vector<std::uint32_t> cluster;
+    const std::uint32_t clusters = labelComponents(g, isCore, cluster);
+    std::vector<std::uint32_t> owner(g.nodeCount(),
+                                     kNoJunction);  // cluster whose region took the node first
+    UnionFind merged(clusters);
+    {
+        // Multi-source BFS from all cores at once, `regionRadius` steps.
+        std::vector<std::uint32_t> depth(g.nodeCount(), kNoJunction), queue;
+        for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
+            if (cluster[n] != kNoJunction) depth[n] = 0, owner[n] = cluster[n], queue.push_back(n);
+        for (std::size_t h = 0; h < queue.size(); ++h) {
+            const std::uint32_t n = queue[h];
+            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
+                const std::uint32_t m = g.neighbour[e];
+                if (owner[m] != kNoJunction) {
+                    merged.unite(owner[m], owner[n]);  // regions touch
+                    continue;
+                }
+                if (int(depth[n]) >= options.regionRadius) continue;
+                depth[m] = depth[n] + 1;
+                owner[m] = owner[n];
+                queue.push_back(m);
+            }
+        }
+    }
+    g.junctionOf.assign(g.nodeCount(), kNoJunction);
+    std::vector<std::uint32_t> junctionOfRoot(clusters, kNoJunction);
+    for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
+        if (owner[n] == kNoJunction) continue;
+        const std::uint32_t root = merged.find(owner[n]);
+        if (junctionOfRoot[root] == kNoJunction) {
+            junctionOfRoot[root] = std::uint32_t(g.junctions.size());
+            g.junctions.emplace_back();
+        }
+        const std::uint32_t j = junctionOfRoot[root];
+        g.junctionOf[n] = j;
+        g.junctions[j].region.push_back(n);
+        if (cluster[n] != kNoJunction) g.junctions[j].core.push_back(n);
+    }
+    for (SkeletonJunction& j : g.junctions) {
+        // A fork's own loop goes round one branch; the body's loop there is
+        // its widest branch's (ForkSearch). Junctions with J_tau points keep
+        // their median over those.
+        const bool anyJunctionPoint =
+            std::any_of(j.core.begin(), j.core.end(),
+                        [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; });
+        std::vector<std::pair<float, std::uint32_t>> byRho;
+        for (std::uint32_t n : j.core)
+            if (!fork[n])
+                byRho.emplace_back(points[g.point[n]].rhoS, n);
+            else if (!anyJunctionPoint)
+                byRho.emplace_back(forkBodyRhoS[n], n);
+        std::sort(byRho.begin(), byRho.end());
+        if (byRho.empty()) continue;
+        const auto& mid = byRho[byRho.size() / 2];
+        j.rhoS =
+            byRho.size() % 2 ? mid.first : 0.5f * (byRho[byRho.size() / 2 - 1].first + mid.first);
+        j.representative = mid.second;
+    }
+
+    g.pieceCount = labelComponents(
+        g, [&](std::uint32_t n) { return g.junctionOf[n] == kNoJunction; }, g.pieceOf);
+}
+
 }  // namespace
 
 SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const Dims& dims,
@@ -212,60 +372,38 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
         if (g.bridgeCount) buildAdjacency(g);
     }
 
-    // Junction clusters and their regions.
-    auto isCore = [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; };
-    std::vector<std::uint32_t> cluster;
-    const std::uint32_t clusters = labelComponents(g, isCore, cluster);
-    std::vector<std::uint32_t> owner(g.nodeCount(),
-                                     kNoJunction);  // cluster whose region took the node first
-    UnionFind merged(clusters);
-    {
-        // Multi-source BFS from all cores at once, `regionRadius` steps.
-        std::vector<std::uint32_t> depth(g.nodeCount(), kNoJunction), queue;
+    // Forks: where three or more branches of C_tau meet but no point's path
+    // set goes round three parts (docs/algorithm.md §6, "Forks").
+    std::vector<std::uint8_t> fork(g.nodeCount(), 0);
+    std::vector<float> forkBodyRhoS(g.nodeCount(), 0.0f);
+    if (options.forkJunctions && g.nodeCount()) {
+        ForkSearch search(g.nodeCount());
         for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
-            if (cluster[n] != kNoJunction) depth[n] = 0, owner[n] = cluster[n], queue.push_back(n);
-        for (std::size_t h = 0; h < queue.size(); ++h) {
-            const std::uint32_t n = queue[h];
-            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
-                const std::uint32_t m = g.neighbour[e];
-                if (owner[m] != kNoJunction) {
-                    merged.unite(owner[m], owner[n]);  // regions touch
-                    continue;
-                }
-                if (int(depth[n]) >= options.regionRadius) continue;
-                depth[m] = depth[n] + 1;
-                owner[m] = owner[n];
-                queue.push_back(m);
-            }
-        }
-    }
-    g.junctionOf.assign(g.nodeCount(), kNoJunction);
-    std::vector<std::uint32_t> junctionOfRoot(clusters, kNoJunction);
-    for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
-        if (owner[n] == kNoJunction) continue;
-        const std::uint32_t root = merged.find(owner[n]);
-        if (junctionOfRoot[root] == kNoJunction) {
-            junctionOfRoot[root] = std::uint32_t(g.junctions.size());
-            g.junctions.emplace_back();
-        }
-        const std::uint32_t j = junctionOfRoot[root];
-        g.junctionOf[n] = j;
-        g.junctions[j].region.push_back(n);
-        if (cluster[n] != kNoJunction) g.junctions[j].core.push_back(n);
-    }
-    for (SkeletonJunction& j : g.junctions) {
-        std::vector<std::pair<float, std::uint32_t>> byRho;
-        for (std::uint32_t n : j.core) byRho.emplace_back(points[g.point[n]].rhoS, n);
-        std::sort(byRho.begin(), byRho.end());
-        if (byRho.empty()) continue;
-        const auto& mid = byRho[byRho.size() / 2];
-        j.rhoS =
-            byRho.size() % 2 ? mid.first : 0.5f * (byRho[byRho.size() / 2 - 1].first + mid.first);
-        j.representative = mid.second;
+            if (points[g.point[n]].robustRims < 3)
+                fork[n] = search.countBranches(g, points, n, double(options.regionRadius),
+                                               forkBodyRhoS[n]) >= 3;
     }
 
-    g.pieceCount = labelComponents(
-        g, [&](std::uint32_t n) { return g.junctionOf[n] == kNoJunction; }, g.pieceOf);
+    contractJunctions(g, points, options, fork, forkBodyRhoS);
+    // A fork is three branches; a junction of forks alone whose region
+    // leaves fewer (a short branch swallowed by the region) is no junction.
+    bool dissolved = false;
+    for (const SkeletonJunction& j : g.junctions) {
+        if (std::any_of(j.core.begin(), j.core.end(),
+                        [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; }))
+            continue;
+        std::vector<std::uint32_t> branches;
+        for (std::uint32_t n : j.region)
+            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e)
+                if (const std::uint32_t piece = g.pieceOf[g.neighbour[e]];
+                    piece != kNoJunction &&
+                    std::find(branches.begin(), branches.end(), piece) == branches.end())
+                    branches.push_back(piece);
+        if (branches.size() >= 3) continue;
+        for (std::uint32_t n : j.core) fork[n] = 0;
+        dissolved = true;
+    }
+    if (dissolved) contractJunctions(g, points, options, fork, forkBodyRhoS);
     return g;
 }
 

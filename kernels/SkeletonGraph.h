@@ -64,6 +64,14 @@ struct SkeletonGraphOptions {
     /// of a connected object is connected, and a piece left floating is a
     /// limb whose skeleton broke near its base, whatever the gap's length.
     const MaskVolume* inside = nullptr;
+    /// A node where three or more branches of C_tau leave a ball of twice
+    /// the part's radius (loopRadius(rho_S)), with no J_tau point within one
+    /// radius, is a junction core too (a fork): where many parts meet in a
+    /// small place (an octopus's mouth) a point's few feature points rarely
+    /// fall on three of them, so J_tau there comes and goes with the
+    /// resolution, while the skeleton's branching does not
+    /// (docs/algorithm.md §6, "Forks").
+    bool forkJunctions = true;
 };
 
 SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const Dims& dims,

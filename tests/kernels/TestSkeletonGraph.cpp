@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 #include <set>
 
@@ -77,10 +78,134 @@ TEST(SkeletonGraph, YGivesOneJunctionWithThreeBranches) {
     }
 }
 
-TEST(SkeletonGraph, WithoutRobustCentreThereIsNoJunction) {
+TEST(SkeletonGraph, WithoutRobustCentreOrForksThereIsNoJunction) {
     YShape y;
     y.set.point(y.centre).robustRims = 2;
-    const SkeletonGraph g = buildSkeletonGraph(y.set.points(), y.set.dims(), {});
+    SkeletonGraphOptions options;
+    options.forkJunctions = false;
+    const SkeletonGraph g = buildSkeletonGraph(y.set.points(), y.set.dims(), options);
+    EXPECT_TRUE(g.junctions.empty());
+    EXPECT_EQ(g.pieceCount, 1u);
+}
+
+/// A Y without any J_tau point, `scale` times the size of YShape: arms of
+/// 12 * scale voxels with rho_S 10 * scale, and the stem (arm 0) twice as
+/// thick as the other two, as a body with two limbs.
+struct ScaledFork {
+    SkeletonPointSet set;
+    std::uint32_t centre;
+    ScaledFork(int scale) : set(Dims{40 * scale + 1, 40 * scale + 1, 3}) {
+        const int c = 20 * scale, length = 12 * scale;
+        const float rho = 10.0f * float(scale);
+        centre = set.add({c, c, 1}, rho, 1000.0, 2);
+        set.chain({c + 1, c, 1}, {1, 0, 0}, length, 2.0f * rho);
+        set.chain({c - 1, c + 1, 1}, {-1, 1, 0}, length, rho);
+        set.chain({c - 1, c - 1, 1}, {-1, -1, 0}, length, rho);
+    }
+};
+
+TEST(SkeletonGraph, ForkWithoutJunctionPointIsOneJunctionAtEveryScale) {
+    // Where no point's path set goes round three parts, the branching of
+    // C_tau still is a junction, whatever the resolution.
+    for (int scale : {1, 2, 3}) {
+        ScaledFork y(scale);
+        const std::vector<SkeletonPoint> points = y.set.points();
+        const SkeletonGraph g = buildSkeletonGraph(points, y.set.dims(), {});
+        ASSERT_EQ(g.junctions.size(), 1u) << "scale " << scale;
+        const SkeletonJunction& j = g.junctions[0];
+        const std::uint32_t centre = nodeOf(g, points, y.centre);
+        EXPECT_NE(std::find(j.core.begin(), j.core.end(), centre), j.core.end());
+        EXPECT_EQ(g.pieceCount, 3u) << "scale " << scale;
+        // The body's loop (the thick stem's), not a limb's: rho_S 20 * scale.
+        EXPECT_EQ(j.rhoS, 20.0f * float(scale)) << "scale " << scale;
+    }
+}
+
+TEST(SkeletonGraph, ForksAroundAJunctionPointAddNoCore) {
+    // With a J_tau point within reach the junction is the paper's alone.
+    YShape y;
+    const std::vector<SkeletonPoint> points = y.set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, y.set.dims(), {});
+    ASSERT_EQ(g.junctions.size(), 1u);
+    EXPECT_EQ(g.junctions[0].core, std::vector<std::uint32_t>{nodeOf(g, points, y.centre)});
+}
+
+TEST(SkeletonGraph, ForkBesideAJunctionSeparatesItsLimbs) {
+    // A limb branching off another 1.3 radii from a junction point (two
+    // octopus arms whose skeletons join just before the mouth's junction):
+    // the fork is a junction of its own, so the two limbs are different
+    // branches. A J_tau point within one radius of a node (not within its
+    // whole ball of two radii) is what marks the branching as the
+    // junction's own.
+    SkeletonPointSet set(Dims{101, 101, 3});
+    set.add({50, 50, 1}, 60.0f, 1000.0, 3);
+    const std::vector<std::uint32_t> stem = set.chain({51, 50, 1}, {1, 0, 0}, 40, 30.0f);
+    set.chain({49, 51, 1}, {-1, 1, 0}, 40, 30.0f);
+    set.chain({49, 49, 1}, {-1, -1, 0}, 40, 30.0f);
+    const std::vector<std::uint32_t> side = set.chain({62, 51, 1}, {0, 1, 0}, 40, 30.0f);
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    const std::uint32_t sidePiece = g.pieceOf[nodeOf(g, points, side[30])];
+    const std::uint32_t stemPiece = g.pieceOf[nodeOf(g, points, stem[35])];
+    ASSERT_NE(sidePiece, kNoJunction);
+    ASSERT_NE(stemPiece, kNoJunction);
+    EXPECT_NE(sidePiece, stemPiece);
+}
+
+TEST(SkeletonGraph, ForksWhoseRegionsLeaveTwoBranchesAreNoJunction) {
+    // A limb branching off 0.6 radii from a junction point: the branching
+    // itself lies within one radius of the J_tau point, so it is no fork;
+    // the nodes around it see three branches but form two clusters on
+    // either side whose regions leave two branches each. A fork is three
+    // branches, so neither is a junction: the junction point's is the only
+    // one (as on an elephant's head, whose forks' regions swallowed a short
+    // branch and cut the trunk in some poses only).
+    SkeletonPointSet set(Dims{101, 101, 3});
+    const std::uint32_t centre = set.add({50, 50, 1}, 60.0f, 1000.0, 3);
+    set.chain({51, 50, 1}, {1, 0, 0}, 40, 30.0f);
+    set.chain({49, 51, 1}, {-1, 1, 0}, 40, 30.0f);
+    set.chain({49, 49, 1}, {-1, -1, 0}, 40, 30.0f);
+    set.chain({56, 51, 1}, {0, 1, 0}, 40, 30.0f);
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    ASSERT_EQ(g.junctions.size(), 1u);
+    EXPECT_EQ(g.junctions[0].core, std::vector<std::uint32_t>{nodeOf(g, points, centre)});
+}
+
+TEST(SkeletonGraph, LimbBridgedToTheMiddleOfABranchMakesAFork) {
+    // A limb whose skeleton stops 10 voxels short of a body's branch (the
+    // octopus's arms, bridged to a neighbour's skeleton, at 256), at 1x and
+    // 2x: the bridge leaves the body node's ball of two radii, and still it
+    // is a third branch there.
+    for (const int scale : {1, 2}) {
+        const Dims dims{41 * scale, 31 * scale, 3};
+        SkeletonPointSet set(dims);
+        const float rho = 12.0f * float(scale);
+        const std::vector<std::uint32_t> body =
+            set.chain({0, 5 * scale, 1}, {1, 0, 0}, 41 * scale, rho);
+        const std::vector<std::uint32_t> limb =
+            set.chain({20 * scale, 15 * scale, 1}, {0, 1, 0}, 15 * scale, rho);
+        MaskVolume object(dims, 1);
+        SkeletonGraphOptions options;
+        options.inside = &object;
+        const std::vector<SkeletonPoint> points = set.points();
+        const SkeletonGraph g = buildSkeletonGraph(points, dims, options);
+        ASSERT_EQ(g.bridgeCount, 1u) << "scale " << scale;
+        ASSERT_EQ(g.junctions.size(), 1u) << "scale " << scale;
+        EXPECT_EQ(g.pieceCount, 3u) << "scale " << scale;
+        EXPECT_NE(g.pieceOf[nodeOf(g, points, limb.back())],
+                  g.pieceOf[nodeOf(g, points, body.front())])
+            << "scale " << scale;
+    }
+}
+
+TEST(SkeletonGraph, ShortSpurIsNoFork) {
+    // A bump of the thick skeleton shorter than the part's radius is no
+    // branch: a straight chain with a 2-voxel spur stays one piece.
+    SkeletonPointSet set(Dims{41, 11, 3});
+    set.chain({0, 5, 1}, {1, 0, 0}, 41);
+    set.chain({20, 6, 1}, {0, 1, 0}, 2);
+    const SkeletonGraph g = buildSkeletonGraph(set.points(), set.dims(), {});
     EXPECT_TRUE(g.junctions.empty());
     EXPECT_EQ(g.pieceCount, 1u);
 }
