@@ -43,9 +43,9 @@ struct CutOptions {
     /// A candidate below bodyRatio whose limb circumference is within this
     /// fraction of the thinner of two body candidates counts as body-similar
     /// too (then the "more than two" rule decides). Wider than the spread of
-    /// one limb's measure between resolutions (about 10 % each, so up to 20 %
-    /// between two limbs), narrower than the gap to a thinner branch beside a
-    /// body passing through (0.71 of it on elephant.obj); docs/algorithm.md §8.6.
+    /// one limb's measure between resolutions, so two alike limbs get one
+    /// answer; narrower than the gap to a thinner branch beside a body passing
+    /// through, so the body is not cut there (both bounds: docs/algorithm.md §8.6).
     double siblingTolerance = 0.25;
     /// A cut moves further out along the limb while its loop still shrinks
     /// by more than this fraction over the next loop diameter (a limb's own

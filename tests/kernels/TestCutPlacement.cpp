@@ -348,12 +348,11 @@ TEST(CutPlacement, SiblingsAlikeInThicknessGetTheSameAnswer) {
     EXPECT_EQ(t->callbackCalls, 0);
 }
 
-/// PSB model 3 (Human) at its hips: the legs' limb circumferences are 17.1
-/// and 21.0 against a hip of 34.2 at resolution 192 (similarity 0.50 and
-/// 0.61), 17.8 and 21.0 at 320 (0.51 and 0.60): one leg sits on body_ratio,
-/// and the two legs differ by up to 19 %, more than the spread one leg's
-/// measure has between resolutions. Both legs are limbs whichever side of
-/// the threshold the thicker one falls, at two scales of the junction.
+/// Two legs at a hip, modelled on PSB model 3 (figures in docs/algorithm.md
+/// §8.6): the thicker leg sits on body_ratio and the two legs differ by
+/// more than one leg's measure moves between resolutions. Both legs are
+/// limbs whichever side of the threshold the thicker one falls, at two
+/// scales of the junction.
 TEST(CutPlacement, LegsOnEitherSideOfTheThresholdAreBothLimbsAtTwoScales) {
     for (const float scale : {1.0f, 2.0f}) {
         for (const float thickerLeg : {0.59f, 0.61f}) {
@@ -386,10 +385,10 @@ TEST(CutPlacement, LegsOnEitherSideOfTheThresholdAreBothLimbsAtTwoScales) {
     }
 }
 
-/// elephant.obj's head junction: the body passes through it (two candidates
-/// alike, similarity 0.64) and a thinner branch reads 0.60 to 0.71 of them
-/// between resolutions (0.71 at 320). It stays a limb at every one, so rule
-/// 3 does not cut the body: the tolerance stays below 0.29.
+/// A junction the body passes through (two candidates alike) with a thinner
+/// branch at seven tenths of them, modelled on elephant.obj's head junction
+/// (docs/algorithm.md §8.6): the branch stays a limb, so rule 3 does not cut
+/// the body. This bounds the tolerance from above.
 TEST(CutPlacement, BranchAtSevenTenthsOfTheBodyIsNotPulledInAtTwoScales) {
     for (const float scale : {1.0f, 2.0f}) {
         SCOPED_TRACE("scale " + std::to_string(scale));
