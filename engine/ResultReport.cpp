@@ -62,6 +62,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                             {"threads", context.threads},
                             {"region_radius", p.regionRadius},
                             {"bridge_gap", p.bridgeGap},
+                            {"fork_junctions", p.forkJunctions},
                             {"consecutive_levels", p.consecutiveLevels},
                             {"skeleton_search", skeletonSearchName(skeletonSearchToRun(p))},
                             {"joints", p.joints}};
@@ -150,7 +151,8 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                  {"branches", j.branches},
                  {"cuts", j.cuts},
                  {"rho_s", j.rhoS},
-                 {"core_voxels", j.coreVoxels}});
+                 {"core_voxels", j.coreVoxels},
+                 {"fork_voxels", j.forkVoxels}});
         for (const auto& c : obj.criticalPoints)
             critical.push_back(
                 {{"object", o},

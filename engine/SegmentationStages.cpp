@@ -245,6 +245,10 @@ void recordSkeleton(ObjectState& state) {
         info.cuts = plan.junctions[j].cuts;
         info.rhoS = sj.rhoS;
         info.coreVoxels = std::uint32_t(sj.core.size());
+        info.forkVoxels =
+            std::uint32_t(std::count_if(sj.core.begin(), sj.core.end(), [&](std::uint32_t n) {
+                return points[skeleton.point[n]].robustRims < 3;
+            }));
         out.junctions.push_back(info);
     }
     for (const CutCandidate& c : plan.candidates) {

@@ -128,6 +128,7 @@ struct JunctionInfo {
     std::uint32_t cuts = 0;
     float rhoS = 0.0f;
     std::uint32_t coreVoxels = 0;
+    std::uint32_t forkVoxels = 0;  // core voxels that are forks, not J_tau points
 };
 
 struct CriticalPointInfo {

@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <utility>
 
 #include "engine/Segmenter.h"
+#include "io/shapes/SyntheticShapes.h"
 #include "tests/engine/RobustnessHelpers.h"
 
 using namespace skelseg;
@@ -114,4 +116,31 @@ TEST(Segmenter, TauListsAreSortedAndCheckedWhole) {
     EXPECT_EQ(single.tauListString(), single.tau.toString());
     for (const char* bad : {"", ",", "1%,", "1%,,3%", "x", "3%,3.0%", "1%,250", "1%,-2%"})
         EXPECT_THROW(parseTauList(bad), UsageError) << bad;
+}
+
+TEST(Segmenter, ForkVoxelsAreReportedOnlyWhenForksAreJunctions) {
+    // The figure in pose 1 has a fork beside a junction point (a limb's
+    // skeleton leaves the junction's ball apart from the J_tau cluster): the
+    // report names those core voxels, and none without the fork rule.
+    RasterOptions raster;
+    raster.size = 112;
+    const MaskVolume mask = rasterise(makeShape("figure", 1), raster);
+    auto forkAndCoreVoxels = [&](bool forks) {
+        SegmentationParameters p;
+        p.forkJunctions = forks;
+        const SegmentationResult result = segmentVolume(mask, p);
+        std::uint32_t fork = 0, core = 0;
+        for (const ObjectSegmentation& o : result.objects)
+            for (const JunctionInfo& j : o.junctions) {
+                EXPECT_LE(j.forkVoxels, j.coreVoxels);
+                fork += j.forkVoxels;
+                core += j.coreVoxels;
+            }
+        return std::pair{fork, core};
+    };
+    const auto [forks, coreWithForks] = forkAndCoreVoxels(true);
+    const auto [none, coreWithout] = forkAndCoreVoxels(false);
+    EXPECT_GT(forks, 0u);
+    EXPECT_EQ(none, 0u);
+    EXPECT_EQ(coreWithForks - forks, coreWithout) << "the J_tau points are the same either way";
 }
