@@ -246,7 +246,8 @@ def main(argv):
         mean = np.mean([e["mean_ri_error"] for e in results["sequences"].values()])
         lines += ["", f"Same part count in every frame: {same} of {len(results['sequences'])} "
                   f"sequences; mean RI error between frames {mean:.3f}.", ""]
-    for table, title in (("resolutions", "mesh"), ("psb", "PSB model")):
+    for table, title, plural in (("resolutions", "mesh", "meshes"),
+                                 ("psb", "PSB model", "PSB models")):
         if not results[table]:
             continue
         lines += [f"Resolutions {fmt_list(resolutions)}:", "",
@@ -261,7 +262,7 @@ def main(argv):
         same = sum(e["same_parts"] for e in results[table].values())
         mean = np.mean([e["mean_ri_error"] for e in results[table].values()])
         lines += ["", f"Same part count at every resolution: {same} of "
-                  f"{len(results[table])} {title}s; mean RI error {mean:.3f}.", ""]
+                  f"{len(results[table])} {plural}; mean RI error {mean:.3f}.", ""]
     print("\n".join(lines))
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=2) + "\n")
