@@ -20,12 +20,14 @@ LevelClock::~LevelClock() {
 namespace {
 
 /// The shared points with the junction test of a level at `tauArea`: only
-/// robustRims >= 3 is read downstream, so 3 stands for "three or more".
+/// isJunctionPoint reads robustRims downstream, so kJunctionRims stands for
+/// "three or more".
 std::vector<SkeletonPoint> pointsAtLevel(const std::vector<SkeletonPoint>& shared, double tauArea) {
     std::vector<SkeletonPoint> points = shared;
     for (SkeletonPoint& p : points)
-        p.robustRims = p.junctionArea >= tauArea ? std::max<std::uint8_t>(p.robustRims, 3)
-                                                 : std::min<std::uint8_t>(p.robustRims, 2);
+        p.robustRims = p.junctionArea >= tauArea
+                           ? std::max(p.robustRims, kJunctionRims)
+                           : std::min<std::uint8_t>(p.robustRims, kJunctionRims - 1);
     return points;
 }
 

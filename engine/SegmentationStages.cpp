@@ -230,7 +230,7 @@ void recordSkeleton(ObjectState& state) {
         v.rhoS = sp.rhoS;
         v.rhoC = sp.rhoC;
         v.sigma = sp.sigma;
-        v.junction = sp.robustRims >= 3;
+        v.junction = isJunctionPoint(sp);
         v.critical = critical[n] != 0;
         out.junctionVoxels += v.junction;
         out.handlePoints += sp.isHandle;
@@ -247,7 +247,7 @@ void recordSkeleton(ObjectState& state) {
         info.coreVoxels = std::uint32_t(sj.core.size());
         info.forkVoxels =
             std::uint32_t(std::count_if(sj.core.begin(), sj.core.end(), [&](std::uint32_t n) {
-                return points[skeleton.point[n]].robustRims < 3;
+                return !isJunctionPoint(points[skeleton.point[n]]);
             }));
         out.junctions.push_back(info);
     }

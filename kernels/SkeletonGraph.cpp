@@ -23,6 +23,13 @@ struct UnionFind {
     }
 };
 
+/// Whether any of the graph nodes `nodes` is a junction point (J_tau).
+bool anyJunctionPoint(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                      const std::vector<std::uint32_t>& nodes) {
+    return std::any_of(nodes.begin(), nodes.end(),
+                       [&](std::uint32_t n) { return isJunctionPoint(points[g.point[n]]); });
+}
+
 /// Connected components of the nodes with include(n), following `adjacency`;
 /// numbered by smallest node. Returns the count; label kNoJunction elsewhere.
 template <typename Include>
@@ -157,7 +164,7 @@ struct ForkSearch {
         }
         // A junction point within reach already marks this branching.
         for (std::uint32_t n : touched)
-            if (distance[n] <= radius && points[g.point[n]].robustRims >= 3) return 0;
+            if (distance[n] <= radius && isJunctionPoint(points[g.point[n]])) return 0;
         std::uint32_t branches = 0;
         bodyRhoS = 0.0f;
         // Edges from a node to beyond the reach are bridges (no 26-step
@@ -208,7 +215,7 @@ void contractJunctions(SkeletonGraph& g, const std::vector<SkeletonPoint>& point
                        const std::vector<float>& forkBodyRhoS) {
     g.junctions.clear();
     // Junction clusters and their regions.
-    auto isCore = [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3 || fork[n]; };
+    auto isCore = [&](std::uint32_t n) { return isJunctionPoint(points[g.point[n]]) || fork[n]; };
     std::vector<std::uint32_t> cluster;
     const std::uint32_t clusters = labelComponents(g, isCore, cluster);
     std::vector<std::uint32_t> owner(g.nodeCount(),
@@ -252,14 +259,12 @@ void contractJunctions(SkeletonGraph& g, const std::vector<SkeletonPoint>& point
         // A fork's own loop goes round one branch; the body's loop there is
         // its widest branch's (ForkSearch). Junctions with J_tau points keep
         // their median over those.
-        const bool anyJunctionPoint =
-            std::any_of(j.core.begin(), j.core.end(),
-                        [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; });
+        const bool coreHasJunctionPoint = anyJunctionPoint(g, points, j.core);
         std::vector<std::pair<float, std::uint32_t>> byRho;
         for (std::uint32_t n : j.core)
             if (!fork[n])
                 byRho.emplace_back(points[g.point[n]].rhoS, n);
-            else if (!anyJunctionPoint)
+            else if (!coreHasJunctionPoint)
                 byRho.emplace_back(forkBodyRhoS[n], n);
         std::sort(byRho.begin(), byRho.end());
         if (byRho.empty()) continue;
@@ -379,7 +384,7 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
     if (options.forkJunctions && g.nodeCount()) {
         ForkSearch search(g.nodeCount());
         for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
-            if (points[g.point[n]].robustRims < 3)
+            if (!isJunctionPoint(points[g.point[n]]))
                 fork[n] = search.countBranches(g, points, n, double(options.regionRadius),
                                                forkBodyRhoS[n]) >= 3;
     }
@@ -389,9 +394,7 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
     // leaves fewer (a short branch swallowed by the region) is no junction.
     bool dissolved = false;
     for (const SkeletonJunction& j : g.junctions) {
-        if (std::any_of(j.core.begin(), j.core.end(),
-                        [&](std::uint32_t n) { return points[g.point[n]].robustRims >= 3; }))
-            continue;
+        if (anyJunctionPoint(g, points, j.core)) continue;
         std::vector<std::uint32_t> branches;
         for (std::uint32_t n : j.region)
             for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e)

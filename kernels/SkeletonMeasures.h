@@ -54,6 +54,15 @@ struct SkeletonPoint {
     std::uint32_t featureA = kNoNode, featureB = kNoNode;  // pair realising rho_S
 };
 
+/// Rims a point needs to be a junction point (a point of J_tau): its loop
+/// cuts the boundary into at least three components of area >= tau.
+constexpr std::uint8_t kJunctionRims = 3;
+
+/// Whether `p` is a junction point, a point of J_tau (docs/algorithm.md §6).
+constexpr bool isJunctionPoint(const SkeletonPoint& p) noexcept {
+    return p.robustRims >= kJunctionRims;
+}
+
 /// Radius of a round part whose loop has rho_S = `rhoS` (rho_S, the longest
 /// feature-pair geodesic, is half the loop's length: pi r). The graph stages
 /// turn loop lengths into distances in voxels with it.

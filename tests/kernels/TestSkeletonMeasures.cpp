@@ -306,8 +306,8 @@ TEST(SkeletonMeasures, OneMeasureAtTheCoarsestTauServesFinerTaus) {
         ASSERT_EQ(c.voxel, f.voxel);
         EXPECT_EQ(c.rims, f.rims);
         EXPECT_EQ(c.rhoC >= fineOptions.tau, f.rhoC >= fineOptions.tau);
-        EXPECT_EQ(c.junctionArea >= fineOptions.tau, f.robustRims >= 3);
-        EXPECT_EQ(c.junctionArea >= coarseOptions.tau, c.robustRims >= 3);
+        EXPECT_EQ(c.junctionArea >= fineOptions.tau, isJunctionPoint(f));
+        EXPECT_EQ(c.junctionArea >= coarseOptions.tau, isJunctionPoint(c));
         if (f.rhoC >= fineOptions.tau) {
             EXPECT_EQ(c.sigma, f.sigma);
         }
@@ -335,7 +335,7 @@ TEST(SkeletonMeasures, PointsAreConsistent) {
         EXPECT_LE(s.robustRims, s.rims);
         EXPECT_EQ(s.sigma >= 0.0f, s.rhoC >= options.tau) << "sigma computed exactly for C_tau";
         EXPECT_LE(s.sigma, 1.0f);
-        if (s.robustRims >= 3) {
+        if (isJunctionPoint(s)) {
             EXPECT_GE(s.rhoC, options.tau);
         }
         // rho_S is realised by the reported feature pair.
