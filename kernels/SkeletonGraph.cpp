@@ -134,6 +134,7 @@ struct ForkSearch {
     std::vector<double> distance;
     std::vector<std::uint32_t> piece, touched, queue;
     std::vector<std::pair<double, std::uint32_t>> heap;
+    std::vector<float> rho;  // rho_S along one outer piece
     explicit ForkSearch(std::size_t n) : distance(n, HUGE_VAL), piece(n, kNoJunction) {}
 
     std::uint32_t countBranches(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
@@ -180,7 +181,6 @@ struct ForkSearch {
                     ++branches;
                     bodyRhoS = std::max(bodyRhoS, points[g.point[far]].rhoS);
                 });
-        std::vector<float> rho;
         for (std::uint32_t seed : touched) {
             if (distance[seed] <= radius || piece[seed] != kNoJunction) continue;
             piece[seed] = seed;
