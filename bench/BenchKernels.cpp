@@ -83,6 +83,16 @@ void featureTransformBench(benchmark::State& state, const std::string& shape) {
     state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(in.sites.size()));
 }
 
+void boundaryVoxelsBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    for (auto _ : state) {
+        MaskVolume boundary = boundaryVoxels(in.mask, {false});
+        benchmark::DoNotOptimize(boundary.data());
+    }
+    state.counters["voxels"] = double(in.mask.size());
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(in.mask.size()));
+}
+
 void boundaryGraphBench(benchmark::State& state, const std::string& shape) {
     const ShapeInput& in = shapeInput(shape, int(state.range(0)));
     for (auto _ : state) {
@@ -293,6 +303,7 @@ void measureSkeletonBench(benchmark::State& state, const std::string& shape) {
 
 [[maybe_unused]] const bool kRegistered = [] {
     registerForShapes("FeatureTransform", kLinearSizes, featureTransformBench);
+    registerForShapes("BoundaryVoxels", kLinearSizes, boundaryVoxelsBench);
     registerForShapes("BoundaryGraph", kLinearSizes, boundaryGraphBench);
     registerForShapes("SkeletonCandidates", kLinearSizes, skeletonCandidatesBench);
     registerForShapes("ConnectedObjects", kLinearSizes, connectedObjectsBench);

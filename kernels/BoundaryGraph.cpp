@@ -27,11 +27,32 @@ MaskVolume boundaryVoxels(const MaskVolume& mask, const BoundaryGraphOptions& op
     const Dims d = mask.dims();
     MaskVolume boundary(d, 0);
     boundary.geometry = mask.geometry;
+    // Away from the volume's faces all six neighbours exist, so those voxels
+    // read them by fixed offsets without bounds tests; the faces (the first
+    // and last voxel of each row, and the outer rows) take the checked test.
+    const std::ptrdiff_t strideY = d.x, strideZ = std::ptrdiff_t(d.x) * d.y;
     parallelForEach(
         d.z,
         [&](int z) {
-            for (int y = 0; y < d.y; ++y)
-                for (int x = 0; x < d.x; ++x) boundary(x, y, z) = isBoundary(mask, x, y, z) ? 1 : 0;
+            for (int y = 0; y < d.y; ++y) {
+                const bool innerRow = y > 0 && y < d.y - 1 && z > 0 && z < d.z - 1 && d.x > 2;
+                if (!innerRow) {
+                    for (int x = 0; x < d.x; ++x)
+                        boundary(x, y, z) = isBoundary(mask, x, y, z) ? 1 : 0;
+                    continue;
+                }
+                const std::uint8_t* in = mask.data() + mask.index(0, y, z);
+                std::uint8_t* out = boundary.data() + boundary.index(0, y, z);
+                out[0] = isBoundary(mask, 0, y, z) ? 1 : 0;
+                for (int x = 1; x < d.x - 1; ++x) {
+                    const std::uint8_t* v = in + x;
+                    out[x] = v[0] && (!v[-1] || !v[1] || !v[-strideY] || !v[strideY] ||
+                                      !v[-strideZ] || !v[strideZ])
+                                 ? 1
+                                 : 0;
+                }
+                out[d.x - 1] = isBoundary(mask, d.x - 1, y, z) ? 1 : 0;
+            }
         },
         options.threaded);
     return boundary;

@@ -129,6 +129,30 @@ TEST(BoundaryGraph, BoundaryVoxelsMaskAgreesWithNodes) {
     EXPECT_EQ(boundaryVoxels(mask, {true}).values(), boundary.values());
 }
 
+TEST(BoundaryGraph, BoundaryVoxelsEqualsReferenceUpToTheGridFaces) {
+    // Dense random masks touch every face, edge and corner of the grid, where
+    // the mask takes the bounds-checked test, and fill its inside, where it
+    // reads the six neighbours by offsets; both must give the reference.
+    for (const Dims dims : {Dims{9, 7, 6}, Dims{3, 3, 3}, Dims{2, 5, 4}, Dims{1, 1, 1}}) {
+        for (unsigned seed = 1; seed <= 3; ++seed) {
+            MaskVolume mask(dims, 0);
+            std::uint32_t state = seed * 2654435761u;
+            for (std::size_t i = 0; i < mask.size(); ++i) {
+                state = state * 1664525u + 1013904223u;
+                mask[i] = (state >> 24) < 200 ? 1 : 0;  // about 78% object
+            }
+            for (const bool threaded : {false, true}) {
+                const MaskVolume boundary = boundaryVoxels(mask, {threaded});
+                for (int z = 0; z < dims.z; ++z)
+                    for (int y = 0; y < dims.y; ++y)
+                        for (int x = 0; x < dims.x; ++x)
+                            ASSERT_EQ(boundary(x, y, z) != 0, isBoundaryReference(mask, x, y, z))
+                                << "voxel " << x << "," << y << "," << z << " seed " << seed;
+            }
+        }
+    }
+}
+
 TEST(BoundaryGraph, DiagonalOnlyBackgroundIsNotBoundary) {
     // An interior voxel whose only background neighbour is diagonal (26 but
     // not 6) is not a boundary voxel: the 6-background rule.
