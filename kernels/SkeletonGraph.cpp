@@ -208,6 +208,167 @@ struct ForkSearch {
     }
 };
 
+/// Grows junction regions up to where their branches separate (docs/algorithm.md
+/// §6, "A region reaches its branches' split"). A fork within one part radius R
+/// (loopRadius of the junction's rho_S) of a J_tau point is no junction of its
+/// own, because that junction marks the branching; but its region reaches only
+/// `regionRadius` steps, and two limbs whose thick skeletons touch just outside
+/// it leave as one piece, which the walk of §8.1 takes as one branch. So for
+/// each piece touching a region: the piece's nodes at distance (R, 2R] from the
+/// region (Euclidean edge lengths within the piece) fall into connected parts,
+/// counted as in ForkSearch (reaching past 1.5R or on beyond 2R); when two or
+/// more count, the region takes the piece's breadth-first levels from the
+/// region one at a time, up to distance R, until what is left of the piece
+/// holds the counted parts in separate pieces; the bits left with none of them
+/// join the region too.
+void growRegionsToBranchSplits(SkeletonGraph& g, const SkeletonGraphOptions& options) {
+    const std::uint32_t n = g.nodeCount();
+    std::vector<double> distance(n, HUGE_VAL);
+    std::vector<std::uint32_t> mark(n, kNoJunction), level(n, kNoJunction),
+        component(n, kNoJunction);
+    auto later = [](const auto& a, const auto& b) { return a > b; };
+    for (std::uint32_t j = 0; j < g.junctions.size(); ++j) {
+        const double radius =
+            std::max(double(options.regionRadius), loopRadius(double(g.junctions[j].rhoS)));
+        const double reach = 2.0 * radius;
+        std::vector<std::uint32_t> pieces;
+        for (std::uint32_t r : g.junctions[j].region)
+            for (std::uint32_t e = g.offset[r]; e < g.offset[r + 1]; ++e)
+                if (const std::uint32_t p = g.pieceOf[g.neighbour[e]];
+                    p != kNoJunction && std::find(pieces.begin(), pieces.end(), p) == pieces.end())
+                    pieces.push_back(p);
+        std::sort(pieces.begin(), pieces.end());
+        bool grownHere = false;
+        for (std::uint32_t p : pieces) {
+            // Distances within the piece from the region, bounded by 2R.
+            std::vector<std::uint32_t> touched;
+            std::vector<std::pair<double, std::uint32_t>> heap;
+            for (std::uint32_t r : g.junctions[j].region)
+                for (std::uint32_t e = g.offset[r]; e < g.offset[r + 1]; ++e) {
+                    const std::uint32_t m = g.neighbour[e];
+                    if (g.pieceOf[m] != p) continue;
+                    const double dx = g.coord[m].x - g.coord[r].x, dy = g.coord[m].y - g.coord[r].y,
+                                 dz = g.coord[m].z - g.coord[r].z;
+                    const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+                    if (d > reach || d >= distance[m]) continue;
+                    if (distance[m] == HUGE_VAL) touched.push_back(m);
+                    distance[m] = d;
+                    heap.push_back({d, m});
+                }
+            std::make_heap(heap.begin(), heap.end(), later);
+            while (!heap.empty()) {
+                std::pop_heap(heap.begin(), heap.end(), later);
+                const auto [d, m0] = heap.back();
+                heap.pop_back();
+                if (d > distance[m0]) continue;
+                for (std::uint32_t e = g.offset[m0]; e < g.offset[m0 + 1]; ++e) {
+                    const std::uint32_t m = g.neighbour[e];
+                    if (g.pieceOf[m] != p) continue;
+                    const double dx = g.coord[m].x - g.coord[m0].x,
+                                 dy = g.coord[m].y - g.coord[m0].y,
+                                 dz = g.coord[m].z - g.coord[m0].z;
+                    const double dm = d + std::sqrt(dx * dx + dy * dy + dz * dz);
+                    if (dm > reach || dm >= distance[m]) continue;
+                    if (distance[m] == HUGE_VAL) touched.push_back(m);
+                    distance[m] = dm;
+                    heap.push_back({dm, m});
+                    std::push_heap(heap.begin(), heap.end(), later);
+                }
+            }
+            // The counted parts of the shell (R, 2R]; mark holds each shell
+            // node's part (its seed) while the piece is examined.
+            std::vector<std::uint32_t> counted, queue;
+            for (std::uint32_t seed : touched) {
+                if (distance[seed] <= radius || mark[seed] != kNoJunction) continue;
+                mark[seed] = seed;
+                queue.assign(1, seed);
+                double farthest = 0.0;
+                bool leavesBall = false;
+                for (std::size_t h = 0; h < queue.size(); ++h) {
+                    const std::uint32_t m0 = queue[h];
+                    farthest = std::max(farthest, distance[m0]);
+                    for (std::uint32_t e = g.offset[m0]; e < g.offset[m0 + 1]; ++e) {
+                        const std::uint32_t m = g.neighbour[e];
+                        if (g.pieceOf[m] != p) continue;
+                        if (distance[m] == HUGE_VAL) leavesBall = true;
+                        if (distance[m] > radius && distance[m] <= reach && mark[m] == kNoJunction)
+                            mark[m] = seed, queue.push_back(m);
+                    }
+                }
+                if (farthest > 1.5 * radius || leavesBall) counted.push_back(seed);
+            }
+            std::vector<std::uint32_t> taken;  // nodes the region would take
+            bool separated = false;
+            if (counted.size() >= 2) {
+                // Breadth-first levels from the region within the piece.
+                std::vector<std::uint32_t> front;
+                for (std::uint32_t r : g.junctions[j].region)
+                    for (std::uint32_t e = g.offset[r]; e < g.offset[r + 1]; ++e)
+                        if (const std::uint32_t m = g.neighbour[e];
+                            g.pieceOf[m] == p && level[m] == kNoJunction)
+                            level[m] = 1, front.push_back(m);
+                std::vector<std::uint32_t> next, flooded;
+                while (!front.empty() && !separated) {
+                    bool beyond = false;
+                    for (std::uint32_t m : front) beyond |= distance[m] > radius;
+                    if (beyond) break;
+                    taken.insert(taken.end(), front.begin(), front.end());
+                    // Pieces of what is left; separated when no two counted
+                    // parts share one.
+                    std::vector<std::uint32_t> seeds;
+                    for (std::uint32_t m : flooded) component[m] = kNoJunction;
+                    flooded.clear();
+                    for (std::uint32_t c : counted) {
+                        if (component[c] != kNoJunction) break;
+                        seeds.push_back(c);
+                        component[c] = c;
+                        flooded.push_back(c);
+                        queue.assign(1, c);
+                        for (std::size_t h = 0; h < queue.size(); ++h)
+                            for (std::uint32_t e = g.offset[queue[h]]; e < g.offset[queue[h] + 1];
+                                 ++e) {
+                                const std::uint32_t m = g.neighbour[e];
+                                if (g.pieceOf[m] == p && level[m] == kNoJunction &&
+                                    component[m] == kNoJunction)
+                                    component[m] = c, queue.push_back(m), flooded.push_back(m);
+                            }
+                    }
+                    separated = seeds.size() == counted.size();
+                    next.clear();
+                    for (std::uint32_t m0 : front)
+                        for (std::uint32_t e = g.offset[m0]; e < g.offset[m0 + 1]; ++e)
+                            if (const std::uint32_t m = g.neighbour[e];
+                                g.pieceOf[m] == p && level[m] == kNoJunction)
+                                level[m] = level[m0] + 1, next.push_back(m);
+                    front.swap(next);
+                }
+                if (separated) {
+                    // Bits of the ball cut off from every counted part join the
+                    // region as well (they are not branches).
+                    for (std::uint32_t m : touched)
+                        if (level[m] == kNoJunction && component[m] == kNoJunction)
+                            taken.push_back(m);
+                }
+                for (std::uint32_t m : touched) level[m] = kNoJunction;
+                for (std::uint32_t m : front) level[m] = kNoJunction;
+                for (std::uint32_t m : flooded) component[m] = kNoJunction;
+            }
+            for (std::uint32_t m : touched) distance[m] = HUGE_VAL, mark[m] = kNoJunction;
+            if (!separated) continue;
+            for (std::uint32_t m : taken) {
+                g.junctionOf[m] = j;
+                g.junctions[j].region.push_back(m);
+            }
+            grownHere = true;
+        }
+        if (!grownHere) continue;
+        // Later junctions see the pieces as they are now.
+        std::sort(g.junctions[j].region.begin(), g.junctions[j].region.end());
+        g.pieceCount = labelComponents(
+            g, [&](std::uint32_t m) { return g.junctionOf[m] == kNoJunction; }, g.pieceOf);
+    }
+}
+
 /// Junction clusters (J_tau points and forks) and their regions, each
 /// junction's rho_S, and the branch pieces outside the regions.
 void contractJunctions(SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
@@ -407,6 +568,7 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
         dissolved = true;
     }
     if (dissolved) contractJunctions(g, points, options, fork, forkBodyRhoS);
+    if (options.growRegionsToSplits) growRegionsToBranchSplits(g, options);
     return g;
 }
 

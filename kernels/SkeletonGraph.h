@@ -72,6 +72,12 @@ struct SkeletonGraphOptions {
     /// resolution, while the skeleton's branching does not
     /// (docs/algorithm.md §6, "Forks").
     bool forkJunctions = true;
+    /// A junction's region also takes the start of a piece that carries two
+    /// or more branches, up to where they separate (at most one part radius
+    /// out): a fork within that radius of a J_tau point is left to the
+    /// junction, so the junction's region must separate its branches
+    /// (docs/algorithm.md §6, "A region reaches its branches' split").
+    bool growRegionsToSplits = true;
 };
 
 SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const Dims& dims,

@@ -172,6 +172,65 @@ TEST(SkeletonGraph, ForksWhoseRegionsLeaveTwoBranchesAreNoJunction) {
     EXPECT_EQ(g.junctions[0].core, std::vector<std::uint32_t>{nodeOf(g, points, centre)});
 }
 
+TEST(SkeletonGraph, RegionReachesTheSplitOfTwoLimbsBesideAJunction) {
+    // Two limbs whose skeletons join 0.6 radii from a junction point, just
+    // outside its region (a hand's ring and little fingers at some
+    // resolutions): the fork there is left to the junction, so the
+    // junction's region grows along the piece to the split and the two
+    // limbs leave it as two branches, at 1x and 2x. The region stops at the
+    // split: the limbs' own skeletons stay outside it.
+    for (const int scale : {1, 2}) {
+        SkeletonPointSet set(Dims{101 * scale, 101 * scale, 3});
+        const int c = 50 * scale, length = 40 * scale, split = 6 * scale;
+        const float body = 60.0f * float(scale), limb = 30.0f * float(scale);
+        const std::uint32_t centre = set.add({c, c, 1}, body, 1000.0, 3);
+        const std::vector<std::uint32_t> stem = set.chain({c + 1, c, 1}, {1, 0, 0}, length, limb);
+        set.chain({c - 1, c + 1, 1}, {-1, 1, 0}, length, body);
+        set.chain({c - 1, c - 1, 1}, {-1, -1, 0}, length, body);
+        const std::vector<std::uint32_t> side =
+            set.chain({c + split, c + 1, 1}, {0, 1, 0}, length, limb);
+        const std::vector<SkeletonPoint> points = set.points();
+        const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+        ASSERT_EQ(g.junctions.size(), 1u) << "scale " << scale;
+        EXPECT_EQ(g.junctions[0].core, std::vector<std::uint32_t>{nodeOf(g, points, centre)});
+        const std::uint32_t sidePiece = g.pieceOf[nodeOf(g, points, side[length / 2])];
+        const std::uint32_t stemPiece = g.pieceOf[nodeOf(g, points, stem[length / 2])];
+        ASSERT_NE(sidePiece, kNoJunction) << "scale " << scale;
+        ASSERT_NE(stemPiece, kNoJunction) << "scale " << scale;
+        EXPECT_NE(sidePiece, stemPiece) << "scale " << scale;
+        EXPECT_EQ(g.pieceCount, 4u) << "scale " << scale;
+        EXPECT_EQ(g.junctionOf[nodeOf(g, points, stem[std::size_t(split) + 1])], kNoJunction)
+            << "scale " << scale;
+        EXPECT_EQ(g.junctionOf[nodeOf(g, points, side[1])], kNoJunction) << "scale " << scale;
+        SkeletonGraphOptions without;
+        without.growRegionsToSplits = false;
+        const SkeletonGraph h = buildSkeletonGraph(points, set.dims(), without);
+        EXPECT_EQ(h.pieceCount, 3u) << "scale " << scale;
+    }
+}
+
+TEST(SkeletonGraph, RegionDoesNotGrowAlongALoopOfTheSkeleton) {
+    // A piece whose two strands part beside a junction and join again (a
+    // handle, a hole in the thick skeleton) carries one branch: the region
+    // keeps its size.
+    SkeletonPointSet set(Dims{101, 101, 3});
+    set.add({50, 50, 1}, 60.0f, 1000.0, 3);
+    set.chain({51, 50, 1}, {1, 0, 0}, 40, 30.0f);
+    set.chain({49, 51, 1}, {-1, 1, 0}, 40, 60.0f);
+    set.chain({49, 49, 1}, {-1, -1, 0}, 40, 60.0f);
+    set.chain({56, 51, 1}, {0, 1, 0}, 30, 30.0f);
+    set.chain({56, 81, 1}, {1, 0, 0}, 30, 30.0f);
+    set.chain({86, 51, 1}, {0, 1, 0}, 30, 30.0f);
+    const std::vector<SkeletonPoint> points = set.points();
+    SkeletonGraphOptions without;
+    without.growRegionsToSplits = false;
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    const SkeletonGraph h = buildSkeletonGraph(points, set.dims(), without);
+    ASSERT_EQ(g.junctions.size(), 1u);
+    EXPECT_EQ(g.junctions[0].region, h.junctions[0].region);
+    EXPECT_EQ(g.pieceCount, h.pieceCount);
+}
+
 TEST(SkeletonGraph, LimbBridgedToTheMiddleOfABranchMakesAFork) {
     // A limb whose skeleton stops 10 voxels short of a body's branch (the
     // octopus's arms, bridged to a neighbour's skeleton, at 256), at 1x and
