@@ -120,90 +120,141 @@ void bridgeThroughObject(SkeletonGraph& g, const std::vector<std::uint32_t>& par
     }
 }
 
-/// Fork test at node s: the nodes within 2R of s along the graph's edges
-/// (Euclidean edge lengths, bridges included), R = the radius of the part at
-/// s (loopRadius(rho_S)), at least `minimumRadius`. The shell (R, 2R] falls
-/// into one connected piece per branch leaving the ball; a piece counts when
-/// it reaches past 1.5R or leaves the ball (a branch, not a bump of the thick
-/// skeleton), and so does a bridge from the inner ball to beyond 2R. s is a
-/// fork with three or more counting branches, unless a J_tau point lies
-/// within R of it (the junction test already marks that branching).
-/// `bodyRhoS` gets the largest of the branches' median rho_S: the loop of the
-/// body through the fork.
-struct ForkSearch {
+/// Distances along the skeleton graph's edges (Euclidean edge lengths,
+/// bridges included) from seed nodes, up to `reach`, over the nodes with
+/// allowed(n). Kept across calls: reset() clears only what the last search
+/// touched.
+struct BoundedDistances {
     std::vector<double> distance;
-    std::vector<std::uint32_t> piece, touched, queue;
+    std::vector<std::uint32_t> touched;  // nodes with a finite distance
     std::vector<std::pair<double, std::uint32_t>> heap;
-    std::vector<float> rho;  // rho_S along one outer piece
-    explicit ForkSearch(std::size_t n) : distance(n, HUGE_VAL), piece(n, kNoJunction) {}
+    explicit BoundedDistances(std::size_t n) : distance(n, HUGE_VAL) {}
 
-    std::uint32_t countBranches(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
-                                std::uint32_t s, double minimumRadius, float& bodyRhoS) {
-        const double radius = std::max(minimumRadius, loopRadius(double(points[g.point[s]].rhoS)));
-        const double reach = 2.0 * radius;
-        for (std::uint32_t n : touched) distance[n] = HUGE_VAL, piece[n] = kNoJunction;
-        touched.assign(1, s);
-        distance[s] = 0.0;
-        heap.assign(1, {0.0, s});
+    void reset() {
+        for (std::uint32_t n : touched) distance[n] = HUGE_VAL;
+        touched.clear();
+        heap.clear();
+    }
+    bool reached(std::uint32_t n) const { return distance[n] != HUGE_VAL; }
+    /// Offers node m at distance d (ignored beyond reach or not shorter).
+    void offer(std::uint32_t m, double d, double reach) {
+        if (d > reach || d >= distance[m]) return;
+        if (distance[m] == HUGE_VAL) touched.push_back(m);
+        distance[m] = d;
+        heap.push_back({d, m});
+    }
+    /// Offers m at its edge length from n.
+    void offerFrom(const SkeletonGraph& g, std::uint32_t n, double dn, std::uint32_t m,
+                   double reach) {
+        const double dx = g.coord[m].x - g.coord[n].x, dy = g.coord[m].y - g.coord[n].y,
+                     dz = g.coord[m].z - g.coord[n].z;
+        offer(m, dn + std::sqrt(dx * dx + dy * dy + dz * dz), reach);
+    }
+    /// Dijkstra from the offered seeds.
+    template <class Allowed>
+    void run(const SkeletonGraph& g, double reach, const Allowed& allowed) {
         auto later = [](const auto& a, const auto& b) { return a > b; };
+        std::make_heap(heap.begin(), heap.end(), later);
         while (!heap.empty()) {
             std::pop_heap(heap.begin(), heap.end(), later);
             const auto [d, n] = heap.back();
             heap.pop_back();
             if (d > distance[n]) continue;
+            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e)
+                if (const std::uint32_t m = g.neighbour[e]; allowed(m)) {
+                    const std::size_t before = heap.size();
+                    offerFrom(g, n, d, m, reach);
+                    if (heap.size() != before) std::push_heap(heap.begin(), heap.end(), later);
+                }
+        }
+    }
+};
+
+/// The connected parts of the shell (radius, reach] of a BoundedDistances
+/// search, over the nodes with allowed(n). A part counts as a branch when it
+/// reaches past 1.5 radius or leaves the ball (a neighbour with allowed(n)
+/// and no distance): a branch, not a bump of the thick skeleton. Calls
+/// visit(node) for each node of a part, then part(seed, counts) once per
+/// part. `mark` holds each shell node's part (its seed) and must be
+/// kNoJunction on the touched nodes at the start; the caller clears it.
+template <class Allowed, class Visit, class Part>
+void forEachShellPart(const SkeletonGraph& g, const BoundedDistances& ball, double radius,
+                      std::vector<std::uint32_t>& mark, std::vector<std::uint32_t>& queue,
+                      const Allowed& allowed, const Visit& visit, const Part& part) {
+    const double reach = 2.0 * radius;
+    for (std::uint32_t seed : ball.touched) {
+        if (ball.distance[seed] <= radius || mark[seed] != kNoJunction) continue;
+        mark[seed] = seed;
+        queue.assign(1, seed);
+        double farthest = 0.0;
+        bool leavesBall = false;
+        for (std::size_t h = 0; h < queue.size(); ++h) {
+            const std::uint32_t n = queue[h];
+            farthest = std::max(farthest, ball.distance[n]);
+            visit(n);
             for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
                 const std::uint32_t m = g.neighbour[e];
-                const double dx = g.coord[m].x - g.coord[n].x, dy = g.coord[m].y - g.coord[n].y,
-                             dz = g.coord[m].z - g.coord[n].z;
-                const double dm = d + std::sqrt(dx * dx + dy * dy + dz * dz);
-                if (dm > reach || dm >= distance[m]) continue;
-                if (distance[m] == HUGE_VAL) touched.push_back(m);
-                distance[m] = dm;
-                heap.push_back({dm, m});
-                std::push_heap(heap.begin(), heap.end(), later);
+                if (!allowed(m)) continue;
+                if (!ball.reached(m)) leavesBall = true;
+                if (ball.distance[m] > radius && ball.distance[m] <= reach &&
+                    mark[m] == kNoJunction)
+                    mark[m] = seed, queue.push_back(m);
             }
         }
+        part(seed, farthest > 1.5 * radius || leavesBall);
+    }
+}
+
+/// Fork test at node s: the nodes within 2R of s along the graph's edges,
+/// R = the radius of the part at s (loopRadius(rho_S)), at least
+/// `minimumRadius`. The shell (R, 2R] falls into one connected part per
+/// branch leaving the ball (forEachShellPart), and a bridge from the inner
+/// ball to beyond 2R is a branch too. s is a fork with three or more
+/// branches, unless a J_tau point lies within R of it (the junction test
+/// already marks that branching). `bodyRhoS` gets the largest of the
+/// branches' median rho_S: the loop of the body through the fork.
+struct ForkSearch {
+    BoundedDistances ball;
+    std::vector<std::uint32_t> piece, queue;
+    std::vector<float> rho;  // rho_S along one shell part
+    explicit ForkSearch(std::size_t n) : ball(n), piece(n, kNoJunction) {}
+
+    std::uint32_t countBranches(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                                std::uint32_t s, double minimumRadius, float& bodyRhoS) {
+        const double radius = std::max(minimumRadius, loopRadius(double(points[g.point[s]].rhoS)));
+        const double reach = 2.0 * radius;
+        for (std::uint32_t n : ball.touched) piece[n] = kNoJunction;
+        ball.reset();
+        ball.offer(s, 0.0, reach);
+        const auto anyNode = [](std::uint32_t) { return true; };
+        ball.run(g, reach, anyNode);
         // A junction point within reach already marks this branching.
-        for (std::uint32_t n : touched)
-            if (distance[n] <= radius && isJunctionPoint(points[g.point[n]])) return 0;
+        for (std::uint32_t n : ball.touched)
+            if (ball.distance[n] <= radius && isJunctionPoint(points[g.point[n]])) return 0;
         std::uint32_t branches = 0;
         bodyRhoS = 0.0f;
         // Edges from a node to beyond the reach are bridges (no 26-step
         // leaves the ball from inside it). One from the inner ball (a limb's
         // skeleton that broke near its base, bridged here) is a branch.
-        auto forEachExit = [&](std::uint32_t n, const auto& visit) {
-            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e)
-                if (distance[g.neighbour[e]] == HUGE_VAL) visit(g.neighbour[e]);
-        };
-        for (std::uint32_t n : touched)
-            if (distance[n] <= radius)
-                forEachExit(n, [&](std::uint32_t far) {
+        for (std::uint32_t n : ball.touched)
+            if (ball.distance[n] <= radius)
+                for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e)
+                    if (const std::uint32_t far = g.neighbour[e]; !ball.reached(far)) {
+                        ++branches;
+                        bodyRhoS = std::max(bodyRhoS, points[g.point[far]].rhoS);
+                    }
+        rho.clear();
+        forEachShellPart(
+            g, ball, radius, piece, queue, anyNode,
+            [&](std::uint32_t n) { rho.push_back(points[g.point[n]].rhoS); },
+            [&](std::uint32_t, bool isBranch) {
+                if (isBranch) {
                     ++branches;
-                    bodyRhoS = std::max(bodyRhoS, points[g.point[far]].rhoS);
-                });
-        for (std::uint32_t seed : touched) {
-            if (distance[seed] <= radius || piece[seed] != kNoJunction) continue;
-            piece[seed] = seed;
-            queue.assign(1, seed);
-            double farthest = 0.0;
-            bool leavesBall = false;
-            rho.clear();
-            for (std::size_t h = 0; h < queue.size(); ++h) {
-                const std::uint32_t n = queue[h];
-                farthest = std::max(farthest, distance[n]);
-                forEachExit(n, [&](std::uint32_t) { leavesBall = true; });
-                rho.push_back(points[g.point[n]].rhoS);
-                for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
-                    const std::uint32_t m = g.neighbour[e];
-                    if (distance[m] > radius && distance[m] <= reach && piece[m] == kNoJunction)
-                        piece[m] = seed, queue.push_back(m);
+                    std::nth_element(rho.begin(), rho.begin() + rho.size() / 2, rho.end());
+                    bodyRhoS = std::max(bodyRhoS, rho[rho.size() / 2]);
                 }
-            }
-            if (farthest <= 1.5 * radius && !leavesBall) continue;
-            ++branches;
-            std::nth_element(rho.begin(), rho.begin() + rho.size() / 2, rho.end());
-            bodyRhoS = std::max(bodyRhoS, rho[rho.size() / 2]);
-        }
+                rho.clear();
+            });
         return branches;
     }
 };
@@ -215,23 +266,22 @@ struct ForkSearch {
 /// `regionRadius` steps, and two limbs whose thick skeletons touch just outside
 /// it leave as one piece, which the walk of §8.1 takes as one branch. So for
 /// each piece touching a region: the piece's nodes at distance (R, 2R] from the
-/// region (Euclidean edge lengths within the piece) fall into connected parts,
-/// counted as in ForkSearch (reaching past 1.5R or on beyond 2R); when two or
-/// more count, the region takes the piece's breadth-first levels from the
-/// region one at a time, up to distance R, until what is left of the piece
-/// holds the counted parts in separate pieces; the bits left with none of them
-/// join the region too.
+/// region (within the piece) fall into shell parts, counted as in ForkSearch;
+/// when two or more count, the region takes the piece's breadth-first levels
+/// from the region one at a time, up to distance R, until what is left of the
+/// piece holds the counted parts in separate pieces; the bits left with none
+/// of them join the region too.
 void growRegionsToBranchSplits(SkeletonGraph& g, const SkeletonGraphOptions& options) {
     const std::uint32_t n = g.nodeCount();
-    std::vector<double> distance(n, HUGE_VAL);
+    BoundedDistances ball(n);
     std::vector<std::uint32_t> mark(n, kNoJunction), level(n, kNoJunction),
         component(n, kNoJunction);
-    auto later = [](const auto& a, const auto& b) { return a > b; };
+    std::vector<std::uint32_t> pieces, counted, queue, taken, front, next, flooded;
     for (std::uint32_t j = 0; j < g.junctions.size(); ++j) {
         const double radius =
             std::max(double(options.regionRadius), loopRadius(double(g.junctions[j].rhoS)));
         const double reach = 2.0 * radius;
-        std::vector<std::uint32_t> pieces;
+        pieces.clear();
         for (std::uint32_t r : g.junctions[j].region)
             for (std::uint32_t e = g.offset[r]; e < g.offset[r + 1]; ++e)
                 if (const std::uint32_t p = g.pieceOf[g.neighbour[e]];
@@ -240,87 +290,44 @@ void growRegionsToBranchSplits(SkeletonGraph& g, const SkeletonGraphOptions& opt
         std::sort(pieces.begin(), pieces.end());
         bool grownHere = false;
         for (std::uint32_t p : pieces) {
+            const auto inPiece = [&](std::uint32_t m) { return g.pieceOf[m] == p; };
             // Distances within the piece from the region, bounded by 2R.
-            std::vector<std::uint32_t> touched;
-            std::vector<std::pair<double, std::uint32_t>> heap;
+            ball.reset();
             for (std::uint32_t r : g.junctions[j].region)
-                for (std::uint32_t e = g.offset[r]; e < g.offset[r + 1]; ++e) {
-                    const std::uint32_t m = g.neighbour[e];
-                    if (g.pieceOf[m] != p) continue;
-                    const double dx = g.coord[m].x - g.coord[r].x, dy = g.coord[m].y - g.coord[r].y,
-                                 dz = g.coord[m].z - g.coord[r].z;
-                    const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
-                    if (d > reach || d >= distance[m]) continue;
-                    if (distance[m] == HUGE_VAL) touched.push_back(m);
-                    distance[m] = d;
-                    heap.push_back({d, m});
-                }
-            std::make_heap(heap.begin(), heap.end(), later);
-            while (!heap.empty()) {
-                std::pop_heap(heap.begin(), heap.end(), later);
-                const auto [d, m0] = heap.back();
-                heap.pop_back();
-                if (d > distance[m0]) continue;
-                for (std::uint32_t e = g.offset[m0]; e < g.offset[m0 + 1]; ++e) {
-                    const std::uint32_t m = g.neighbour[e];
-                    if (g.pieceOf[m] != p) continue;
-                    const double dx = g.coord[m].x - g.coord[m0].x,
-                                 dy = g.coord[m].y - g.coord[m0].y,
-                                 dz = g.coord[m].z - g.coord[m0].z;
-                    const double dm = d + std::sqrt(dx * dx + dy * dy + dz * dz);
-                    if (dm > reach || dm >= distance[m]) continue;
-                    if (distance[m] == HUGE_VAL) touched.push_back(m);
-                    distance[m] = dm;
-                    heap.push_back({dm, m});
-                    std::push_heap(heap.begin(), heap.end(), later);
-                }
-            }
-            // The counted parts of the shell (R, 2R]; mark holds each shell
-            // node's part (its seed) while the piece is examined.
-            std::vector<std::uint32_t> counted, queue;
-            for (std::uint32_t seed : touched) {
-                if (distance[seed] <= radius || mark[seed] != kNoJunction) continue;
-                mark[seed] = seed;
-                queue.assign(1, seed);
-                double farthest = 0.0;
-                bool leavesBall = false;
-                for (std::size_t h = 0; h < queue.size(); ++h) {
-                    const std::uint32_t m0 = queue[h];
-                    farthest = std::max(farthest, distance[m0]);
-                    for (std::uint32_t e = g.offset[m0]; e < g.offset[m0 + 1]; ++e) {
-                        const std::uint32_t m = g.neighbour[e];
-                        if (g.pieceOf[m] != p) continue;
-                        if (distance[m] == HUGE_VAL) leavesBall = true;
-                        if (distance[m] > radius && distance[m] <= reach && mark[m] == kNoJunction)
-                            mark[m] = seed, queue.push_back(m);
-                    }
-                }
-                if (farthest > 1.5 * radius || leavesBall) counted.push_back(seed);
-            }
-            std::vector<std::uint32_t> taken;  // nodes the region would take
+                for (std::uint32_t e = g.offset[r]; e < g.offset[r + 1]; ++e)
+                    if (const std::uint32_t m = g.neighbour[e]; inPiece(m))
+                        ball.offerFrom(g, r, 0.0, m, reach);
+            ball.run(g, reach, inPiece);
+            counted.clear();
+            forEachShellPart(
+                g, ball, radius, mark, queue, inPiece, [](std::uint32_t) {},
+                [&](std::uint32_t seed, bool isBranch) {
+                    if (isBranch) counted.push_back(seed);
+                });
+            taken.clear();  // nodes the region would take
             bool separated = false;
             if (counted.size() >= 2) {
                 // Breadth-first levels from the region within the piece.
-                std::vector<std::uint32_t> front;
+                front.clear();
                 for (std::uint32_t r : g.junctions[j].region)
                     for (std::uint32_t e = g.offset[r]; e < g.offset[r + 1]; ++e)
                         if (const std::uint32_t m = g.neighbour[e];
-                            g.pieceOf[m] == p && level[m] == kNoJunction)
+                            inPiece(m) && level[m] == kNoJunction)
                             level[m] = 1, front.push_back(m);
-                std::vector<std::uint32_t> next, flooded;
+                flooded.clear();
                 while (!front.empty() && !separated) {
-                    bool beyond = false;
-                    for (std::uint32_t m : front) beyond |= distance[m] > radius;
-                    if (beyond) break;
+                    if (std::any_of(front.begin(), front.end(),
+                                    [&](std::uint32_t m) { return ball.distance[m] > radius; }))
+                        break;
                     taken.insert(taken.end(), front.begin(), front.end());
                     // Pieces of what is left; separated when no two counted
                     // parts share one.
-                    std::vector<std::uint32_t> seeds;
                     for (std::uint32_t m : flooded) component[m] = kNoJunction;
                     flooded.clear();
+                    std::size_t seeds = 0;
                     for (std::uint32_t c : counted) {
                         if (component[c] != kNoJunction) break;
-                        seeds.push_back(c);
+                        ++seeds;
                         component[c] = c;
                         flooded.push_back(c);
                         queue.assign(1, c);
@@ -328,32 +335,32 @@ void growRegionsToBranchSplits(SkeletonGraph& g, const SkeletonGraphOptions& opt
                             for (std::uint32_t e = g.offset[queue[h]]; e < g.offset[queue[h] + 1];
                                  ++e) {
                                 const std::uint32_t m = g.neighbour[e];
-                                if (g.pieceOf[m] == p && level[m] == kNoJunction &&
+                                if (inPiece(m) && level[m] == kNoJunction &&
                                     component[m] == kNoJunction)
                                     component[m] = c, queue.push_back(m), flooded.push_back(m);
                             }
                     }
-                    separated = seeds.size() == counted.size();
+                    separated = seeds == counted.size();
                     next.clear();
                     for (std::uint32_t m0 : front)
                         for (std::uint32_t e = g.offset[m0]; e < g.offset[m0 + 1]; ++e)
                             if (const std::uint32_t m = g.neighbour[e];
-                                g.pieceOf[m] == p && level[m] == kNoJunction)
+                                inPiece(m) && level[m] == kNoJunction)
                                 level[m] = level[m0] + 1, next.push_back(m);
                     front.swap(next);
                 }
                 if (separated) {
                     // Bits of the ball cut off from every counted part join the
                     // region as well (they are not branches).
-                    for (std::uint32_t m : touched)
+                    for (std::uint32_t m : ball.touched)
                         if (level[m] == kNoJunction && component[m] == kNoJunction)
                             taken.push_back(m);
                 }
-                for (std::uint32_t m : touched) level[m] = kNoJunction;
+                for (std::uint32_t m : ball.touched) level[m] = kNoJunction;
                 for (std::uint32_t m : front) level[m] = kNoJunction;
                 for (std::uint32_t m : flooded) component[m] = kNoJunction;
             }
-            for (std::uint32_t m : touched) distance[m] = HUGE_VAL, mark[m] = kNoJunction;
+            for (std::uint32_t m : ball.touched) mark[m] = kNoJunction;
             if (!separated) continue;
             for (std::uint32_t m : taken) {
                 g.junctionOf[m] = j;
