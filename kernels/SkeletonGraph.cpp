@@ -136,19 +136,21 @@ struct BoundedDistances {
         heap.clear();
     }
     bool reached(std::uint32_t n) const { return distance[n] != HUGE_VAL; }
-    /// Offers node m at distance d (ignored beyond reach or not shorter).
-    void offer(std::uint32_t m, double d, double reach) {
-        if (d > reach || d >= distance[m]) return;
+    /// Offers node m at distance d; false (ignored) beyond reach or when not
+    /// shorter. A taken offer is pushed onto the heap's end.
+    bool offer(std::uint32_t m, double d, double reach) {
+        if (d > reach || d >= distance[m]) return false;
         if (distance[m] == HUGE_VAL) touched.push_back(m);
         distance[m] = d;
         heap.push_back({d, m});
+        return true;
     }
     /// Offers m at its edge length from n.
-    void offerFrom(const SkeletonGraph& g, std::uint32_t n, double dn, std::uint32_t m,
+    bool offerFrom(const SkeletonGraph& g, std::uint32_t n, double dn, std::uint32_t m,
                    double reach) {
         const double dx = g.coord[m].x - g.coord[n].x, dy = g.coord[m].y - g.coord[n].y,
                      dz = g.coord[m].z - g.coord[n].z;
-        offer(m, dn + std::sqrt(dx * dx + dy * dy + dz * dz), reach);
+        return offer(m, dn + std::sqrt(dx * dx + dy * dy + dz * dz), reach);
     }
     /// Dijkstra from the offered seeds.
     template <class Allowed>
@@ -161,11 +163,9 @@ struct BoundedDistances {
             heap.pop_back();
             if (d > distance[n]) continue;
             for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e)
-                if (const std::uint32_t m = g.neighbour[e]; allowed(m)) {
-                    const std::size_t before = heap.size();
-                    offerFrom(g, n, d, m, reach);
-                    if (heap.size() != before) std::push_heap(heap.begin(), heap.end(), later);
-                }
+                if (const std::uint32_t m = g.neighbour[e];
+                    allowed(m) && offerFrom(g, n, d, m, reach))
+                    std::push_heap(heap.begin(), heap.end(), later);
         }
     }
 };
@@ -274,8 +274,8 @@ struct ForkSearch {
 void growRegionsToBranchSplits(SkeletonGraph& g, const SkeletonGraphOptions& options) {
     const std::uint32_t n = g.nodeCount();
     BoundedDistances ball(n);
-    std::vector<std::uint32_t> mark(n, kNoJunction), level(n, kNoJunction),
-        component(n, kNoJunction);
+    std::vector<std::uint32_t> mark(n, kNoJunction), component(n, kNoJunction);
+    std::vector<std::uint8_t> levelled(n, 0);  // taken by the region, or its next level
     std::vector<std::uint32_t> pieces, counted, queue, taken, front, next, flooded;
     for (std::uint32_t j = 0; j < g.junctions.size(); ++j) {
         const double radius =
@@ -291,6 +291,17 @@ void growRegionsToBranchSplits(SkeletonGraph& g, const SkeletonGraphOptions& opt
         bool grownHere = false;
         for (std::uint32_t p : pieces) {
             const auto inPiece = [&](std::uint32_t m) { return g.pieceOf[m] == p; };
+            // Labels c's part of the piece's nodes the region has not taken.
+            const auto floodRest = [&](std::uint32_t c) {
+                component[c] = c;
+                flooded.push_back(c);
+                queue.assign(1, c);
+                for (std::size_t h = 0; h < queue.size(); ++h)
+                    for (std::uint32_t e = g.offset[queue[h]]; e < g.offset[queue[h] + 1]; ++e)
+                        if (const std::uint32_t m = g.neighbour[e];
+                            inPiece(m) && !levelled[m] && component[m] == kNoJunction)
+                            component[m] = c, queue.push_back(m), flooded.push_back(m);
+            };
             // Distances within the piece from the region, bounded by 2R.
             ball.reset();
             for (std::uint32_t r : g.junctions[j].region)
@@ -311,9 +322,8 @@ void growRegionsToBranchSplits(SkeletonGraph& g, const SkeletonGraphOptions& opt
                 front.clear();
                 for (std::uint32_t r : g.junctions[j].region)
                     for (std::uint32_t e = g.offset[r]; e < g.offset[r + 1]; ++e)
-                        if (const std::uint32_t m = g.neighbour[e];
-                            inPiece(m) && level[m] == kNoJunction)
-                            level[m] = 1, front.push_back(m);
+                        if (const std::uint32_t m = g.neighbour[e]; inPiece(m) && !levelled[m])
+                            levelled[m] = 1, front.push_back(m);
                 flooded.clear();
                 while (!front.empty() && !separated) {
                     if (std::any_of(front.begin(), front.end(),
@@ -328,36 +338,24 @@ void growRegionsToBranchSplits(SkeletonGraph& g, const SkeletonGraphOptions& opt
                     for (std::uint32_t c : counted) {
                         if (component[c] != kNoJunction) break;
                         ++seeds;
-                        component[c] = c;
-                        flooded.push_back(c);
-                        queue.assign(1, c);
-                        for (std::size_t h = 0; h < queue.size(); ++h)
-                            for (std::uint32_t e = g.offset[queue[h]]; e < g.offset[queue[h] + 1];
-                                 ++e) {
-                                const std::uint32_t m = g.neighbour[e];
-                                if (inPiece(m) && level[m] == kNoJunction &&
-                                    component[m] == kNoJunction)
-                                    component[m] = c, queue.push_back(m), flooded.push_back(m);
-                            }
+                        floodRest(c);
                     }
                     separated = seeds == counted.size();
                     next.clear();
                     for (std::uint32_t m0 : front)
                         for (std::uint32_t e = g.offset[m0]; e < g.offset[m0 + 1]; ++e)
-                            if (const std::uint32_t m = g.neighbour[e];
-                                inPiece(m) && level[m] == kNoJunction)
-                                level[m] = level[m0] + 1, next.push_back(m);
+                            if (const std::uint32_t m = g.neighbour[e]; inPiece(m) && !levelled[m])
+                                levelled[m] = 1, next.push_back(m);
                     front.swap(next);
                 }
                 if (separated) {
                     // Bits of the ball cut off from every counted part join the
                     // region as well (they are not branches).
                     for (std::uint32_t m : ball.touched)
-                        if (level[m] == kNoJunction && component[m] == kNoJunction)
-                            taken.push_back(m);
+                        if (!levelled[m] && component[m] == kNoJunction) taken.push_back(m);
                 }
-                for (std::uint32_t m : ball.touched) level[m] = kNoJunction;
-                for (std::uint32_t m : front) level[m] = kNoJunction;
+                for (std::uint32_t m : ball.touched) levelled[m] = 0;
+                for (std::uint32_t m : front) levelled[m] = 0;
                 for (std::uint32_t m : flooded) component[m] = kNoJunction;
             }
             for (std::uint32_t m : ball.touched) mark[m] = kNoJunction;
