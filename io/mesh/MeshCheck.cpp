@@ -6,38 +6,9 @@
 #include <cstring>
 #include <numeric>
 
+#include "kernels/DisjointSets.h"
+
 namespace skelseg {
-
-namespace {
-
-/// Union-find with path halving; union by smaller index keeps it deterministic.
-class DisjointSets {
-public:
-    explicit DisjointSets(std::size_t n) : mParent(n) {
-        std::iota(mParent.begin(), mParent.end(), 0u);
-    }
-    std::uint32_t find(std::uint32_t x) noexcept {
-        while (mParent[x] != x) {
-            mParent[x] = mParent[mParent[x]];
-            x = mParent[x];
-        }
-        return x;
-    }
-    void unite(std::uint32_t a, std::uint32_t b) noexcept {
-        a = find(a);
-        b = find(b);
-        if (a == b) return;
-        if (a < b)
-            mParent[b] = a;
-        else
-            mParent[a] = b;
-    }
-
-private:
-    std::vector<std::uint32_t> mParent;
-};
-
-}  // namespace
 
 std::vector<std::uint32_t> canonicalVertices(const TriangleMesh& mesh) {
     // Sorting the positions' bit patterns groups equal positions; a stable
