@@ -66,7 +66,8 @@ const ComponentAreas& ComponentGrower::grow(const RimCounter& rims, std::uint64_
             // per front (hints only: the growth is the same).
             const std::size_t head = mHead[root];
             if (head + 8 < queue.size()) __builtin_prefetch(&offset[queue[head + 8]]);
-            if (head + 5 < queue.size()) __builtin_prefetch(&neighbour[offset[queue[head + 5]]]);
+            if (head + 5 < queue.size())
+                __builtin_prefetch(neighbour.data() + offset[queue[head + 5]]);
             if (head + 2 < queue.size()) {
                 const std::uint32_t next = queue[head + 2];
                 for (std::uint32_t e = offset[next]; e < offset[next + 1]; ++e) {
