@@ -9,6 +9,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -151,6 +152,22 @@ void landmarksBench(benchmark::State& state, const std::string& shape) {
     }
     state.counters["landmarks"] = double(in.landmarks.count);
     state.counters["nodes"] = double(in.graph.nodeCount());
+    // How often a sweep sharing one frontier among the 16 sources of a row
+    // line would have to expand each node: its 16 distances become final in
+    // as many distinct unit buckets (16 = no sharing at all).
+    const Landmarks& lm = in.landmarks;
+    double expansions = 0.0;
+    std::uint64_t lines = 0;
+    for (std::uint32_t first = 0; first + 16 <= lm.count; first += 16, ++lines)
+        for (std::uint32_t n = 0; n < in.graph.nodeCount(); ++n) {
+            std::uint32_t bucket[16];
+            for (std::uint32_t k = 0; k < 16; ++k)
+                bucket[k] = std::uint32_t(std::min(lm.distance(n, first + k), 1e9f));
+            std::sort(bucket, bucket + 16);
+            expansions += double(std::unique(bucket, bucket + 16) - bucket);
+        }
+    state.counters["sharedFrontierExpansionsPer16"] =
+        lines ? expansions / double(lines * in.graph.nodeCount()) : 0.0;
 }
 
 /// A* on a fixed list of distinct feature pairs; `useLandmarks` as the engine
@@ -308,7 +325,7 @@ void measureSkeletonBench(benchmark::State& state, const std::string& shape) {
     registerForShapes("SkeletonCandidates", kLinearSizes, skeletonCandidatesBench);
     registerForShapes("ConnectedObjects", kLinearSizes, connectedObjectsBench);
     registerForShapes("VoxelGenus", kLinearSizes, voxelGenusBench);
-    registerForShapes("Landmarks", kSizes, landmarksBench);
+    registerForShapes("Landmarks", kLinearSizes, landmarksBench);
     registerForShapes("GeodesicSearch", kSizes,
                       [](benchmark::State& state, const std::string& shape) {
                           geodesicSearchBench(state, shape, true);

@@ -60,6 +60,21 @@ const ComponentAreas& ComponentGrower::grow(const RimCounter& rims, std::uint64_
             if (mParent[root] != root) continue;  // merged away this round
             auto& queue = mQueue[root];
             if (mHead[root] == queue.size()) continue;
+            // The queue says which nodes this front expands next: request
+            // their offsets, edges and the neighbours' marks, each stage a few
+            // rounds before it is read, since a round expands only one node
+            // per front (hints only: the growth is the same).
+            const std::size_t head = mHead[root];
+            if (head + 8 < queue.size()) __builtin_prefetch(&offset[queue[head + 8]]);
+            if (head + 5 < queue.size())
+                __builtin_prefetch(neighbour.data() + offset[queue[head + 5]]);
+            if (head + 2 < queue.size()) {
+                const std::uint32_t next = queue[head + 2];
+                for (std::uint32_t e = offset[next]; e < offset[next + 1]; ++e) {
+                    rims.prefetch(neighbour[e]);
+                    mOwner.prefetch(neighbour[e]);
+                }
+            }
             const std::uint32_t n = queue[mHead[root]++];
             for (std::uint32_t e = offset[n]; e < offset[n + 1]; ++e) {
                 const std::uint32_t m = neighbour[e];

@@ -67,9 +67,16 @@ inline float landmarkBound(const float* row, const float* target, float h) {
 /// distance when the bucket is reached. Distances are the same floats as
 /// Dijkstra's (each is the minimum of the same sums), at a fraction of the
 /// cost. Weights are below 2, so three buckets in a ring suffice.
+///
+/// The sweep waits on memory: the nodes of a bucket lie along a wave front,
+/// so each node's offsets, edges and distance are cache misses. The bucket
+/// says which nodes come next, so their lines are requested ahead (offsets
+/// twice as far ahead, since the edges' address needs them). Hints only: the
+/// sweep itself is unchanged.
 using Buckets = std::array<std::vector<std::uint32_t>, 3>;
 void lowerDistancesFrom(const BoundaryGraph& graph, std::uint32_t source, float* dist,
                         Buckets& buckets) {
+    constexpr std::size_t kAhead = 8;
     const std::uint32_t* offset = graph.offset.data();
     const std::uint32_t* neighbour = graph.neighbour.data();
     const float* weight = graph.weight.data();
@@ -80,6 +87,13 @@ void lowerDistancesFrom(const BoundaryGraph& graph, std::uint32_t source, float*
     for (std::uint32_t k = 0; pending > 0; ++k) {
         std::vector<std::uint32_t>& bucket = buckets[k % 3];
         for (std::size_t i = 0; i < bucket.size(); ++i) {
+            if (i + 2 * kAhead < bucket.size()) __builtin_prefetch(offset + bucket[i + 2 * kAhead]);
+            if (i + kAhead < bucket.size()) {
+                const std::uint32_t ahead = bucket[i + kAhead];
+                __builtin_prefetch(neighbour + offset[ahead]);
+                __builtin_prefetch(weight + offset[ahead]);
+                __builtin_prefetch(dist + ahead);
+            }
             const std::uint32_t n = bucket[i];
             const float d = dist[n];
             if (std::uint32_t(d) != k) continue;  // lowered into an earlier bucket since
@@ -198,10 +212,12 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded, Interrupte
     // then written into the rows by node ranges: a thread writing one
     // landmark's column into every row would share each row's cache lines
     // with the threads writing the neighbouring columns.
-    GeodesicSearch plain(graph);
     std::atomic<std::uint32_t> fieldsDone{0};
     constexpr std::uint32_t kGroup = 16;
+    // One field buffer and bucket ring per slot of a group, reused by every
+    // group: no fresh pages to fault in and zero for each field.
     std::vector<std::vector<float>> fields(kGroup);
+    std::vector<Buckets> fieldBuckets(kGroup);
     for (std::uint32_t first = 0; first < result.count; first += kGroup) {
         const std::uint32_t group = std::min(kGroup, result.count - first);
         parallelForEach(
@@ -209,7 +225,9 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded, Interrupte
             [&](std::uint32_t k) {
                 throwIfInterrupted(interrupter,
                                    0.5 + 0.5 * double(fieldsDone.load()) / result.count);
-                fields[k] = plain.distancesFrom(result.node[first + k]);
+                fields[k].assign(n, kUnreachable);
+                lowerDistancesFrom(graph, result.node[first + k], fields[k].data(),
+                                   fieldBuckets[k]);
                 ++fieldsDone;
             },
             threaded);

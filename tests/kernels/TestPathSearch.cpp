@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <mutex>
 #include <random>
 #include <set>
@@ -295,6 +296,92 @@ TEST(PathSearch, LandmarksOnTwoComponents) {
     // An empty graph has no landmarks.
     const BoundaryGraph empty = buildBoundaryGraph(MaskVolume(Dims{3, 3, 3}, 0));
     EXPECT_EQ(computeLandmarks(empty, false).count, 0u);
+}
+
+/// A random undirected graph with `nodes` nodes and about `degree` edges per
+/// node, random coordinates, weights drawn from `weights` (all in [1, 2), as
+/// on a boundary graph). A few nodes are left without edges (components of
+/// their own).
+BoundaryGraph randomGraph(std::uint32_t nodes, std::uint32_t degree,
+                          const std::vector<float>& weights, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<std::uint32_t> pick(0, nodes - 1);
+    std::uniform_int_distribution<std::size_t> kind(0, weights.size() - 1);
+    std::uniform_int_distribution<int> position(0, 99);
+    std::vector<std::vector<std::pair<std::uint32_t, float>>> adjacent(nodes);
+    for (std::uint32_t i = 0; i < nodes * degree / 2; ++i) {
+        // Mostly near neighbours (long paths), some long jumps.
+        const std::uint32_t a = pick(rng);
+        const std::uint32_t b = i % 8 ? (a + 1 + pick(rng) % 16) % nodes : pick(rng);
+        if (a == b || a % 97 == 5 || b % 97 == 5) continue;
+        const float w = weights[kind(rng)];
+        adjacent[a].push_back({b, w});
+        adjacent[b].push_back({a, w});
+    }
+    BoundaryGraph graph;
+    graph.voxel.resize(nodes);
+    graph.coord.resize(nodes);
+    graph.offset.assign(1, 0);
+    for (std::uint32_t n = 0; n < nodes; ++n) {
+        graph.coord[n] = Coord{position(rng), position(rng), position(rng)};
+        for (const auto& [m, w] : adjacent[n]) {
+            graph.neighbour.push_back(m);
+            graph.weight.push_back(w);
+        }
+        graph.offset.push_back(std::uint32_t(graph.neighbour.size()));
+    }
+    return graph;
+}
+
+/// Every landmark field, serial and parallel, equals a single-source sweep
+/// from a fresh array bit for bit (the fields reuse their buffers from one
+/// group of landmarks to the next).
+void expectFieldsAreSingleSourceSweeps(const BoundaryGraph& graph, const char* what) {
+    const Landmarks serial = computeLandmarks(graph, false);
+    const Landmarks parallel = computeLandmarks(graph, true);
+    ASSERT_GT(serial.count, 1u) << what;
+    ASSERT_EQ(parallel.node, serial.node) << what;
+    GeodesicSearch reference(graph);
+    for (std::uint32_t k = 0; k < serial.count; ++k) {
+        const std::vector<float> d = reference.distancesFrom(serial.node[k]);
+        for (std::uint32_t n = 0; n < graph.nodeCount(); ++n) {
+            const float s = serial.distance(n, k), p = parallel.distance(n, k);
+            ASSERT_EQ(std::memcmp(&s, &d[n], sizeof s), 0)
+                << what << ": landmark " << k << " node " << n << " " << s << " != " << d[n];
+            ASSERT_EQ(std::memcmp(&p, &d[n], sizeof p), 0)
+                << what << " (parallel): landmark " << k << " node " << n;
+        }
+    }
+}
+
+TEST(PathSearch, LandmarkFieldsAreSingleSourceSweepsOnRandomGraphs) {
+    // The voxel steps, and many weights (sums that round differently in
+    // every order).
+    const std::vector<float> steps = {1.0f, std::sqrt(2.0f), std::sqrt(3.0f)};
+    std::vector<float> many;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(1.0f, 2.0f);
+    for (int i = 0; i < 64; ++i) many.push_back(std::min(unit(rng), 1.9999999f));
+    for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+        expectFieldsAreSingleSourceSweeps(randomGraph(3000, 6, steps, seed), "steps");
+        expectFieldsAreSingleSourceSweeps(randomGraph(2000, 8, many, seed), "many weights");
+    }
+}
+
+TEST(PathSearch, LandmarkFieldsAreSingleSourceSweepsOnABoundaryGraph) {
+    // Two blobs side by side: two components, landmarks in both.
+    MaskVolume mask(Dims{72, 40, 40}, 0);
+    const MaskVolume blob = test::randomBlob(36, 4, 11);
+    for (int z = 0; z < 36; ++z)
+        for (int y = 0; y < 36; ++y)
+            for (int x = 0; x < 36; ++x) {
+                mask(x + 1, y + 2, z + 2) = blob(x, y, z);
+                if (x < 34) mask(x + 37, y + 2, z + 2) = blob(35 - x, y, z);
+            }
+    const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
+    ASSERT_EQ(graph.componentSize.size(), 2u);
+    ASSERT_GT(graph.nodeCount(), 3000u);
+    expectFieldsAreSingleSourceSweeps(graph, "boundary graph");
 }
 
 TEST_F(PathSearchOnBlob, PathCacheMatchesUncachedAndHitsOnRepeats) {
