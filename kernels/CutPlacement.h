@@ -14,7 +14,9 @@
 // tight levels past a junction still wrap the part's base, whose loop is
 // about as long as the body's (docs/algorithm.md §8.6, "limb circumference"); the body's
 // circumference is the largest of the junction's rho_S and every candidate's first tight loop and
-// limb circumference. When more than two are similar, only the one carrying the most surface
+// limb circumference. A branch that reaches another junction without a run of tight levels is a
+// passage, body too: it counts in the sibling test and, beside two body candidates, in the next
+// rule. When more than two are similar, only the one carrying the most surface
 // (largest exact rho_C) is dropped, ties broken by voxel index. Each remaining candidate's cut
 // moves to the first tight level of that window whose loop is closer to the limb's circumference
 // than to the body's (a loop as long as the body's still wraps the body); a cut past which the
