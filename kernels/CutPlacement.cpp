@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace skelseg {
 
@@ -280,7 +281,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         if (body.size() > 2 || (body.size() == 2 && !passages.empty())) {
             constexpr std::size_t kPassage = ~std::size_t(0);
             std::size_t keepOnBody = kPassage;
-            double bestArea = -1.0;
+            double bestArea = -std::numeric_limits<double>::infinity();
             std::uint32_t bestVoxel = 0;
             const auto offer = [&](std::uint32_t node, double area, std::size_t index) {
                 const std::uint32_t voxel = points[g.point[node]].voxel;
