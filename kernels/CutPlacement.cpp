@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace skelseg {
 
@@ -19,13 +20,16 @@ struct TightLevel {
 /// kNoJunction. `taken` marks nodes already walked from this junction.
 /// Also returns in limbRhoSOut the limb's circumference for the body test
 /// (limbCircumferenceLevels) and in tightOut the tight levels from the
-/// candidate to the end of that window (where the cut may move).
+/// candidate to the end of that window (where the cut may move). A branch
+/// with no candidate that reaches another junction's region is a passage:
+/// passageOut gets its middle level's best node and the smallest rho_S of
+/// its levels' best nodes (passageOut.node is kNoJunction otherwise).
 std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                          std::uint32_t junction, std::uint32_t piece, const CutOptions& options,
                          std::vector<std::uint8_t>& taken, std::uint32_t& levelOut, float& sigmaOut,
                          float& limbRhoSOut, std::vector<TightLevel>& tightOut,
-                         std::uint32_t& windowEndOut, std::uint32_t& walkEndOut,
-                         bool& endsFreeOut) {
+                         std::uint32_t& windowEndOut, std::uint32_t& walkEndOut, bool& endsFreeOut,
+                         TightLevel& passageOut) {
     std::vector<std::uint32_t> level;
     for (std::uint32_t n : g.junctions[junction].region)
         for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
@@ -45,7 +49,8 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     const std::uint32_t extraLevels =
         limbCircumferenceLevels(g.junctions[junction].rhoS, options.consecutiveLevels);
     std::uint32_t depth = 1;
-    bool endsFree = true;  // no other junction's region next to the branch
+    bool endsFree = true;               // no other junction's region next to the branch
+    std::vector<TightLevel> levelBest;  // every level's best node, for a passage
     for (; !level.empty(); ++depth) {
         // Best sigma on this level; ties by lowest node id (levels are sorted).
         std::uint32_t bestNode = level.front();
@@ -56,6 +61,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
         }
         const bool isTight = best >= float(options.sigmaMin);
         const float rhoS = points[g.point[bestNode]].rhoS;
+        if (!found) levelBest.push_back({bestNode, depth, best, rhoS});
         if (found) {
             if (isTight) {
                 if (depth <= lastLevel) limbRhoS = std::min(limbRhoS, rhoS);
@@ -87,7 +93,16 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
         std::sort(next.begin(), next.end());
         level.swap(next);
     }
-    if (!found) return kNoJunction;
+    passageOut = {};
+    passageOut.node = kNoJunction;
+    if (!found) {
+        if (!endsFree && !levelBest.empty()) {
+            passageOut = levelBest[levelBest.size() / 2];
+            for (const TightLevel& t : levelBest)
+                passageOut.rhoS = std::min(passageOut.rhoS, t.rhoS);
+        }
+        return kNoJunction;
+    }
     windowEndOut = lastLevel;
     walkEndOut = depth - 1;
     endsFreeOut = endsFree;
@@ -122,7 +137,7 @@ std::size_t settledLevel(const std::vector<TightLevel>& tight, std::size_t start
 }  // namespace
 
 void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandidate* candidates,
-                        std::size_t count) {
+                        std::size_t count, const std::vector<float>& passageRhoS) {
     // The body passes through the junction, so the junction's loops are at
     // least as long as the body's; a tight loop next to the junction longer
     // than the junction's median rho_S shows that the median fell on a few
@@ -140,11 +155,12 @@ void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandid
     // thinner of two body candidates has a sibling below the threshold that
     // is nearly as thick, the threshold cannot tell them apart, and the
     // "more than two" rule decides (placeCuts).
-    std::vector<std::size_t> body2;
+    // A passage to another junction is body as well (placeCuts).
+    std::vector<float> body2 = passageRhoS;
     for (std::size_t i = 0; i < count; ++i)
-        if (candidates[i].onBody) body2.push_back(i);
+        if (candidates[i].onBody) body2.push_back(candidates[i].limbRhoS);
     if (body2.size() != 2) return;
-    const float thinner = std::min(candidates[body2[0]].limbRhoS, candidates[body2[1]].limbRhoS);
+    const float thinner = std::min(body2[0], body2[1]);
     for (std::size_t i = 0; i < count; ++i)
         if (CutCandidate& c = candidates[i];
             !c.onBody && c.limbRhoS >= float(1.0 - options.siblingTolerance) * thinner)
@@ -194,15 +210,27 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         std::vector<std::vector<TightLevel>> tightOf;  // per candidate of this junction
         std::vector<std::uint32_t> walkEndOf, windowEndOf;
         std::vector<std::uint32_t> skeletonEndOf;  // kNoJunction: ends at another junction
+        // Branches to another junction with no tight run: the body passes
+        // there (too short a walk for the run of levels, counted in voxels).
+        std::vector<TightLevel> passages;
+        std::vector<float> passageRhoS;
         for (std::uint32_t piece : branches) {
             std::uint32_t level = 0;
             float sigma = 0.0f, limbRhoS = 0.0f;
             std::vector<TightLevel> tight;
             std::uint32_t windowEnd = 0, walkEnd = 0;
             bool endsFree = true;
-            const std::uint32_t node = walkBranch(g, points, j, piece, options, taken, level, sigma,
-                                                  limbRhoS, tight, windowEnd, walkEnd, endsFree);
-            if (node == kNoJunction) continue;
+            TightLevel passage;
+            const std::uint32_t node =
+                walkBranch(g, points, j, piece, options, taken, level, sigma, limbRhoS, tight,
+                           windowEnd, walkEnd, endsFree, passage);
+            if (node == kNoJunction) {
+                if (passage.node != kNoJunction && options.passagesAreBody) {
+                    passages.push_back(passage);
+                    passageRhoS.push_back(passage.rhoS);
+                }
+                continue;
+            }
             tightOf.push_back(std::move(tight));
             walkEndOf.push_back(walkEnd);
             windowEndOf.push_back(windowEnd);
@@ -217,7 +245,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
             plan.candidates.push_back(c);
         }
         markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
-                           plan.candidates.size() - first);
+                           plan.candidates.size() - first, passageRhoS);
         // A tight loop as long as the body's still goes round the body: the
         // limb starts after it, so its window does too (a chest before a
         // waist). The body's reference is the one just measured, not the
@@ -239,22 +267,33 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         }
         if (windowMoved)
             markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
-                               plan.candidates.size() - first);
+                               plan.candidates.size() - first, passageRhoS);
         // Body passes through a junction at most once: drop at most two.
+        // Where two candidates are body, a passage is a third body member:
+        // it has no loop to cut, so when it carries the most surface both
+        // candidates are cut. A single body candidate beside passages (a
+        // plate whose skeleton branches into several junctions) is left
+        // alone: passages only stand in for the candidate a longer walk
+        // would have given.
         std::vector<std::size_t> body;
         for (std::size_t i = first; i < plan.candidates.size(); ++i)
             if (plan.candidates[i].onBody) body.push_back(i);
-        if (body.size() > 2) {
-            std::size_t keepOnBody = body.front();
-            double bestArea = -1.0;
+        if (body.size() > 2 || (body.size() == 2 && !passages.empty())) {
+            constexpr std::size_t kPassage = ~std::size_t(0);
+            std::size_t keepOnBody = kPassage;
+            double bestArea = -std::numeric_limits<double>::infinity();
+            std::uint32_t bestVoxel = 0;
+            const auto offer = [&](std::uint32_t node, double area, std::size_t index) {
+                const std::uint32_t voxel = points[g.point[node]].voxel;
+                if (area > bestArea || (area == bestArea && voxel < bestVoxel))
+                    bestArea = area, bestVoxel = voxel, keepOnBody = index;
+            };
+            for (const TightLevel& p : passages)
+                offer(p.node, exactRhoC(g.point[p.node]), kPassage);
             for (std::size_t i : body) {
                 CutCandidate& c = plan.candidates[i];
                 c.exactRhoC = exactRhoC(g.point[c.node]);
-                const bool better = c.exactRhoC > bestArea ||
-                                    (c.exactRhoC == bestArea &&
-                                     points[g.point[c.node]].voxel <
-                                         points[g.point[plan.candidates[keepOnBody].node]].voxel);
-                if (better) bestArea = c.exactRhoC, keepOnBody = i;
+                offer(c.node, c.exactRhoC, i);
             }
             for (std::size_t i : body) plan.candidates[i].onBody = i == keepOnBody;
         }

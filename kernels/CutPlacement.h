@@ -14,7 +14,9 @@
 // tight levels past a junction still wrap the part's base, whose loop is
 // about as long as the body's (docs/algorithm.md §8.6, "limb circumference"); the body's
 // circumference is the largest of the junction's rho_S and every candidate's first tight loop and
-// limb circumference. When more than two are similar, only the one carrying the most surface
+// limb circumference. A branch that reaches another junction without a run of tight levels is a
+// passage, body too: it counts in the sibling test and, beside two body candidates, in the next
+// rule. When more than two are similar, only the one carrying the most surface
 // (largest exact rho_C) is dropped, ties broken by voxel index. Each remaining candidate's cut
 // moves to the first tight level of that window whose loop is closer to the limb's circumference
 // than to the body's (a loop as long as the body's still wraps the body); a cut past which the
@@ -54,6 +56,10 @@ struct CutOptions {
     /// A cut past which the branch's skeleton ends within this many loop
     /// radii takes a corner of a flat end, not a limb (isCornerOfTheBody).
     double cornerLength = 0.5;
+    /// A branch that reaches another junction without a run of tight levels
+    /// is body at this junction: it counts in the "more than two" rule and
+    /// in the sibling test (docs/algorithm.md §8.6, "Passages").
+    bool passagesAreBody = true;
     CutMode mode = CutMode::JunctionRule;
 };
 
@@ -106,9 +112,11 @@ bool isCornerOfTheBody(std::uint32_t cutLevel, std::uint32_t skeletonEnd, float 
 /// The body test of one junction's candidates (baseRhoS and limbRhoS filled):
 /// sets bodyRhoS (the largest of the junction's rho_S and every candidate's
 /// baseRhoS and limbRhoS), similarity (limbRhoS against bodyRhoS) and onBody,
-/// before the "more than two" rule.
+/// before the "more than two" rule. passageRhoS: the circumference of each
+/// branch of the junction that is a passage to another junction (body with
+/// no candidate); it counts among the body candidates of the sibling test.
 void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandidate* candidates,
-                        std::size_t count);
+                        std::size_t count, const std::vector<float>& passageRhoS = {});
 
 /// exactRhoC(pointIndex) returns the exact rho_C of a SkeletonPoint (only
 /// called for the "more than two qualify" rule).

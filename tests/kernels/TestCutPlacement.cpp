@@ -593,6 +593,101 @@ TEST(CutPlacement, ShortBranchToAnotherJunctionIsStillCut) {
     EXPECT_TRUE(c->isCut);
 }
 
+/// Two junctions (rho_S 40 s) joined along x by a passage as thick as they
+/// are, each with two handles (rho_S 28 s, 0.7 of the body: body-similar)
+/// at scale s; the junctions' cores are `gap` voxels apart. The passage
+/// carries the most surface (rho_C 9000 against 1000).
+CutPlan twoJunctionsWithHandles(int scale, int gap, const CutOptions& options) {
+    const int arm = 15 * scale, a = arm + 2, c = arm + 2;
+    SkeletonPointSet set{Dims{2 * arm + gap + 5, 2 * arm + 5, 3}};
+    const float body = 40.0f * float(scale), handle = 28.0f * float(scale);
+    for (const int x : {a, a + gap}) {
+        set.add({x, c, 1}, body, 9000.0, 3);
+        const int out = x == a ? -1 : 1;
+        for (const int side : {-1, 1})
+            for (std::uint32_t v : set.chain({x + out, c + side, 1}, {out, side, 0}, arm, handle))
+                set.point(v).sigma = 0.9f;
+    }
+    for (std::uint32_t v : set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, body, 9000.0))
+        set.point(v).sigma = 0.9f;
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    return placeCuts(g, points, options,
+                     [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+}
+
+TEST(CutPlacement, PassageBetweenJunctionsIsBodyAtTwoScales) {
+    // A pair of pliers: where the passage between the two junctions is long
+    // enough for a run of tight levels (scale 2), each junction has three
+    // body-similar candidates and rule 3 cuts both handles; where it is too
+    // short for a run (scale 1, one level outside the regions: PSB plier 202
+    // at resolution 128) the passage is still body, and the handles are cut
+    // the same way (docs/algorithm.md §8.6, "Passages").
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const CutPlan plan = twoJunctionsWithHandles(scale, 8 * scale, {});
+        ASSERT_EQ(plan.junctions.size(), 2u);
+        EXPECT_EQ(plan.candidates.size(), scale == 1 ? 4u : 6u)
+            << "scale 1: no candidate on the passage; scale 2: one from each end";
+        std::size_t handleCuts = 0;
+        for (const CutCandidate& c : plan.candidates) {
+            EXPECT_GE(c.similarity, 0.6f);
+            handleCuts += c.isCut ? 1 : 0;
+        }
+        EXPECT_EQ(handleCuts, 4u);
+        EXPECT_EQ(plan.junctions[0].cuts, 2u);
+        EXPECT_EQ(plan.junctions[1].cuts, 2u);
+        EXPECT_EQ(plan.cutNodes.size(), 4u);
+    }
+    CutOptions without;
+    without.passagesAreBody = false;
+    EXPECT_TRUE(twoJunctionsWithHandles(1, 8, without).cutNodes.empty())
+        << "two body candidates and nothing else: the handles stay on the body";
+}
+
+TEST(CutPlacement, OneBodyCandidateBesidePassagesStaysBody) {
+    // A plate whose skeleton branches into a row of junctions (a chair's
+    // seat): the middle junction has passages to both neighbours, one branch
+    // as thick as the body and one thin limb. The body branch stays body
+    // even where a passage carries more surface; only the limb is cut.
+    SkeletonPointSet set{Dims{40, 40, 3}};
+    const float body = 40.0f;
+    for (const int x : {12, 20, 28}) set.add({x, 20, 1}, body, 9000.0, 3);
+    for (const int x : {12, 20})
+        for (std::uint32_t v : set.chain({x + 1, 20, 1}, {1, 0, 0}, 7, body, 9000.0))
+            set.point(v).sigma = 0.9f;
+    const std::vector<std::uint32_t> thick = set.chain({20, 21, 1}, {0, 1, 0}, 15, body, 5000.0);
+    const std::vector<std::uint32_t> limb = set.chain({20, 19, 1}, {0, -1, 0}, 15, 12.0f, 1000.0);
+    for (const auto* branch : {&thick, &limb})
+        for (std::uint32_t v : *branch) set.point(v).sigma = 0.9f;
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    const CutPlan plan = placeCuts(
+        g, points, {}, [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+    ASSERT_EQ(plan.junctions.size(), 3u);
+    ASSERT_EQ(plan.candidates.size(), 2u);
+    for (const CutCandidate& c : plan.candidates) {
+        const bool onLimb = c.limbRhoS < 0.5f * body;
+        EXPECT_EQ(c.isCut, onLimb) << "limb rho_S " << c.limbRhoS;
+    }
+    EXPECT_EQ(plan.cutNodes.size(), 1u);
+}
+
+TEST(CutPlacement, PassageCountsInTheSiblingTest) {
+    // One handle at 0.7 of the body, its sibling at 0.55 (within 25 % of the
+    // thinner body member): with the passage as the second body member the
+    // sibling is pulled in and rule 3 cuts both, as when the passage gives a
+    // candidate.
+    std::vector<CutCandidate> candidates(2);
+    candidates[0].baseRhoS = candidates[0].limbRhoS = 28.0f;
+    candidates[1].baseRhoS = candidates[1].limbRhoS = 22.0f;
+    markBodyCandidates(40.0f, {}, candidates.data(), candidates.size(), {40.0f});
+    EXPECT_TRUE(candidates[0].onBody);
+    EXPECT_TRUE(candidates[1].onBody) << "sibling of the thinner body member";
+    markBodyCandidates(40.0f, {}, candidates.data(), candidates.size());
+    EXPECT_FALSE(candidates[1].onBody) << "without the passage: one body candidate";
+}
+
 TEST(CutPlacement, JunctionModeCutsAtTheJunction) {
     Junction j;
     for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f});
