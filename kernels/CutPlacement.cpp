@@ -238,10 +238,13 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                                   windowEnd, walkEnd, endsFree, levels, visited);
                 // A tube's loops keep their length over a limb radius; a
                 // block's or a panel's change (loops round its edges and
-                // corners), and a panel's sigma straddles sigmaMin too.
+                // corners), and a panel's sigma straddles sigmaMin too. A
+                // limb ends free; a run next to another junction is that
+                // junction's approach, where the window is cut short.
                 if (node != kNoJunction &&
-                    loopVariation(levels, level, walkEnd, limbRhoS, options.consecutiveLevels) >
-                        options.limbLoopVariation)
+                    (!endsFree ||
+                     loopVariation(levels, level, walkEnd, limbRhoS, options.consecutiveLevels) >
+                         options.limbLoopVariation))
                     node = kNoJunction;
                 relaxed = node != kNoJunction;
             }

@@ -508,6 +508,25 @@ TEST(CutPlacement, TubeWhoseLoopsStraddleSigmaMinIsCutAtTwoScales) {
     }
 }
 
+TEST(CutPlacement, StrutWhoseLoopsStraddleSigmaMinBetweenTwoJunctionsIsNotCut) {
+    // The same straddling tube, but it reaches a second junction: a strut
+    // between two junctions, not a limb (a limb's skeleton ends free). Its
+    // run below sigma_min gives no cut from either junction.
+    const int length = 20;
+    SkeletonPointSet set{Dims{60 + length + 8, 5, 3}};
+    set.add({62, 2, 1}, 40.0f, 5000.0, 3);
+    for (std::uint32_t v : set.chain({61, 2, 1}, {-1, 0, 0}, 60, 40.0f)) set.point(v).sigma = 0.9f;
+    const std::vector<std::uint32_t> strut = set.chain({63, 2, 1}, {1, 0, 0}, length, 8.0f);
+    const float sigmas[4] = {0.77f, 0.79f, 0.76f, 0.78f};
+    for (std::size_t i = 0; i < strut.size(); ++i) set.point(strut[i]).sigma = sigmas[i % 4];
+    set.add({63 + length, 2, 1}, 8.0f, 5000.0, 3);
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    ASSERT_EQ(g.junctions.size(), 2u);
+    const CutPlan plan = placeCuts(g, points, {}, [](std::uint32_t) { return 0.0; });
+    EXPECT_TRUE(plan.cutNodes.empty());
+}
+
 TEST(CutPlacement, BlockWhoseLoopsStraddleSigmaMinIsNotCutAtTwoScales) {
     // A block of about the same thickness whose loops go round its edges
     // and corners: their length swings between 6 and 12 (12 and 24) over a
