@@ -8,7 +8,8 @@
 // sigma >= sigmaMin (a single high level in a corner fan is not enough).
 // Where no run reaches sigmaMin, a run just below it (limbSigmaMargin) gives a
 // candidate when the loops keep their length over one limb radius (a tube,
-// not a block or a panel whose loops round its edges).
+// not a block or a panel whose loops round its edges) on a branch that ends
+// free.
 // Candidates whose circumference rho_S is similar to the junction's (body
 // test) lie on the body and are dropped; a candidate's circumference is the
 // smallest rho_S of the tight levels (sigma >= sigmaMin) from the candidate
@@ -62,7 +63,8 @@ struct CutOptions {
     /// spread of a thin limb's sigma), but only where the loops are a
     /// tube's: the coefficient of variation of rho_S over one limb radius
     /// from the candidate is at most limbLoopVariation (a block's or a
-    /// panel's loops round its edges and change; docs/algorithm.md §8.7).
+    /// panel's loops round its edges and change), on a branch that ends
+    /// free (a limb; docs/algorithm.md §8.7).
     bool relaxSigmaMinForLimbs = true;
     double limbSigmaMargin = 0.05;
     double limbLoopVariation = 0.065;
