@@ -29,12 +29,16 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
                          std::vector<std::uint8_t>& taken, std::uint32_t& levelOut, float& sigmaOut,
                          float& limbRhoSOut, std::vector<TightLevel>& tightOut,
                          std::uint32_t& windowEndOut, std::uint32_t& walkEndOut, bool& endsFreeOut,
+                         std::vector<TightLevel>& levelsOut, std::vector<std::uint32_t>& visitedOut,
                          TightLevel& passageOut) {
+    levelsOut.clear();
+    visitedOut.clear();
     std::vector<std::uint32_t> level;
     for (std::uint32_t n : g.junctions[junction].region)
         for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
             const std::uint32_t m = g.neighbour[e];
-            if (g.pieceOf[m] == piece && !taken[m]) taken[m] = 1, level.push_back(m);
+            if (g.pieceOf[m] == piece && !taken[m])
+                taken[m] = 1, level.push_back(m), visitedOut.push_back(m);
         }
     std::sort(level.begin(), level.end());
     std::uint32_t runStart = kNoJunction, runLength = 0, runStartLevel = 0;
@@ -49,8 +53,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     const std::uint32_t extraLevels =
         limbCircumferenceLevels(g.junctions[junction].rhoS, options.consecutiveLevels);
     std::uint32_t depth = 1;
-    bool endsFree = true;               // no other junction's region next to the branch
-    std::vector<TightLevel> levelBest;  // every level's best node, for a passage
+    bool endsFree = true;  // no other junction's region next to the branch
     for (; !level.empty(); ++depth) {
         // Best sigma on this level; ties by lowest node id (levels are sorted).
         std::uint32_t bestNode = level.front();
@@ -61,7 +64,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
         }
         const bool isTight = best >= float(options.sigmaMin);
         const float rhoS = points[g.point[bestNode]].rhoS;
-        if (!found) levelBest.push_back({bestNode, depth, best, rhoS});
+        levelsOut.push_back({bestNode, depth, best, rhoS});
         if (found) {
             if (isTight) {
                 if (depth <= lastLevel) limbRhoS = std::min(limbRhoS, rhoS);
@@ -88,7 +91,8 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
             for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
                 const std::uint32_t m = g.neighbour[e];
                 if (g.junctionOf[m] != kNoJunction && g.junctionOf[m] != junction) endsFree = false;
-                if (g.pieceOf[m] == piece && !taken[m]) taken[m] = 1, next.push_back(m);
+                if (g.pieceOf[m] == piece && !taken[m])
+                    taken[m] = 1, next.push_back(m), visitedOut.push_back(m);
             }
         std::sort(next.begin(), next.end());
         level.swap(next);
@@ -96,9 +100,9 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
     passageOut = {};
     passageOut.node = kNoJunction;
     if (!found) {
-        if (!endsFree && !levelBest.empty()) {
-            passageOut = levelBest[levelBest.size() / 2];
-            for (const TightLevel& t : levelBest)
+        if (!endsFree && !levelsOut.empty()) {
+            passageOut = levelsOut[levelsOut.size() / 2];
+            for (const TightLevel& t : levelsOut)
                 passageOut.rhoS = std::min(passageOut.rhoS, t.rhoS);
         }
         return kNoJunction;
@@ -132,6 +136,24 @@ std::size_t settledLevel(const std::vector<TightLevel>& tight, std::size_t start
         if (double(ahead) >= (1.0 - taper) * double(tight[i].rhoS)) return i;
     }
     return start;
+}
+
+/// How much the loop's length varies over one limb radius from `level`
+/// (levels up to walkEnd): the coefficient of variation of the levels'
+/// rho_S (standard deviation over mean; 0 for a straight tube).
+double loopVariation(const std::vector<TightLevel>& levels, std::uint32_t level,
+                     std::uint32_t walkEnd, float limbRhoS, int consecutiveLevels) {
+    const std::uint32_t reach = std::max<std::uint32_t>(
+        std::uint32_t(std::max(consecutiveLevels, 1)),
+        std::uint32_t(std::ceil(loopRadius(std::max(0.0, double(limbRhoS))))));
+    double sum = 0.0, sumSquares = 0.0;
+    std::size_t count = 0;
+    for (const TightLevel& t : levels)
+        if (t.level >= level && t.level <= std::min(walkEnd, level + reach))
+            sum += double(t.rhoS), sumSquares += double(t.rhoS) * double(t.rhoS), ++count;
+    if (count < 2 || sum <= 0.0) return 0.0;
+    const double mean = sum / double(count);
+    return std::sqrt(std::max(0.0, sumSquares / double(count) - mean * mean)) / mean;
 }
 
 }  // namespace
@@ -220,17 +242,39 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
             std::vector<TightLevel> tight;
             std::uint32_t windowEnd = 0, walkEnd = 0;
             bool endsFree = true;
+            std::vector<TightLevel> levels;
+            std::vector<std::uint32_t> visited;
             TightLevel passage;
-            const std::uint32_t node =
+            std::uint32_t node =
                 walkBranch(g, points, j, piece, options, taken, level, sigma, limbRhoS, tight,
-                           windowEnd, walkEnd, endsFree, passage);
-            if (node == kNoJunction) {
-                if (passage.node != kNoJunction && options.passagesAreBody) {
+                           windowEnd, walkEnd, endsFree, levels, visited, passage);
+            if (node == kNoJunction && passage.node != kNoJunction) {
+                if (options.passagesAreBody) {
                     passages.push_back(passage);
                     passageRhoS.push_back(passage.rhoS);
                 }
                 continue;
             }
+            bool relaxed = false;
+            if (node == kNoJunction && options.relaxSigmaMinForLimbs) {
+                for (std::uint32_t n : visited) taken[n] = 0;
+                CutOptions below = options;
+                below.sigmaMin = options.sigmaMin - options.limbSigmaMargin;
+                node = walkBranch(g, points, j, piece, below, taken, level, sigma, limbRhoS, tight,
+                                  windowEnd, walkEnd, endsFree, levels, visited, passage);
+                // A tube's loops keep their length over a limb radius; a
+                // block's or a panel's change (loops round its edges and
+                // corners), and a panel's sigma straddles sigmaMin too. A
+                // limb ends free; a run next to another junction is that
+                // junction's approach, where the window is cut short.
+                if (node != kNoJunction &&
+                    (!endsFree ||
+                     loopVariation(levels, level, walkEnd, limbRhoS, options.consecutiveLevels) >
+                         options.limbLoopVariation))
+                    node = kNoJunction;
+                relaxed = node != kNoJunction;
+            }
+            if (node == kNoJunction) continue;
             tightOf.push_back(std::move(tight));
             walkEndOf.push_back(walkEnd);
             windowEndOf.push_back(windowEnd);
@@ -242,6 +286,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
             c.sigma = sigma;
             c.baseRhoS = points[g.point[node]].rhoS;
             c.limbRhoS = limbRhoS;
+            c.belowSigmaMin = relaxed;
             plan.candidates.push_back(c);
         }
         markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,

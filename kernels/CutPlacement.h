@@ -6,6 +6,10 @@
 // its sigma is the best sigma on that level. The candidate is the best point
 // of the first level that starts a run of `consecutiveLevels` levels with
 // sigma >= sigmaMin (a single high level in a corner fan is not enough).
+// Where no run reaches sigmaMin, a run just below it (limbSigmaMargin) gives a
+// candidate when the loops keep their length over one limb radius (a tube,
+// not a block or a panel whose loops round its edges) on a branch that ends
+// free.
 // Candidates whose circumference rho_S is similar to the junction's (body
 // test) lie on the body and are dropped; a candidate's circumference is the
 // smallest rho_S of the tight levels (sigma >= sigmaMin) from the candidate
@@ -60,6 +64,16 @@ struct CutOptions {
     /// is body at this junction: it counts in the "more than two" rule and
     /// in the sibling test (docs/algorithm.md §8.6, "Passages").
     bool passagesAreBody = true;
+    /// Where no run reaches sigmaMin, a branch may give a candidate from a
+    /// run of levels within limbSigmaMargin below it (the digitisation
+    /// spread of a thin limb's sigma), but only where the loops are a
+    /// tube's: the coefficient of variation of rho_S over one limb radius
+    /// from the candidate is at most limbLoopVariation (a block's or a
+    /// panel's loops round its edges and change), on a branch that ends
+    /// free (a limb; docs/algorithm.md §8.7).
+    bool relaxSigmaMinForLimbs = true;
+    double limbSigmaMargin = 0.05;
+    double limbLoopVariation = 0.065;
     CutMode mode = CutMode::JunctionRule;
 };
 
@@ -79,6 +93,8 @@ struct CutCandidate {
     /// (isCornerOfTheBody): a corner of a flat end, not cut.
     bool isCorner = false;
     bool isCut = false;
+    /// Found by a run below sigmaMin (relaxSigmaMinForLimbs).
+    bool belowSigmaMin = false;
 };
 
 struct JunctionReport {

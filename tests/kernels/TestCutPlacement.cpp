@@ -84,8 +84,8 @@ TEST(CutPlacement, CandidateIsTheFirstLevelOfAThreeLevelRun) {
     // Arm 0: isolated highs, then a run of three starting at level 4, which
     // starts exactly at sigmaMin.
     j.setSigma(0, {0.3f, 0.9f, 0.5f, 0.8f, 0.85f, 0.95f, 0.9f, 0.9f});
-    // Arm 1: never three consecutive levels >= 0.8.
-    j.setSigma(1, {0.95f, 0.2f, 0.9f, 0.9f, 0.1f, 0.85f, 0.79f, 0.99f, 0.5f, 0.9f, 0.9f, 0.2f});
+    // Arm 1: never three consecutive levels >= 0.8 (nor >= 0.75, §8.7).
+    j.setSigma(1, {0.95f, 0.2f, 0.9f, 0.9f, 0.1f, 0.85f, 0.7f, 0.99f, 0.5f, 0.9f, 0.9f, 0.2f});
     // Arm 2: high right from level 1.
     j.setSigma(2, {0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f});
     for (int arm = 0; arm < 3; ++arm) j.setRhoS(arm, 5.0f);  // all limbs (similarity 0.25)
@@ -477,6 +477,73 @@ TEST(CutPlacement, TaperingLimbKeepsItsCutAtTheBase) {
     LongLimb cone;
     cone.setLimbProfile([](int level) { return level == 1 ? 34.0 : 14.0 - 0.2 * (level - 2); });
     EXPECT_EQ(cone.cutLevel(), 2u);
+}
+
+/// A limb (or a block) at `scale` whose loops straddle sigma_min: every
+/// level reads 0.76 to 0.79 and none reaches 0.8 (digitised thin limbs,
+/// docs/algorithm.md §8.7). rhoOfLevel(L) gives rho_S at level L.
+template <class F>
+LongLimb straddlingBranch(F rhoOfLevel) {
+    LongLimb limb;
+    limb.setLimbProfile(rhoOfLevel);
+    const float sigmas[4] = {0.77f, 0.79f, 0.76f, 0.78f};
+    for (std::size_t i = 3; i < limb.limb.size(); ++i)
+        limb.set.point(limb.limb[i]).sigma = sigmas[i % 4];
+    return limb;
+}
+
+CutOptions relaxedForLimbs(bool on) {
+    CutOptions options;
+    options.relaxSigmaMinForLimbs = on;
+    return options;
+}
+
+TEST(CutPlacement, TubeWhoseLoopsStraddleSigmaMinIsCutAtTwoScales) {
+    // A tube 8 (16) thick: its loops keep their length, so a run just
+    // below sigma_min is taken as a limb's and cut where it starts.
+    for (int scale = 1; scale <= 2; ++scale) {
+        const LongLimb tube = straddlingBranch([scale](int) { return 8.0 * scale; });
+        EXPECT_EQ(tube.cutLevel(relaxedForLimbs(true)), 1u) << "scale " << scale;
+        EXPECT_EQ(tube.cutLevel(relaxedForLimbs(false)), 0u) << "the rule this test guards";
+    }
+}
+
+TEST(CutPlacement, StrutWhoseLoopsStraddleSigmaMinBetweenTwoJunctionsIsNotCut) {
+    // The same straddling tube, but it reaches a second junction: a strut
+    // between two junctions, not a limb (a limb's skeleton ends free). Its
+    // run below sigma_min gives no cut from either junction.
+    const int length = 20;
+    SkeletonPointSet set{Dims{60 + length + 8, 5, 3}};
+    set.add({62, 2, 1}, 40.0f, 5000.0, 3);
+    for (std::uint32_t v : set.chain({61, 2, 1}, {-1, 0, 0}, 60, 40.0f)) set.point(v).sigma = 0.9f;
+    const std::vector<std::uint32_t> strut = set.chain({63, 2, 1}, {1, 0, 0}, length, 8.0f);
+    const float sigmas[4] = {0.77f, 0.79f, 0.76f, 0.78f};
+    for (std::size_t i = 0; i < strut.size(); ++i) set.point(strut[i]).sigma = sigmas[i % 4];
+    set.add({63 + length, 2, 1}, 8.0f, 5000.0, 3);
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    ASSERT_EQ(g.junctions.size(), 2u);
+    const CutPlan plan = placeCuts(g, points, {}, [](std::uint32_t) { return 0.0; });
+    EXPECT_TRUE(plan.cutNodes.empty());
+}
+
+TEST(CutPlacement, BlockWhoseLoopsStraddleSigmaMinIsNotCutAtTwoScales) {
+    // A block of about the same thickness whose loops go round its edges
+    // and corners: their length swings between 6 and 12 (12 and 24) over a
+    // block's width (coefficient of variation 0.2 and 0.11 over one limb
+    // radius from the run's start), so the run below sigma_min is
+    // not a limb's and nothing is cut. A level at sigma_min would still be
+    // needed to cut it, as without the rule.
+    for (int scale = 1; scale <= 2; ++scale) {
+        const int period = 8 * scale;
+        const LongLimb block = straddlingBranch([scale, period](int level) {
+            return scale * (6.0 + 6.0 * std::abs(level % period - period / 2) / (period / 2));
+        });
+        EXPECT_EQ(block.cutLevel(relaxedForLimbs(true)), 0u) << "scale " << scale;
+        CutOptions anyVariation = relaxedForLimbs(true);
+        anyVariation.limbLoopVariation = 1.0;
+        EXPECT_GT(block.cutLevel(anyVariation), 0u) << "the rule this test guards";
+    }
 }
 
 /// The body test of a branch that stays as thick as the body (a chest,
