@@ -165,6 +165,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                  {"limb_rho_s", c.limbRhoS},
                  {"body_similarity", c.similarity},
                  {"is_corner", c.isCorner},
+                 {"below_sigma_min", c.belowSigmaMin},
                  {"is_cut", c.isCut}});
         for (const auto& c : obj.cuts) {
             jointCuts += c.kind == CutKind::Joint;

@@ -262,6 +262,7 @@ void recordSkeleton(ObjectState& state) {
         info.rhoC = c.exactRhoC >= 0.0 ? c.exactRhoC : sp.rhoC;
         info.similarity = c.similarity;
         info.isCorner = c.isCorner;
+        info.belowSigmaMin = c.belowSigmaMin;
         info.isCut = c.isCut;
         out.criticalPoints.push_back(info);
     }

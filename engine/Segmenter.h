@@ -139,7 +139,8 @@ struct CriticalPointInfo {
     float limbRhoS = 0.0f;  // the circumference the body test compared
     double rhoC = 0.0;
     float similarity = 0.0f;
-    bool isCorner = false;  // a corner of a flat end, not cut (CutCandidate::isCorner)
+    bool isCorner = false;       // a corner of a flat end, not cut (CutCandidate::isCorner)
+    bool belowSigmaMin = false;  // found by a run below sigma_min (CutCandidate::belowSigmaMin)
     bool isCut = false;
 };
 
