@@ -44,6 +44,26 @@ const char* jointStatusName(JointStatus status) {
 
 }  // namespace
 
+json methodParameters(const SegmentationParameters& p) {
+    const CutOptions& cut = p.cutRules;
+    return {{"tau", p.tauListString()},
+            {"sigma_min", p.sigmaMin},
+            {"body_ratio", p.bodyRatio},
+            {"mode", p.mode == CutMode::Junctions ? "junctions" : "junction-rule"},
+            {"region_radius", p.regionRadius},
+            {"bridge_gap", p.bridgeGap},
+            {"consecutive_levels", p.consecutiveLevels},
+            {"fork_junctions", p.forkJunctions},
+            {"grow_regions_to_splits", p.growRegionsToSplits},
+            {"sibling_tolerance", cut.siblingTolerance},
+            {"limb_taper", cut.limbTaper},
+            {"corner_length", cut.cornerLength},
+            {"passages_are_body", cut.passagesAreBody},
+            {"limbs_below_sigma_min", cut.relaxSigmaMinForLimbs},
+            {"limb_sigma_margin", cut.limbSigmaMargin},
+            {"limb_loop_variation", cut.limbLoopVariation}};
+}
+
 json resultReport(const SegmentationResult& result, const ResultReportContext& context) {
     const SegmentationParameters& p = context.parameters;
     const VolumeGeometry& geometry = result.labels.geometry;
@@ -55,17 +75,10 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
     report["grid"] = {{"size", {d.x, d.y, d.z}},
                       {"voxel_size", geometry.voxelSize()},
                       {"origin", toJson(geometry.origin)}};
-    report["parameters"] = {{"tau", p.tauListString()},
-                            {"sigma_min", p.sigmaMin},
-                            {"body_ratio", p.bodyRatio},
-                            {"mode", p.mode == CutMode::Junctions ? "junctions" : "junction-rule"},
-                            {"threads", context.threads},
-                            {"region_radius", p.regionRadius},
-                            {"bridge_gap", p.bridgeGap},
-                            {"fork_junctions", p.forkJunctions},
-                            {"consecutive_levels", p.consecutiveLevels},
-                            {"skeleton_search", skeletonSearchName(skeletonSearchToRun(p))},
-                            {"joints", p.joints}};
+    report["parameters"] = methodParameters(p);
+    report["parameters"].update({{"threads", context.threads},
+                                 {"skeleton_search", skeletonSearchName(skeletonSearchToRun(p))},
+                                 {"joints", p.joints}});
     if (p.joints) {
         const JointOptions& j = p.jointOptions;
         report["parameters"]["joint_options"] = {

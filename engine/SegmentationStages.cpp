@@ -131,6 +131,7 @@ void buildObjectSkeletonGraph(ObjectState& state) {
     options.regionRadius = state.parameters.regionRadius;
     options.bridgeGap = state.parameters.bridgeGap;
     options.forkJunctions = state.parameters.forkJunctions;
+    options.growRegionsToSplits = state.parameters.growRegionsToSplits;
     options.inside = &state.crop;
     state.skeleton = buildSkeletonGraph(state.points, state.crop.dims(), options);
     throwIfInterrupted(state.interrupter);
@@ -170,11 +171,7 @@ void placeObjectCuts(ObjectState& state) {
     Stage stage(state.timer, state.interrupter, "cut placement", false);
     const SegmentationParameters& p = state.parameters;
     const BoundaryGraph& graph = state.graph;
-    CutOptions options;
-    options.sigmaMin = p.sigmaMin;
-    options.bodyRatio = p.bodyRatio;
-    options.consecutiveLevels = p.consecutiveLevels;
-    options.mode = p.mode;
+    const CutOptions options = p.cutOptions();
     SkeletonMeasureOptions exactOptions = state.measureOptions();
     exactOptions.exactRhoC = true;
     state.plan = placeCuts(state.skeleton, state.points, options, [&](std::uint32_t pointIndex) {

@@ -93,6 +93,15 @@ std::string SegmentationParameters::tauListString() const {
     return text;
 }
 
+CutOptions SegmentationParameters::cutOptions() const {
+    CutOptions options = cutRules;
+    options.sigmaMin = sigmaMin;
+    options.bodyRatio = bodyRatio;
+    options.consecutiveLevels = consecutiveLevels;
+    options.mode = mode;
+    return options;
+}
+
 std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels, int threads,
                                          int levels) {
     const std::uint64_t voxels = dims.voxelCount();

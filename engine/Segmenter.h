@@ -75,6 +75,14 @@ struct SegmentationParameters {
     double sigmaMin = 0.8;
     double bodyRatio = 0.6;
     CutMode mode = CutMode::JunctionRule;
+    /// The cut placement's other rules (kernels/CutPlacement.h): sibling
+    /// tolerance, limb taper, corner length, passages, the run below
+    /// sigmaMin. Its sigmaMin, bodyRatio, consecutiveLevels and mode are
+    /// replaced by the fields of these parameters (cutOptions()).
+    CutOptions cutRules;
+    /// The options the cut placement runs with: cutRules with sigmaMin,
+    /// bodyRatio, consecutiveLevels and mode from these parameters.
+    CutOptions cutOptions() const;
     bool threaded = true;
     /// A hierarchy (finerTaus) always runs the exhaustive search: the band is
     /// found at one tau.
@@ -94,6 +102,8 @@ struct SegmentationParameters {
     double bridgeGap = 4.0;
     /// Branchings of C_tau are junctions too (SkeletonGraphOptions::forkJunctions).
     bool forkJunctions = true;
+    /// Regions grow to their branches' split (SkeletonGraphOptions::growRegionsToSplits).
+    bool growRegionsToSplits = true;
     int consecutiveLevels = 3;
     /// Objects with fewer voxels are one segment without a skeleton.
     std::uint64_t minObjectVoxels = 27;

@@ -105,35 +105,56 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
             "Skeleton simplification: voxel area, or percent of the boundary area (e.g. 3%); "
             "a list (1%,3%,9%) gives nested levels")
         ->capture_default_str();
-    command
-        ->add_option("--sigma-min", seg.parameters.sigmaMin, "Minimum geodesicness of a cut point")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
-    command
-        ->add_option("--body-ratio", seg.parameters.bodyRatio,
-                     "Circumference similarity above which a candidate is on the body")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
+    // A threshold: a number in [0, most], its default shown.
+    const auto addThreshold = [command](const std::string& name, double& value,
+                                        const std::string& help, double most) {
+        command->add_option(name, value, help)->capture_default_str()->check(CLI::Range(0.0, most));
+    };
+    addThreshold("--sigma-min", seg.parameters.sigmaMin, "Minimum geodesicness of a cut point",
+                 1.0);
+    addThreshold("--body-ratio", seg.parameters.bodyRatio,
+                 "Circumference similarity above which a candidate is on the body", 1.0);
+    skelseg::CutOptions& rules = seg.parameters.cutRules;
+    addThreshold("--sibling-tolerance", rules.siblingTolerance,
+                 "A candidate whose limb is within this fraction of the thinner of two body "
+                 "candidates is body too",
+                 1.0);
+    addThreshold("--limb-taper", rules.limbTaper,
+                 "A cut moves out along its limb while the loop shrinks by more than this fraction "
+                 "over one loop diameter",
+                 1.0);
+    addThreshold("--corner-length", rules.cornerLength,
+                 "A cut past which the skeleton ends within this many loop radii is a corner of a "
+                 "flat end, not cut",
+                 10.0);
+    addThreshold("--limb-sigma-margin", rules.limbSigmaMargin,
+                 "A branch with no run at --sigma-min may give a limb from a run this far below it",
+                 1.0);
+    addThreshold("--limb-loop-variation", rules.limbLoopVariation,
+                 "... when its loops vary by at most this coefficient of variation over one limb "
+                 "radius",
+                 1.0);
+    command->add_flag("!--no-limbs-below-sigma-min", rules.relaxSigmaMinForLimbs,
+                      "Take no limb from a run below --sigma-min");
+    command->add_flag("!--no-passages-as-body", rules.passagesAreBody,
+                      "A branch between two junctions without a run of tight levels is not body");
+    command->add_flag("!--no-fork-junctions", seg.parameters.forkJunctions,
+                      "Branchings of the skeleton are junctions only where J_tau points are");
+    command->add_flag("!--no-grow-regions", seg.parameters.growRegionsToSplits,
+                      "A junction's region does not grow to where its branches separate");
     command->add_flag(
         "--joints", seg.parameters.joints,
         "Also cut inside parts at joints: where a branch narrows clearly (bends: --bend-angle)");
-    command
-        ->add_option("--joint-ratio", seg.parameters.jointOptions.narrowingRatio,
-                     "--joints: a narrowing is at most this fraction of the limb's median "
-                     "thickness on both sides")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
-    command
-        ->add_option("--bend-angle", seg.parameters.jointOptions.bendAngleDegrees,
-                     "--joints: also cut at bends turning at least this many degrees (30 is a good "
-                     "choice; default: no bends)")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 360.0));
-    command
-        ->add_option("--joint-min-part", seg.parameters.jointOptions.minSegmentTauFraction,
-                     "--joints: smallest part, as a fraction of tau")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
+    addThreshold("--joint-ratio", seg.parameters.jointOptions.narrowingRatio,
+                 "--joints: a narrowing is at most this fraction of the limb's median thickness on "
+                 "both sides",
+                 1.0);
+    addThreshold("--bend-angle", seg.parameters.jointOptions.bendAngleDegrees,
+                 "--joints: also cut at bends turning at least this many degrees (30 is a good "
+                 "choice; default: no bends)",
+                 360.0);
+    addThreshold("--joint-min-part", seg.parameters.jointOptions.minSegmentTauFraction,
+                 "--joints: smallest part, as a fraction of tau", 1.0);
     command
         ->add_option("--mode", cli.modeText,
                      "junction-rule (default) or junctions (the RT07 baseline)")

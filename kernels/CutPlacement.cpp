@@ -16,29 +16,48 @@ struct TightLevel {
     float rhoS = 0.0f;
 };
 
-/// Walks one branch from junction j's region; returns the candidate node or
-/// kNoJunction. `taken` marks nodes already walked from this junction.
-/// Also returns in limbRhoSOut the limb's circumference for the body test
-/// (limbCircumferenceLevels) and in tightOut the tight levels from the
-/// candidate to the end of that window (where the cut may move). A branch
-/// with no candidate that reaches another junction's region is a passage:
-/// passageOut gets its middle level's best node and the smallest rho_S of
-/// its levels' best nodes (passageOut.node is kNoJunction otherwise).
-std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
-                         std::uint32_t junction, std::uint32_t piece, const CutOptions& options,
-                         std::vector<std::uint8_t>& taken, std::uint32_t& levelOut, float& sigmaOut,
-                         float& limbRhoSOut, std::vector<TightLevel>& tightOut,
-                         std::uint32_t& windowEndOut, std::uint32_t& walkEndOut, bool& endsFreeOut,
-                         std::vector<TightLevel>& levelsOut, std::vector<std::uint32_t>& visitedOut,
-                         TightLevel& passageOut) {
-    levelsOut.clear();
-    visitedOut.clear();
+/// What one branch walk found (walkBranch).
+struct BranchWalk {
+    /// The candidate node: the best node of the first level of the run of
+    /// tight levels; kNoJunction when the branch has no such run.
+    std::uint32_t candidate = kNoJunction;
+    /// The candidate's BFS level from the junction region and its sigma.
+    std::uint32_t level = 0;
+    float sigma = 0.0f;
+    /// The limb's circumference for the body test: the smallest rho_S of the
+    /// tight levels up to windowEnd (limbCircumferenceLevels).
+    float limbRhoS = 0.0f;
+    /// The tight levels from the candidate to the walk's end (where the cut
+    /// may move).
+    std::vector<TightLevel> tight;
+    /// The last level of the limb circumference window, and the walk's last level.
+    std::uint32_t windowEnd = 0;
+    std::uint32_t walkEnd = 0;
+    /// No other junction's region next to the branch (a limb ends free).
+    bool endsFree = true;
+    /// Every level's best node, tight or not, in walk order.
+    std::vector<TightLevel> levels;
+    /// The nodes this walk marked taken.
+    std::vector<std::uint32_t> visited;
+    /// A branch with no candidate that reaches another junction's region is
+    /// a passage: its middle level's best node with the smallest rho_S of its
+    /// levels' best nodes (passage.node is kNoJunction otherwise).
+    TightLevel passage{kNoJunction, 0, 0.0f, 0.0f};
+};
+
+/// Walks one branch from junction j's region (the candidate and what the
+/// cut placement needs of the branch). `taken` marks nodes already walked
+/// from this junction.
+BranchWalk walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                      std::uint32_t junction, std::uint32_t piece, const CutOptions& options,
+                      std::vector<std::uint8_t>& taken) {
+    BranchWalk walk;
     std::vector<std::uint32_t> level;
     for (std::uint32_t n : g.junctions[junction].region)
         for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
             const std::uint32_t m = g.neighbour[e];
             if (g.pieceOf[m] == piece && !taken[m])
-                taken[m] = 1, level.push_back(m), visitedOut.push_back(m);
+                taken[m] = 1, level.push_back(m), walk.visited.push_back(m);
         }
     std::sort(level.begin(), level.end());
     std::uint32_t runStart = kNoJunction, runLength = 0, runStartLevel = 0;
@@ -64,7 +83,7 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
         }
         const bool isTight = best >= float(options.sigmaMin);
         const float rhoS = points[g.point[bestNode]].rhoS;
-        levelsOut.push_back({bestNode, depth, best, rhoS});
+        walk.levels.push_back({bestNode, depth, best, rhoS});
         if (found) {
             if (isTight) {
                 if (depth <= lastLevel) limbRhoS = std::min(limbRhoS, rhoS);
@@ -92,29 +111,28 @@ std::uint32_t walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint
                 const std::uint32_t m = g.neighbour[e];
                 if (g.junctionOf[m] != kNoJunction && g.junctionOf[m] != junction) endsFree = false;
                 if (g.pieceOf[m] == piece && !taken[m])
-                    taken[m] = 1, next.push_back(m), visitedOut.push_back(m);
+                    taken[m] = 1, next.push_back(m), walk.visited.push_back(m);
             }
         std::sort(next.begin(), next.end());
         level.swap(next);
     }
-    passageOut = {};
-    passageOut.node = kNoJunction;
     if (!found) {
-        if (!endsFree && !levelsOut.empty()) {
-            passageOut = levelsOut[levelsOut.size() / 2];
-            for (const TightLevel& t : levelsOut)
-                passageOut.rhoS = std::min(passageOut.rhoS, t.rhoS);
+        if (!endsFree && !walk.levels.empty()) {
+            walk.passage = walk.levels[walk.levels.size() / 2];
+            for (const TightLevel& t : walk.levels)
+                walk.passage.rhoS = std::min(walk.passage.rhoS, t.rhoS);
         }
-        return kNoJunction;
+        return walk;
     }
-    windowEndOut = lastLevel;
-    walkEndOut = depth - 1;
-    endsFreeOut = endsFree;
-    levelOut = runStartLevel;
-    sigmaOut = runStartSigma;
-    limbRhoSOut = limbRhoS;
-    tightOut = std::move(tight);
-    return runStart;
+    walk.candidate = runStart;
+    walk.level = runStartLevel;
+    walk.sigma = runStartSigma;
+    walk.limbRhoS = limbRhoS;
+    walk.tight = std::move(tight);
+    walk.windowEnd = lastLevel;
+    walk.walkEnd = depth - 1;
+    walk.endsFree = endsFree;
+    return walk;
 }
 
 /// From tight level `start` on, the first tight level whose loop no longer
@@ -237,55 +255,45 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
         std::vector<TightLevel> passages;
         std::vector<float> passageRhoS;
         for (std::uint32_t piece : branches) {
-            std::uint32_t level = 0;
-            float sigma = 0.0f, limbRhoS = 0.0f;
-            std::vector<TightLevel> tight;
-            std::uint32_t windowEnd = 0, walkEnd = 0;
-            bool endsFree = true;
-            std::vector<TightLevel> levels;
-            std::vector<std::uint32_t> visited;
-            TightLevel passage;
-            std::uint32_t node =
-                walkBranch(g, points, j, piece, options, taken, level, sigma, limbRhoS, tight,
-                           windowEnd, walkEnd, endsFree, levels, visited, passage);
-            if (node == kNoJunction && passage.node != kNoJunction) {
+            BranchWalk walk = walkBranch(g, points, j, piece, options, taken);
+            if (walk.candidate == kNoJunction && walk.passage.node != kNoJunction) {
                 if (options.passagesAreBody) {
-                    passages.push_back(passage);
-                    passageRhoS.push_back(passage.rhoS);
+                    passages.push_back(walk.passage);
+                    passageRhoS.push_back(walk.passage.rhoS);
                 }
                 continue;
             }
             bool relaxed = false;
-            if (node == kNoJunction && options.relaxSigmaMinForLimbs) {
-                for (std::uint32_t n : visited) taken[n] = 0;
+            if (walk.candidate == kNoJunction && options.relaxSigmaMinForLimbs) {
+                for (std::uint32_t n : walk.visited) taken[n] = 0;
                 CutOptions below = options;
                 below.sigmaMin = options.sigmaMin - options.limbSigmaMargin;
-                node = walkBranch(g, points, j, piece, below, taken, level, sigma, limbRhoS, tight,
-                                  windowEnd, walkEnd, endsFree, levels, visited, passage);
+                walk = walkBranch(g, points, j, piece, below, taken);
                 // A tube's loops keep their length over a limb radius; a
                 // block's or a panel's change (loops round its edges and
                 // corners), and a panel's sigma straddles sigmaMin too. A
                 // limb ends free; a run next to another junction is that
                 // junction's approach, where the window is cut short.
-                if (node != kNoJunction &&
-                    (!endsFree ||
-                     loopVariation(levels, level, walkEnd, limbRhoS, options.consecutiveLevels) >
-                         options.limbLoopVariation))
-                    node = kNoJunction;
-                relaxed = node != kNoJunction;
+                if (walk.candidate != kNoJunction &&
+                    (!walk.endsFree ||
+                     loopVariation(walk.levels, walk.level, walk.walkEnd, walk.limbRhoS,
+                                   options.consecutiveLevels) > options.limbLoopVariation))
+                    walk.candidate = kNoJunction;
+                relaxed = walk.candidate != kNoJunction;
             }
-            if (node == kNoJunction) continue;
-            tightOf.push_back(std::move(tight));
-            walkEndOf.push_back(walkEnd);
-            windowEndOf.push_back(windowEnd);
-            skeletonEndOf.push_back(endsFree ? walkEnd : kNoJunction);
+            if (walk.candidate == kNoJunction) continue;
+            const std::uint32_t node = walk.candidate;
+            tightOf.push_back(std::move(walk.tight));
+            walkEndOf.push_back(walk.walkEnd);
+            windowEndOf.push_back(walk.windowEnd);
+            skeletonEndOf.push_back(walk.endsFree ? walk.walkEnd : kNoJunction);
             CutCandidate c;
             c.junction = j;
             c.node = node;
-            c.level = level;
-            c.sigma = sigma;
+            c.level = walk.level;
+            c.sigma = walk.sigma;
             c.baseRhoS = points[g.point[node]].rhoS;
-            c.limbRhoS = limbRhoS;
+            c.limbRhoS = walk.limbRhoS;
             c.belowSigmaMin = relaxed;
             plan.candidates.push_back(c);
         }

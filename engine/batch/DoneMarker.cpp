@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "engine/ResultReport.h"
 #include "engine/Version.h"
 #include "io/files/OutputDirectory.h"
 #include "kernels/base/Error.h"
@@ -42,20 +43,14 @@ InputFingerprint fingerprintFile(const fs::path& file) {
 std::string outputAffectingOptions(const SegmentCommandOptions& options) {
     const SegmentationParameters& p = options.parameters;
     // nlohmann::json objects keep keys sorted: the text is canonical.
-    const json j = {{"tau", p.tauListString()},
-                    {"sigma_min", p.sigmaMin},
-                    {"body_ratio", p.bodyRatio},
-                    {"mode", p.mode == CutMode::Junctions ? "junctions" : "junction-rule"},
-                    {"noise_area_min", p.noiseAreaMin},
-                    {"noise_area_fraction", p.noiseAreaFraction},
-                    {"region_radius", p.regionRadius},
-                    {"bridge_gap", p.bridgeGap},
-                    {"consecutive_levels", p.consecutiveLevels},
-                    {"min_object_voxels", p.minObjectVoxels},
-                    {"resolution", options.resolution},
-                    {"grid", options.gridName},
-                    {"preview", options.writePreview},
-                    {"vdb", options.writeVdb}};
+    json j = methodParameters(p);
+    j.update({{"noise_area_min", p.noiseAreaMin},
+              {"noise_area_fraction", p.noiseAreaFraction},
+              {"min_object_voxels", p.minObjectVoxels},
+              {"resolution", options.resolution},
+              {"grid", options.gridName},
+              {"preview", options.writePreview},
+              {"vdb", options.writeVdb}});
     return j.dump();
 }
 

@@ -1,5 +1,5 @@
 // Hand-built skeleton point sets for the skeleton-graph and cut-placement
-// tests: voxel chains with chosen measures.
+// tests: voxel chains with chosen measures, and the graph node of a voxel.
 #pragma once
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 #include <map>
 #include <vector>
 
+#include "kernels/SkeletonGraph.h"
 #include "kernels/SkeletonMeasures.h"
 #include "kernels/base/Volume.h"
 
@@ -71,5 +72,13 @@ private:
     Dims mDims;
     std::map<std::uint32_t, SkeletonPoint> mPoints;
 };
+
+/// Graph node of a voxel (or kNoJunction).
+inline std::uint32_t nodeOf(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                            std::uint32_t voxel) {
+    for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
+        if (points[g.point[n]].voxel == voxel) return n;
+    return kNoJunction;
+}
 
 }  // namespace skelseg::test

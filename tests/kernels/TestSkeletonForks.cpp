@@ -7,6 +7,7 @@
 namespace skelseg {
 namespace {
 
+using test::nodeOf;
 using test::SkeletonPointSet;
 
 /// A Y of chains in the z = 1 plane, `scale` times a 12-voxel arm: a stem
@@ -32,13 +33,6 @@ SkeletonGraph plainGraph(const std::vector<SkeletonPoint>& points, const Dims& d
     options.forkJunctions = false;
     options.growRegionsToSplits = false;
     return buildSkeletonGraph(points, dims, options);
-}
-
-std::uint32_t nodeOf(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
-                     std::uint32_t voxel) {
-    for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
-        if (points[g.point[n]].voxel == voxel) return n;
-    return kNoJunction;
 }
 
 TEST(SkeletonForks, CentreOfAYHasThreeBranchesAndTheStemsLoop) {

@@ -11,15 +11,8 @@
 namespace skelseg {
 namespace {
 
+using test::nodeOf;
 using test::SkeletonPointSet;
-
-/// Graph node of a voxel (or kNoJunction).
-std::uint32_t nodeOf(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
-                     std::uint32_t voxel) {
-    for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
-        if (points[g.point[n]].voxel == voxel) return n;
-    return kNoJunction;
-}
 
 /// A Y: a centre voxel with three 12-voxel arms in the z = 1 plane.
 struct YShape {

@@ -1,0 +1,97 @@
+// The rule options of `skelseg segment` (run as a user runs it): each flag
+// sets its parameter, report.json records it, and the cut placement runs
+// with it (SegmentationParameters::cutOptions). Values out of range are
+// refused like any other bad option (TestRobustness.cpp, UsageErrors).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "engine/Segmenter.h"
+#include "io/shapes/SyntheticShapes.h"
+#include "io/volume/NrrdIO.h"
+#include "tests/support/CliRunner.h"
+#include "tests/support/FileBytes.h"
+#include "tests/support/TempDir.h"
+
+namespace skelseg {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// report.json's `parameters` of `skelseg segment` on a three-armed shape
+/// with `flags` added.
+nlohmann::json reportedParameters(const test::TempDir& dir, const std::string& name,
+                                  const std::vector<std::string>& flags) {
+    const fs::path input = dir / "y-arms.nrrd";
+    if (!fs::exists(input)) writeNrrdMask(input, rasterise(makeShape("y-arms"), {48, 2}));
+    std::vector<std::string> arguments = {"segment", input.string(), "-o", (dir / name).string(),
+                                          "-q",      "--no-preview"};
+    arguments.insert(arguments.end(), flags.begin(), flags.end());
+    const test::CliResult run = test::runSkelseg(arguments);
+    EXPECT_EQ(run.exitCode, 0) << run.describe();
+    return nlohmann::json::parse(test::fileBytes(dir / name / "report.json")).at("parameters");
+}
+
+TEST(CommandLineOptions, RuleFlagsReachReportJson) {
+    const test::TempDir dir;
+    const nlohmann::json defaults = reportedParameters(dir, "defaults", {});
+    const CutOptions cut;
+    EXPECT_EQ(defaults.at("sibling_tolerance"), cut.siblingTolerance);
+    EXPECT_EQ(defaults.at("limb_taper"), cut.limbTaper);
+    EXPECT_EQ(defaults.at("corner_length"), cut.cornerLength);
+    EXPECT_EQ(defaults.at("limb_sigma_margin"), cut.limbSigmaMargin);
+    EXPECT_EQ(defaults.at("limb_loop_variation"), cut.limbLoopVariation);
+    EXPECT_EQ(defaults.at("limbs_below_sigma_min"), true);
+    EXPECT_EQ(defaults.at("passages_are_body"), true);
+    EXPECT_EQ(defaults.at("fork_junctions"), true);
+    EXPECT_EQ(defaults.at("grow_regions_to_splits"), true);
+
+    const nlohmann::json set =
+        reportedParameters(dir, "set",
+                           {"--sibling-tolerance", "0.125", "--limb-taper", "0.5",
+                            "--corner-length", "1.5", "--limb-sigma-margin", "0.25",
+                            "--limb-loop-variation", "0.75", "--no-limbs-below-sigma-min",
+                            "--no-passages-as-body", "--no-fork-junctions", "--no-grow-regions"});
+    EXPECT_EQ(set.at("sibling_tolerance"), 0.125);
+    EXPECT_EQ(set.at("limb_taper"), 0.5);
+    EXPECT_EQ(set.at("corner_length"), 1.5);
+    EXPECT_EQ(set.at("limb_sigma_margin"), 0.25);
+    EXPECT_EQ(set.at("limb_loop_variation"), 0.75);
+    EXPECT_EQ(set.at("limbs_below_sigma_min"), false);
+    EXPECT_EQ(set.at("passages_are_body"), false);
+    EXPECT_EQ(set.at("fork_junctions"), false);
+    EXPECT_EQ(set.at("grow_regions_to_splits"), false);
+}
+
+TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
+    SegmentationParameters parameters;
+    parameters.sigmaMin = 0.7;
+    parameters.bodyRatio = 0.5;
+    parameters.consecutiveLevels = 4;
+    parameters.mode = CutMode::Junctions;
+    parameters.cutRules.sigmaMin = 0.1;  // replaced by parameters.sigmaMin
+    parameters.cutRules.siblingTolerance = 0.125;
+    parameters.cutRules.limbTaper = 0.5;
+    parameters.cutRules.cornerLength = 1.5;
+    parameters.cutRules.passagesAreBody = false;
+    parameters.cutRules.relaxSigmaMinForLimbs = false;
+    parameters.cutRules.limbSigmaMargin = 0.25;
+    parameters.cutRules.limbLoopVariation = 0.75;
+    const CutOptions options = parameters.cutOptions();
+    EXPECT_EQ(options.sigmaMin, 0.7);
+    EXPECT_EQ(options.bodyRatio, 0.5);
+    EXPECT_EQ(options.consecutiveLevels, 4);
+    EXPECT_EQ(options.mode, CutMode::Junctions);
+    EXPECT_EQ(options.siblingTolerance, 0.125);
+    EXPECT_EQ(options.limbTaper, 0.5);
+    EXPECT_EQ(options.cornerLength, 1.5);
+    EXPECT_FALSE(options.passagesAreBody);
+    EXPECT_FALSE(options.relaxSigmaMinForLimbs);
+    EXPECT_EQ(options.limbSigmaMargin, 0.25);
+    EXPECT_EQ(options.limbLoopVariation, 0.75);
+}
+
+}  // namespace
+}  // namespace skelseg
