@@ -59,6 +59,7 @@ json methodParameters(const SegmentationParameters& p) {
             {"limb_taper", cut.limbTaper},
             {"corner_length", cut.cornerLength},
             {"passages_are_body", cut.passagesAreBody},
+            {"shared_body_reference", cut.shareBodyAcrossPassages},
             {"limbs_below_sigma_min", cut.relaxSigmaMinForLimbs},
             {"limb_sigma_margin", cut.limbSigmaMargin},
             {"limb_loop_variation", cut.limbLoopVariation}};

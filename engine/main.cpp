@@ -138,6 +138,8 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
                       "Take no limb from a run below --sigma-min");
     command->add_flag("!--no-passages-as-body", rules.passagesAreBody,
                       "A branch between two junctions without a run of tight levels is not body");
+    command->add_flag("!--no-shared-body-reference", rules.shareBodyAcrossPassages,
+                      "Junctions joined through a passage keep their own body reference");
     command->add_flag("!--no-fork-junctions", seg.parameters.forkJunctions,
                       "Branchings of the skeleton are junctions only where J_tau points are");
     command->add_flag("!--no-grow-regions", seg.parameters.growRegionsToSplits,

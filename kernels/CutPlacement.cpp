@@ -1,8 +1,12 @@
 #include "kernels/CutPlacement.h"
 
+#include "kernels/DisjointSets.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 namespace skelseg {
 
@@ -43,6 +47,9 @@ struct BranchWalk {
     /// a passage: its middle level's best node with the smallest rho_S of its
     /// levels' best nodes (passage.node is kNoJunction otherwise).
     TightLevel passage{kNoJunction, 0, 0.0f, 0.0f};
+    /// The first other junction whose region the branch reaches (kNoJunction
+    /// where the branch ends free).
+    std::uint32_t otherJunction = kNoJunction;
 };
 
 /// Walks one branch from junction j's region (the candidate and what the
@@ -109,7 +116,10 @@ BranchWalk walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint>& 
         for (std::uint32_t n : level)
             for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
                 const std::uint32_t m = g.neighbour[e];
-                if (g.junctionOf[m] != kNoJunction && g.junctionOf[m] != junction) endsFree = false;
+                if (g.junctionOf[m] != kNoJunction && g.junctionOf[m] != junction) {
+                    endsFree = false;
+                    if (walk.otherJunction == kNoJunction) walk.otherJunction = g.junctionOf[m];
+                }
                 if (g.pieceOf[m] == piece && !taken[m])
                     taken[m] = 1, next.push_back(m), walk.visited.push_back(m);
             }
@@ -174,15 +184,31 @@ double loopVariation(const std::vector<TightLevel>& levels, std::uint32_t level,
     return std::sqrt(std::max(0.0, sumSquares / double(count) - mean * mean)) / mean;
 }
 
+/// The body reference shared by junctions joined through passages: the
+/// largest of their own references (bodyOf) over each group.
+std::vector<float> sharedBodyReference(
+    const std::vector<float>& bodyOf,
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>>& passageLinks) {
+    DisjointSets groups(std::uint32_t(bodyOf.size()));
+    for (const auto& [a, b] : passageLinks) groups.unite(a, b);
+    std::vector<float> group(bodyOf.size(), 0.0f);
+    for (std::uint32_t i = 0; i < bodyOf.size(); ++i)
+        group[groups.find(i)] = std::max(group[groups.find(i)], bodyOf[i]);
+    std::vector<float> shared(bodyOf.size());
+    for (std::uint32_t i = 0; i < bodyOf.size(); ++i) shared[i] = group[groups.find(i)];
+    return shared;
+}
+
 }  // namespace
 
 void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandidate* candidates,
-                        std::size_t count, const std::vector<float>& passageRhoS) {
+                        std::size_t count, const std::vector<float>& passageRhoS, float bodyFloor) {
     // The body passes through the junction, so the junction's loops are at
     // least as long as the body's; a tight loop next to the junction longer
     // than the junction's median rho_S shows that the median fell on a few
-    // thin core voxels.
-    float body = junctionRhoS;
+    // thin core voxels. bodyFloor: the reference of the junctions joined to
+    // this one through passages.
+    float body = std::max(junctionRhoS, bodyFloor);
     for (std::size_t i = 0; i < count; ++i)
         body = std::max({body, candidates[i].baseRhoS, candidates[i].limbRhoS});
     for (std::size_t i = 0; i < count; ++i) {
@@ -223,174 +249,195 @@ std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels)
 CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                   const CutOptions& options,
                   const std::function<double(std::uint32_t)>& exactRhoC) {
-    CutPlan plan;
-    plan.junctions.resize(g.junctions.size());
-    for (std::uint32_t j = 0; j < g.junctions.size(); ++j) {
-        const SkeletonJunction& junction = g.junctions[j];
-        // Branches: pieces touching the region, in order of first contact.
-        std::vector<std::uint32_t> branches;
-        for (std::uint32_t n : junction.region)
-            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
-                const std::uint32_t piece = g.pieceOf[g.neighbour[e]];
-                if (piece != kNoJunction &&
-                    std::find(branches.begin(), branches.end(), piece) == branches.end())
-                    branches.push_back(piece);
-            }
-        std::sort(branches.begin(), branches.end());
-        plan.junctions[j].branches = std::uint32_t(branches.size());
-
-        if (options.mode == CutMode::Junctions) {
-            plan.cutNodes.push_back(junction.representative);
-            plan.junctions[j].cuts = 1;
-            continue;
-        }
-
-        std::vector<std::uint8_t> taken(g.nodeCount(), 0);
-        const std::size_t first = plan.candidates.size();
-        std::vector<std::vector<TightLevel>> tightOf;  // per candidate of this junction
-        std::vector<std::uint32_t> walkEndOf, windowEndOf;
-        std::vector<std::uint32_t> skeletonEndOf;  // kNoJunction: ends at another junction
-        // Branches to another junction with no tight run: the body passes
-        // there (too short a walk for the run of levels, counted in voxels).
-        std::vector<TightLevel> passages;
-        std::vector<float> passageRhoS;
-        for (std::uint32_t piece : branches) {
-            BranchWalk walk = walkBranch(g, points, j, piece, options, taken);
-            if (walk.candidate == kNoJunction && walk.passage.node != kNoJunction) {
-                if (options.passagesAreBody) {
-                    passages.push_back(walk.passage);
-                    passageRhoS.push_back(walk.passage.rhoS);
+    // Junctions joined by a passage lie on one body (the body passes through
+    // both), and whether their regions touch and make one junction depends
+    // on the resolution: a first plan measures each junction's body
+    // reference (bodyOf) and the passages between junctions; where there are
+    // such passages, a second plan decides with the largest reference of the
+    // junctions so joined (docs/algorithm.md §8.6).
+    std::vector<float> bodyOf(g.junctions.size(), 0.0f);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> passageLinks;
+    const auto planWith = [&](const std::vector<float>& bodyFloor) {
+        CutPlan plan;
+        passageLinks.clear();
+        plan.junctions.resize(g.junctions.size());
+        for (std::uint32_t j = 0; j < g.junctions.size(); ++j) {
+            const SkeletonJunction& junction = g.junctions[j];
+            // Branches: pieces touching the region, in order of first contact.
+            std::vector<std::uint32_t> branches;
+            for (std::uint32_t n : junction.region)
+                for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
+                    const std::uint32_t piece = g.pieceOf[g.neighbour[e]];
+                    if (piece != kNoJunction &&
+                        std::find(branches.begin(), branches.end(), piece) == branches.end())
+                        branches.push_back(piece);
                 }
+            std::sort(branches.begin(), branches.end());
+            plan.junctions[j].branches = std::uint32_t(branches.size());
+
+            if (options.mode == CutMode::Junctions) {
+                plan.cutNodes.push_back(junction.representative);
+                plan.junctions[j].cuts = 1;
                 continue;
             }
-            bool relaxed = false;
-            if (walk.candidate == kNoJunction && options.relaxSigmaMinForLimbs) {
-                for (std::uint32_t n : walk.visited) taken[n] = 0;
-                CutOptions below = options;
-                below.sigmaMin = options.sigmaMin - options.limbSigmaMargin;
-                walk = walkBranch(g, points, j, piece, below, taken);
-                // A tube's loops keep their length over a limb radius; a
-                // block's or a panel's change (loops round its edges and
-                // corners), and a panel's sigma straddles sigmaMin too. A
-                // limb ends free; a run next to another junction is that
-                // junction's approach, where the window is cut short.
-                if (walk.candidate != kNoJunction &&
-                    (!walk.endsFree ||
-                     loopVariation(walk.levels, walk.level, walk.walkEnd, walk.limbRhoS,
-                                   options.consecutiveLevels) > options.limbLoopVariation))
-                    walk.candidate = kNoJunction;
-                relaxed = walk.candidate != kNoJunction;
-            }
-            if (walk.candidate == kNoJunction) continue;
-            const std::uint32_t node = walk.candidate;
-            tightOf.push_back(std::move(walk.tight));
-            walkEndOf.push_back(walk.walkEnd);
-            windowEndOf.push_back(walk.windowEnd);
-            skeletonEndOf.push_back(walk.endsFree ? walk.walkEnd : kNoJunction);
-            CutCandidate c;
-            c.junction = j;
-            c.node = node;
-            c.level = walk.level;
-            c.sigma = walk.sigma;
-            c.baseRhoS = points[g.point[node]].rhoS;
-            c.limbRhoS = walk.limbRhoS;
-            c.belowSigmaMin = relaxed;
-            plan.candidates.push_back(c);
-        }
-        markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
-                           plan.candidates.size() - first, passageRhoS);
-        // A tight loop as long as the body's still goes round the body: the
-        // limb starts after it, so its window does too (a chest before a
-        // waist). The body's reference is the one just measured, not the
-        // junction's median, which can fall on thin core voxels.
-        bool windowMoved = false;
-        const std::uint32_t bodyLevels =
-            limbCircumferenceLevels(junction.rhoS, options.consecutiveLevels);
-        for (std::size_t i = first; i < plan.candidates.size(); ++i) {
-            CutCandidate& c = plan.candidates[i];
-            const std::vector<TightLevel>& tight = tightOf[i - first];
-            std::uint32_t windowEnd = windowEndOf[i - first];
-            float limb = c.limbRhoS;
-            for (const TightLevel& t : tight) {
-                if (t.level > windowEnd) break;
-                limb = std::min(limb, t.rhoS);
-                if (t.rhoS >= c.bodyRhoS) windowEnd = std::max(windowEnd, t.level + bodyLevels);
-            }
-            if (limb < c.limbRhoS) c.limbRhoS = limb, windowMoved = true;
-        }
-        if (windowMoved)
-            markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
-                               plan.candidates.size() - first, passageRhoS);
-        // Body passes through a junction at most once: drop at most two.
-        // Where two candidates are body, a passage is a third body member:
-        // it has no loop to cut, so when it carries the most surface both
-        // candidates are cut. A single body candidate beside passages (a
-        // plate whose skeleton branches into several junctions) is left
-        // alone: passages only stand in for the candidate a longer walk
-        // would have given.
-        std::vector<std::size_t> body;
-        for (std::size_t i = first; i < plan.candidates.size(); ++i)
-            if (plan.candidates[i].onBody) body.push_back(i);
-        if (body.size() > 2 || (body.size() == 2 && !passages.empty())) {
-            constexpr std::size_t kPassage = ~std::size_t(0);
-            std::size_t keepOnBody = kPassage;
-            double bestArea = -std::numeric_limits<double>::infinity();
-            std::uint32_t bestVoxel = 0;
-            const auto offer = [&](std::uint32_t node, double area, std::size_t index) {
-                const std::uint32_t voxel = points[g.point[node]].voxel;
-                if (area > bestArea || (area == bestArea && voxel < bestVoxel))
-                    bestArea = area, bestVoxel = voxel, keepOnBody = index;
-            };
-            for (const TightLevel& p : passages)
-                offer(p.node, exactRhoC(g.point[p.node]), kPassage);
-            for (std::size_t i : body) {
-                CutCandidate& c = plan.candidates[i];
-                c.exactRhoC = exactRhoC(g.point[c.node]);
-                offer(c.node, c.exactRhoC, i);
-            }
-            for (std::size_t i : body) plan.candidates[i].onBody = i == keepOnBody;
-        }
-        for (std::size_t i = first; i < plan.candidates.size(); ++i) {
-            CutCandidate& c = plan.candidates[i];
-            c.isCut = !c.onBody;
-            if (c.isCut) {
-                // The cut loop is the limb's border: the first tight level
-                // whose loop is closer to the limb's girth than to the
-                // body's (a loop as long as the body's still wraps the
-                // body, e.g. a skirt around a leg).
-                const float border = 0.5f * (c.bodyRhoS + c.limbRhoS);
-                const std::vector<TightLevel>& tight = tightOf[i - first];
-                std::size_t at = 0;
-                while (at < tight.size() && tight[at].rhoS > border) ++at;
-                // Something lying against the limb (a skirt on a thigh) keeps
-                // the loop longer than the limb's own and lets it shrink
-                // slowly; the limb's border is where the loop stops
-                // shrinking faster than a limb tapers.
-                if (at < tight.size())
-                    at = settledLevel(tight, at, walkEndOf[i - first], options.limbTaper,
-                                      options.consecutiveLevels);
-                if (at < tight.size()) {
-                    const TightLevel& t = tight[at];
-                    if (t.node != c.node) c.exactRhoC = -1.0;
-                    c.node = t.node, c.level = t.level, c.sigma = t.sigma;
+
+            std::vector<std::uint8_t> taken(g.nodeCount(), 0);
+            const std::size_t first = plan.candidates.size();
+            std::vector<std::vector<TightLevel>> tightOf;  // per candidate of this junction
+            std::vector<std::uint32_t> walkEndOf, windowEndOf;
+            std::vector<std::uint32_t> skeletonEndOf;  // kNoJunction: ends at another junction
+            // Branches to another junction with no tight run: the body passes
+            // there (too short a walk for the run of levels, counted in voxels).
+            std::vector<TightLevel> passages;
+            std::vector<float> passageRhoS;
+            for (std::uint32_t piece : branches) {
+                BranchWalk walk = walkBranch(g, points, j, piece, options, taken);
+                if (walk.candidate == kNoJunction && walk.passage.node != kNoJunction) {
+                    if (walk.otherJunction != kNoJunction)
+                        passageLinks.emplace_back(j, walk.otherJunction);
+                    if (options.passagesAreBody) {
+                        passages.push_back(walk.passage);
+                        passageRhoS.push_back(walk.passage.rhoS);
+                    }
+                    continue;
                 }
-                // Only a loop clearly shorter than the body's: where more than
-                // two candidates look like body (the flukes of a tail), the
-                // loops are the body's own and rule 3 decides.
-                c.isCorner = c.similarity < float(options.bodyRatio) &&
-                             isCornerOfTheBody(c.level, skeletonEndOf[i - first],
-                                               points[g.point[c.node]].rhoS, options.cornerLength);
-                c.isCut = !c.isCorner;
+                bool relaxed = false;
+                if (walk.candidate == kNoJunction && options.relaxSigmaMinForLimbs) {
+                    for (std::uint32_t n : walk.visited) taken[n] = 0;
+                    CutOptions below = options;
+                    below.sigmaMin = options.sigmaMin - options.limbSigmaMargin;
+                    walk = walkBranch(g, points, j, piece, below, taken);
+                    // A tube's loops keep their length over a limb radius; a
+                    // block's or a panel's change (loops round its edges and
+                    // corners), and a panel's sigma straddles sigmaMin too. A
+                    // limb ends free; a run next to another junction is that
+                    // junction's approach, where the window is cut short.
+                    if (walk.candidate != kNoJunction &&
+                        (!walk.endsFree ||
+                         loopVariation(walk.levels, walk.level, walk.walkEnd, walk.limbRhoS,
+                                       options.consecutiveLevels) > options.limbLoopVariation))
+                        walk.candidate = kNoJunction;
+                    relaxed = walk.candidate != kNoJunction;
+                }
+                if (walk.candidate == kNoJunction) continue;
+                const std::uint32_t node = walk.candidate;
+                tightOf.push_back(std::move(walk.tight));
+                walkEndOf.push_back(walk.walkEnd);
+                windowEndOf.push_back(walk.windowEnd);
+                skeletonEndOf.push_back(walk.endsFree ? walk.walkEnd : kNoJunction);
+                CutCandidate c;
+                c.junction = j;
+                c.node = node;
+                c.level = walk.level;
+                c.sigma = walk.sigma;
+                c.baseRhoS = points[g.point[node]].rhoS;
+                c.limbRhoS = walk.limbRhoS;
+                c.belowSigmaMin = relaxed;
+                plan.candidates.push_back(c);
             }
-            if (c.isCut) {
-                plan.cutNodes.push_back(c.node);
-                ++plan.junctions[j].cuts;
+            markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
+                               plan.candidates.size() - first, passageRhoS, bodyFloor[j]);
+            // A tight loop as long as the body's still goes round the body: the
+            // limb starts after it, so its window does too (a chest before a
+            // waist). The body's reference is the one just measured, not the
+            // junction's median, which can fall on thin core voxels.
+            bool windowMoved = false;
+            const std::uint32_t bodyLevels =
+                limbCircumferenceLevels(junction.rhoS, options.consecutiveLevels);
+            for (std::size_t i = first; i < plan.candidates.size(); ++i) {
+                CutCandidate& c = plan.candidates[i];
+                const std::vector<TightLevel>& tight = tightOf[i - first];
+                std::uint32_t windowEnd = windowEndOf[i - first];
+                float limb = c.limbRhoS;
+                for (const TightLevel& t : tight) {
+                    if (t.level > windowEnd) break;
+                    limb = std::min(limb, t.rhoS);
+                    if (t.rhoS >= c.bodyRhoS) windowEnd = std::max(windowEnd, t.level + bodyLevels);
+                }
+                if (limb < c.limbRhoS) c.limbRhoS = limb, windowMoved = true;
+            }
+            if (windowMoved)
+                markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
+                                   plan.candidates.size() - first, passageRhoS, bodyFloor[j]);
+            bodyOf[j] = std::max(junction.rhoS, bodyFloor[j]);
+            for (std::size_t i = first; i < plan.candidates.size(); ++i)
+                bodyOf[j] = std::max(bodyOf[j], plan.candidates[i].bodyRhoS);
+            // Body passes through a junction at most once: drop at most two.
+            // Where two candidates are body, a passage is a third body member:
+            // it has no loop to cut, so when it carries the most surface both
+            // candidates are cut. A single body candidate beside passages (a
+            // plate whose skeleton branches into several junctions) is left
+            // alone: passages only stand in for the candidate a longer walk
+            // would have given.
+            std::vector<std::size_t> body;
+            for (std::size_t i = first; i < plan.candidates.size(); ++i)
+                if (plan.candidates[i].onBody) body.push_back(i);
+            if (body.size() > 2 || (body.size() == 2 && !passages.empty())) {
+                constexpr std::size_t kPassage = ~std::size_t(0);
+                std::size_t keepOnBody = kPassage;
+                double bestArea = -std::numeric_limits<double>::infinity();
+                std::uint32_t bestVoxel = 0;
+                const auto offer = [&](std::uint32_t node, double area, std::size_t index) {
+                    const std::uint32_t voxel = points[g.point[node]].voxel;
+                    if (area > bestArea || (area == bestArea && voxel < bestVoxel))
+                        bestArea = area, bestVoxel = voxel, keepOnBody = index;
+                };
+                for (const TightLevel& p : passages)
+                    offer(p.node, exactRhoC(g.point[p.node]), kPassage);
+                for (std::size_t i : body) {
+                    CutCandidate& c = plan.candidates[i];
+                    c.exactRhoC = exactRhoC(g.point[c.node]);
+                    offer(c.node, c.exactRhoC, i);
+                }
+                for (std::size_t i : body) plan.candidates[i].onBody = i == keepOnBody;
+            }
+            for (std::size_t i = first; i < plan.candidates.size(); ++i) {
+                CutCandidate& c = plan.candidates[i];
+                c.isCut = !c.onBody;
+                if (c.isCut) {
+                    // The cut loop is the limb's border: the first tight level
+                    // whose loop is closer to the limb's girth than to the
+                    // body's (a loop as long as the body's still wraps the
+                    // body, e.g. a skirt around a leg).
+                    const float border = 0.5f * (c.bodyRhoS + c.limbRhoS);
+                    const std::vector<TightLevel>& tight = tightOf[i - first];
+                    std::size_t at = 0;
+                    while (at < tight.size() && tight[at].rhoS > border) ++at;
+                    // Something lying against the limb (a skirt on a thigh) keeps
+                    // the loop longer than the limb's own and lets it shrink
+                    // slowly; the limb's border is where the loop stops
+                    // shrinking faster than a limb tapers.
+                    if (at < tight.size())
+                        at = settledLevel(tight, at, walkEndOf[i - first], options.limbTaper,
+                                          options.consecutiveLevels);
+                    if (at < tight.size()) {
+                        const TightLevel& t = tight[at];
+                        if (t.node != c.node) c.exactRhoC = -1.0;
+                        c.node = t.node, c.level = t.level, c.sigma = t.sigma;
+                    }
+                    // Only a loop clearly shorter than the body's: where more than
+                    // two candidates look like body (the flukes of a tail), the
+                    // loops are the body's own and rule 3 decides.
+                    c.isCorner =
+                        c.similarity < float(options.bodyRatio) &&
+                        isCornerOfTheBody(c.level, skeletonEndOf[i - first],
+                                          points[g.point[c.node]].rhoS, options.cornerLength);
+                    c.isCut = !c.isCorner;
+                }
+                if (c.isCut) {
+                    plan.cutNodes.push_back(c.node);
+                    ++plan.junctions[j].cuts;
+                }
             }
         }
-    }
-    std::sort(plan.cutNodes.begin(), plan.cutNodes.end());
-    plan.cutNodes.erase(std::unique(plan.cutNodes.begin(), plan.cutNodes.end()),
-                        plan.cutNodes.end());
+        std::sort(plan.cutNodes.begin(), plan.cutNodes.end());
+        plan.cutNodes.erase(std::unique(plan.cutNodes.begin(), plan.cutNodes.end()),
+                            plan.cutNodes.end());
+        return plan;
+    };
+    CutPlan plan = planWith(std::vector<float>(g.junctions.size(), 0.0f));
+    if (options.passagesAreBody && options.shareBodyAcrossPassages && !passageLinks.empty())
+        plan = planWith(sharedBodyReference(bodyOf, passageLinks));
     return plan;
 }
 

@@ -64,6 +64,12 @@ struct CutOptions {
     /// is body at this junction: it counts in the "more than two" rule and
     /// in the sibling test (docs/algorithm.md §8.6, "Passages").
     bool passagesAreBody = true;
+    /// Junctions joined through passages share one body reference, the
+    /// largest of theirs: the body passes through all of them, and whether
+    /// two junction regions a few voxels apart touch (one junction) or not
+    /// (two, joined by a passage) depends on the resolution
+    /// (docs/algorithm.md §8.6, "One body reference across passages").
+    bool shareBodyAcrossPassages = true;
     /// Where no run reaches sigmaMin, a branch may give a candidate from a
     /// run of levels within limbSigmaMargin below it (the digitisation
     /// spread of a thin limb's sigma), but only where the loops are a
@@ -131,8 +137,11 @@ bool isCornerOfTheBody(std::uint32_t cutLevel, std::uint32_t skeletonEnd, float 
 /// before the "more than two" rule. passageRhoS: the circumference of each
 /// branch of the junction that is a passage to another junction (body with
 /// no candidate); it counts among the body candidates of the sibling test.
+/// bodyFloor: a lower bound of bodyRhoS (the body reference of the junctions
+/// joined to this one through passages, CutOptions::shareBodyAcrossPassages).
 void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandidate* candidates,
-                        std::size_t count, const std::vector<float>& passageRhoS = {});
+                        std::size_t count, const std::vector<float>& passageRhoS = {},
+                        float bodyFloor = 0.0f);
 
 /// exactRhoC(pointIndex) returns the exact rho_C of a SkeletonPoint (only
 /// called for the "more than two qualify" rule).

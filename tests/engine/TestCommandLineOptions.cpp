@@ -45,15 +45,16 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(defaults.at("limb_loop_variation"), cut.limbLoopVariation);
     EXPECT_EQ(defaults.at("limbs_below_sigma_min"), true);
     EXPECT_EQ(defaults.at("passages_are_body"), true);
+    EXPECT_EQ(defaults.at("shared_body_reference"), true);
     EXPECT_EQ(defaults.at("fork_junctions"), true);
     EXPECT_EQ(defaults.at("grow_regions_to_splits"), true);
 
-    const nlohmann::json set =
-        reportedParameters(dir, "set",
-                           {"--sibling-tolerance", "0.125", "--limb-taper", "0.5",
-                            "--corner-length", "1.5", "--limb-sigma-margin", "0.25",
-                            "--limb-loop-variation", "0.75", "--no-limbs-below-sigma-min",
-                            "--no-passages-as-body", "--no-fork-junctions", "--no-grow-regions"});
+    const nlohmann::json set = reportedParameters(
+        dir, "set",
+        {"--sibling-tolerance", "0.125", "--limb-taper", "0.5", "--corner-length", "1.5",
+         "--limb-sigma-margin", "0.25", "--limb-loop-variation", "0.75",
+         "--no-limbs-below-sigma-min", "--no-passages-as-body", "--no-shared-body-reference",
+         "--no-fork-junctions", "--no-grow-regions"});
     EXPECT_EQ(set.at("sibling_tolerance"), 0.125);
     EXPECT_EQ(set.at("limb_taper"), 0.5);
     EXPECT_EQ(set.at("corner_length"), 1.5);
@@ -61,6 +62,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(set.at("limb_loop_variation"), 0.75);
     EXPECT_EQ(set.at("limbs_below_sigma_min"), false);
     EXPECT_EQ(set.at("passages_are_body"), false);
+    EXPECT_EQ(set.at("shared_body_reference"), false);
     EXPECT_EQ(set.at("fork_junctions"), false);
     EXPECT_EQ(set.at("grow_regions_to_splits"), false);
 }
@@ -76,6 +78,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     parameters.cutRules.limbTaper = 0.5;
     parameters.cutRules.cornerLength = 1.5;
     parameters.cutRules.passagesAreBody = false;
+    parameters.cutRules.shareBodyAcrossPassages = false;
     parameters.cutRules.relaxSigmaMinForLimbs = false;
     parameters.cutRules.limbSigmaMargin = 0.25;
     parameters.cutRules.limbLoopVariation = 0.75;
@@ -88,6 +91,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     EXPECT_EQ(options.limbTaper, 0.5);
     EXPECT_EQ(options.cornerLength, 1.5);
     EXPECT_FALSE(options.passagesAreBody);
+    EXPECT_FALSE(options.shareBodyAcrossPassages);
     EXPECT_FALSE(options.relaxSigmaMinForLimbs);
     EXPECT_EQ(options.limbSigmaMargin, 0.25);
     EXPECT_EQ(options.limbLoopVariation, 0.75);

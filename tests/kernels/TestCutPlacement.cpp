@@ -755,6 +755,78 @@ TEST(CutPlacement, PassageCountsInTheSiblingTest) {
     EXPECT_FALSE(candidates[1].onBody) << "without the passage: one body candidate";
 }
 
+/// A torso junction (rho_S 80 s) with the torso (80 s) and a leg (20 s), and
+/// a shoulder junction (68 s) with a neck (44 s) and an arm (20 s), at scale
+/// s; the junctions' cores are `gap` voxels apart along x, joined by a
+/// branch as thick as the shoulder. With gap 8 that branch is a passage (one
+/// level outside the regions, no candidate); with gap 6 the regions touch
+/// and the two junctions are one (a teddy's shoulders at resolution 128 and
+/// 192, PSB 163).
+CutPlan torsoAndShoulder(int scale, int gap, const CutOptions& options) {
+    const int arm = 30 * scale, a = arm + 2, c = arm + 2, b = a + gap;
+    const float s = float(scale);
+    SkeletonPointSet set{Dims{2 * arm + gap + 5, 2 * arm + 5, 3}};
+    set.add({a, c, 1}, 80.0f * s, 9000.0, 3);
+    set.add({b, c, 1}, 68.0f * s, 9000.0, 3);
+    std::vector<std::vector<std::uint32_t>> branches;
+    branches.push_back(set.chain({a, c - 1, 1}, {0, -1, 0}, arm, 80.0f * s));      // torso
+    branches.push_back(set.chain({a - 1, c + 1, 1}, {-1, 1, 0}, arm, 20.0f * s));  // leg
+    branches.push_back(set.chain({b, c - 1, 1}, {0, -1, 0}, arm, 44.0f * s));      // neck
+    branches.push_back(set.chain({b + 1, c + 1, 1}, {1, 1, 0}, arm, 20.0f * s));   // arm
+    branches.push_back(set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, 68.0f * s));   // between
+    for (const auto& branch : branches)
+        for (std::uint32_t v : branch) set.point(v).sigma = 0.9f;
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    return placeCuts(g, points, options,
+                     [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+}
+
+/// The candidate whose limb circumference is `limb` (the neck).
+const CutCandidate* candidateOfLimb(const CutPlan& plan, float limb) {
+    for (const CutCandidate& c : plan.candidates)
+        if (std::fabs(c.limbRhoS - limb) < 0.5f) return &c;
+    return nullptr;
+}
+
+TEST(CutPlacement, NeckIsJudgedAgainstTheBodyAcrossAPassageAtTwoScales) {
+    // The neck (0.55 of the torso, 0.65 of the shoulder junction) is cut
+    // where the shoulder and torso junctions are one (gap 6) and where they
+    // are two joined by a passage (gap 8): the body passes through both, so
+    // they share the torso's reference (docs/algorithm.md §8.6, "One body
+    // reference across passages").
+    for (const int scale : {1, 2}) {
+        for (const int gap : {6, 8}) {
+            SCOPED_TRACE("scale " + std::to_string(scale) + ", gap " + std::to_string(gap));
+            const CutPlan plan = torsoAndShoulder(scale, gap, {});
+            ASSERT_EQ(plan.junctions.size(), gap == 6 ? 1u : 2u);
+            const CutCandidate* neck = candidateOfLimb(plan, 44.0f * float(scale));
+            ASSERT_NE(neck, nullptr);
+            EXPECT_FLOAT_EQ(neck->bodyRhoS, 80.0f * float(scale));
+            EXPECT_NEAR(neck->similarity, 0.55f, 1e-4f);
+            EXPECT_TRUE(neck->isCut);
+            const CutCandidate* torso = candidateOfLimb(plan, 80.0f * float(scale));
+            ASSERT_NE(torso, nullptr);
+            EXPECT_FALSE(torso->isCut);
+        }
+        CutOptions without;
+        without.shareBodyAcrossPassages = false;
+        const CutPlan plan = torsoAndShoulder(scale, 8, without);
+        const CutCandidate* neck = candidateOfLimb(plan, 44.0f * float(scale));
+        ASSERT_NE(neck, nullptr);
+        EXPECT_FALSE(neck->isCut) << "against the shoulder junction alone the neck is body";
+    }
+    // Where the branch between the junctions is long enough to give
+    // candidates (gap 16) it is no passage: each junction keeps its own
+    // reference, and the neck, body-similar at the shoulder, is not cut.
+    const CutPlan apart = torsoAndShoulder(1, 16, {});
+    ASSERT_EQ(apart.junctions.size(), 2u);
+    const CutCandidate* neck = candidateOfLimb(apart, 44.0f);
+    ASSERT_NE(neck, nullptr);
+    EXPECT_FLOAT_EQ(neck->bodyRhoS, 68.0f);
+    EXPECT_FALSE(neck->isCut);
+}
+
 TEST(CutPlacement, JunctionModeCutsAtTheJunction) {
     Junction j;
     for (int arm = 0; arm < 3; ++arm) j.setSigma(arm, {0.9f, 0.9f, 0.9f});
