@@ -74,6 +74,19 @@ struct CutOptions {
     bool relaxSigmaMinForLimbs = true;
     double limbSigmaMargin = 0.05;
     double limbLoopVariation = 0.065;
+    /// The walk below sigmaMin only finds limbs: a candidate of that walk
+    /// whose circumference reads body (similarity >= bodyRatio: a bulge of
+    /// the body such as a hump) is dropped, as if the branch gave no
+    /// candidate, so it cannot make the "more than two" rule cut the body;
+    /// unless a candidate found at sigmaMin on a branch that ends free reads
+    /// alike (within siblingTolerance: a tail's twin prongs)
+    /// (docs/algorithm.md §8.8).
+    bool belowSigmaMinOnlyLimbs = true;
+    /// Beside two body candidates, a passage pushes off the body only the
+    /// candidates that carry less surface than it (a plier's handles); one
+    /// that carries more stays body, the passage being a short way between
+    /// junctions inside the body (docs/algorithm.md §8.8).
+    bool passageCutsOnlySmallerCandidates = true;
     CutMode mode = CutMode::JunctionRule;
 };
 
