@@ -60,6 +60,8 @@ json methodParameters(const SegmentationParameters& p) {
             {"corner_length", cut.cornerLength},
             {"passages_are_body", cut.passagesAreBody},
             {"shared_body_reference", cut.shareBodyAcrossPassages},
+            {"below_sigma_min_only_limbs", cut.belowSigmaMinOnlyLimbs},
+            {"passage_cuts_only_smaller", cut.passageCutsOnlySmallerCandidates},
             {"limbs_below_sigma_min", cut.relaxSigmaMinForLimbs},
             {"limb_sigma_margin", cut.limbSigmaMargin},
             {"limb_loop_variation", cut.limbLoopVariation}};

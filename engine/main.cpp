@@ -140,6 +140,10 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
                       "A branch between two junctions without a run of tight levels is not body");
     command->add_flag("!--no-shared-body-reference", rules.shareBodyAcrossPassages,
                       "Junctions joined through a passage keep their own body reference");
+    command->add_flag("!--no-body-check-below-sigma-min", rules.belowSigmaMinOnlyLimbs,
+                      "Keep a candidate of the walk below --sigma-min even where it reads body");
+    command->add_flag("!--no-passage-area-check", rules.passageCutsOnlySmallerCandidates,
+                      "Beside two body candidates a passage may cut one carrying more surface");
     command->add_flag("!--no-fork-junctions", seg.parameters.forkJunctions,
                       "Branchings of the skeleton are junctions only where J_tau points are");
     command->add_flag("!--no-grow-regions", seg.parameters.growRegionsToSplits,

@@ -359,6 +359,54 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
             if (windowMoved)
                 markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
                                    plan.candidates.size() - first, passageRhoS, bodyFloor[j]);
+            // The walk below sigma_min is there for thin limbs whose sigma
+            // straddles it; a loop there that reads body (a hump on the body)
+            // is no limb's border, and counted as body it would make the "more
+            // than two" rule cut the body.
+            if (options.belowSigmaMinOnlyLimbs) {
+                // A limb's twin found at sigma_min (a tail's two prongs) vouches
+                // for it: a branch that ends free and reads alike.
+                const auto hasFreeTwin = [&](std::size_t i) {
+                    const float limb = plan.candidates[i].limbRhoS;
+                    for (std::size_t k = first; k < plan.candidates.size(); ++k) {
+                        const CutCandidate& t = plan.candidates[k];
+                        if (k == i || t.belowSigmaMin || skeletonEndOf[k - first] == kNoJunction)
+                            continue;
+                        if (std::min(limb, t.limbRhoS) >=
+                            float(1.0 - options.siblingTolerance) * std::max(limb, t.limbRhoS))
+                            return true;
+                    }
+                    return false;
+                };
+                std::vector<std::uint8_t> drop(plan.candidates.size() - first, 0);
+                for (std::size_t i = first; i < plan.candidates.size(); ++i) {
+                    const CutCandidate& c = plan.candidates[i];
+                    drop[i - first] = c.belowSigmaMin && c.similarity >= float(options.bodyRatio) &&
+                                      !hasFreeTwin(i);
+                }
+                std::size_t kept = first;
+                for (std::size_t i = first; i < plan.candidates.size(); ++i) {
+                    const CutCandidate& c = plan.candidates[i];
+                    if (drop[i - first]) continue;
+                    if (kept != i) {
+                        plan.candidates[kept] = c;
+                        tightOf[kept - first] = std::move(tightOf[i - first]);
+                        walkEndOf[kept - first] = walkEndOf[i - first];
+                        windowEndOf[kept - first] = windowEndOf[i - first];
+                        skeletonEndOf[kept - first] = skeletonEndOf[i - first];
+                    }
+                    ++kept;
+                }
+                if (kept != plan.candidates.size()) {
+                    plan.candidates.resize(kept);
+                    tightOf.resize(kept - first);
+                    walkEndOf.resize(kept - first);
+                    windowEndOf.resize(kept - first);
+                    skeletonEndOf.resize(kept - first);
+                    markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
+                                       plan.candidates.size() - first, passageRhoS, bodyFloor[j]);
+                }
+            }
             bodyOf[j] = std::max(junction.rhoS, bodyFloor[j]);
             for (std::size_t i = first; i < plan.candidates.size(); ++i)
                 bodyOf[j] = std::max(bodyOf[j], plan.candidates[i].bodyRhoS);
@@ -382,14 +430,27 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                     if (area > bestArea || (area == bestArea && voxel < bestVoxel))
                         bestArea = area, bestVoxel = voxel, keepOnBody = index;
                 };
-                for (const TightLevel& p : passages)
-                    offer(p.node, exactRhoC(g.point[p.node]), kPassage);
+                double passageArea = -std::numeric_limits<double>::infinity();
+                for (const TightLevel& p : passages) {
+                    const double area = exactRhoC(g.point[p.node]);
+                    passageArea = std::max(passageArea, area);
+                    offer(p.node, area, kPassage);
+                }
                 for (std::size_t i : body) {
                     CutCandidate& c = plan.candidates[i];
                     c.exactRhoC = exactRhoC(g.point[c.node]);
                     offer(c.node, c.exactRhoC, i);
                 }
-                for (std::size_t i : body) plan.candidates[i].onBody = i == keepOnBody;
+                // Beside two body candidates a passage stands in for the
+                // candidate its walk was too short to give: it can push off the
+                // body a candidate that carries less surface than itself (a
+                // plier's handle), never one that carries more (a torso beside
+                // a short way between junctions inside the body).
+                for (std::size_t i : body)
+                    plan.candidates[i].onBody =
+                        i == keepOnBody ||
+                        (options.passageCutsOnlySmallerCandidates && body.size() == 2 &&
+                         plan.candidates[i].exactRhoC > passageArea);
             }
             for (std::size_t i = first; i < plan.candidates.size(); ++i) {
                 CutCandidate& c = plan.candidates[i];

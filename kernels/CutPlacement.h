@@ -9,7 +9,8 @@
 // Where no run reaches sigmaMin, a run just below it (limbSigmaMargin) gives a
 // candidate when the loops keep their length over one limb radius (a tube,
 // not a block or a panel whose loops round its edges) on a branch that ends
-// free.
+// free; such a candidate that reads body is dropped unless a free-ending
+// candidate at sigmaMin reads alike (a twin prong).
 // Candidates whose circumference rho_S is similar to the junction's (body
 // test) lie on the body and are dropped; a candidate's circumference is the
 // smallest rho_S of the tight levels (sigma >= sigmaMin) from the candidate
@@ -20,12 +21,13 @@
 // circumference is the largest of the junction's rho_S and every candidate's first tight loop and
 // limb circumference. A branch that reaches another junction without a run of tight levels is a
 // passage, body too: it counts in the sibling test and, beside two body candidates, in the next
-// rule. When more than two are similar, only the one carrying the most surface
-// (largest exact rho_C) is dropped, ties broken by voxel index. Each remaining candidate's cut
-// moves to the first tight level of that window whose loop is closer to the limb's circumference
-// than to the body's (a loop as long as the body's still wraps the body); a cut past which the
-// skeleton ends within half the loop's radius is a corner of a flat end and is dropped
-// (isCornerOfTheBody); the loops Gamma of the remaining points are the cuts.
+// rule, where it pushes off the body only candidates carrying less surface than itself. When more
+// than two are similar, only the one carrying the most surface (largest exact rho_C) is dropped,
+// ties broken by voxel index. Each remaining candidate's cut moves to the first tight level of that
+// window whose loop is closer to the limb's circumference than to the body's (a loop as long as the
+// body's still wraps the body); a cut past which the skeleton ends within half the loop's radius is
+// a corner of a flat end and is dropped (isCornerOfTheBody); the loops Gamma of the remaining
+// points are the cuts.
 #pragma once
 
 #include <cstdint>
@@ -80,6 +82,19 @@ struct CutOptions {
     bool relaxSigmaMinForLimbs = true;
     double limbSigmaMargin = 0.05;
     double limbLoopVariation = 0.065;
+    /// The walk below sigmaMin only finds limbs: a candidate of that walk
+    /// whose circumference reads body (similarity >= bodyRatio: a bulge of
+    /// the body such as a hump) is dropped, as if the branch gave no
+    /// candidate, so it cannot make the "more than two" rule cut the body;
+    /// unless a candidate found at sigmaMin on a branch that ends free reads
+    /// alike (within siblingTolerance: a tail's twin prongs)
+    /// (docs/algorithm.md §8.8).
+    bool belowSigmaMinOnlyLimbs = true;
+    /// Beside two body candidates, a passage pushes off the body only the
+    /// candidates that carry less surface than it (a plier's handles); one
+    /// that carries more stays body, the passage being a short way between
+    /// junctions inside the body (docs/algorithm.md §8.8).
+    bool passageCutsOnlySmallerCandidates = true;
     CutMode mode = CutMode::JunctionRule;
 };
 

@@ -849,5 +849,123 @@ TEST(CutPlacement, NoJunctionNoCut) {
     EXPECT_TRUE(plan.cutNodes.empty());
 }
 
+/// A body (rho_S 40 s on both sides of the junction, exact rho_C 9000 and
+/// 8000) with a third branch at `scale` s whose sigma straddles sigma_min
+/// (0.76 to 0.79, found only by the walk below it), rho_S `third` s and
+/// rho_C 1000, ending free. `thirdAtSigmaMin` puts a fourth branch like it
+/// at sigma 0.9 beside it (a twin).
+CutPlan bodyWithAStraddlingBranch(int scale, float third, bool thirdAtSigmaMin,
+                                  const CutOptions& options) {
+    const int length = 30 * scale, side = 20 * scale;
+    SkeletonPointSet set{Dims{2 * length + 5, 2 * side + 5, 3}};
+    const int cx = length + 2, cy = side + 2;
+    const float body = 40.0f * float(scale);
+    set.add({cx, cy, 1}, body, 9000.0, 3);
+    for (std::uint32_t v : set.chain({cx - 1, cy, 1}, {-1, 0, 0}, length, body, 9000.0))
+        set.point(v).sigma = 0.9f;
+    for (std::uint32_t v : set.chain({cx + 1, cy, 1}, {1, 0, 0}, length, body, 8000.0))
+        set.point(v).sigma = 0.9f;
+    const std::vector<std::uint32_t> straddling =
+        set.chain({cx, cy + 1, 1}, {0, 1, 0}, side, third * float(scale), 1000.0);
+    const float sigmas[4] = {0.77f, 0.79f, 0.76f, 0.78f};
+    for (std::size_t i = 0; i < straddling.size(); ++i)
+        set.point(straddling[i]).sigma = sigmas[i % 4];
+    if (thirdAtSigmaMin)
+        for (std::uint32_t v :
+             set.chain({cx, cy - 1, 1}, {0, -1, 0}, side, third * float(scale), 1000.0))
+            set.point(v).sigma = 0.9f;
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    return placeCuts(g, points, options,
+                     [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+}
+
+CutOptions belowSigmaMinOnlyLimbs(bool on) {
+    CutOptions options;
+    options.belowSigmaMinOnlyLimbs = on;
+    return options;
+}
+
+TEST(CutPlacement, HumpFromTheWalkBelowSigmaMinDoesNotCutTheBodyAtTwoScales) {
+    // A hump on the body (camel.off at 400): its loops (0.7 of the body's)
+    // read body and straddle sigma_min. Counted as a third body member it
+    // made the "more than two" rule cut the body and the hump; the walk
+    // below sigma_min only finds limbs, so it gives no candidate here and
+    // nothing is cut (docs/algorithm.md §8.8).
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const CutPlan plan = bodyWithAStraddlingBranch(scale, 28.0f, false, {});
+        EXPECT_EQ(plan.candidates.size(), 2u);
+        EXPECT_TRUE(plan.cutNodes.empty());
+        const CutPlan without =
+            bodyWithAStraddlingBranch(scale, 28.0f, false, belowSigmaMinOnlyLimbs(false));
+        EXPECT_EQ(without.candidates.size(), 3u);
+        EXPECT_EQ(without.cutNodes.size(), 2u) << "the rule this test guards";
+    }
+}
+
+TEST(CutPlacement, StraddlingProngWithATwinAtSigmaMinIsStillCutAtTwoScales) {
+    // A tail's two prongs (PSB bird 242 at 192): one reaches sigma_min, the
+    // other only straddles it; both read body. The twin at sigma_min, ending
+    // free and alike, shows the straddling one is a limb too: the "more than
+    // two" rule keeps the body and cuts both prongs.
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const CutPlan plan = bodyWithAStraddlingBranch(scale, 28.0f, true, {});
+        EXPECT_EQ(plan.candidates.size(), 4u);
+        std::size_t prongCuts = 0;
+        for (const CutCandidate& c : plan.candidates)
+            prongCuts += c.isCut && c.limbRhoS < 30.0f * float(scale) ? 1 : 0;
+        EXPECT_EQ(prongCuts, 2u);
+    }
+}
+
+/// Two junctions (rho_S 40 s) joined along x by a passage as thick as they
+/// are (rho_C 9000) too short for a run of tight levels at both scales. The
+/// first junction has a torso (rho_S 28 s, rho_C 20000: more surface than
+/// the passage) and a body branch (40 s, rho_C 30000); the second two thin
+/// limbs (12 s, rho_C 1000).
+CutPlan torsoBesideAPassage(int scale, const CutOptions& options) {
+    const int arm = 15 * scale, gap = 8, a = arm + 2, c = arm + 2;
+    SkeletonPointSet set{Dims{2 * arm + gap + 5, 2 * arm + 5, 3}};
+    const float body = 40.0f * float(scale);
+    for (const int x : {a, a + gap}) set.add({x, c, 1}, body, 9000.0, 3);
+    const auto branch = [&](int x, int out, int side, float rhoS, double rhoC) {
+        for (std::uint32_t v :
+             set.chain({x + out, c + side, 1}, {out, side, 0}, arm, rhoS * float(scale), rhoC))
+            set.point(v).sigma = 0.9f;
+    };
+    branch(a, -1, -1, 28.0f, 20000.0);
+    branch(a, -1, 1, 40.0f, 30000.0);
+    branch(a + gap, 1, -1, 12.0f, 1000.0);
+    branch(a + gap, 1, 1, 12.0f, 1000.0);
+    for (std::uint32_t v : set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, body, 9000.0))
+        set.point(v).sigma = 0.9f;
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    return placeCuts(g, points, options,
+                     [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+}
+
+TEST(CutPlacement, TorsoCarryingMoreSurfaceThanAPassageStaysBodyAtTwoScales) {
+    // mannequin.off at 400: beside the torso (similarity 0.63) and the body
+    // branch, short passages join the junction to its neighbours inside the
+    // body. The passage carries less surface than the torso, so it does not
+    // push the torso off the body; the thin limbs of the other junction are
+    // cut as before.
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const CutPlan plan = torsoBesideAPassage(scale, {});
+        ASSERT_EQ(plan.junctions.size(), 2u);
+        ASSERT_EQ(plan.candidates.size(), 4u) << "no candidate on the passage";
+        EXPECT_EQ(plan.junctions[0].cuts, 0u);
+        EXPECT_EQ(plan.junctions[1].cuts, 2u);
+        CutOptions without;
+        without.passageCutsOnlySmallerCandidates = false;
+        EXPECT_EQ(torsoBesideAPassage(scale, without).junctions[0].cuts, 1u)
+            << "the rule this test guards";
+    }
+}
+
 }  // namespace
 }  // namespace skelseg
