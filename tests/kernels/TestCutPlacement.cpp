@@ -660,6 +660,15 @@ TEST(CutPlacement, ShortBranchToAnotherJunctionIsStillCut) {
     EXPECT_TRUE(c->isCut);
 }
 
+/// The cut plan of a generated skeleton, with each point's rho_C as its
+/// exact component area (the "more than two" rule's measure).
+CutPlan placeCutsWithExactAreas(const SkeletonPointSet& set, const CutOptions& options) {
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    return placeCuts(g, points, options,
+                     [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+}
+
 /// Two junctions (rho_S 40 s) joined along x by a passage as thick as they
 /// are, each with two handles (rho_S 28 s, 0.7 of the body: body-similar)
 /// at scale s; the junctions' cores are `gap` voxels apart. The passage
@@ -677,10 +686,7 @@ CutPlan twoJunctionsWithHandles(int scale, int gap, const CutOptions& options) {
     }
     for (std::uint32_t v : set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, body, 9000.0))
         set.point(v).sigma = 0.9f;
-    const std::vector<SkeletonPoint> points = set.points();
-    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
-    return placeCuts(g, points, options,
-                     [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+    return placeCutsWithExactAreas(set, options);
 }
 
 TEST(CutPlacement, PassageBetweenJunctionsIsBodyAtTwoScales) {
@@ -776,10 +782,7 @@ CutPlan torsoAndShoulder(int scale, int gap, const CutOptions& options) {
     branches.push_back(set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, 68.0f * s));   // between
     for (const auto& branch : branches)
         for (std::uint32_t v : branch) set.point(v).sigma = 0.9f;
-    const std::vector<SkeletonPoint> points = set.points();
-    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
-    return placeCuts(g, points, options,
-                     [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+    return placeCutsWithExactAreas(set, options);
 }
 
 /// The candidate whose limb circumference is `limb` (the neck).
@@ -874,10 +877,7 @@ CutPlan bodyWithAStraddlingBranch(int scale, float third, bool thirdAtSigmaMin,
         for (std::uint32_t v :
              set.chain({cx, cy - 1, 1}, {0, -1, 0}, side, third * float(scale), 1000.0))
             set.point(v).sigma = 0.9f;
-    const std::vector<SkeletonPoint> points = set.points();
-    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
-    return placeCuts(g, points, options,
-                     [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+    return placeCutsWithExactAreas(set, options);
 }
 
 CutOptions belowSigmaMinOnlyLimbs(bool on) {
@@ -941,10 +941,7 @@ CutPlan torsoBesideAPassage(int scale, const CutOptions& options) {
     branch(a + gap, 1, 1, 12.0f, 1000.0);
     for (std::uint32_t v : set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, body, 9000.0))
         set.point(v).sigma = 0.9f;
-    const std::vector<SkeletonPoint> points = set.points();
-    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
-    return placeCuts(g, points, options,
-                     [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+    return placeCutsWithExactAreas(set, options);
 }
 
 TEST(CutPlacement, TorsoCarryingMoreSurfaceThanAPassageStaysBodyAtTwoScales) {
