@@ -154,5 +154,46 @@ TEST(Invariance, PsbLimbsBelowSigmaMinAndPassagesKeepTheirPartCount) {
     }
 }
 
+TEST(Invariance, NecksAcrossPassagesKeepTheirPartCountAndBodiesAreNotCutAt400) {
+    // 163 (Teddy): the neck is judged against the torso whether the shoulder
+    // and torso junctions merge (128) or are joined by a passage (192 and
+    // up); 243 (Bird) likewise (docs/algorithm.md §8.6, "One body reference
+    // across passages").
+    const fs::path data = test::sharedDataDir();
+    const fs::path psb = data / "psb" / "off";
+    if (!fs::is_directory(psb)) GTEST_SKIP() << "no PSB data at " << psb << ": skipped";
+    test::TempDir dir;
+    for (const std::string model : {"163", "243"}) {
+        const fs::path mesh = psb / (model + ".off");
+        if (!fs::exists(mesh)) GTEST_SKIP() << mesh << " absent: skipped";
+        const std::vector<fs::path> outputs = segmentAtEveryResolution(mesh, model, dir.path());
+        if (outputs.empty()) return;
+        expectOnePartCount(model, outputs);
+    }
+    // At 400 a camel's hump (a run below sigma_min that reads body) and the
+    // mannequin's pelvis passages once cut the body across (§8.8). The
+    // camel's body stays one segment holding most of the object (the two
+    // halves were 55% and 23% of it); the mannequin stays one part, as at 128
+    // to 320.
+    for (const std::string name : {"camel.off", "mannequin.off"}) {
+        const fs::path mesh = data / "shapes" / name;
+        if (!fs::exists(mesh)) GTEST_SKIP() << mesh << " absent: skipped";
+        const fs::path out = dir.path() / (name + "-400");
+        const test::CliResult run = test::runSkelseg({"segment", mesh.string(), "-o", out.string(),
+                                                      "--resolution", "400", "-q", "--no-preview"});
+        ASSERT_EQ(run.exitCode, 0) << run.describe();
+        if (name == "mannequin.off") {
+            EXPECT_EQ(partCount(out / "segmentation.seg"), 1u) << name << ": cut at 400";
+            continue;
+        }
+        const auto report = nlohmann::json::parse(test::fileBytes(out / "report.json"));
+        const double objectVoxels = report.at("counts").at("object_voxels").get<double>();
+        double largest = 0.0;
+        for (const auto& segment : report.at("segments"))
+            largest = std::max(largest, segment.at("voxels").get<double>());
+        EXPECT_GE(largest, 0.75 * objectVoxels) << name << ": the body is cut across at 400";
+    }
+}
+
 }  // namespace
 }  // namespace skelseg
