@@ -39,11 +39,9 @@ struct ResultReportContext {
 /// The parameters of the method that decide a run's segmentation, keyed as
 /// report.json's `parameters` holds them (docs/outputs.md): tau, sigma_min,
 /// body_ratio, mode, region_radius, bridge_gap, consecutive_levels and the
-/// junction and cut rules (fork_junctions, grow_regions_to_splits,
-/// sibling_tolerance, limb_taper, corner_length, passages_are_body,
-/// limbs_below_sigma_min, limb_sigma_margin, limb_loop_variation). The
-/// batch's done.json records them too, so a run with other rules is not
-/// skipped as done.
+/// junction and cut rules (docs/outputs.md lists every key). The batch's
+/// done.json records them too, so a run with other rules is not skipped as
+/// done.
 nlohmann::json methodParameters(const SegmentationParameters& parameters);
 
 /// The report of `result`; peak_resident_bytes is read now (the process's).

@@ -192,8 +192,10 @@ std::vector<float> sharedBodyReference(
     DisjointSets groups(std::uint32_t(bodyOf.size()));
     for (const auto& [a, b] : passageLinks) groups.unite(a, b);
     std::vector<float> group(bodyOf.size(), 0.0f);
-    for (std::uint32_t i = 0; i < bodyOf.size(); ++i)
-        group[groups.find(i)] = std::max(group[groups.find(i)], bodyOf[i]);
+    for (std::uint32_t i = 0; i < bodyOf.size(); ++i) {
+        float& largest = group[groups.find(i)];
+        largest = std::max(largest, bodyOf[i]);
+    }
     std::vector<float> shared(bodyOf.size());
     for (std::uint32_t i = 0; i < bodyOf.size(); ++i) shared[i] = group[groups.find(i)];
     return shared;
