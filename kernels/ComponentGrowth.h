@@ -53,9 +53,11 @@ public:
 
 private:
     std::uint32_t findRoot(std::uint32_t piece);
+    /// mOwner's value for the nodes of Gamma': no front may take them.
+    static constexpr std::uint32_t kBlocked = kNoNode - 1;
 
     const BoundaryGraph& mGraph;
-    GenerationMap<std::uint32_t> mOwner;  // node -> piece that took it
+    GenerationMap<std::uint32_t> mOwner;  // node -> piece that took it, or kBlocked
     std::vector<std::uint32_t> mParent;   // union-find over pieces
     std::vector<std::vector<std::uint32_t>> mQueue;
     std::vector<std::size_t> mHead;

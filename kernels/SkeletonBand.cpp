@@ -126,7 +126,7 @@ CoarseView coarseSearch(const MaskVolume& mask, const SkeletonMeasureOptions& op
     candidateOptions.threaded = options.threaded;
     const std::vector<SkeletonCandidate> candidates =
         selectSkeletonCandidates(coarse, ft, graph, candidateOptions, nullptr, interrupter);
-    const Landmarks landmarks = computeLandmarks(graph, options.threaded);
+    const Landmarks landmarks = computeLandmarks(graph, options.threaded, interrupter);
     // Areas shrink by four at half the resolution; tauShare < 1 keeps
     // branches that are close to tau at full resolution.
     SkeletonMeasureOptions coarseOptions = options;

@@ -269,7 +269,10 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
         }
         done += end - begin;
     };
-    parallelFor(n, range, options.threaded, 64);
+    // Small ranges: a measure near the skeleton costs a hundred times one
+    // far from it, so the adaptive split's long ranges left one thread
+    // measuring the last of them alone (docs/performance.md, "speed8").
+    parallelForSmallRanges(n, range, options.threaded, 8);
     throwIfInterrupted(interrupter);
 
     std::vector<SkeletonPoint> points;

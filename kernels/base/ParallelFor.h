@@ -35,6 +35,28 @@ void parallelFor(Index count, const RangeBody& body, bool threaded = true, std::
         [&](const tbb::blocked_range<Index>& range) { body(range.begin(), range.end()); });
 }
 
+/// parallelFor for loops whose cost per index varies by orders of magnitude
+/// (a skeleton measure near the curve skeleton costs a hundred times one far
+/// from it). parallelFor's adaptive split hands out ranges far longer than
+/// `grain` while no thread is idle, and a range that is running cannot be
+/// split: one long range of costly indices at the end of the loop keeps one
+/// thread busy while the others wait. Here (threaded) every range holds at
+/// most `grain` indices (oneTBB's simple_partitioner), so the wait is at
+/// most one such range; serial, body(0, count) runs once as in parallelFor.
+template <typename Index, typename RangeBody>
+void parallelForSmallRanges(Index count, const RangeBody& body, bool threaded, std::size_t grain) {
+    static_assert(std::is_integral<Index>::value, "parallelFor counts with an integer type");
+    if (count <= Index(0)) return;
+    if (!threaded) {
+        body(Index(0), count);
+        return;
+    }
+    tbb::parallel_for(
+        tbb::blocked_range<Index>(Index(0), count, grain > 0 ? grain : 1),
+        [&](const tbb::blocked_range<Index>& range) { body(range.begin(), range.end()); },
+        tbb::simple_partitioner());
+}
+
 /// The same with a per-index body: body(i) for every i in [0, count).
 template <typename Index, typename IndexBody>
 void parallelForEach(Index count, const IndexBody& body, bool threaded = true,
