@@ -62,6 +62,7 @@ json methodParameters(const SegmentationParameters& p) {
             {"shared_body_reference", cut.shareBodyAcrossPassages},
             {"below_sigma_min_only_limbs", cut.belowSigmaMinOnlyLimbs},
             {"passage_cuts_only_smaller", cut.passageCutsOnlySmallerCandidates},
+            {"one_branch_junctions_end_the_body", cut.oneBranchJunctionsEndTheBody},
             {"limbs_below_sigma_min", cut.relaxSigmaMinForLimbs},
             {"limb_sigma_margin", cut.limbSigmaMargin},
             {"limb_loop_variation", cut.limbLoopVariation}};

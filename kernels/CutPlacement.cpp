@@ -454,6 +454,13 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                         (options.passageCutsOnlySmallerCandidates && body.size() == 2 &&
                          plan.candidates[i].exactRhoC > passageArea);
             }
+            // Nothing leaves a one-branch junction but its branch: the body
+            // ends there, and a branch that reaches another junction is the
+            // body's way on, judged at that junction (where a coarser
+            // digitisation gives no junction at this end at all).
+            if (options.oneBranchJunctionsEndTheBody && branches.size() == 1)
+                for (std::size_t i = first; i < plan.candidates.size(); ++i)
+                    if (skeletonEndOf[i - first] == kNoJunction) plan.candidates[i].onBody = true;
             for (std::size_t i = first; i < plan.candidates.size(); ++i) {
                 CutCandidate& c = plan.candidates[i];
                 c.isCut = !c.onBody;

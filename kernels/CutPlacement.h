@@ -23,11 +23,12 @@
 // passage, body too: it counts in the sibling test and, beside two body candidates, in the next
 // rule, where it pushes off the body only candidates carrying less surface than itself. When more
 // than two are similar, only the one carrying the most surface (largest exact rho_C) is dropped,
-// ties broken by voxel index. Each remaining candidate's cut moves to the first tight level of that
-// window whose loop is closer to the limb's circumference than to the body's (a loop as long as the
-// body's still wraps the body); a cut past which the skeleton ends within half the loop's radius is
-// a corner of a flat end and is dropped (isCornerOfTheBody); the loops Gamma of the remaining
-// points are the cuts.
+// ties broken by voxel index. A junction with one branch is where the body ends: it cuts nothing on
+// a branch that reaches another junction, which judges that branch. Each remaining candidate's cut
+// moves to the first tight level of that window whose loop is closer to the limb's circumference
+// than to the body's (a loop as long as the body's still wraps the body); a cut past which the
+// skeleton ends within half the loop's radius is a corner of a flat end and is dropped
+// (isCornerOfTheBody); the loops Gamma of the remaining points are the cuts.
 #pragma once
 
 #include <cstdint>
@@ -95,6 +96,13 @@ struct CutOptions {
     /// that carries more stays body, the passage being a short way between
     /// junctions inside the body (docs/algorithm.md §8.8).
     bool passageCutsOnlySmallerCandidates = true;
+    /// A junction with a single branch is where the body ends (a round end
+    /// such as a mantle, whose loops fan out): nothing leaves it but that
+    /// branch. Where the branch reaches another junction it is the body's
+    /// way to the rest of the shape and is judged there, where the body
+    /// passes through; the one-branch junction cuts nothing on it
+    /// (docs/algorithm.md §8.9).
+    bool oneBranchJunctionsEndTheBody = true;
     CutMode mode = CutMode::JunctionRule;
 };
 

@@ -964,5 +964,66 @@ TEST(CutPlacement, TorsoCarryingMoreSurfaceThanAPassageStaysBodyAtTwoScales) {
     }
 }
 
+/// A round end of the body (a mantle, rho_S 40 s) whose junction has one
+/// branch, at scale s: the branch keeps the mantle's loop (36 s) for 8 s
+/// levels, narrows to a neck (20 s) and, with `mouth`, reaches a second
+/// junction (20 s) with two thin arms (8 s); without, it ends free (a ball
+/// on a handle). Modelled on octopus.off's mantle (docs/algorithm.md §8.9).
+CutPlan roundEndOfTheBody(int scale, bool mouth, const CutOptions& options) {
+    const int branch = 30 * scale, arm = 20 * scale, mouthX = 3 + branch;
+    const float s = float(scale);
+    SkeletonPointSet set{Dims{mouthX + arm + 3, 2 * arm + 5, 3}};
+    const int y = arm + 2;
+    set.add({2, y, 1}, 40.0f * s, 9000.0, 3);
+    const std::vector<std::uint32_t> neck = set.chain({3, y, 1}, {1, 0, 0}, branch, 20.0f * s);
+    for (std::size_t i = 0; i < neck.size(); ++i) {
+        set.point(neck[i]).sigma = 0.9f;
+        if (int(i) < 3 + 8 * scale) set.point(neck[i]).rhoS = 36.0f * s;
+    }
+    if (mouth) {
+        set.add({mouthX, y, 1}, 20.0f * s, 9000.0, 3);
+        for (const int dy : {-1, 1})
+            for (std::uint32_t v : set.chain({mouthX + 1, y + dy, 1}, {1, dy, 0}, arm, 8.0f * s))
+                set.point(v).sigma = 0.9f;
+    }
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    return placeCuts(g, points, options, [](std::uint32_t) { return 0.0; });
+}
+
+TEST(CutPlacement, OneBranchJunctionDoesNotCutTheWayToAnotherJunctionAtTwoScales) {
+    // The mantle's junction has one branch, which narrows to a neck (0.5 of
+    // the mantle) and reaches the mouth's junction: the body ends in the
+    // mantle and goes on through the neck to the mouth, which judges that
+    // branch (body there) and cuts the arms. A ball on a handle that ends
+    // free is still cut.
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const CutPlan plan = roundEndOfTheBody(scale, true, {});
+        ASSERT_EQ(plan.junctions.size(), 2u);
+        const std::uint32_t mantle = plan.junctions[0].branches == 1 ? 0 : 1;
+        ASSERT_EQ(plan.junctions[mantle].branches, 1u);
+        ASSERT_EQ(plan.junctions[1 - mantle].branches, 3u);
+        const CutCandidate* neck = nullptr;
+        for (const CutCandidate& c : plan.candidates)
+            if (c.junction == mantle) neck = &c;
+        ASSERT_NE(neck, nullptr);
+        EXPECT_NEAR(neck->similarity, 0.5f, 1e-4f) << "the body test alone would cut it";
+        EXPECT_FALSE(neck->isCut);
+        EXPECT_EQ(plan.junctions[mantle].cuts, 0u);
+        EXPECT_EQ(plan.junctions[1 - mantle].cuts, 2u) << "the arms";
+        EXPECT_EQ(plan.cutNodes.size(), 2u);
+
+        CutOptions without;
+        without.oneBranchJunctionsEndTheBody = false;
+        EXPECT_EQ(roundEndOfTheBody(scale, true, without).junctions[mantle].cuts, 1u)
+            << "the rule this test guards";
+
+        const CutPlan handle = roundEndOfTheBody(scale, false, {});
+        ASSERT_EQ(handle.junctions.size(), 1u);
+        EXPECT_EQ(handle.junctions[0].cuts, 1u) << "a handle that ends free is a limb";
+    }
+}
+
 }  // namespace
 }  // namespace skelseg
