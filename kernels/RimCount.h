@@ -36,8 +36,6 @@ public:
     bool isInDilated(std::uint32_t node) const noexcept { return flags(node) & kDilated; }
     /// True if node is in Gamma of the last countRims() call.
     bool isInPathSet(std::uint32_t node) const noexcept { return flags(node) & kPathSet; }
-    /// Requests node's marks into the cache (a hint; no effect on the result).
-    void prefetch(std::uint32_t node) const noexcept { __builtin_prefetch(&mState[node]); }
     const RimPieces& result() const noexcept { return mResult; }
     const BoundaryGraph& graph() const noexcept { return mGraph; }
 
