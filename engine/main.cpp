@@ -144,6 +144,9 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
                       "Keep a candidate of the walk below --sigma-min even where it reads body");
     command->add_flag("!--no-passage-area-check", rules.passageCutsOnlySmallerCandidates,
                       "Beside two body candidates a passage may cut one carrying more surface");
+    command->add_flag(
+        "!--no-separation-check", rules.separatingCutsOnly,
+        "Keep a cut whose loop separates nothing (a handle joins the limb to the rest)");
     command->add_flag("!--no-fork-junctions", seg.parameters.forkJunctions,
                       "Branchings of the skeleton are junctions only where J_tau points are");
     command->add_flag("!--no-grow-regions", seg.parameters.growRegionsToSplits,

@@ -48,6 +48,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(defaults.at("shared_body_reference"), true);
     EXPECT_EQ(defaults.at("below_sigma_min_only_limbs"), true);
     EXPECT_EQ(defaults.at("passage_cuts_only_smaller"), true);
+    EXPECT_EQ(defaults.at("separating_cuts_only"), true);
     EXPECT_EQ(defaults.at("fork_junctions"), true);
     EXPECT_EQ(defaults.at("grow_regions_to_splits"), true);
 
@@ -56,8 +57,8 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
         {"--sibling-tolerance", "0.125", "--limb-taper", "0.5", "--corner-length", "1.5",
          "--limb-sigma-margin", "0.25", "--limb-loop-variation", "0.75",
          "--no-limbs-below-sigma-min", "--no-passages-as-body", "--no-shared-body-reference",
-         "--no-body-check-below-sigma-min", "--no-passage-area-check", "--no-fork-junctions",
-         "--no-grow-regions"});
+         "--no-body-check-below-sigma-min", "--no-passage-area-check", "--no-separation-check",
+         "--no-fork-junctions", "--no-grow-regions"});
     EXPECT_EQ(set.at("sibling_tolerance"), 0.125);
     EXPECT_EQ(set.at("limb_taper"), 0.5);
     EXPECT_EQ(set.at("corner_length"), 1.5);
@@ -68,6 +69,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(set.at("shared_body_reference"), false);
     EXPECT_EQ(set.at("below_sigma_min_only_limbs"), false);
     EXPECT_EQ(set.at("passage_cuts_only_smaller"), false);
+    EXPECT_EQ(set.at("separating_cuts_only"), false);
     EXPECT_EQ(set.at("fork_junctions"), false);
     EXPECT_EQ(set.at("grow_regions_to_splits"), false);
 }
@@ -86,6 +88,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     parameters.cutRules.shareBodyAcrossPassages = false;
     parameters.cutRules.belowSigmaMinOnlyLimbs = false;
     parameters.cutRules.passageCutsOnlySmallerCandidates = false;
+    parameters.cutRules.separatingCutsOnly = false;
     parameters.cutRules.relaxSigmaMinForLimbs = false;
     parameters.cutRules.limbSigmaMargin = 0.25;
     parameters.cutRules.limbLoopVariation = 0.75;
@@ -101,6 +104,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     EXPECT_FALSE(options.shareBodyAcrossPassages);
     EXPECT_FALSE(options.belowSigmaMinOnlyLimbs);
     EXPECT_FALSE(options.passageCutsOnlySmallerCandidates);
+    EXPECT_FALSE(options.separatingCutsOnly);
     EXPECT_FALSE(options.relaxSigmaMinForLimbs);
     EXPECT_EQ(options.limbSigmaMargin, 0.25);
     EXPECT_EQ(options.limbLoopVariation, 0.75);
