@@ -63,6 +63,7 @@ json methodParameters(const SegmentationParameters& p) {
             {"below_sigma_min_only_limbs", cut.belowSigmaMinOnlyLimbs},
             {"passage_cuts_only_smaller", cut.passageCutsOnlySmallerCandidates},
             {"one_branch_junctions_end_the_body", cut.oneBranchJunctionsEndTheBody},
+            {"separating_cuts_only", cut.separatingCutsOnly},
             {"limbs_below_sigma_min", cut.relaxSigmaMinForLimbs},
             {"limb_sigma_margin", cut.limbSigmaMargin},
             {"limb_loop_variation", cut.limbLoopVariation}};
@@ -160,6 +161,13 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                            {"skeleton_bridges", obj.skeletonBridges},
                            {"cuts", obj.cutLoops.size()},
                            {"segments", obj.labels}});
+        json before = json::array();
+        for (const SegmentMeasure& m : obj.segmentsBeforeMerge)
+            before.push_back({{"core", m.core},
+                              {"area", m.area},
+                              {"measured", m.measured},
+                              {"merged", m.merged}});
+        objects.back()["segments_before_merge"] = std::move(before);
         for (const auto& j : obj.junctions)
             junctions.push_back(
                 {{"object", o},
@@ -183,6 +191,8 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                  {"body_similarity", c.similarity},
                  {"is_corner", c.isCorner},
                  {"below_sigma_min", c.belowSigmaMin},
+                 {"loop_separates", c.loopSeparates},
+                 {"moved_to_separate", c.movedToSeparate},
                  {"is_cut", c.isCut}});
         for (const auto& c : obj.cuts) {
             jointCuts += c.kind == CutKind::Joint;
@@ -192,7 +202,8 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                  {"voxel", toJson(c.voxel)},
                  {"position", toJson(geometry.indexToWorld(c.voxel[0], c.voxel[1], c.voxel[2]))},
                  {"sigma", c.sigma},
-                 {"rho_s", c.rhoS}});
+                 {"rho_s", c.rhoS},
+                 {"separates", c.separates}});
         }
         for (const auto& c : obj.jointCandidates)
             jointCandidates.push_back(

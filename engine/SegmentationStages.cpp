@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "engine/SegmentationLevels.h"
 #include "engine/Stage.h"
@@ -9,6 +10,7 @@
 #include "kernels/FeatureTransform.h"
 #include "kernels/RimCount.h"
 #include "kernels/SkeletonBand.h"
+#include "kernels/SurfaceLabelling.h"
 #include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
@@ -174,13 +176,34 @@ void placeObjectCuts(ObjectState& state) {
     const CutOptions options = p.cutOptions();
     SkeletonMeasureOptions exactOptions = state.measureOptions();
     exactOptions.exactRhoC = true;
-    state.plan = placeCuts(state.skeleton, state.points, options, [&](std::uint32_t pointIndex) {
-        SkeletonPoint exact;
-        return measurePoint(graph, state.candidates[state.points[pointIndex].candidate],
-                            exactOptions, exact)
-                   ? exact.rhoC
-                   : 0.0;
-    });
+    // The loops of the cuts, judged together as the labelling will cut them
+    // (the same searches as appendCutLoops, so the same paths).
+    GeodesicSearch search(graph, &state.landmarks);
+    std::map<std::uint32_t, std::vector<std::uint32_t>> loopOfPoint;
+    const LoopSeparation loopsSeparate = [&](const std::vector<std::uint32_t>& pointIndices) {
+        std::vector<std::vector<std::uint32_t>> loops;
+        for (std::uint32_t point : pointIndices) {
+            auto it = loopOfPoint.find(point);
+            if (it == loopOfPoint.end())
+                it = loopOfPoint
+                         .emplace(point,
+                                  pathSet(graph, state.candidates[state.points[point].candidate],
+                                          search))
+                         .first;
+            loops.push_back(it->second);
+        }
+        return separatingLoops(graph, loops, state.out.noiseArea);
+    };
+    state.plan = placeCuts(
+        state.skeleton, state.points, options,
+        [&](std::uint32_t pointIndex) {
+            SkeletonPoint exact;
+            return measurePoint(graph, state.candidates[state.points[pointIndex].candidate],
+                                exactOptions, exact)
+                       ? exact.rhoC
+                       : 0.0;
+        },
+        loopsSeparate);
     appendCutLoops(state, state.plan.cutNodes, CutKind::Junction);
     throwIfInterrupted(state.interrupter);
 }
@@ -260,6 +283,8 @@ void recordSkeleton(ObjectState& state) {
         info.similarity = c.similarity;
         info.isCorner = c.isCorner;
         info.belowSigmaMin = c.belowSigmaMin;
+        info.loopSeparates = c.loopSeparates;
+        info.movedToSeparate = c.movedToSeparate;
         info.isCut = c.isCut;
         out.criticalPoints.push_back(info);
     }
@@ -287,8 +312,12 @@ void labelObjectSurface(ObjectState& state) {
     const double smallest = p.joints && p.finerTaus.empty()
                                 ? p.jointOptions.minSegmentTauFraction * state.out.tauArea
                                 : state.out.tauArea;
-    state.segments =
-        labelSurface(state.graph, state.cutLoops, std::max(smallest, state.out.noiseArea));
+    state.segments = labelSurface(state.graph, state.cutLoops,
+                                  std::max(smallest, state.out.noiseArea), state.out.noiseArea);
+    state.out.segmentsBeforeMerge = state.segments.before;
+    if (state.out.cuts.size() == state.segments.loopSeparates.size())
+        for (std::size_t i = 0; i < state.out.cuts.size(); ++i)
+            state.out.cuts[i].separates = state.segments.loopSeparates[i] != 0;
     throwIfInterrupted(state.interrupter);
 }
 

@@ -22,6 +22,7 @@
 #include "kernels/SkeletonBand.h"
 #include "kernels/SkeletonCandidates.h"
 #include "kernels/SkeletonMeasures.h"
+#include "kernels/SurfaceLabelling.h"
 #include "kernels/base/Interrupter.h"
 #include "kernels/base/Volume.h"
 
@@ -149,8 +150,10 @@ struct CriticalPointInfo {
     float limbRhoS = 0.0f;  // the circumference the body test compared
     double rhoC = 0.0;
     float similarity = 0.0f;
-    bool isCorner = false;       // a corner of a flat end, not cut (CutCandidate::isCorner)
-    bool belowSigmaMin = false;  // found by a run below sigma_min (CutCandidate::belowSigmaMin)
+    bool isCorner = false;         // a corner of a flat end, not cut (CutCandidate::isCorner)
+    bool belowSigmaMin = false;    // found by a run below sigma_min (CutCandidate::belowSigmaMin)
+    bool loopSeparates = true;     // CutCandidate::loopSeparates
+    bool movedToSeparate = false;  // CutCandidate::movedToSeparate
     bool isCut = false;
 };
 
@@ -180,6 +183,9 @@ struct CutInfo {
     std::array<int, 3> voxel{};  // the skeleton point whose loop is the cut
     float sigma = 0.0f;
     float rhoS = 0.0f;
+    /// The loop borders two or more pieces once every cut's band is removed
+    /// (SurfaceSegments::loopSeparates).
+    bool separates = true;
 };
 
 /// A joint candidate found along a branch (kernels/JointDetection.h), kept
@@ -218,6 +224,8 @@ struct ObjectSegmentation {
     std::vector<CutInfo> cuts;  // one per cut loop
     std::vector<JointCandidateInfo> jointCandidates;
     std::vector<std::uint16_t> labels;  // global labels of this object's segments
+    /// The pieces the cuts left before the small-segment merge (top level).
+    std::vector<SegmentMeasure> segmentsBeforeMerge;
     /// Hierarchy runs: the object at each level of SegmentationResult::
     /// finerLevels, finest first.
     std::vector<ObjectLevel> finerLevels;

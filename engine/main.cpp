@@ -147,6 +147,9 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
     command->add_flag("!--no-body-end-check", rules.oneBranchJunctionsEndTheBody,
                       "A junction with one branch may cut that branch where it reaches another "
                       "junction");
+    command->add_flag(
+        "!--no-separation-check", rules.separatingCutsOnly,
+        "Keep a cut whose loop separates nothing (a handle joins the limb to the rest)");
     command->add_flag("!--no-fork-junctions", seg.parameters.forkJunctions,
                       "Branchings of the skeleton are junctions only where J_tau points are");
     command->add_flag("!--no-grow-regions", seg.parameters.growRegionsToSplits,

@@ -201,6 +201,69 @@ std::vector<float> sharedBodyReference(
     return shared;
 }
 
+/// The rule of CutOptions::separatingCutsOnly. The loops of all cuts are
+/// judged together (loopsSeparate, by SkeletonPoint index); a cut whose loop
+/// separates nothing moves to the first tight level further along its walk
+/// whose loop separates with the other cuts in place; where its walk reached
+/// another junction without one, to the first such level of that junction's
+/// one candidate that was not cut and lies on a branch that ends free (the
+/// limb goes on past that junction: a handle joins it to the rest before
+/// there, so no loop before the junction can cut it off); otherwise the cut
+/// is dropped. Moving or dropping a cut can change what the others separate,
+/// so the test repeats until every cut separates (each round moves a cut
+/// outwards or drops one, so it ends). Per candidate: its tight levels, its
+/// skeleton's end (kNoJunction: at another junction) and the junction its
+/// walk reached.
+void moveToSeparatingLoops(const SkeletonGraph& g, std::vector<CutCandidate>& candidates,
+                           const std::vector<std::vector<TightLevel>>& tightOf,
+                           const std::vector<std::uint32_t>& skeletonEndOf,
+                           const std::vector<std::uint32_t>& otherJunctionOf,
+                           const LoopSeparation& loopsSeparate) {
+    std::vector<std::uint8_t> wasCut(candidates.size());
+    for (std::size_t i = 0; i < candidates.size(); ++i) wasCut[i] = candidates[i].isCut ? 1 : 0;
+    for (std::size_t round = 0; round <= candidates.size(); ++round) {
+        std::vector<std::size_t> cuts;
+        std::vector<std::uint32_t> loops;
+        for (std::size_t i = 0; i < candidates.size(); ++i)
+            if (candidates[i].isCut)
+                cuts.push_back(i), loops.push_back(g.point[candidates[i].node]);
+        const std::vector<std::uint8_t> separates = loopsSeparate(loops);
+        std::size_t at = 0;
+        while (at < cuts.size() && separates[at]) ++at;
+        if (at == cuts.size()) return;
+        const std::size_t i = cuts[at];
+        CutCandidate& c = candidates[i];
+        c.loopSeparates = false;
+        // The first level of `tight` past `afterLevel` whose loop separates
+        // with the other cuts in place.
+        const auto firstSeparating = [&](const std::vector<TightLevel>& tight,
+                                         std::uint32_t afterLevel) -> const TightLevel* {
+            for (const TightLevel& t : tight) {
+                if (t.level <= afterLevel) continue;
+                loops[at] = g.point[t.node];
+                if (loopsSeparate(loops)[at]) return &t;
+            }
+            return nullptr;
+        };
+        const TightLevel* to = firstSeparating(tightOf[i], c.level);
+        if (!to && otherJunctionOf[i] != kNoJunction) {
+            std::size_t limb = candidates.size(), freeCount = 0;
+            for (std::size_t k = 0; k < candidates.size(); ++k)
+                if (candidates[k].junction == otherJunctionOf[i] && !wasCut[k] &&
+                    skeletonEndOf[k] != kNoJunction)
+                    limb = k, ++freeCount;
+            if (freeCount == 1) to = firstSeparating(tightOf[limb], 0);
+        }
+        if (!to) {
+            c.isCut = false;
+            continue;
+        }
+        c.movedToSeparate = true;
+        c.exactRhoC = -1.0;
+        c.node = to->node, c.level = to->level, c.sigma = to->sigma;
+    }
+}
+
 }  // namespace
 
 void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandidate* candidates,
@@ -249,8 +312,8 @@ std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels)
 }
 
 CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
-                  const CutOptions& options,
-                  const std::function<double(std::uint32_t)>& exactRhoC) {
+                  const CutOptions& options, const std::function<double(std::uint32_t)>& exactRhoC,
+                  const LoopSeparation& loopsSeparate) {
     // Junctions joined by a passage lie on one body (the body passes through
     // both), and whether their regions touch and make one junction depends
     // on the resolution: a first plan measures each junction's body
@@ -262,6 +325,11 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
     const auto planWith = [&](const std::vector<float>& bodyFloor) {
         CutPlan plan;
         passageLinks.clear();
+        // Per candidate of the plan: its walk's tight levels, where its
+        // skeleton ends (kNoJunction: at another junction) and the junction
+        // its walk reached (for moveToSeparatingLoops).
+        std::vector<std::vector<TightLevel>> tightOfPlan;
+        std::vector<std::uint32_t> skeletonEndOfPlan, otherJunctionOfPlan;
         plan.junctions.resize(g.junctions.size());
         for (std::uint32_t j = 0; j < g.junctions.size(); ++j) {
             const SkeletonJunction& junction = g.junctions[j];
@@ -288,6 +356,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
             std::vector<std::vector<TightLevel>> tightOf;  // per candidate of this junction
             std::vector<std::uint32_t> walkEndOf, windowEndOf;
             std::vector<std::uint32_t> skeletonEndOf;  // kNoJunction: ends at another junction
+            std::vector<std::uint32_t> otherJunctionOf;
             // Branches to another junction with no tight run: the body passes
             // there (too short a walk for the run of levels, counted in voxels).
             std::vector<TightLevel> passages;
@@ -327,6 +396,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                 walkEndOf.push_back(walk.walkEnd);
                 windowEndOf.push_back(walk.windowEnd);
                 skeletonEndOf.push_back(walk.endsFree ? walk.walkEnd : kNoJunction);
+                otherJunctionOf.push_back(walk.otherJunction);
                 CutCandidate c;
                 c.junction = j;
                 c.node = node;
@@ -396,6 +466,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                         walkEndOf[kept - first] = walkEndOf[i - first];
                         windowEndOf[kept - first] = windowEndOf[i - first];
                         skeletonEndOf[kept - first] = skeletonEndOf[i - first];
+                        otherJunctionOf[kept - first] = otherJunctionOf[i - first];
                     }
                     ++kept;
                 }
@@ -405,6 +476,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                     walkEndOf.resize(kept - first);
                     windowEndOf.resize(kept - first);
                     skeletonEndOf.resize(kept - first);
+                    otherJunctionOf.resize(kept - first);
                     markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
                                        plan.candidates.size() - first, passageRhoS, bodyFloor[j]);
                 }
@@ -494,12 +566,21 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                                           points[g.point[c.node]].rhoS, options.cornerLength);
                     c.isCut = !c.isCorner;
                 }
-                if (c.isCut) {
-                    plan.cutNodes.push_back(c.node);
-                    ++plan.junctions[j].cuts;
-                }
+            }
+            for (std::size_t i = first; i < plan.candidates.size(); ++i) {
+                tightOfPlan.push_back(std::move(tightOf[i - first]));
+                skeletonEndOfPlan.push_back(skeletonEndOf[i - first]);
+                otherJunctionOfPlan.push_back(otherJunctionOf[i - first]);
             }
         }
+        if (options.separatingCutsOnly && loopsSeparate)
+            moveToSeparatingLoops(g, plan.candidates, tightOfPlan, skeletonEndOfPlan,
+                                  otherJunctionOfPlan, loopsSeparate);
+        for (const CutCandidate& c : plan.candidates)
+            if (c.isCut) {
+                plan.cutNodes.push_back(c.node);
+                ++plan.junctions[c.junction].cuts;
+            }
         std::sort(plan.cutNodes.begin(), plan.cutNodes.end());
         plan.cutNodes.erase(std::unique(plan.cutNodes.begin(), plan.cutNodes.end()),
                             plan.cutNodes.end());

@@ -103,6 +103,15 @@ struct CutOptions {
     /// passes through; the one-branch junction cuts nothing on it
     /// (docs/algorithm.md §8.9).
     bool oneBranchJunctionsEndTheBody = true;
+    /// A cut loop must separate what it cuts off: with every cut's band
+    /// removed from the surface, the pieces on its two sides differ. A loop
+    /// round a limb that a handle (genus > 0) joins to the rest again, with
+    /// no other cut on the handle, cuts nothing off. Such a cut moves to the
+    /// first loop further along its walk that separates; where the walk
+    /// reaches another junction first, to that junction's one candidate on a
+    /// branch that ends free (the limb going on past it); otherwise it is
+    /// dropped (docs/algorithm.md §8.10).
+    bool separatingCutsOnly = true;
     CutMode mode = CutMode::JunctionRule;
 };
 
@@ -124,6 +133,11 @@ struct CutCandidate {
     bool isCut = false;
     /// Found by a run below sigmaMin (relaxSigmaMinForLimbs).
     bool belowSigmaMin = false;
+    /// false: the loop first chosen for this cut separated nothing
+    /// (separatingCutsOnly); the cut then moved (movedToSeparate) or was
+    /// dropped (isCut false).
+    bool loopSeparates = true;
+    bool movedToSeparate = false;
 };
 
 struct JunctionReport {
@@ -166,9 +180,17 @@ void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandid
                         std::size_t count, const std::vector<float>& passageRhoS = {},
                         float bodyFloor = 0.0f);
 
+/// Whether the loops of a set of cuts (their SkeletonPoint indices) each
+/// separate the surface with all of them cut: one entry per cut, 1 or 0
+/// (separatingLoops in kernels/SurfaceLabelling.h).
+using LoopSeparation = std::function<std::vector<std::uint8_t>(const std::vector<std::uint32_t>&)>;
+
 /// exactRhoC(pointIndex) returns the exact rho_C of a SkeletonPoint (only
-/// called for the "more than two qualify" rule).
+/// called for the "more than two qualify" rule). loopsSeparate answers for
+/// separatingCutsOnly; empty, or with the rule off, every loop is taken to
+/// separate.
 CutPlan placeCuts(const SkeletonGraph& graph, const std::vector<SkeletonPoint>& points,
-                  const CutOptions& options, const std::function<double(std::uint32_t)>& exactRhoC);
+                  const CutOptions& options, const std::function<double(std::uint32_t)>& exactRhoC,
+                  const LoopSeparation& loopsSeparate = {});
 
 }  // namespace skelseg

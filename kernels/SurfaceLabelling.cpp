@@ -9,19 +9,24 @@
 
 namespace skelseg {
 
-SurfaceSegments labelSurface(const BoundaryGraph& graph,
-                             const std::vector<std::vector<std::uint32_t>>& cutLoops,
-                             double minSegmentArea) {
+namespace {
+
+constexpr std::uint32_t kCut = 0xFFFFFFFEu;
+
+/// The pieces of the surface without the dilated cut loops: label[v] is the
+/// piece of node v (0..count-1, in node order of their first node), or kCut
+/// for a node of a band. Returns the piece count.
+std::uint32_t piecesWithoutBands(const BoundaryGraph& graph,
+                                 const std::vector<std::vector<std::uint32_t>>& cutLoops,
+                                 std::vector<std::uint32_t>& label) {
     const std::uint32_t n = graph.nodeCount();
-    constexpr std::uint32_t kCut = 0xFFFFFFFEu;
-    std::vector<std::uint32_t> label(n, kNoNode);
+    label.assign(n, kNoNode);
     for (const auto& loop : cutLoops)
         for (std::uint32_t v : loop) {
             label[v] = kCut;
             for (std::uint32_t e = graph.offset[v]; e < graph.offset[v + 1]; ++e)
                 label[graph.neighbour[e]] = kCut;
         }
-    // Components of the rest.
     std::uint32_t count = 0;
     std::vector<std::uint32_t> queue;
     for (std::uint32_t seed = 0; seed < n; ++seed) {
@@ -35,6 +40,68 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph,
             }
         ++count;
     }
+    return count;
+}
+
+/// Per loop: 1 when the pieces next to its band (label from
+/// piecesWithoutBands, `count` pieces) are two or more of at least
+/// `minPieceArea` nodes each (a smaller one is a pocket between the paths of
+/// a wide loop, as a rim behind less than the noise area does not count).
+std::vector<std::uint8_t> loopsBorderingTwoPieces(
+    const BoundaryGraph& graph, const std::vector<std::vector<std::uint32_t>>& cutLoops,
+    const std::vector<std::uint32_t>& label, std::uint32_t count, double minPieceArea) {
+    std::vector<std::uint64_t> pieceArea(count, 0);
+    for (std::uint32_t l : label)
+        if (l < kCut) ++pieceArea[l];
+    std::vector<std::uint8_t> separates(cutLoops.size(), 0);
+    for (std::size_t i = 0; i < cutLoops.size(); ++i) {
+        std::uint32_t seen = kNoNode;
+        const auto look = [&](std::uint32_t v) {
+            for (std::uint32_t e = graph.offset[v]; e < graph.offset[v + 1]; ++e) {
+                const std::uint32_t l = label[graph.neighbour[e]];
+                if (l >= kCut || double(pieceArea[l]) < minPieceArea) continue;
+                if (seen == kNoNode) seen = l;
+                if (l != seen) return true;
+            }
+            return false;
+        };
+        for (std::uint32_t v : cutLoops[i]) {
+            bool found = look(v);
+            for (std::uint32_t e = graph.offset[v]; !found && e < graph.offset[v + 1]; ++e)
+                found = look(graph.neighbour[e]);
+            if (found) {
+                separates[i] = 1;
+                break;
+            }
+        }
+    }
+    return separates;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> separatingLoops(const BoundaryGraph& graph,
+                                          const std::vector<std::vector<std::uint32_t>>& cutLoops,
+                                          double noiseArea) {
+    std::vector<std::uint32_t> label;
+    const std::uint32_t count = piecesWithoutBands(graph, cutLoops, label);
+    return loopsBorderingTwoPieces(graph, cutLoops, label, count, noiseArea);
+}
+
+SurfaceSegments labelSurface(const BoundaryGraph& graph,
+                             const std::vector<std::vector<std::uint32_t>>& cutLoops,
+                             double minSegmentArea, double noiseArea) {
+    const std::uint32_t n = graph.nodeCount();
+    std::vector<std::uint32_t> label;
+    std::uint32_t count = piecesWithoutBands(graph, cutLoops, label);
+    std::vector<std::uint32_t> queue;
+    std::vector<std::uint64_t> core(count, 0);
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (label[v] < kCut) ++core[label[v]];
+    // Which loops separate: the pieces next to each band (before the cut
+    // nodes join them).
+    std::vector<std::uint8_t> loopSeparates =
+        loopsBorderingTwoPieces(graph, cutLoops, label, count, noiseArea);
     // Cut nodes: breadth-first from the labelled nodes, seeded in node order.
     queue.clear();
     for (std::uint32_t v = 0; v < n; ++v)
@@ -111,6 +178,9 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph,
                 area[find(largest)] += area[s];
             }
     }
+    std::vector<SegmentMeasure> before(count);
+    for (std::uint32_t s = 0; s < count; ++s)
+        before[s] = {s < core.size() ? core[s] : 0, area[s], area[s] + bandExtra[s], false};
     // Merge small segments into their largest neighbour, smallest first.
     for (;;) {
         std::uint32_t smallest = kNoNode;
@@ -136,6 +206,7 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph,
         }
         parent[smallest] = target;
         area[target] += area[smallest];
+        before[smallest].merged = true;
     }
 
     // Final ids by decreasing area, ties by smallest node.
@@ -155,6 +226,8 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph,
     });
     std::vector<std::uint32_t> id(count, kNoNode);
     SurfaceSegments out;
+    out.loopSeparates = std::move(loopSeparates);
+    out.before = std::move(before);
     for (std::uint32_t r : roots) {
         id[r] = out.segmentCount++;
         out.area.push_back(finalArea[r]);

@@ -24,15 +24,40 @@
 
 namespace skelseg {
 
+/// One surface piece before the small-segment merge, as the merge measured it.
+struct SegmentMeasure {
+    std::uint64_t core = 0;      // nodes outside every cut's band
+    std::uint64_t area = 0;      // ... with the band nodes the sweep gave it
+    std::uint64_t measured = 0;  // area plus the rest of each band it touches (§9.2)
+    bool merged = false;         // merged into a neighbour as too small
+};
+
 struct SurfaceSegments {
     std::vector<std::uint32_t> nodeLabel;  // per boundary node, 0..segmentCount-1
     std::uint32_t segmentCount = 0;
     std::vector<std::uint64_t> area;  // boundary nodes per segment
+    /// Per cut loop: separatingLoops, before the small-segment merge
+    /// (docs/algorithm.md §8.10).
+    std::vector<std::uint8_t> loopSeparates;
+    /// Every piece the cuts leave, before the merge, in node order of its
+    /// first node (cavities that joined the largest piece included).
+    std::vector<SegmentMeasure> before;
 };
 
+/// Per cut loop: 1 when, with every loop's dilated band removed from the
+/// surface, the nodes next to its band lie in two or more pieces of at least
+/// `noiseArea` nodes (a smaller piece is a pocket between the paths of a wide
+/// loop, docs/algorithm.md §5.3); 0 when the loop separates nothing (a loop
+/// round a handle with no other cut on it). The same test as
+/// SurfaceSegments::loopSeparates, without the labelling.
+std::vector<std::uint8_t> separatingLoops(const BoundaryGraph& graph,
+                                          const std::vector<std::vector<std::uint32_t>>& cutLoops,
+                                          double noiseArea);
+
+/// noiseArea: only for SurfaceSegments::loopSeparates (separatingLoops).
 SurfaceSegments labelSurface(const BoundaryGraph& graph,
                              const std::vector<std::vector<std::uint32_t>>& cutLoops,
-                             double minSegmentArea);
+                             double minSegmentArea, double noiseArea = 0.0);
 
 /// Labels every object voxel of `mask` by the segment of its feature voxel:
 /// out[v] = labelOfSegment[nodeLabel(F(v))] (labelOfSegment: one output label

@@ -49,6 +49,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(defaults.at("below_sigma_min_only_limbs"), true);
     EXPECT_EQ(defaults.at("passage_cuts_only_smaller"), true);
     EXPECT_EQ(defaults.at("one_branch_junctions_end_the_body"), true);
+    EXPECT_EQ(defaults.at("separating_cuts_only"), true);
     EXPECT_EQ(defaults.at("fork_junctions"), true);
     EXPECT_EQ(defaults.at("grow_regions_to_splits"), true);
 
@@ -58,6 +59,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
          "--limb-sigma-margin", "0.25", "--limb-loop-variation", "0.75",
          "--no-limbs-below-sigma-min", "--no-passages-as-body", "--no-shared-body-reference",
          "--no-body-check-below-sigma-min", "--no-passage-area-check", "--no-body-end-check",
+         "--no-separation-check",
          "--no-fork-junctions", "--no-grow-regions"});
     EXPECT_EQ(set.at("sibling_tolerance"), 0.125);
     EXPECT_EQ(set.at("limb_taper"), 0.5);
@@ -70,6 +72,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(set.at("below_sigma_min_only_limbs"), false);
     EXPECT_EQ(set.at("passage_cuts_only_smaller"), false);
     EXPECT_EQ(set.at("one_branch_junctions_end_the_body"), false);
+    EXPECT_EQ(set.at("separating_cuts_only"), false);
     EXPECT_EQ(set.at("fork_junctions"), false);
     EXPECT_EQ(set.at("grow_regions_to_splits"), false);
 }
@@ -89,6 +92,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     parameters.cutRules.belowSigmaMinOnlyLimbs = false;
     parameters.cutRules.passageCutsOnlySmallerCandidates = false;
     parameters.cutRules.oneBranchJunctionsEndTheBody = false;
+    parameters.cutRules.separatingCutsOnly = false;
     parameters.cutRules.relaxSigmaMinForLimbs = false;
     parameters.cutRules.limbSigmaMargin = 0.25;
     parameters.cutRules.limbLoopVariation = 0.75;
@@ -105,6 +109,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     EXPECT_FALSE(options.belowSigmaMinOnlyLimbs);
     EXPECT_FALSE(options.passageCutsOnlySmallerCandidates);
     EXPECT_FALSE(options.oneBranchJunctionsEndTheBody);
+    EXPECT_FALSE(options.separatingCutsOnly);
     EXPECT_FALSE(options.relaxSigmaMinForLimbs);
     EXPECT_EQ(options.limbSigmaMargin, 0.25);
     EXPECT_EQ(options.limbLoopVariation, 0.75);

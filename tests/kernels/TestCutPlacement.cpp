@@ -1022,6 +1022,122 @@ TEST(CutPlacement, OneBranchJunctionDoesNotCutTheWayToAnotherJunctionAtTwoScales
         const CutPlan handle = roundEndOfTheBody(scale, false, {});
         ASSERT_EQ(handle.junctions.size(), 1u);
         EXPECT_EQ(handle.junctions[0].cuts, 1u) << "a handle that ends free is a limb";
+/// A limb (rho_S 10 s) leaving a body junction (rho_S 40 s) reaches a
+/// junction of its own (PSB octopus 121 at 320: a thin bridge to the next arm
+/// leaves there, the stub along y) and goes on to a free tip, at scale s. A
+/// handle through the bridge joins the limb to the rest again before that
+/// junction: the loops there separate nothing unless the stub is cut too (the
+/// two loops then cut off the limb's base and the bridge together); the
+/// loops of the body and the tip separate. With `withTip` false the limb
+/// ends at its junction; with `stubIsLimb` the stub is tight and thin, so
+/// its junction cuts it.
+struct LimbThroughAHandle {
+    int scale = 1;
+    int a = 0, b = 0;  // x of the body junction and of the limb's junction
+    int width = 0;
+    std::vector<SkeletonPoint> points;
+    SkeletonGraph graph;
+    LimbThroughAHandle(int s, bool withTip, bool stubIsLimb = false) : scale(s) {
+        const int body = 20 * s, limb = 20 * s, tipLength = 15 * s, stub = 8 * s;
+        a = body + 1, b = a + limb + 1, width = b + tipLength + 3;
+        SkeletonPointSet set{Dims{width, stub + 8, 3}};
+        set.add({a, 5, 1}, 40.0f * float(s), 9000.0, 3);
+        for (std::uint32_t v : set.chain({a - 1, 5, 1}, {-1, 0, 0}, body, 40.0f * float(s)))
+            set.point(v).sigma = 0.9f;
+        for (std::uint32_t v : set.chain({a + 1, 5, 1}, {1, 0, 0}, limb, 10.0f * float(s)))
+            set.point(v).sigma = 0.9f;
+        set.add({b, 5, 1}, 10.0f * float(s), 9000.0, 3);
+        for (std::uint32_t v : set.chain({b, 6, 1}, {0, 1, 0}, stub, 2.0f * float(s), 2000.0))
+            set.point(v).sigma = stubIsLimb ? 0.9f : 0.3f;
+        if (withTip)
+            for (std::uint32_t v : set.chain({b + 1, 5, 1}, {1, 0, 0}, tipLength, 10.0f * float(s)))
+                set.point(v).sigma = 0.9f;
+        points = set.points();
+        graph = buildSkeletonGraph(points, set.dims(), {});
+    }
+    int xOf(std::uint32_t voxel) const { return int(voxel % std::uint32_t(width)); }
+    int yOf(std::uint32_t voxel) const {
+        return int(voxel / std::uint32_t(width)) % (8 * scale + 8);
+    }
+    bool onHandle(std::uint32_t pointIndex) const {
+        const std::uint32_t v = points[pointIndex].voxel;
+        return yOf(v) > 5 || (xOf(v) > a && xOf(v) < b);
+    }
+    CutPlan place(const CutOptions& options) const {
+        return placeCuts(
+            graph, points, options, [](std::uint32_t) { return 0.0; },
+            [this](const std::vector<std::uint32_t>& loops) {
+                // Loops on the handle separate only when it is cut twice.
+                const auto onIt = std::count_if(loops.begin(), loops.end(),
+                                                [this](std::uint32_t p) { return onHandle(p); });
+                std::vector<std::uint8_t> separates;
+                for (std::uint32_t p : loops) separates.push_back(!onHandle(p) || onIt >= 2);
+                return separates;
+            });
+    }
+    int cutX(const CutPlan& plan, std::size_t k = 0) const {
+        return xOf(points[graph.point[plan.cutNodes[k]]].voxel);
+    }
+};
+
+TEST(CutPlacement, CutWhoseLoopSeparatesNothingMovesPastTheHandleAtTwoScales) {
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const LimbThroughAHandle shape(scale, true);
+        ASSERT_EQ(shape.graph.junctions.size(), 2u);
+        const CutPlan plan = shape.place({});
+        ASSERT_EQ(plan.cutNodes.size(), 1u);
+        EXPECT_GT(shape.cutX(plan), shape.b) << "the cut separates the tip";
+        EXPECT_LE(shape.cutX(plan), shape.b + 5 * scale) << "at the tip's first tight levels";
+        const auto cut = std::find_if(plan.candidates.begin(), plan.candidates.end(),
+                                      [](const CutCandidate& c) { return c.isCut; });
+        ASSERT_NE(cut, plan.candidates.end());
+        EXPECT_EQ(cut->junction, 0u);
+        EXPECT_FALSE(cut->loopSeparates);
+        EXPECT_TRUE(cut->movedToSeparate);
+        EXPECT_EQ(plan.junctions[0].cuts, 1u);
+        EXPECT_EQ(plan.junctions[1].cuts, 0u) << "the limb passes through its junction";
+
+        CutOptions without;
+        without.separatingCutsOnly = false;
+        const CutPlan old = shape.place(without);
+        ASSERT_EQ(old.cutNodes.size(), 1u);
+        EXPECT_LT(shape.cutX(old), shape.b)
+            << "the rule this test guards: a loop that separates nothing";
+    }
+}
+
+TEST(CutPlacement, CutThatNoLoopFurtherOnCanReplaceIsDroppedAtTwoScales) {
+    // Without a tip the limb only goes round the handle: no loop along it
+    // separates anything, so there is nothing to cut (PSB cup 21's handle).
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const LimbThroughAHandle shape(scale, false);
+        const CutPlan plan = shape.place({});
+        EXPECT_TRUE(plan.cutNodes.empty());
+        const auto dropped = std::find_if(plan.candidates.begin(), plan.candidates.end(),
+                                          [](const CutCandidate& c) { return !c.loopSeparates; });
+        ASSERT_NE(dropped, plan.candidates.end());
+        EXPECT_FALSE(dropped->isCut);
+        EXPECT_FALSE(dropped->onBody);
+    }
+}
+
+TEST(CutPlacement, TwoCutsThatSeparateTogetherStayAtTwoScales) {
+    // The limb cut at its base and the bridge cut at the limb's junction
+    // together cut off the limb: each loop borders two pieces, nothing moves.
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const LimbThroughAHandle shape(scale, true, true);
+        const CutPlan plan = shape.place({});
+        ASSERT_EQ(plan.cutNodes.size(), 2u);
+        for (const CutCandidate& c : plan.candidates) {
+            EXPECT_TRUE(c.loopSeparates);
+            EXPECT_FALSE(c.movedToSeparate);
+        }
+        EXPECT_EQ(plan.junctions[0].cuts, 1u);
+        EXPECT_EQ(plan.junctions[1].cuts, 1u);
+        EXPECT_LT(std::min(shape.cutX(plan, 0), shape.cutX(plan, 1)), shape.b);
     }
 }
 

@@ -317,5 +317,39 @@ TEST(SurfaceLabelling, CavitySurfaceJoinsTheLargestSegment) {
     EXPECT_EQ(cut.nodeLabel[graph.nodeOfVoxel[mask.index(12, 12, 23)]], 1u);
 }
 
+TEST(SurfaceLabelling, LoopRoundAHandleSeparatesNothing) {
+    // A torus cut once round its tube stays one piece: the loop separates
+    // nothing (docs/algorithm.md §8.10). Cut twice, both loops border the two
+    // pieces. The merge's measures of every piece are reported.
+    const MaskVolume mask = rasterise(makeShape("torus"), {60, 2});
+    const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
+    int xMin = graph.coord[0].x, xMax = xMin, yMin = graph.coord[0].y, yMax = yMin;
+    for (const Coord& c : graph.coord) {
+        xMin = std::min(xMin, c.x), xMax = std::max(xMax, c.x);
+        yMin = std::min(yMin, c.y), yMax = std::max(yMax, c.y);
+    }
+    const int cx = (xMin + xMax) / 2, cy = (yMin + yMax) / 2;
+    std::vector<std::uint32_t> near, far;
+    for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
+        if (graph.coord[n].x == cx) (graph.coord[n].y > cy ? far : near).push_back(n);
+    const SurfaceSegments once = labelSurface(graph, {near}, 0.0);
+    EXPECT_EQ(once.segmentCount, 1u);
+    EXPECT_EQ(once.loopSeparates, (std::vector<std::uint8_t>{0}));
+    const SurfaceSegments twice = labelSurface(graph, {near, far}, 0.0);
+    EXPECT_EQ(twice.segmentCount, 2u);
+    EXPECT_EQ(twice.loopSeparates, (std::vector<std::uint8_t>{1, 1}));
+    ASSERT_EQ(twice.before.size(), 2u);
+    for (const SegmentMeasure& m : twice.before) {
+        EXPECT_LT(m.core, m.area);
+        EXPECT_LT(m.area, m.measured);
+        EXPECT_FALSE(m.merged);
+    }
+    EXPECT_EQ(twice.before[0].area + twice.before[1].area, graph.nodeCount());
+    // Merged with a threshold above both halves but the largest: the other goes.
+    const SurfaceSegments merged = labelSurface(graph, {near, far}, double(graph.nodeCount()));
+    EXPECT_EQ(merged.segmentCount, 1u);
+    EXPECT_EQ(int(merged.before[0].merged) + int(merged.before[1].merged), 1);
+}
+
 }  // namespace
 }  // namespace skelseg

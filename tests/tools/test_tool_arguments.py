@@ -28,7 +28,9 @@ FORWARDS_UNKNOWN_OPTIONS = {"tools/run-asan-tests.sh"}
 POSITIONALS = {
     "bench/alternate_stages.py": ["skelseg"],
     "bench/compare_search.py": ["mesh.off"],
+    "bench/cut_separation.py": ["out"],
     "bench/joint_candidates.py": ["out"],
+    "bench/merge_measures.py": ["out"],
     "bench/scaling.py": ["mesh.off"],
     "bench/time_budget.py": ["mesh.off"],
     "profiles/stage_table.py": ["report.json"],
