@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "engine/SegmentationLevels.h"
 #include "engine/Stage.h"
 #include "kernels/CutLoopOrder.h"
+#include "kernels/CutPieceReach.h"
 #include "kernels/FeatureTransform.h"
 #include "kernels/RimCount.h"
 #include "kernels/SkeletonBand.h"
@@ -174,13 +176,36 @@ void placeObjectCuts(ObjectState& state) {
     const CutOptions options = p.cutOptions();
     SkeletonMeasureOptions exactOptions = state.measureOptions();
     exactOptions.exactRhoC = true;
-    state.plan = placeCuts(state.skeleton, state.points, options, [&](std::uint32_t pointIndex) {
-        SkeletonPoint exact;
-        return measurePoint(graph, state.candidates[state.points[pointIndex].candidate],
-                            exactOptions, exact)
-                   ? exact.rhoC
-                   : 0.0;
-    });
+    // The corner rule's reach of the piece past a cut: the loop as the cut
+    // would draw it (the run's landmarks), flooded to twice cornerReach so
+    // that the answer on either side of the threshold is exact.
+    // Workspaces made on the first corner only: most objects have none.
+    std::unique_ptr<GeodesicSearch> search;
+    std::unique_ptr<RimCounter> rims;
+    const auto pieceReach = [&](std::uint32_t cutNode, std::uint32_t junction) {
+        if (!search) {
+            search = std::make_unique<GeodesicSearch>(graph, &state.landmarks);
+            rims = std::make_unique<RimCounter>(graph);
+        }
+        const SkeletonPoint& sp = state.points[state.skeleton.point[cutNode]];
+        std::uint32_t a = 0, b = 0;
+        const std::vector<std::uint32_t> gamma =
+            pathSet(graph, state.candidates[sp.candidate], *search, nullptr, &a, &b);
+        const std::vector<std::uint32_t> loop = orderCutLoop(graph, gamma, a, b, *search, *rims);
+        const Coord at = state.skeleton.coord[state.skeleton.junctions[junction].representative];
+        return pieceReachPastLoop(graph, gamma, loop, {double(at.x), double(at.y), double(at.z)},
+                                  2.0 * options.cornerReach);
+    };
+    state.plan = placeCuts(
+        state.skeleton, state.points, options,
+        [&](std::uint32_t pointIndex) {
+            SkeletonPoint exact;
+            return measurePoint(graph, state.candidates[state.points[pointIndex].candidate],
+                                exactOptions, exact)
+                       ? exact.rhoC
+                       : 0.0;
+        },
+        pieceReach);
     appendCutLoops(state, state.plan.cutNodes, CutKind::Junction);
     throwIfInterrupted(state.interrupter);
 }
