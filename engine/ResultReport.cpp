@@ -58,6 +58,7 @@ json methodParameters(const SegmentationParameters& p) {
             {"sibling_tolerance", cut.siblingTolerance},
             {"limb_taper", cut.limbTaper},
             {"corner_length", cut.cornerLength},
+            {"corner_reach", cut.cornerReach},
             {"passages_are_body", cut.passagesAreBody},
             {"shared_body_reference", cut.shareBodyAcrossPassages},
             {"below_sigma_min_only_limbs", cut.belowSigmaMinOnlyLimbs},

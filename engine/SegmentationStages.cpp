@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 
 #include "engine/SegmentationLevels.h"
 #include "engine/Stage.h"
 #include "kernels/CutLoopOrder.h"
+#include "kernels/CutPieceReach.h"
 #include "kernels/FeatureTransform.h"
 #include "kernels/RimCount.h"
 #include "kernels/SkeletonBand.h"
@@ -176,9 +178,17 @@ void placeObjectCuts(ObjectState& state) {
     const CutOptions options = p.cutOptions();
     SkeletonMeasureOptions exactOptions = state.measureOptions();
     exactOptions.exactRhoC = true;
-    // The loops of the cuts, judged together as the labelling will cut them
-    // (the same searches as appendCutLoops, so the same paths).
-    GeodesicSearch search(graph, &state.landmarks);
+    // The cut loops as the labelling will draw them (the run's landmarks, so
+    // the same paths as appendCutLoops). Workspaces made on first use: most
+    // objects need neither check.
+    std::unique_ptr<GeodesicSearch> search;
+    std::unique_ptr<RimCounter> rims;
+    auto searchOnce = [&]() -> GeodesicSearch& {
+        if (!search) search = std::make_unique<GeodesicSearch>(graph, &state.landmarks);
+        return *search;
+    };
+    // Whether the loops of a set of cuts separate, judged together as the
+    // labelling cuts them.
     std::map<std::uint32_t, std::vector<std::uint32_t>> loopOfPoint;
     const LoopSeparation loopsSeparate = [&](const std::vector<std::uint32_t>& pointIndices) {
         std::vector<std::vector<std::uint32_t>> loops;
@@ -188,11 +198,25 @@ void placeObjectCuts(ObjectState& state) {
                 it = loopOfPoint
                          .emplace(point,
                                   pathSet(graph, state.candidates[state.points[point].candidate],
-                                          search))
+                                          searchOnce()))
                          .first;
             loops.push_back(it->second);
         }
         return separatingLoops(graph, loops, state.out.noiseArea);
+    };
+    // The corner rule's reach of the piece past a cut, flooded to twice
+    // cornerReach so that the answer on either side of the threshold is exact.
+    const PieceReach pieceReach = [&](std::uint32_t cutNode, std::uint32_t junction) {
+        if (!rims) rims = std::make_unique<RimCounter>(graph);
+        const SkeletonPoint& sp = state.points[state.skeleton.point[cutNode]];
+        std::uint32_t a = 0, b = 0;
+        const std::vector<std::uint32_t> gamma =
+            pathSet(graph, state.candidates[sp.candidate], searchOnce(), nullptr, &a, &b);
+        const std::vector<std::uint32_t> loop =
+            orderCutLoop(graph, gamma, a, b, searchOnce(), *rims);
+        const Coord at = state.skeleton.coord[state.skeleton.junctions[junction].representative];
+        return pieceReachPastLoop(graph, gamma, loop, {double(at.x), double(at.y), double(at.z)},
+                                  2.0 * options.cornerReach);
     };
     state.plan = placeCuts(
         state.skeleton, state.points, options,
@@ -203,7 +227,7 @@ void placeObjectCuts(ObjectState& state) {
                        ? exact.rhoC
                        : 0.0;
         },
-        loopsSeparate);
+        loopsSeparate, pieceReach);
     appendCutLoops(state, state.plan.cutNodes, CutKind::Junction);
     throwIfInterrupted(state.interrupter);
 }

@@ -77,7 +77,7 @@ struct SegmentationParameters {
     double bodyRatio = 0.6;
     CutMode mode = CutMode::JunctionRule;
     /// The cut placement's other rules (kernels/CutPlacement.h): sibling
-    /// tolerance, limb taper, corner length, passages, the run below
+    /// tolerance, limb taper, corner length and reach, passages, the run below
     /// sigmaMin. Its sigmaMin, bodyRatio, consecutiveLevels and mode are
     /// replaced by the fields of these parameters (cutOptions()).
     CutOptions cutRules;

@@ -125,7 +125,11 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
                  1.0);
     addThreshold("--corner-length", rules.cornerLength,
                  "A cut past which the skeleton ends within this many loop radii is a corner of a "
-                 "flat end, not cut",
+                 "flat end, not cut (if --corner-reach agrees)",
+                 10.0);
+    addThreshold("--corner-reach", rules.cornerReach,
+                 "... and if the piece it cuts off stays within this many times its loop's size "
+                 "from the loop's centre",
                  10.0);
     addThreshold("--limb-sigma-margin", rules.limbSigmaMargin,
                  "A branch with no run at --sigma-min may give a limb from a run this far below it",

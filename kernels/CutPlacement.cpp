@@ -313,7 +313,7 @@ std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels)
 
 CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                   const CutOptions& options, const std::function<double(std::uint32_t)>& exactRhoC,
-                  const LoopSeparation& loopsSeparate) {
+                  const LoopSeparation& loopsSeparate, const PieceReach& pieceReach) {
     // Junctions joined by a passage lie on one body (the body passes through
     // both), and whether their regions touch and make one junction depends
     // on the resolution: a first plan measures each junction's body
@@ -560,10 +560,15 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                     // Only a loop clearly shorter than the body's: where more than
                     // two candidates look like body (the flukes of a tail), the
                     // loops are the body's own and rule 3 decides.
+                    // A short skeleton past the cut makes it a candidate corner;
+                    // the piece's surface decides where the caller can flood it
+                    // (the skeleton's end comes in whole levels and moves with
+                    // the resolution on short flat parts such as fins).
                     c.isCorner =
                         c.similarity < float(options.bodyRatio) &&
                         isCornerOfTheBody(c.level, skeletonEndOf[i - first],
-                                          points[g.point[c.node]].rhoS, options.cornerLength);
+                                          points[g.point[c.node]].rhoS, options.cornerLength) &&
+                        (!pieceReach || pieceReach(c.node, j) < options.cornerReach);
                     c.isCut = !c.isCorner;
                 }
             }

@@ -27,8 +27,9 @@
 // a branch that reaches another junction, which judges that branch. Each remaining candidate's cut
 // moves to the first tight level of that window whose loop is closer to the limb's circumference
 // than to the body's (a loop as long as the body's still wraps the body); a cut past which the
-// skeleton ends within half the loop's radius is a corner of a flat end and is dropped
-// (isCornerOfTheBody); the loops Gamma of the remaining points are the cuts.
+// skeleton ends within half the loop's radius, and whose piece stays within the ball its loop spans
+// (where the caller measures it), is a corner of a flat end and is dropped (isCornerOfTheBody,
+// pieceReach); the loops Gamma of the remaining points are the cuts.
 #pragma once
 
 #include <cstdint>
@@ -63,6 +64,12 @@ struct CutOptions {
     /// A cut past which the branch's skeleton ends within this many loop
     /// radii takes a corner of a flat end, not a limb (isCornerOfTheBody).
     double cornerLength = 0.5;
+    /// ... and, where the caller measures the piece past the cut (placeCuts'
+    /// pieceReach), only if the piece stays within this many times the
+    /// loop's own size from the loop's centre: a corner is a cap inside the
+    /// ball its loop spans, a fin or a limb sticks out of it
+    /// (pieceReachPastLoop; docs/algorithm.md §8.6).
+    double cornerReach = 1.16;
     /// A branch that reaches another junction without a run of tight levels
     /// is body at this junction: it counts in the "more than two" rule and
     /// in the sibling test (docs/algorithm.md §8.6, "Passages").
@@ -185,12 +192,21 @@ void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandid
 /// (separatingLoops in kernels/SurfaceLabelling.h).
 using LoopSeparation = std::function<std::vector<std::uint8_t>(const std::vector<std::uint32_t>&)>;
 
+/// pieceReach(cutNode, junction): how far the piece that the loop of skeleton
+/// graph node `cutNode` cuts off, on the side away from junction `junction`
+/// (an index into graph.junctions), reaches from the loop's centre, over the
+/// loop's own size (pieceReachPastLoop, CutPieceReach.h). Only asked for the
+/// cuts the skeleton's levels take for corners (isCornerOfTheBody); a reach
+/// of cornerReach or more makes such a cut a cut again.
+using PieceReach = std::function<double(std::uint32_t cutNode, std::uint32_t junction)>;
+
 /// exactRhoC(pointIndex) returns the exact rho_C of a SkeletonPoint (only
 /// called for the "more than two qualify" rule). loopsSeparate answers for
 /// separatingCutsOnly; empty, or with the rule off, every loop is taken to
-/// separate.
+/// separate. Without pieceReach the corner rule reads only the skeleton's
+/// levels past the cut.
 CutPlan placeCuts(const SkeletonGraph& graph, const std::vector<SkeletonPoint>& points,
                   const CutOptions& options, const std::function<double(std::uint32_t)>& exactRhoC,
-                  const LoopSeparation& loopsSeparate = {});
+                  const LoopSeparation& loopsSeparate = {}, const PieceReach& pieceReach = {});
 
 }  // namespace skelseg
