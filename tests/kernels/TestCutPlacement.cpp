@@ -1022,6 +1022,9 @@ TEST(CutPlacement, OneBranchJunctionDoesNotCutTheWayToAnotherJunctionAtTwoScales
         const CutPlan handle = roundEndOfTheBody(scale, false, {});
         ASSERT_EQ(handle.junctions.size(), 1u);
         EXPECT_EQ(handle.junctions[0].cuts, 1u) << "a handle that ends free is a limb";
+    }
+}
+
 /// A limb (rho_S 10 s) leaving a body junction (rho_S 40 s) reaches a
 /// junction of its own (PSB octopus 121 at 320: a thin bridge to the next arm
 /// leaves there, the stub along y) and goes on to a free tip, at scale s. A
