@@ -41,6 +41,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(defaults.at("sibling_tolerance"), cut.siblingTolerance);
     EXPECT_EQ(defaults.at("limb_taper"), cut.limbTaper);
     EXPECT_EQ(defaults.at("corner_length"), cut.cornerLength);
+    EXPECT_EQ(defaults.at("corner_reach"), cut.cornerReach);
     EXPECT_EQ(defaults.at("limb_sigma_margin"), cut.limbSigmaMargin);
     EXPECT_EQ(defaults.at("limb_loop_variation"), cut.limbLoopVariation);
     EXPECT_EQ(defaults.at("limbs_below_sigma_min"), true);
@@ -53,17 +54,32 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(defaults.at("fork_junctions"), true);
     EXPECT_EQ(defaults.at("grow_regions_to_splits"), true);
 
-    const nlohmann::json set = reportedParameters(
-        dir, "set",
-        {"--sibling-tolerance", "0.125", "--limb-taper", "0.5", "--corner-length", "1.5",
-         "--limb-sigma-margin", "0.25", "--limb-loop-variation", "0.75",
-         "--no-limbs-below-sigma-min", "--no-passages-as-body", "--no-shared-body-reference",
-         "--no-body-check-below-sigma-min", "--no-passage-area-check", "--no-body-end-check",
-         "--no-separation-check",
-         "--no-fork-junctions", "--no-grow-regions"});
+    const nlohmann::json set = reportedParameters(dir, "set",
+                                                  {"--sibling-tolerance",
+                                                   "0.125",
+                                                   "--limb-taper",
+                                                   "0.5",
+                                                   "--corner-length",
+                                                   "1.5",
+                                                   "--corner-reach",
+                                                   "2.5",
+                                                   "--limb-sigma-margin",
+                                                   "0.25",
+                                                   "--limb-loop-variation",
+                                                   "0.75",
+                                                   "--no-limbs-below-sigma-min",
+                                                   "--no-passages-as-body",
+                                                   "--no-shared-body-reference",
+                                                   "--no-body-check-below-sigma-min",
+                                                   "--no-passage-area-check",
+                                                   "--no-body-end-check",
+                                                   "--no-separation-check",
+                                                   "--no-fork-junctions",
+                                                   "--no-grow-regions"});
     EXPECT_EQ(set.at("sibling_tolerance"), 0.125);
     EXPECT_EQ(set.at("limb_taper"), 0.5);
     EXPECT_EQ(set.at("corner_length"), 1.5);
+    EXPECT_EQ(set.at("corner_reach"), 2.5);
     EXPECT_EQ(set.at("limb_sigma_margin"), 0.25);
     EXPECT_EQ(set.at("limb_loop_variation"), 0.75);
     EXPECT_EQ(set.at("limbs_below_sigma_min"), false);
@@ -87,6 +103,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     parameters.cutRules.siblingTolerance = 0.125;
     parameters.cutRules.limbTaper = 0.5;
     parameters.cutRules.cornerLength = 1.5;
+    parameters.cutRules.cornerReach = 2.5;
     parameters.cutRules.passagesAreBody = false;
     parameters.cutRules.shareBodyAcrossPassages = false;
     parameters.cutRules.belowSigmaMinOnlyLimbs = false;
@@ -104,6 +121,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     EXPECT_EQ(options.siblingTolerance, 0.125);
     EXPECT_EQ(options.limbTaper, 0.5);
     EXPECT_EQ(options.cornerLength, 1.5);
+    EXPECT_EQ(options.cornerReach, 2.5);
     EXPECT_FALSE(options.passagesAreBody);
     EXPECT_FALSE(options.shareBodyAcrossPassages);
     EXPECT_FALSE(options.belowSigmaMinOnlyLimbs);
