@@ -20,10 +20,12 @@
 
 namespace skelseg {
 
-/// Runs body(begin, end) over [0, count) in parallel (threaded) or as one
-/// serial call. grain: the smallest range TBB hands to one task (>= 1).
-template <typename Index, typename RangeBody>
-void parallelFor(Index count, const RangeBody& body, bool threaded = true, std::size_t grain = 1) {
+namespace detail {
+/// parallelFor and parallelForSmallRanges: the same loop, TBB's partitioner
+/// apart.
+template <typename Index, typename RangeBody, typename Partitioner>
+void parallelForWith(Index count, const RangeBody& body, bool threaded, std::size_t grain,
+                     const Partitioner& partitioner) {
     static_assert(std::is_integral<Index>::value, "parallelFor counts with an integer type");
     if (count <= Index(0)) return;
     if (!threaded) {
@@ -32,7 +34,16 @@ void parallelFor(Index count, const RangeBody& body, bool threaded = true, std::
     }
     tbb::parallel_for(
         tbb::blocked_range<Index>(Index(0), count, grain > 0 ? grain : 1),
-        [&](const tbb::blocked_range<Index>& range) { body(range.begin(), range.end()); });
+        [&](const tbb::blocked_range<Index>& range) { body(range.begin(), range.end()); },
+        partitioner);
+}
+}  // namespace detail
+
+/// Runs body(begin, end) over [0, count) in parallel (threaded) or as one
+/// serial call. grain: the smallest range TBB hands to one task (>= 1).
+template <typename Index, typename RangeBody>
+void parallelFor(Index count, const RangeBody& body, bool threaded = true, std::size_t grain = 1) {
+    detail::parallelForWith(count, body, threaded, grain, tbb::auto_partitioner());
 }
 
 /// parallelFor for loops whose cost per index varies by orders of magnitude
@@ -45,16 +56,7 @@ void parallelFor(Index count, const RangeBody& body, bool threaded = true, std::
 /// most one such range; serial, body(0, count) runs once as in parallelFor.
 template <typename Index, typename RangeBody>
 void parallelForSmallRanges(Index count, const RangeBody& body, bool threaded, std::size_t grain) {
-    static_assert(std::is_integral<Index>::value, "parallelFor counts with an integer type");
-    if (count <= Index(0)) return;
-    if (!threaded) {
-        body(Index(0), count);
-        return;
-    }
-    tbb::parallel_for(
-        tbb::blocked_range<Index>(Index(0), count, grain > 0 ? grain : 1),
-        [&](const tbb::blocked_range<Index>& range) { body(range.begin(), range.end()); },
-        tbb::simple_partitioner());
+    detail::parallelForWith(count, body, threaded, grain, tbb::simple_partitioner());
 }
 
 /// The same with a per-index body: body(i) for every i in [0, count).
