@@ -293,10 +293,9 @@ SelfOverlapSeparation separateSelfOverlaps(const TriangleMesh& mesh, MaskVolume&
     result.overlapVoxels = voxels.size();
     if (voxels.empty()) return result;
     const std::uint64_t nx = std::uint64_t(dims.x), nxy = nx * std::uint64_t(dims.y);
-    const int firstReach = std::max(0, options.clearance);
-    const int lastReach = std::max(firstReach, options.maxClearance);
-    // The cells within `reach` of the group that are object voxels.
-    auto cellsAround = [&](const std::vector<std::size_t>& group, int reach) {
+    const int reach = std::max(0, options.clearance);
+    for (const auto& group : groupsOf(voxels, dims)) {
+        throwIfInterrupted(interrupter);
         std::vector<Cell> cells;
         for (std::size_t i : group) {
             const std::uint64_t v = voxels[i];
@@ -312,27 +311,14 @@ SelfOverlapSeparation separateSelfOverlaps(const TriangleMesh& mesh, MaskVolume&
         }
         std::sort(cells.begin(), cells.end());
         cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-        return cells;
-    };
-    for (const auto& group : groupsOf(voxels, dims)) {
-        bool separated = false, nothingToClear = false;
-        // A clearing that would add topology in its box can separate the two
-        // surfaces without adding any when it is a voxel or two wider
-        // (docs/meshes.md, "Wider where the first clearing is refused").
-        for (int reach = firstReach; reach <= lastReach && !separated; ++reach) {
-            throwIfInterrupted(interrupter);
-            const std::vector<Cell> cells = cellsAround(group, reach);
-            if (cells.empty()) {
-                nothingToClear = true;
-                break;
-            }
-            if (changeAddsTopology(mask, cells, 0)) continue;
+        if (cells.empty()) continue;
+        if (!changeAddsTopology(mask, cells, 0)) {
             for (const Cell& c : cells) mask(c[0], c[1], c[2]) = 0;
             ++result.overlaps;
             result.voxelsCleared += cells.size();
-            separated = true;
+        } else {
+            ++result.overlapsKept;
         }
-        if (!separated && !nothingToClear) ++result.overlapsKept;
     }
     return result;
 }

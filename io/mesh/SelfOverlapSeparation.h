@@ -22,8 +22,7 @@
 // and a layer of the part it sinks into, which leaves a pocket in the host and
 // a gap between the two surfaces. A group is cleared
 // only if that adds no topology in the box around it (genus and cavities do
-// not grow), as for contacts; when it would, the clearing is tried one voxel
-// wider at a time, up to `maxClearance`. The buried faces then take the label of the
+// not grow), as for contacts. The buried faces then take the label of the
 // nearest part (FaceLabels.h).
 //
 // Limits: open pieces and pieces not consistently oriented have no winding
@@ -47,9 +46,6 @@ struct SelfOverlapOptions {
     /// two leave a gap where the two surfaces cross at the group's rim, which
     /// one does not (docs/meshes.md, "Parts that pass through each other").
     int clearance = 2;
-    /// A group whose clearing would add topology is tried again one voxel
-    /// wider, up to this many (docs/meshes.md, "Wider where the first clearing is refused").
-    int maxClearance = 4;
     /// false: everything runs on the calling thread (same result).
     bool threaded = true;
 };
