@@ -81,7 +81,7 @@ TEST(SelfOverlap, AWiderClearingSeparatesWhereTheFirstIsRefused) {
     // voxels wide, every case separates.
     int refusedAtFirstClearing = 0;
     for (double extraAngle : {1.2, 2.0})
-        for (int resolution : {96, 128}) {
+        for (int resolution : {64, 96}) {
             test::CurledTube tube;
             tube.endRadius = 0.3;
             tube.extraAngle = extraAngle;
