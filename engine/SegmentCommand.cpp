@@ -247,6 +247,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     SegmentInputOptions inputOptions;
     inputOptions.gridName = options.gridName;
     inputOptions.resolution = options.resolution;
+    inputOptions.selfOverlapClearance = options.selfOverlapClearance;
     inputOptions.threads = threads;
     inputOptions.levels = int(options.parameters.levelCount());
     inputOptions.timeBudgetSeconds = options.timeBudgetSeconds;

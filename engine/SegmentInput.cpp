@@ -82,6 +82,7 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
     voxelizeOptions.resolution = options.resolution;
     voxelizeOptions.meshIsClosed = source.meshDiagnostics.closed;
     voxelizeOptions.fillThinParts = fillThinParts;
+    voxelizeOptions.selfOverlapOptions.maxClearance = options.selfOverlapClearance;
     // The voxeliser's refusals (a grid over the cap, a mesh collapsed to a
     // point) do not know the file: name it, as every error must.
     const auto nameTheFile = [&](const UsageError& error) {

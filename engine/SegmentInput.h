@@ -73,8 +73,11 @@ struct SegmentMask {
 struct SegmentInputOptions {
     std::string gridName;  // .vdb: grid to read (default: the first)
     int resolution = 256;  // meshes: voxels along the longest side
-    int threads = 1;       // for the memory estimate (per-thread workspaces)
-    int levels = 1;        // for the memory estimate (hierarchy runs: --tau list)
+    // Meshes: widest clearing of a place where the mesh passes through itself
+    // (SelfOverlapOptions::maxClearance; 2: no wider retry).
+    int selfOverlapClearance = 2;
+    int threads = 1;  // for the memory estimate (per-thread workspaces)
+    int levels = 1;   // for the memory estimate (hierarchy runs: --tau list)
     std::uint64_t memoryLimit = 0;
     double timeBudgetSeconds = 0;  // 0: none; counted from `start`
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();

@@ -31,6 +31,7 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
         context.input["voxel_genus"] = shape.input->voxelGenus.genus;
         context.input["contacts_separated"] = shape.input->contacts.contacts;
         context.input["contact_voxels_cleared"] = shape.input->contacts.voxelsCleared;
+        context.input["self_overlap_clearance"] = options.selfOverlapClearance;
         context.input["self_overlaps_separated"] = shape.input->selfOverlaps.overlaps;
         context.input["self_overlaps_kept"] = shape.input->selfOverlaps.overlapsKept;
         context.input["self_overlap_voxels"] = shape.input->selfOverlaps.overlapVoxels;

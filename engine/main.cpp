@@ -180,6 +180,12 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
     command->add_option("--resolution", seg.resolution, "Meshes: voxels along the longest side")
         ->capture_default_str()
         ->check(CLI::Range(8, 2048));
+    command
+        ->add_option("--self-overlap-clearance", seg.selfOverlapClearance,
+                     "Meshes: where the mesh passes through itself and the 2-voxel clearing "
+                     "would add a handle, retry wider, up to this many voxels (2: no retry)")
+        ->capture_default_str()
+        ->check(CLI::Range(2, 4));
     command->add_option("--grid", seg.gridName,
                         "VDB input: name of the grid to read (default: the first)");
     command

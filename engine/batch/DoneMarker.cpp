@@ -51,6 +51,10 @@ std::string outputAffectingOptions(const SegmentCommandOptions& options) {
               {"grid", options.gridName},
               {"preview", options.writePreview},
               {"vdb", options.writeVdb}});
+    // Only when set: markers written before the option existed still match
+    // a run with its default, which gives the same outputs.
+    if (options.selfOverlapClearance != SegmentCommandOptions{}.selfOverlapClearance)
+        j["self_overlap_clearance"] = options.selfOverlapClearance;
     return j.dump();
 }
 

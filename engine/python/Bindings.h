@@ -38,12 +38,14 @@ pybind11::dict segmentArray(const pybind11::array& mask, const std::array<double
 
 /// Voxelises and segments a triangle mesh given as arrays: vertices (V, 3)
 /// float64, faces (F, 3) int64 triangles, triangleFace (F,) the input face of
-/// each triangle or empty (each triangle is a face). Returns the same keys as
-/// segmentArray plus "face_labels" (int32, one per input face).
+/// each triangle or empty (each triangle is a face); selfOverlapClearance as
+/// the CLI's --self-overlap-clearance. Returns the same keys as segmentArray
+/// plus "face_labels" (int32, one per input face).
 pybind11::dict segmentMeshArrays(const pybind11::array_t<double>& vertices,
                                  const pybind11::array_t<std::int64_t>& faces,
                                  const pybind11::array_t<std::int64_t>& triangleFace,
-                                 int resolution, const CallOptions& options);
+                                 int resolution, int selfOverlapClearance,
+                                 const CallOptions& options);
 
 /// Reads a volume file's mask as a bool array, axis 0 = x (Fortran order),
 /// and its voxel spacing. Returns (array, spacing, origin).

@@ -79,18 +79,18 @@ PYBIND11_MODULE(_skelseg, m) {
     m.def(
         "segment_mesh",
         [](const py::array_t<double>& vertices, const py::array_t<std::int64_t>& faces,
-           const py::array_t<std::int64_t>& triangleFace, int resolution, std::string tau,
-           double sigmaMin, double bodyRatio, std::string mode, bool joints, int threads,
-           double timeLimit, std::uint64_t maxMemory, py::object progress) {
+           const py::array_t<std::int64_t>& triangleFace, int resolution, int selfOverlapClearance,
+           std::string tau, double sigmaMin, double bodyRatio, std::string mode, bool joints,
+           int threads, double timeLimit, std::uint64_t maxMemory, py::object progress) {
             return segmentMeshArrays(
-                vertices, faces, triangleFace, resolution,
+                vertices, faces, triangleFace, resolution, selfOverlapClearance,
                 callOptions(std::move(tau), sigmaMin, bodyRatio, std::move(mode), joints, threads,
                             timeLimit, maxMemory, std::move(progress)));
         },
         py::arg("vertices"), py::arg("faces"), py::arg("triangle_face"), py::arg("resolution"),
-        py::arg("tau"), py::arg("sigma_min"), py::arg("body_ratio"), py::arg("mode"),
-        py::arg("joints"), py::arg("threads"), py::arg("time_limit"), py::arg("max_memory"),
-        py::arg("progress"));
+        py::arg("self_overlap_clearance"), py::arg("tau"), py::arg("sigma_min"),
+        py::arg("body_ratio"), py::arg("mode"), py::arg("joints"), py::arg("threads"),
+        py::arg("time_limit"), py::arg("max_memory"), py::arg("progress"));
     m.def("read_volume", &readVolumeArray, py::arg("path"), py::arg("grid"));
     m.def("read_mesh", &readMeshArrays, py::arg("path"));
     m.def("read_seg", &readSegArray, py::arg("path"));

@@ -278,7 +278,7 @@ TriangleMesh meshFromArrays(const py::array_t<double>& vertices,
 py::dict segmentMeshArrays(const py::array_t<double>& vertices,
                            const py::array_t<std::int64_t>& faces,
                            const py::array_t<std::int64_t>& triangleFace, int resolution,
-                           const CallOptions& options) {
+                           int selfOverlapClearance, const CallOptions& options) {
     CallRecord call(options);
     const TriangleMesh mesh = meshFromArrays(vertices, faces, triangleFace);
 
@@ -298,6 +298,7 @@ py::dict segmentMeshArrays(const py::array_t<double>& vertices,
                 diagnostics = checkMesh(mesh);
                 VoxelizeOptions vo;
                 vo.resolution = resolution;
+                vo.selfOverlapOptions.maxClearance = selfOverlapClearance;
                 vo.meshIsClosed = diagnostics.closed;
                 VoxelGrid grid;
                 try {
@@ -347,6 +348,7 @@ py::dict segmentMeshArrays(const py::array_t<double>& vertices,
                             {"faces", mesh.faceCount},
                             {"vertices", mesh.vertices.size()},
                             {"resolution", resolution},
+                            {"self_overlap_clearance", selfOverlapClearance},
                             {"mesh_closed", diagnostics.closed},
                             {"mesh_pieces", diagnostics.pieces},
                             {"mesh_boundary_edges", diagnostics.boundaryEdges},

@@ -392,7 +392,7 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
                 // First: the walls of a part sunk into another cross
                 // instead of facing each other, which the contact tests
                 // would misread.
-                SelfOverlapOptions overlapOptions;
+                SelfOverlapOptions overlapOptions = options.selfOverlapOptions;
                 overlapOptions.threaded = options.threaded;
                 selfOverlaps = separateSelfOverlaps(mesh, mask, overlapOptions, interrupter);
                 ContactSeparationOptions contactOptions = options.contactOptions;

@@ -76,6 +76,9 @@ struct VoxelizeOptions {
     /// and outside alone (keepMeshTopology off: the --time-budget probe) need 1.
     double bandWidth = 2.0;
     ContactSeparationOptions contactOptions;
+    /// Closed meshes: how wide places where the mesh passes through itself
+    /// are cleared (SelfOverlapSeparation.h); `threaded` comes from above.
+    SelfOverlapOptions selfOverlapOptions;
     /// Closed meshes: make solid the voxels the middle of every part thinner
     /// than a voxel or so passes through (ThinPartFill.h), before contacts
     /// are separated. Off by default: the engine fills only where that closes

@@ -293,9 +293,10 @@ SelfOverlapSeparation separateSelfOverlaps(const TriangleMesh& mesh, MaskVolume&
     result.overlapVoxels = voxels.size();
     if (voxels.empty()) return result;
     const std::uint64_t nx = std::uint64_t(dims.x), nxy = nx * std::uint64_t(dims.y);
-    const int reach = std::max(0, options.clearance);
-    for (const auto& group : groupsOf(voxels, dims)) {
-        throwIfInterrupted(interrupter);
+    const int firstReach = std::max(0, options.clearance);
+    const int lastReach = std::max(firstReach, options.maxClearance);
+    // The object voxels within `reach` of the group.
+    auto cellsAround = [&](const std::vector<std::size_t>& group, int reach) {
         std::vector<Cell> cells;
         for (std::size_t i : group) {
             const std::uint64_t v = voxels[i];
@@ -311,14 +312,27 @@ SelfOverlapSeparation separateSelfOverlaps(const TriangleMesh& mesh, MaskVolume&
         }
         std::sort(cells.begin(), cells.end());
         cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-        if (cells.empty()) continue;
-        if (!changeAddsTopology(mask, cells, 0)) {
+        return cells;
+    };
+    for (const auto& group : groupsOf(voxels, dims)) {
+        throwIfInterrupted(interrupter);
+        // A clearing that adds topology in its box is tried again wider:
+        // where the host's wall around the buried limb is thinner than the
+        // clearing, a narrow clearing perforates it and a wider one removes it.
+        bool separated = false, nothingToClear = false;
+        for (int reach = firstReach; reach <= lastReach && !separated; ++reach) {
+            const std::vector<Cell> cells = cellsAround(group, reach);
+            if (cells.empty()) {
+                nothingToClear = true;
+                break;
+            }
+            if (changeAddsTopology(mask, cells, 0)) continue;
             for (const Cell& c : cells) mask(c[0], c[1], c[2]) = 0;
             ++result.overlaps;
             result.voxelsCleared += cells.size();
-        } else {
-            ++result.overlapsKept;
+            separated = true;
         }
+        if (!separated && !nothingToClear) ++result.overlapsKept;
     }
     return result;
 }

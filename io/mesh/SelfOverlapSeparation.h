@@ -22,8 +22,9 @@
 // and a layer of the part it sinks into, which leaves a pocket in the host and
 // a gap between the two surfaces. A group is cleared
 // only if that adds no topology in the box around it (genus and cavities do
-// not grow), as for contacts. The buried faces then take the label of the
-// nearest part (FaceLabels.h).
+// not grow), as for contacts; optionally (`maxClearance`) a refused group is
+// tried again one voxel wider at a time. The buried faces then take the label
+// of the nearest part (FaceLabels.h).
 //
 // Limits: open pieces and pieces not consistently oriented have no winding
 // number and are left alone; where two surfaces cross at a grazing angle the
@@ -46,6 +47,12 @@ struct SelfOverlapOptions {
     /// two leave a gap where the two surfaces cross at the group's rim, which
     /// one does not (docs/meshes.md, "Parts that pass through each other").
     int clearance = 2;
+    /// A group whose clearing adds topology in its box is tried again one
+    /// voxel wider at a time, up to this many; at most `clearance`: never.
+    /// Off by default: wider clearings separate more places on posed
+    /// characters but change elephantgallop's and dance's part counts per
+    /// frame (docs/meshes.md, "Places kept fused on posed characters").
+    int maxClearance = 2;
     /// false: everything runs on the calling thread (same result).
     bool threaded = true;
 };

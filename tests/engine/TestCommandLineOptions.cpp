@@ -9,9 +9,11 @@
 #include <vector>
 
 #include "engine/Segmenter.h"
+#include "io/mesh/MeshIO.h"
 #include "io/shapes/SyntheticShapes.h"
 #include "io/volume/NrrdIO.h"
 #include "tests/support/CliRunner.h"
+#include "tests/support/CurledTube.h"
 #include "tests/support/FileBytes.h"
 #include "tests/support/TempDir.h"
 
@@ -131,6 +133,48 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     EXPECT_FALSE(options.relaxSigmaMinForLimbs);
     EXPECT_EQ(options.limbSigmaMargin, 0.25);
     EXPECT_EQ(options.limbLoopVariation, 0.75);
+}
+
+TEST(CommandLineOptions, SelfOverlapClearanceReachesTheVoxeliserAndReportJson) {
+    // Tubes wound beyond a turn whose end is sunk into their beginning: at
+    // some of these resolutions clearing 2 voxels around the crossing would
+    // add a ring and is refused (TestSelfOverlapSeparation.cpp); 4 voxels
+    // separate every one.
+    const test::TempDir dir;
+    int refusedByDefault = 0;
+    for (double extraAngle : {1.2, 2.0}) {
+        test::CurledTube tube;
+        tube.endRadius = 0.3;
+        tube.extraAngle = extraAngle;
+        const fs::path input = dir / ("curled-tube-" + std::to_string(extraAngle) + ".off");
+        writeOff(input, tube.mesh());
+        for (const std::string resolution : {"64", "96"}) {
+            const auto reportedInput = [&](const std::vector<std::string>& flags) {
+                std::vector<std::string> arguments = {
+                    "segment", input.string(), "-o",           (dir / "out").string(),
+                    "-q",      "--force",      "--no-preview", "--resolution",
+                    resolution};
+                arguments.insert(arguments.end(), flags.begin(), flags.end());
+                const test::CliResult run = test::runSkelseg(arguments);
+                EXPECT_EQ(run.exitCode, 0) << run.describe();
+                return nlohmann::json::parse(test::fileBytes(dir / "out" / "report.json"))
+                    .at("input");
+            };
+            const nlohmann::json defaults = reportedInput({});
+            EXPECT_EQ(defaults.at("self_overlap_clearance"), 2);
+            if (defaults.at("self_overlaps_kept").get<int>() == 0) continue;
+            ++refusedByDefault;
+            const nlohmann::json wider = reportedInput({"--self-overlap-clearance", "4"});
+            EXPECT_EQ(wider.at("self_overlap_clearance"), 4);
+            EXPECT_EQ(wider.at("self_overlaps_kept"), 0)
+                << "extra angle " << extraAngle << ", resolution " << resolution;
+            EXPECT_GE(wider.at("self_overlaps_separated").get<int>(), 1);
+            EXPECT_EQ(wider.at("voxel_genus"), wider.at("mesh_genus"))
+                << "extra angle " << extraAngle << ", resolution " << resolution;
+        }
+    }
+    // Without a case the default refuses, this test tests nothing.
+    EXPECT_GE(refusedByDefault, 1);
 }
 
 }  // namespace

@@ -593,6 +593,9 @@ INSTANTIATE_TEST_SUITE_P(
         UsageCase{"limb_loop_variation_out_of_range",
                   {"segment", "{input}", "-o", "{out}", "--limb-loop-variation", "3"},
                   "--limb-loop-variation: Value 3 not in range"},
+        UsageCase{"self_overlap_clearance_out_of_range",
+                  {"segment", "{input}", "-o", "{out}", "--self-overlap-clearance", "5"},
+                  "--self-overlap-clearance: Value 5 not in range"},
         UsageCase{"threads_zero", {"segment", "{input}", "-o", "{out}", "--threads", "0"}, ""},
         UsageCase{
             "resolution_too_small", {"segment", "{input}", "-o", "{out}", "--resolution", "2"}, ""},

@@ -347,7 +347,7 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
 
 
 def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 256,
-                 triangle_face: Optional[np.ndarray] = None, tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
+                 self_overlap_clearance: int = 2, triangle_face: Optional[np.ndarray] = None, tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
                  sigma_min: float = 0.8, body_ratio: float = 0.6, mode: str = "junction-rule",
                  joints: bool = False, threads: Optional[int] = None, time_limit: Optional[float] = None,
                  max_memory: Union[None, int, str] = None,
@@ -362,6 +362,9 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
         faces: (F, k) integer vertex indices, k >= 3; polygons (k > 3) are
             fan-triangulated and labelled as one face.
         resolution: voxels along the longest side of the bounding box [8, 2048].
+        self_overlap_clearance: where the mesh passes through itself and
+            clearing 2 voxels would add a handle, retry up to this many
+            voxels wide [2, 4]; the CLI's --self-overlap-clearance.
         triangle_face: with faces of shape (T, 3), the input face of each
             triangle (as read_mesh() gives it); labels are then per input face.
         tau, sigma_min, body_ratio, mode, joints, threads, time_limit,
@@ -405,10 +408,16 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
         raise TypeError(f"resolution must be an integer, not {resolution!r}")
     if not 8 <= resolution <= 2048:
         raise ValueError(f"resolution {resolution} is not in [8, 2048]")
+    if isinstance(self_overlap_clearance, bool) or not isinstance(self_overlap_clearance,
+                                                                  numbers.Integral):
+        raise TypeError(f"self_overlap_clearance must be an integer, "
+                        f"not {self_overlap_clearance!r}")
+    if not 2 <= self_overlap_clearance <= 4:
+        raise ValueError(f"self_overlap_clearance {self_overlap_clearance} is not in [2, 4]")
     options = _options(tau, sigma_min, body_ratio, mode, joints, threads, time_limit,
                        max_memory, progress)
     raw = _skelseg.segment_mesh(vertex_array, np.ascontiguousarray(triangles), triangle_of,
-                                int(resolution), **options)
+                                int(resolution), int(self_overlap_clearance), **options)
     return _result(raw, MeshSegmentationResult, face_labels=raw["face_labels"])
 
 

@@ -79,6 +79,7 @@ def segment_mesh(
     faces: npt.ArrayLike,
     *,
     resolution: int = 256,
+    self_overlap_clearance: int = 2,
     triangle_face: Optional[npt.ArrayLike] = None,
     tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
     sigma_min: float = 0.8,

@@ -50,6 +50,9 @@ TEST(DoneMarker, RoundTripsAndMatchesOnlyTheSameInputOptionsAndVersion) {
     other.resolution = 128;
     EXPECT_FALSE(read->matches({1234, 0xdeadbeef}, outputAffectingOptions(other)));
     other = options;
+    other.selfOverlapClearance = 4;
+    EXPECT_FALSE(read->matches({1234, 0xdeadbeef}, outputAffectingOptions(other)));
+    other = options;
     other.parameters.tau = TauSpec::parse("250");
     EXPECT_FALSE(read->matches({1234, 0xdeadbeef}, outputAffectingOptions(other)));
     // A hierarchy run (--tau 1%,3%) writes other outputs than --tau 3% alone.
