@@ -128,6 +128,10 @@ struct CutOptions {
     /// branches, where nothing branches off the body, keep their median
     /// (docs/algorithm.md §8.11).
     bool windowFromBodyReference = true;
+    /// ... where the junction's median rho_S is below this fraction of the
+    /// body reference: only then does the median lie on thin core voxels
+    /// rather than on the body (docs/algorithm.md §8.11).
+    double thinJunctionMedian = 0.5;
     CutMode mode = CutMode::JunctionRule;
 };
 
