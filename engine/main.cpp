@@ -151,6 +151,9 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
     command->add_flag("!--no-body-end-check", rules.oneBranchJunctionsEndTheBody,
                       "A junction with one branch may cut that branch where it reaches another "
                       "junction");
+    command->add_flag("!--no-body-radius-window", rules.windowFromBodyReference,
+                      "Read the limb circumference over one radius of the junction's median "
+                      "rho_S, not of the body reference");
     command->add_flag(
         "!--no-separation-check", rules.separatingCutsOnly,
         "Keep a cut whose loop separates nothing (a handle joins the limb to the rest)");

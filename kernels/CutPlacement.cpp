@@ -413,13 +413,23 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
             // limb starts after it, so its window does too (a chest before a
             // waist). The body's reference is the one just measured, not the
             // junction's median, which can fall on thin core voxels.
+            // One body radius is the radius of the body the test compares
+            // with where the junction's median lies on thin core voxels (well
+            // under the body's loops). Where only two branches meet, nothing
+            // branches off the body there: the junction's own median keeps
+            // setting the window.
+            const bool windowFromBody = options.windowFromBodyReference && branches.size() > 2;
             bool windowMoved = false;
-            const std::uint32_t bodyLevels =
-                limbCircumferenceLevels(junction.rhoS, options.consecutiveLevels);
             for (std::size_t i = first; i < plan.candidates.size(); ++i) {
                 CutCandidate& c = plan.candidates[i];
                 const std::vector<TightLevel>& tight = tightOf[i - first];
+                const bool thinMedian =
+                    windowFromBody &&
+                    double(junction.rhoS) < options.thinJunctionMedian * double(c.bodyRhoS);
+                const std::uint32_t bodyLevels = limbCircumferenceLevels(
+                    thinMedian ? c.bodyRhoS : junction.rhoS, options.consecutiveLevels);
                 std::uint32_t windowEnd = windowEndOf[i - first];
+                if (thinMedian) windowEnd = std::max(windowEnd, c.level + bodyLevels);
                 float limb = c.limbRhoS;
                 for (const TightLevel& t : tight) {
                     if (t.level > windowEnd) break;

@@ -119,6 +119,19 @@ struct CutOptions {
     /// branch that ends free (the limb going on past it); otherwise it is
     /// dropped (docs/algorithm.md §8.10).
     bool separatingCutsOnly = true;
+    /// The limb circumference is read over one body radius from the
+    /// candidate, and the body is the reference the body test compares with
+    /// (the largest of the junction's median rho_S and the loops next to
+    /// it), not the junction's median alone: where the median falls on a few
+    /// thin core voxels the window would shrink to the run's three levels
+    /// and read the limb's base instead of its girth. Junctions of two
+    /// branches, where nothing branches off the body, keep their median
+    /// (docs/algorithm.md §8.11).
+    bool windowFromBodyReference = true;
+    /// ... where the junction's median rho_S is below this fraction of the
+    /// body reference: only then does the median lie on thin core voxels
+    /// rather than on the body (docs/algorithm.md §8.11).
+    double thinJunctionMedian = 0.5;
     CutMode mode = CutMode::JunctionRule;
 };
 

@@ -53,6 +53,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(defaults.at("passage_cuts_only_smaller"), true);
     EXPECT_EQ(defaults.at("one_branch_junctions_end_the_body"), true);
     EXPECT_EQ(defaults.at("separating_cuts_only"), true);
+    EXPECT_EQ(defaults.at("window_from_body_reference"), true);
     EXPECT_EQ(defaults.at("fork_junctions"), true);
     EXPECT_EQ(defaults.at("grow_regions_to_splits"), true);
 
@@ -76,6 +77,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
                                                    "--no-passage-area-check",
                                                    "--no-body-end-check",
                                                    "--no-separation-check",
+                                                   "--no-body-radius-window",
                                                    "--no-fork-junctions",
                                                    "--no-grow-regions"});
     EXPECT_EQ(set.at("sibling_tolerance"), 0.125);
@@ -91,6 +93,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(set.at("passage_cuts_only_smaller"), false);
     EXPECT_EQ(set.at("one_branch_junctions_end_the_body"), false);
     EXPECT_EQ(set.at("separating_cuts_only"), false);
+    EXPECT_EQ(set.at("window_from_body_reference"), false);
     EXPECT_EQ(set.at("fork_junctions"), false);
     EXPECT_EQ(set.at("grow_regions_to_splits"), false);
 }
@@ -112,6 +115,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     parameters.cutRules.passageCutsOnlySmallerCandidates = false;
     parameters.cutRules.oneBranchJunctionsEndTheBody = false;
     parameters.cutRules.separatingCutsOnly = false;
+    parameters.cutRules.windowFromBodyReference = false;
     parameters.cutRules.relaxSigmaMinForLimbs = false;
     parameters.cutRules.limbSigmaMargin = 0.25;
     parameters.cutRules.limbLoopVariation = 0.75;
@@ -130,6 +134,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     EXPECT_FALSE(options.passageCutsOnlySmallerCandidates);
     EXPECT_FALSE(options.oneBranchJunctionsEndTheBody);
     EXPECT_FALSE(options.separatingCutsOnly);
+    EXPECT_FALSE(options.windowFromBodyReference);
     EXPECT_FALSE(options.relaxSigmaMinForLimbs);
     EXPECT_EQ(options.limbSigmaMargin, 0.25);
     EXPECT_EQ(options.limbLoopVariation, 0.75);

@@ -261,6 +261,42 @@ TEST(CutPlacement, LimbCircumferenceIsMeasuredOneBodyRadiusOut) {
     EXPECT_EQ(r->cutVoxels, std::vector<std::uint32_t>{j.armVoxelAtLevel(2, 4)});
 }
 
+TEST(CutPlacement, LimbWindowIsOneRadiusOfTheBodyNotOfAThinJunctionMedian) {
+    // The junction's median fell on thin core voxels (rho_S 3: a window of
+    // the run's three levels), while the body through it is 20 thick (one
+    // body radius: ceil(20 / pi) = 7 levels). Arm 2 is a trunk whose first
+    // four levels still wrap its base (14) and which is 7 thick further out:
+    // over three levels it reads 14 (similarity 0.7, body); over the body's
+    // radius it reads its girth, 7 (0.35, a limb).
+    Junction j;
+    j.set.point(j.centre).rhoS = 3.0f;
+    j.setSigma(0, {0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f});
+    j.setRhoS(0, 20.0f);  // the body
+    j.setSigma(1, {0.1f});
+    j.setSigma(2, {0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f, 0.9f});
+    j.setRhoSPerLevel(2,
+                      {14.0f, 14.0f, 14.0f, 14.0f, 7.0f, 7.0f, 7.0f, 7.0f, 7.0f, 7.0f, 7.0f, 7.0f});
+    const auto r = place(j);
+    ASSERT_EQ(r->plan.candidates.size(), 2u);
+    // Cut where the loop is closer to the trunk's girth than to the body's
+    // (level 5, rho_S 7 <= 13.5).
+    const CutCandidate* trunk = r->byVoxel.at(j.armVoxelAtLevel(2, 5));
+    EXPECT_FLOAT_EQ(trunk->bodyRhoS, 20.0f);
+    EXPECT_FLOAT_EQ(trunk->limbRhoS, 7.0f);
+    EXPECT_NEAR(trunk->similarity, 0.35f, 1e-5f);
+    EXPECT_TRUE(trunk->isCut);
+    EXPECT_EQ(r->plan.cutNodes.size(), 1u);
+
+    // Without the rule the window is the junction median's: the trunk is body.
+    CutOptions without;
+    without.windowFromBodyReference = false;
+    const auto before = place(j, without);
+    const CutCandidate* base = before->byVoxel.at(j.armVoxelAtLevel(2, 1));
+    EXPECT_FLOAT_EQ(base->limbRhoS, 14.0f);
+    EXPECT_FALSE(base->isCut);
+    EXPECT_TRUE(before->plan.cutNodes.empty());
+}
+
 TEST(CutPlacement, CutStaysWhereSigmaHoldsWhenThatLoopIsAlreadyLimbSized) {
     // Arm 2 is 7 thick from its first tight level: nothing to move.
     Junction j;
