@@ -73,6 +73,24 @@ private:
     std::map<std::uint32_t, SkeletonPoint> mPoints;
 };
 
+/// A junction (rho_S 40 s) between a straight body of 30 s voxels and a
+/// straight limb of `limbLength` voxels along x, the body at rho_S 40 s and
+/// the limb at 20 s (loop radius 6.4 s), sigma 0.9 on both, at scale s:
+/// lengths and loops grow together, as with the resolution. The limb starts
+/// at x = 30 s + 3; the grid leaves three voxels past its end.
+inline SkeletonPointSet bodyWithOneLimb(int scale, int limbLength) {
+    const int bodyLength = 30 * scale;
+    SkeletonPointSet set{Dims{bodyLength + limbLength + 6, 5, 3}};
+    set.add({bodyLength + 2, 2, 1}, 40.0f * float(scale), 5000.0, 3);
+    for (std::uint32_t v :
+         set.chain({bodyLength + 1, 2, 1}, {-1, 0, 0}, bodyLength, 40.0f * float(scale)))
+        set.point(v).sigma = 0.9f;
+    for (std::uint32_t v :
+         set.chain({bodyLength + 3, 2, 1}, {1, 0, 0}, limbLength, 20.0f * float(scale)))
+        set.point(v).sigma = 0.9f;
+    return set;
+}
+
 /// Graph node of a voxel (or kNoJunction).
 inline std::uint32_t nodeOf(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                             std::uint32_t voxel) {

@@ -134,16 +134,7 @@ TEST(CutPieceReach, CornerOfABlockStaysInItsLoopsBallAtTwoScales) {
 /// cut, at scale s (as in TestCutPlacement.cpp); `reach` answers the corner
 /// rule's question about the piece past the cut.
 CutPlan limbWithPiece(int scale, int levelsPastCut, const PieceReach& reach) {
-    const int bodyLength = 30 * scale;
-    const int limbLength = 3 + 1 + levelsPastCut;
-    test::SkeletonPointSet set{Dims{bodyLength + limbLength + 6, 5, 3}};
-    set.add({bodyLength + 2, 2, 1}, 40.0f * float(scale), 5000.0, 3);
-    for (std::uint32_t v :
-         set.chain({bodyLength + 1, 2, 1}, {-1, 0, 0}, bodyLength, 40.0f * float(scale)))
-        set.point(v).sigma = 0.9f;
-    for (std::uint32_t v :
-         set.chain({bodyLength + 3, 2, 1}, {1, 0, 0}, limbLength, 20.0f * float(scale)))
-        set.point(v).sigma = 0.9f;
+    const test::SkeletonPointSet set = test::bodyWithOneLimb(scale, 3 + 1 + levelsPastCut);
     const std::vector<SkeletonPoint> points = set.points();
     const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
     return placeCuts(

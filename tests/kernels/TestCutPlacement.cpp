@@ -634,18 +634,10 @@ TEST(CutPlacement, LimbWindowStartsPastTheLoopsAsLongAsTheBodysAtTwoScales) {
 /// `secondJunction` the limb ends at another junction (its region takes the
 /// limb's last three voxels).
 CutPlan limbEndingPastItsCut(int scale, int levelsPastCut, bool secondJunction = false) {
-    const int bodyLength = 30 * scale;
     const int limbLength = 3 + 1 + levelsPastCut + (secondJunction ? 3 : 0);
-    SkeletonPointSet set{Dims{bodyLength + limbLength + 6, 5, 3}};
-    set.add({bodyLength + 2, 2, 1}, 40.0f * float(scale), 5000.0, 3);
-    for (std::uint32_t v :
-         set.chain({bodyLength + 1, 2, 1}, {-1, 0, 0}, bodyLength, 40.0f * float(scale)))
-        set.point(v).sigma = 0.9f;
-    for (std::uint32_t v :
-         set.chain({bodyLength + 3, 2, 1}, {1, 0, 0}, limbLength, 20.0f * float(scale)))
-        set.point(v).sigma = 0.9f;
+    SkeletonPointSet set = test::bodyWithOneLimb(scale, limbLength);
     if (secondJunction)
-        set.add({bodyLength + 3 + limbLength, 2, 1}, 20.0f * float(scale), 5000.0, 3);
+        set.add({30 * scale + 3 + limbLength, 2, 1}, 20.0f * float(scale), 5000.0, 3);
     const std::vector<SkeletonPoint> points = set.points();
     const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
     return placeCuts(g, points, {}, [](std::uint32_t) { return 0.0; });
