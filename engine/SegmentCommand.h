@@ -54,7 +54,7 @@ struct SegmentCommandOptions {
     int resolution = 256;  // meshes: voxels along the longest side
     /// Meshes: widest clearing, in voxels, of a place where the mesh passes
     /// through itself, in [2, 4] (SelfOverlapOptions::maxClearance).
-    int selfOverlapClearance = 2;
+    int selfOverlapClearance = 4;
     SegmentationParameters parameters;
     int threads = 0;                   // 0: all cores
     double timeLimitSeconds = 0;       // 0: none

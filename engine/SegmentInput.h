@@ -75,7 +75,7 @@ struct SegmentInputOptions {
     int resolution = 256;  // meshes: voxels along the longest side
     // Meshes: widest clearing of a place where the mesh passes through itself
     // (SelfOverlapOptions::maxClearance; 2: no wider retry).
-    int selfOverlapClearance = 2;
+    int selfOverlapClearance = 4;
     int threads = 1;  // for the memory estimate (per-thread workspaces)
     int levels = 1;   // for the memory estimate (hierarchy runs: --tau list)
     std::uint64_t memoryLimit = 0;

@@ -184,9 +184,11 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
         ->capture_default_str()
         ->check(CLI::Range(8, 2048));
     command
-        ->add_option("--self-overlap-clearance", seg.selfOverlapClearance,
-                     "Meshes: where the mesh passes through itself and the 2-voxel clearing "
-                     "would add a handle, retry wider, up to this many voxels (2: no retry)")
+        ->add_option(
+            "--self-overlap-clearance", seg.selfOverlapClearance,
+            "Meshes: where the mesh passes through itself and the 2-voxel clearing "
+            "would add a handle, retry wider, up to this many voxels where that removes a handle "
+            "(2: no retry)")
         ->capture_default_str()
         ->check(CLI::Range(2, 4));
     command->add_option("--grid", seg.gridName,

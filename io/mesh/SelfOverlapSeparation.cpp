@@ -314,20 +314,58 @@ SelfOverlapSeparation separateSelfOverlaps(const TriangleMesh& mesh, MaskVolume&
         cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
         return cells;
     };
+    // The thickness of a group: the narrowest side of its bounding box.
+    auto thicknessOf = [&](const std::vector<std::size_t>& group) {
+        std::array<int, 3> low{dims.x, dims.y, dims.z}, high{-1, -1, -1};
+        for (std::size_t i : group) {
+            const std::uint64_t v = voxels[i];
+            const std::array<int, 3> c{int(v % nx), int((v / nx) % std::uint64_t(dims.y)),
+                                       int(v / nxy)};
+            for (std::size_t k = 0; k < 3; ++k) {
+                low[k] = std::min(low[k], c[k]);
+                high[k] = std::max(high[k], c[k]);
+            }
+        }
+        return 1 + std::min({high[0] - low[0], high[1] - low[1], high[2] - low[2]});
+    };
+    auto setCells = [&](const std::vector<Cell>& cells, std::uint8_t value) {
+        for (const Cell& c : cells) mask(c[0], c[1], c[2]) = value;
+    };
+    VoxelTopologyOptions topologyOptions;
+    topologyOptions.threaded = options.threaded;
+    std::int64_t maskGenus = -1;  // the genus of the mask as it stands; -1: not known
     for (const auto& group : groupsOf(voxels, dims)) {
         throwIfInterrupted(interrupter);
         // A clearing that adds topology in its box is tried again wider:
         // where the host's wall around the buried limb is thinner than the
-        // clearing, a narrow clearing perforates it and a wider one removes it.
+        // clearing, a narrow clearing perforates it and a wider one removes
+        // it. The wider clearing goes no further than the place is thick,
+        // and is kept only where it removes a handle of the whole voxel
+        // model: elsewhere it would carve the surroundings of a crossing
+        // that joins nothing (SelfOverlapOptions::maxClearance).
         bool separated = false, nothingToClear = false;
-        for (int reach = firstReach; reach <= lastReach && !separated; ++reach) {
+        const int groupReach = std::max(firstReach, std::min(lastReach, thicknessOf(group)));
+        for (int reach = firstReach; reach <= groupReach && !separated; ++reach) {
             const std::vector<Cell> cells = cellsAround(group, reach);
             if (cells.empty()) {
                 nothingToClear = true;
                 break;
             }
             if (changeAddsTopology(mask, cells, 0)) continue;
-            for (const Cell& c : cells) mask(c[0], c[1], c[2]) = 0;
+            if (reach > firstReach) {
+                if (maskGenus < 0)
+                    maskGenus = voxelTopology(mask, topologyOptions, interrupter).genus;
+                setCells(cells, 0);
+                const std::int64_t genus = voxelTopology(mask, topologyOptions, interrupter).genus;
+                if (genus >= maskGenus) {
+                    setCells(cells, 1);
+                    continue;
+                }
+                maskGenus = genus;
+            } else {
+                setCells(cells, 0);
+                maskGenus = -1;
+            }
             ++result.overlaps;
             result.voxelsCleared += cells.size();
             separated = true;

@@ -22,8 +22,8 @@
 // and a layer of the part it sinks into, which leaves a pocket in the host and
 // a gap between the two surfaces. A group is cleared
 // only if that adds no topology in the box around it (genus and cavities do
-// not grow), as for contacts; optionally (`maxClearance`) a refused group is
-// tried again one voxel wider at a time. The buried faces then take the label
+// not grow), as for contacts; a refused group is tried again one voxel wider
+// at a time, within the bounds `maxClearance` describes. The buried faces then take the label
 // of the nearest part (FaceLabels.h).
 //
 // Limits: open pieces and pieces not consistently oriented have no winding
@@ -48,11 +48,14 @@ struct SelfOverlapOptions {
     /// one does not (docs/meshes.md, "Parts that pass through each other").
     int clearance = 2;
     /// A group whose clearing adds topology in its box is tried again one
-    /// voxel wider at a time, up to this many; at most `clearance`: never.
-    /// Off by default: wider clearings separate more places on posed
-    /// characters but change elephantgallop's and dance's part counts per
-    /// frame (docs/meshes.md, "Places kept fused on posed characters").
-    int maxClearance = 2;
+    /// voxel wider at a time, up to this many (at most `clearance`: never),
+    /// but no wider than the group is thick (the narrowest side of its
+    /// bounding box), and a wider clearing is kept only where it lowers the
+    /// genus of the whole mask: one that removes no handle only carves the
+    /// parts around a crossing, and one much wider than a grazing crossing
+    /// frees a handle in some poses of a character and not in others
+    /// (docs/meshes.md, "Places kept fused on posed characters").
+    int maxClearance = 4;
     /// false: everything runs on the calling thread (same result).
     bool threaded = true;
 };

@@ -146,7 +146,7 @@ TEST(CommandLineOptions, SelfOverlapClearanceReachesTheVoxeliserAndReportJson) {
     // add a ring and is refused (TestSelfOverlapSeparation.cpp); 4 voxels
     // separate every one.
     const test::TempDir dir;
-    int refusedByDefault = 0;
+    int refusedAtTwo = 0;
     for (double extraAngle : {1.2, 2.0}) {
         test::CurledTube tube;
         tube.endRadius = 0.3;
@@ -165,11 +165,11 @@ TEST(CommandLineOptions, SelfOverlapClearanceReachesTheVoxeliserAndReportJson) {
                 return nlohmann::json::parse(test::fileBytes(dir / "out" / "report.json"))
                     .at("input");
             };
-            const nlohmann::json defaults = reportedInput({});
-            EXPECT_EQ(defaults.at("self_overlap_clearance"), 2);
-            if (defaults.at("self_overlaps_kept").get<int>() == 0) continue;
-            ++refusedByDefault;
-            const nlohmann::json wider = reportedInput({"--self-overlap-clearance", "4"});
+            const nlohmann::json narrow = reportedInput({"--self-overlap-clearance", "2"});
+            EXPECT_EQ(narrow.at("self_overlap_clearance"), 2);
+            if (narrow.at("self_overlaps_kept").get<int>() == 0) continue;
+            ++refusedAtTwo;
+            const nlohmann::json wider = reportedInput({});
             EXPECT_EQ(wider.at("self_overlap_clearance"), 4);
             EXPECT_EQ(wider.at("self_overlaps_kept"), 0)
                 << "extra angle " << extraAngle << ", resolution " << resolution;
@@ -179,7 +179,7 @@ TEST(CommandLineOptions, SelfOverlapClearanceReachesTheVoxeliserAndReportJson) {
         }
     }
     // Without a case the default refuses, this test tests nothing.
-    EXPECT_GE(refusedByDefault, 1);
+    EXPECT_GE(refusedAtTwo, 1);
 }
 
 }  // namespace

@@ -58,14 +58,14 @@ def test_quad_mesh_face_labels_equal_the_cli_segmentation_seg(shapes, body_and_l
 @pytest.mark.filterwarnings("ignore:mesh. mesh has 2 separate pieces")
 def test_self_overlap_clearance_reaches_the_report_and_is_checked(shapes, body_and_limb):
     vertices, quads, path = body_and_limb
-    result = skelseg.segment_mesh(vertices, quads, resolution=32, self_overlap_clearance=4)
-    assert result.report["input"]["self_overlap_clearance"] == 4
+    result = skelseg.segment_mesh(vertices, quads, resolution=32, self_overlap_clearance=2)
+    assert result.report["input"]["self_overlap_clearance"] == 2
     assert skelseg.segment_mesh(vertices, quads, resolution=32).report["input"][
-        "self_overlap_clearance"] == 2
-    outdir, expected = cli_face_labels(shapes, path, 32, "--self-overlap-clearance", "4")
+        "self_overlap_clearance"] == 4
+    outdir, expected = cli_face_labels(shapes, path, 32, "--self-overlap-clearance", "2")
     np.testing.assert_array_equal(result.face_labels, expected)
     report = json.loads((outdir / "report.json").read_text())
-    assert report["input"]["self_overlap_clearance"] == 4
+    assert report["input"]["self_overlap_clearance"] == 2
     for bad in (1, 5):
         with pytest.raises(ValueError, match=r"self_overlap_clearance .* not in \[2, 4\]"):
             skelseg.segment_mesh(vertices, quads, resolution=32, self_overlap_clearance=bad)

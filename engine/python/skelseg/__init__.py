@@ -347,7 +347,7 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
 
 
 def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 256,
-                 self_overlap_clearance: int = 2, triangle_face: Optional[np.ndarray] = None, tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
+                 self_overlap_clearance: int = 4, triangle_face: Optional[np.ndarray] = None, tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
                  sigma_min: float = 0.8, body_ratio: float = 0.6, mode: str = "junction-rule",
                  joints: bool = False, threads: Optional[int] = None, time_limit: Optional[float] = None,
                  max_memory: Union[None, int, str] = None,

@@ -50,7 +50,7 @@ TEST(DoneMarker, RoundTripsAndMatchesOnlyTheSameInputOptionsAndVersion) {
     other.resolution = 128;
     EXPECT_FALSE(read->matches({1234, 0xdeadbeef}, outputAffectingOptions(other)));
     other = options;
-    other.selfOverlapClearance = 4;
+    other.selfOverlapClearance = 2;
     EXPECT_FALSE(read->matches({1234, 0xdeadbeef}, outputAffectingOptions(other)));
     other = options;
     other.parameters.tau = TauSpec::parse("250");

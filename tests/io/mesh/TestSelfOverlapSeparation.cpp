@@ -77,8 +77,8 @@ TEST(SelfOverlap, AWiderClearingSeparatesWhereTheFirstIsRefused) {
     // Tubes whose end is as thick as 0.75 of their beginning, wound 1.2 to 2
     // radians beyond a turn: at some resolutions clearing 2 voxels around
     // the crossing would add a ring in its box and is refused, and the two
-    // windings stay fused (voxel genus 1, mesh genus 0). Tried up to 4
-    // voxels wide, every case separates.
+    // windings stay fused (voxel genus 1, mesh genus 0). With the default
+    // retry (up to 4 voxels wide), every case separates.
     int refusedAtFirstClearing = 0;
     for (double extraAngle : {1.2, 2.0})
         for (int resolution : {64, 96}) {
@@ -88,14 +88,14 @@ TEST(SelfOverlap, AWiderClearingSeparatesWhereTheFirstIsRefused) {
             const TriangleMesh mesh = tube.mesh();
             const VoxelizeOptions options = atResolution(resolution, false);
             MaskVolume narrow = voxelizeMesh(mesh, options);
-            if (separateSelfOverlaps(mesh, narrow, SelfOverlapOptions{}).overlapsKept > 0) {
+            SelfOverlapOptions noRetry;
+            noRetry.maxClearance = noRetry.clearance;
+            if (separateSelfOverlaps(mesh, narrow, noRetry).overlapsKept > 0) {
                 ++refusedAtFirstClearing;
                 EXPECT_EQ(voxelTopology(narrow).genus, 1);
             }
-            SelfOverlapOptions wider;
-            wider.maxClearance = 4;
             MaskVolume mask = voxelizeMesh(mesh, options);
-            const SelfOverlapSeparation separation = separateSelfOverlaps(mesh, mask, wider);
+            const SelfOverlapSeparation separation = separateSelfOverlaps(mesh, mask);
             EXPECT_EQ(separation.overlapsKept, 0u)
                 << "extra angle " << extraAngle << ", resolution " << resolution;
             EXPECT_GE(separation.overlaps, 1u);
@@ -117,6 +117,46 @@ TEST(SelfOverlap, AWiderClearingSeparatesWhereTheFirstIsRefused) {
         }
     // Without cases the first clearing refuses, this test tests nothing.
     EXPECT_GE(refusedAtFirstClearing, 2);
+}
+
+TEST(SelfOverlap, AWiderClearingIsKeptOnlyWhereItRemovesAHandle) {
+    // The tubes of the test above, fused where their end runs inside their
+    // beginning, with the ring cut open half a turn away from the crossing:
+    // the crossing then closes no loop (voxel genus 0), and clearing it
+    // wider than 2 voxels would only carve the tube around it. Where the
+    // 2-voxel clearing is refused, nothing may be cleared.
+    int refusedAtFirstClearing = 0;
+    for (double extraAngle : {1.2, 2.0})
+        for (int resolution : {64, 96}) {
+            test::CurledTube tube;
+            tube.endRadius = 0.3;
+            tube.extraAngle = extraAngle;
+            const TriangleMesh mesh = tube.mesh();
+            MaskVolume mask = voxelizeMesh(mesh, atResolution(resolution, false));
+            const Dims dims = mask.dims();
+            for (int z = 0; z < dims.z; ++z)
+                for (int y = 0; y < dims.y; ++y)
+                    for (int x = 0; x < dims.x; ++x) {
+                        const auto p = mask.geometry.indexToWorld(double(x), double(y), double(z));
+                        if (p[0] < 0 && std::abs(p[1]) < 0.1 * tube.bendRadius) mask(x, y, z) = 0;
+                    }
+            ASSERT_EQ(voxelTopology(mask).genus, 0) << "the ring must be cut open";
+            MaskVolume narrow = mask;
+            SelfOverlapOptions noRetry;
+            noRetry.maxClearance = noRetry.clearance;
+            if (separateSelfOverlaps(mesh, narrow, noRetry).overlapsKept == 0) continue;
+            ++refusedAtFirstClearing;
+            const MaskVolume before = mask;
+            const SelfOverlapSeparation separation = separateSelfOverlaps(mesh, mask);
+            EXPECT_GE(separation.overlapsKept, 1u)
+                << "extra angle " << extraAngle << ", resolution " << resolution;
+            EXPECT_EQ(separation.voxelsCleared, 0u)
+                << "extra angle " << extraAngle << ", resolution " << resolution;
+            EXPECT_TRUE(mask.values() == before.values())
+                << "extra angle " << extraAngle << ", resolution " << resolution;
+        }
+    // Without cases the first clearing refuses, this test tests nothing.
+    EXPECT_GE(refusedAtFirstClearing, 1);
 }
 
 TEST(SelfOverlap, SeparatePiecesOpenPiecesAndCleanMeshesAreLeftAlone) {
