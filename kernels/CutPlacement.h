@@ -128,6 +128,15 @@ struct CutOptions {
     /// branches, where nothing branches off the body, keep their median
     /// (docs/algorithm.md §8.11).
     bool windowFromBodyReference = true;
+    /// A branch that ends free with no run of tight levels, even below
+    /// sigmaMin, is a limb whose area is about tau when the piece past its
+    /// best loop reaches at least stubReach times the loop's size from the
+    /// loop's centre (pieceReach; a corner's piece is a cap within
+    /// cornerReach): C_tau holds only the limb's base, whose loops still
+    /// wrap the body, so no loop there is tight. Its best loop is a
+    /// candidate of the walk below sigmaMin (belowSigmaMin; docs/algorithm.md §8.12).
+    bool stubLimbs = true;
+    double stubReach = 2.0;
     /// ... where the junction's median rho_S is below this fraction of the
     /// body reference: only then does the median lie on thin core voxels
     /// rather than on the body (docs/algorithm.md §8.11).
