@@ -10,7 +10,10 @@
 // candidate when the loops keep their length over one limb radius (a tube,
 // not a block or a panel whose loops round its edges) on a branch that ends
 // free; such a candidate that reads body is dropped unless a free-ending
-// candidate at sigmaMin reads alike (a twin prong).
+// candidate at sigmaMin reads alike (a twin prong). A free branch with no
+// run at all (a limb of about tau, whose C_tau holds only its base) gives
+// its best level as such a candidate when the piece past that loop reaches
+// stubReach loop sizes (stubLimbs).
 // Candidates whose circumference rho_S is similar to the junction's (body
 // test) lie on the body and are dropped; a candidate's circumference is the
 // smallest rho_S of the tight levels (sigma >= sigmaMin) from the candidate
