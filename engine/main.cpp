@@ -154,6 +154,9 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
     command->add_flag("!--no-body-radius-window", rules.windowFromBodyReference,
                       "Read the limb circumference over one radius of the junction's median "
                       "rho_S, not of the body reference");
+    command->add_flag("!--no-stub-limbs", rules.stubLimbs,
+                      "A free branch with no tight loop is not cut even where its piece reaches "
+                      "far past its best loop (a limb of about tau)");
     command->add_flag(
         "!--no-separation-check", rules.separatingCutsOnly,
         "Keep a cut whose loop separates nothing (a handle joins the limb to the rest)");

@@ -390,6 +390,29 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                         walk.candidate = kNoJunction;
                     relaxed = walk.candidate != kNoJunction;
                 }
+                // A limb whose area is about tau shows only its base in C_tau:
+                // the branch ends where the piece below falls to tau, before
+                // its loops leave the base and become tight. Its piece still
+                // reaches far past the loop (a corner's is a cap within it).
+                if (walk.candidate == kNoJunction && options.stubLimbs && pieceReach &&
+                    walk.otherJunction == kNoJunction && !walk.levels.empty()) {
+                    std::size_t best = 0;
+                    for (std::size_t k = 1; k < walk.levels.size(); ++k)
+                        if (walk.levels[k].sigma > walk.levels[best].sigma) best = k;
+                    const TightLevel at = walk.levels[best];
+                    if (pieceReach(at.node, j) >= options.stubReach) {
+                        walk.candidate = at.node;
+                        walk.level = at.level;
+                        walk.sigma = at.sigma;
+                        walk.tight.assign(walk.levels.begin() + std::ptrdiff_t(best),
+                                          walk.levels.end());
+                        walk.limbRhoS = at.rhoS;
+                        for (const TightLevel& t : walk.tight)
+                            walk.limbRhoS = std::min(walk.limbRhoS, t.rhoS);
+                        walk.windowEnd = walk.walkEnd = walk.levels.back().level;
+                        relaxed = true;
+                    }
+                }
                 if (walk.candidate == kNoJunction) continue;
                 const std::uint32_t node = walk.candidate;
                 tightOf.push_back(std::move(walk.tight));

@@ -10,7 +10,10 @@
 // candidate when the loops keep their length over one limb radius (a tube,
 // not a block or a panel whose loops round its edges) on a branch that ends
 // free; such a candidate that reads body is dropped unless a free-ending
-// candidate at sigmaMin reads alike (a twin prong).
+// candidate at sigmaMin reads alike (a twin prong). A free branch with no
+// run at all (a limb of about tau, whose C_tau holds only its base) gives
+// its best level as such a candidate when the piece past that loop reaches
+// stubReach loop sizes (stubLimbs).
 // Candidates whose circumference rho_S is similar to the junction's (body
 // test) lie on the body and are dropped; a candidate's circumference is the
 // smallest rho_S of the tight levels (sigma >= sigmaMin) from the candidate
@@ -128,6 +131,15 @@ struct CutOptions {
     /// branches, where nothing branches off the body, keep their median
     /// (docs/algorithm.md §8.11).
     bool windowFromBodyReference = true;
+    /// A branch that ends free with no run of tight levels, even below
+    /// sigmaMin, is a limb whose area is about tau when the piece past its
+    /// best loop reaches at least stubReach times the loop's size from the
+    /// loop's centre (pieceReach; a corner's piece is a cap within
+    /// cornerReach): C_tau holds only the limb's base, whose loops still
+    /// wrap the body, so no loop there is tight. Its best loop is a
+    /// candidate of the walk below sigmaMin (belowSigmaMin; docs/algorithm.md §8.12).
+    bool stubLimbs = true;
+    double stubReach = 2.0;
     /// ... where the junction's median rho_S is below this fraction of the
     /// body reference: only then does the median lie on thin core voxels
     /// rather than on the body (docs/algorithm.md §8.11).

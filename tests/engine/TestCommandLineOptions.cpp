@@ -54,6 +54,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(defaults.at("one_branch_junctions_end_the_body"), true);
     EXPECT_EQ(defaults.at("separating_cuts_only"), true);
     EXPECT_EQ(defaults.at("window_from_body_reference"), true);
+    EXPECT_EQ(defaults.at("stub_limbs"), true);
     EXPECT_EQ(defaults.at("fork_junctions"), true);
     EXPECT_EQ(defaults.at("grow_regions_to_splits"), true);
 
@@ -78,6 +79,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
                                                    "--no-body-end-check",
                                                    "--no-separation-check",
                                                    "--no-body-radius-window",
+                                                   "--no-stub-limbs",
                                                    "--no-fork-junctions",
                                                    "--no-grow-regions"});
     EXPECT_EQ(set.at("sibling_tolerance"), 0.125);
@@ -94,6 +96,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(set.at("one_branch_junctions_end_the_body"), false);
     EXPECT_EQ(set.at("separating_cuts_only"), false);
     EXPECT_EQ(set.at("window_from_body_reference"), false);
+    EXPECT_EQ(set.at("stub_limbs"), false);
     EXPECT_EQ(set.at("fork_junctions"), false);
     EXPECT_EQ(set.at("grow_regions_to_splits"), false);
 }

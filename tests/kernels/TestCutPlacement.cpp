@@ -649,6 +649,42 @@ const CutCandidate* limbCandidate(const CutPlan& plan) {
     return nullptr;
 }
 
+/// Cut placement on a Y junction whose arm 0 is a limb of area about tau:
+/// C_tau holds only its base, 12 levels whose loops (8 around against a body
+/// of 20) still wrap the body (sigma 0.6 to 0.7, no run even below
+/// sigma_min). pieceReach answers `reach` for every loop.
+CutPlan stubLimbPlan(double reach, bool stubLimbs) {
+    Junction y;
+    y.setRhoS(0, 8.0f);
+    y.setSigma(0, {0.62f, 0.66f, 0.6f, 0.7f, 0.64f, 0.68f, 0.6f, 0.66f, 0.62f, 0.7f, 0.6f, 0.64f});
+    for (int arm : {1, 2}) y.setSigma(arm, std::vector<float>(12, 0.95f)), y.setRhoS(arm, 20.0f);
+    const std::vector<SkeletonPoint> points = y.set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, y.set.dims(), {});
+    CutOptions options;
+    options.stubLimbs = stubLimbs;
+    return placeCuts(
+        g, points, options, [](std::uint32_t) { return 0.0; }, {},
+        [reach](std::uint32_t, std::uint32_t) { return reach; });
+}
+
+TEST(CutPlacement, LimbOfAboutTauWhoseLoopsNeverTightenIsCutWhereItsPieceReachesFar) {
+    // The piece past the stub's best loop reaches past twice the loop's
+    // size (the flood's limit, 2 cornerReach): a limb, cut. A piece that
+    // stays within the ball its loop spans is a cap, and the rule off gives
+    // no candidate at all (docs/algorithm.md §8.12).
+    const CutPlan limb = stubLimbPlan(2.32, true);
+    ASSERT_EQ(limb.cutNodes.size(), 1u);
+    ASSERT_EQ(limb.candidates.size(), 3u);
+    const auto cut = std::find_if(limb.candidates.begin(), limb.candidates.end(),
+                                  [](const CutCandidate& c) { return c.isCut; });
+    ASSERT_NE(cut, limb.candidates.end());
+    EXPECT_TRUE(cut->belowSigmaMin);
+    EXPECT_LT(cut->similarity, 0.6f);
+    EXPECT_FLOAT_EQ(cut->sigma, 0.7f) << "the stub's best loop";
+    EXPECT_TRUE(stubLimbPlan(1.0, true).cutNodes.empty()) << "a cap is no limb";
+    EXPECT_TRUE(stubLimbPlan(2.32, false).cutNodes.empty()) << "the rule this test guards";
+}
+
 TEST(CutPlacement, CornerOfTheBodyIsNotALimb) {
     // A skeleton that ends less than half a loop radius (3.2 s levels) past
     // the cut is a corner of a flat end (hand.off's forearm end forks into
