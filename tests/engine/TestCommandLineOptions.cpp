@@ -56,6 +56,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(defaults.at("window_from_body_reference"), true);
     EXPECT_EQ(defaults.at("fork_junctions"), true);
     EXPECT_EQ(defaults.at("grow_regions_to_splits"), true);
+    EXPECT_EQ(defaults.at("junction_merge_radii"), SegmentationParameters{}.junctionMergeRadii);
 
     const nlohmann::json set = reportedParameters(dir, "set",
                                                   {"--sibling-tolerance",
@@ -66,6 +67,8 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
                                                    "1.5",
                                                    "--corner-reach",
                                                    "2.5",
+                                                   "--junction-merge-radii",
+                                                   "0",
                                                    "--limb-sigma-margin",
                                                    "0.25",
                                                    "--limb-loop-variation",
@@ -96,6 +99,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(set.at("window_from_body_reference"), false);
     EXPECT_EQ(set.at("fork_junctions"), false);
     EXPECT_EQ(set.at("grow_regions_to_splits"), false);
+    EXPECT_EQ(set.at("junction_merge_radii"), 0.0);
 }
 
 TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
