@@ -55,6 +55,7 @@ json methodParameters(const SegmentationParameters& p) {
             {"consecutive_levels", p.consecutiveLevels},
             {"fork_junctions", p.forkJunctions},
             {"grow_regions_to_splits", p.growRegionsToSplits},
+            {"junction_merge_radii", p.junctionMergeRadii},
             {"sibling_tolerance", cut.siblingTolerance},
             {"limb_taper", cut.limbTaper},
             {"corner_length", cut.cornerLength},

@@ -136,6 +136,7 @@ void buildObjectSkeletonGraph(ObjectState& state) {
     options.bridgeGap = state.parameters.bridgeGap;
     options.forkJunctions = state.parameters.forkJunctions;
     options.growRegionsToSplits = state.parameters.growRegionsToSplits;
+    options.junctionMergeRadii = state.parameters.junctionMergeRadii;
     options.inside = &state.crop;
     state.skeleton = buildSkeletonGraph(state.points, state.crop.dims(), options);
     throwIfInterrupted(state.interrupter);

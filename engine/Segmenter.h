@@ -105,6 +105,9 @@ struct SegmentationParameters {
     bool forkJunctions = true;
     /// Regions grow to their branches' split (SkeletonGraphOptions::growRegionsToSplits).
     bool growRegionsToSplits = true;
+    /// Touching junction regions are one junction only within this many part
+    /// radii (SkeletonGraphOptions::junctionMergeRadii).
+    double junctionMergeRadii = 0.8;
     int consecutiveLevels = 3;
     /// Objects with fewer voxels are one segment without a skeleton.
     std::uint64_t minObjectVoxels = 27;

@@ -131,6 +131,10 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
                  "... and if the piece it cuts off stays within this many times its loop's size "
                  "from the loop's centre",
                  10.0);
+    addThreshold("--junction-merge-radii", seg.parameters.junctionMergeRadii,
+                 "Junctions whose regions touch are one only if their cores are within this many "
+                 "part radii (0: always)",
+                 10.0);
     addThreshold("--limb-sigma-margin", rules.limbSigmaMargin,
                  "A branch with no run at --sigma-min may give a limb from a run this far below it",
                  1.0);

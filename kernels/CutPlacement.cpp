@@ -430,6 +430,21 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                 c.belowSigmaMin = relaxed;
                 plan.candidates.push_back(c);
             }
+            // A junction in contact with another (regions touching, cores
+            // too far apart to be one junction) passes the body on to it with
+            // no branch between: a passage of no length, at the contact.
+            for (const JunctionContact& contact : g.junctionContacts) {
+                if (contact.junction != j && contact.other != j) continue;
+                const bool mine = contact.junction == j;
+                const std::uint32_t node = mine ? contact.node : contact.otherNode;
+                const std::uint32_t across = mine ? contact.otherNode : contact.node;
+                passageLinks.emplace_back(j, mine ? contact.other : contact.junction);
+                if (!options.passagesAreBody) continue;
+                const SkeletonPoint& p = points[g.point[node]];
+                passages.push_back(
+                    {node, 0, p.sigma, std::min(p.rhoS, points[g.point[across]].rhoS)});
+                passageRhoS.push_back(passages.back().rhoS);
+            }
             markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
                                plan.candidates.size() - first, passageRhoS, bodyFloor[j]);
             // A tight loop as long as the body's still goes round the body: the

@@ -1,6 +1,7 @@
 #include "kernels/SkeletonGraph.h"
 
 #include <algorithm>
+#include <cmath>
 #include <unordered_map>
 
 #include "kernels/DisjointSets.h"
@@ -44,6 +45,37 @@ void contractJunctions(SkeletonGraph& g, const std::vector<SkeletonPoint>& point
     std::vector<std::uint32_t> owner(g.nodeCount(),
                                      kNoJunction);  // cluster whose region took the node first
     DisjointSets merged(clusters);
+    // Each cluster's cores and part radius (the median rho_S of its J_tau
+    // points, or of its forks' body loops), for the merge test.
+    std::vector<std::vector<std::uint32_t>> coresOf(clusters);
+    std::vector<double> radiusOf(clusters, 0.0);
+    std::vector<std::uint8_t> forksOnly(clusters, 1);
+    for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
+        if (cluster[n] != kNoJunction) {
+            coresOf[cluster[n]].push_back(n);
+            if (!fork[n]) forksOnly[cluster[n]] = 0;
+        }
+    for (std::uint32_t c = 0; c < clusters; ++c) {
+        std::vector<float> rho;
+        for (std::uint32_t n : coresOf[c])
+            rho.push_back(fork[n] ? forkBodyRhoS[n] : points[g.point[n]].rhoS);
+        std::sort(rho.begin(), rho.end());
+        if (!rho.empty()) radiusOf[c] = loopRadius(std::max(0.0, double(rho[rho.size() / 2])));
+    }
+    const auto oneJunction = [&](std::uint32_t a, std::uint32_t b) {
+        // Forks come in spread clusters along a branching, and a junction
+        // of forks is only as many branches as its clusters together leave.
+        if (options.junctionMergeRadii <= 0.0 || forksOnly[a] || forksOnly[b]) return true;
+        const double reach = options.junctionMergeRadii * std::max(radiusOf[a], radiusOf[b]);
+        for (std::uint32_t u : coresOf[a])
+            for (std::uint32_t v : coresOf[b]) {
+                const double dx = g.coord[u].x - g.coord[v].x, dy = g.coord[u].y - g.coord[v].y,
+                             dz = g.coord[u].z - g.coord[v].z;
+                if (dx * dx + dy * dy + dz * dz <= reach * reach) return true;
+            }
+        return false;
+    };
+    std::vector<std::array<std::uint32_t, 2>> touching;  // node pairs of clusters kept apart
     {
         // Multi-source BFS from all cores at once, `regionRadius` steps.
         std::vector<std::uint32_t> depth(g.nodeCount(), kNoJunction), queue;
@@ -54,7 +86,11 @@ void contractJunctions(SkeletonGraph& g, const std::vector<SkeletonPoint>& point
             for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
                 const std::uint32_t m = g.neighbour[e];
                 if (owner[m] != kNoJunction) {
-                    merged.unite(owner[m], owner[n]);  // regions touch
+                    if (owner[m] == owner[n]) continue;
+                    if (oneJunction(owner[m], owner[n]))
+                        merged.unite(owner[m], owner[n]);  // regions touch
+                    else
+                        touching.push_back({n, m});
                     continue;
                 }
                 if (int(depth[n]) >= options.regionRadius) continue;
@@ -77,6 +113,15 @@ void contractJunctions(SkeletonGraph& g, const std::vector<SkeletonPoint>& point
         g.junctionOf[n] = j;
         g.junctions[j].region.push_back(n);
         if (cluster[n] != kNoJunction) g.junctions[j].core.push_back(n);
+    }
+    g.junctionContacts.clear();
+    for (const auto& [n, m] : touching) {
+        std::uint32_t a = g.junctionOf[n], b = g.junctionOf[m], na = n, nb = m;
+        if (a == b) continue;  // joined through a third cluster
+        if (a > b) std::swap(a, b), std::swap(na, nb);
+        if (std::none_of(g.junctionContacts.begin(), g.junctionContacts.end(),
+                         [&](const JunctionContact& c) { return c.junction == a && c.other == b; }))
+            g.junctionContacts.push_back({a, b, na, nb});
     }
     for (SkeletonJunction& j : g.junctions) {
         // A fork's own loop goes round one branch; the body's loop there is

@@ -6,7 +6,8 @@
 // robust rims) come in clusters, so junctions are contracted into regions:
 // a region is a 26-connected cluster of J_tau voxels plus the C_tau voxels
 // within `regionRadius` steps of it; clusters whose regions touch are one
-// junction. Branches are the 26-connected pieces of C_tau outside the
+// junction where their cores are within `junctionMergeRadii` part radii
+// (two junctions in contact otherwise). Branches are the 26-connected pieces of C_tau outside the
 // regions. Noise can break the skeleton into pieces; gaps of up to `bridgeGap`
 // voxels, or up to the radius of the parts around both ends (rho_S / pi)
 // where that is larger, between different connected parts of C_tau are
@@ -33,6 +34,15 @@ struct SkeletonJunction {
     std::uint32_t representative = 0;   // core node used for reports and RT07 cuts
 };
 
+/// Two junctions whose regions touch but whose cores lie too far apart to be
+/// one junction (SkeletonGraphOptions::junctionMergeRadii): the body passes
+/// from one to the other with no branch between them. `node` and `otherNode`
+/// are the touching region nodes of `junction` and `other`.
+struct JunctionContact {
+    std::uint32_t junction = 0, other = 0;
+    std::uint32_t node = 0, otherNode = 0;
+};
+
 struct SkeletonGraph {
     /// Index into the SkeletonPoint list of each node (C_tau), voxel order.
     std::vector<std::uint32_t> point;
@@ -48,6 +58,8 @@ struct SkeletonGraph {
     /// Branch piece of each node outside regions (kNoJunction inside regions).
     std::vector<std::uint32_t> pieceOf;
     std::uint32_t pieceCount = 0;
+    /// Junctions whose regions touch but stay apart, each pair once.
+    std::vector<JunctionContact> junctionContacts;
 
     std::uint32_t nodeCount() const noexcept { return std::uint32_t(point.size()); }
 };
@@ -78,6 +90,15 @@ struct SkeletonGraphOptions {
     /// junction, so the junction's region must separate its branches
     /// (docs/algorithm.md §6, "A region reaches its branches' split").
     bool growRegionsToSplits = true;
+    /// Two junction clusters whose regions touch are one junction only when
+    /// their cores are within this many part radii (loopRadius of the
+    /// larger cluster's rho_S) of each other; farther apart they stay two
+    /// junctions in contact (SkeletonGraph::junctionContacts). The regions'
+    /// `regionRadius` steps are a count of voxels, so whether two regions
+    /// touch depends on the resolution; the cores' distance in part radii
+    /// does not (docs/algorithm.md §6, "Junctions apart by their radii").
+    /// 0 or less: every touching pair is one junction.
+    double junctionMergeRadii = 0.8;
 };
 
 SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const Dims& dims,

@@ -57,6 +57,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(defaults.at("stub_limbs"), true);
     EXPECT_EQ(defaults.at("fork_junctions"), true);
     EXPECT_EQ(defaults.at("grow_regions_to_splits"), true);
+    EXPECT_EQ(defaults.at("junction_merge_radii"), SegmentationParameters{}.junctionMergeRadii);
 
     const nlohmann::json set = reportedParameters(dir, "set",
                                                   {"--sibling-tolerance",
@@ -67,6 +68,8 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
                                                    "1.5",
                                                    "--corner-reach",
                                                    "2.5",
+                                                   "--junction-merge-radii",
+                                                   "0",
                                                    "--limb-sigma-margin",
                                                    "0.25",
                                                    "--limb-loop-variation",
@@ -99,6 +102,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(set.at("stub_limbs"), false);
     EXPECT_EQ(set.at("fork_junctions"), false);
     EXPECT_EQ(set.at("grow_regions_to_splits"), false);
+    EXPECT_EQ(set.at("junction_merge_radii"), 0.0);
 }
 
 TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {

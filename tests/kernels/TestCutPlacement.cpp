@@ -782,6 +782,47 @@ TEST(CutPlacement, PassageBetweenJunctionsIsBodyAtTwoScales) {
         << "two body candidates and nothing else: the handles stay on the body";
 }
 
+TEST(CutPlacement, PliersWhosePivotRegionsTouchCutEveryHandleAtTwoScales) {
+    // The pliers' two pivot junctions 7 voxels apart (1.1 part radii: rho_S
+    // 20 s, radius 6.4 s) at scale 1, where their 3-step regions touch, and
+    // 14 apart at scale 2, where the branch between them gives a candidate
+    // from each end: both are two junctions joined by the body, and all four
+    // handles are cut (PSB plier 203 at resolution 128 and 192). As one
+    // junction of four body-similar handles, rule 3 would keep one on the body.
+    const auto pliers = [](int scale, double mergeRadii) {
+        const int arm = 15 * scale, a = arm + 2, c = arm + 2, gap = 7 * scale;
+        SkeletonPointSet set{Dims{2 * arm + gap + 5, 2 * arm + 5, 3}};
+        const float body = 20.0f * float(scale), handle = 14.0f * float(scale);
+        for (const int x : {a, a + gap}) {
+            set.add({x, c, 1}, body, 9000.0, 3);
+            const int out = x == a ? -1 : 1;
+            for (const int side : {-1, 1})
+                for (std::uint32_t v :
+                     set.chain({x + out, c + side, 1}, {out, side, 0}, arm, handle))
+                    set.point(v).sigma = 0.9f;
+        }
+        for (std::uint32_t v : set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, body, 9000.0))
+            set.point(v).sigma = 0.9f;
+        const std::vector<SkeletonPoint> points = set.points();
+        SkeletonGraphOptions graphOptions;
+        graphOptions.junctionMergeRadii = mergeRadii;
+        const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), graphOptions);
+        return placeCuts(g, points, {},
+                         [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+    };
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const CutPlan plan = pliers(scale, SkeletonGraphOptions{}.junctionMergeRadii);
+        ASSERT_EQ(plan.junctions.size(), 2u);
+        EXPECT_EQ(plan.junctions[0].cuts, 2u);
+        EXPECT_EQ(plan.junctions[1].cuts, 2u);
+        EXPECT_EQ(plan.cutNodes.size(), 4u);
+    }
+    const CutPlan merged = pliers(1, 0.0);
+    ASSERT_EQ(merged.junctions.size(), 1u);
+    EXPECT_EQ(merged.cutNodes.size(), 3u) << "one junction: one handle stays on the body";
+}
+
 TEST(CutPlacement, OneBodyCandidateBesidePassagesStaysBody) {
     // A plate whose skeleton branches into a row of junctions (a chair's
     // seat): the middle junction has passages to both neighbours, one branch

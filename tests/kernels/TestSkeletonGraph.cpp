@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <limits>
 #include <set>
 
@@ -284,19 +285,53 @@ TEST(SkeletonGraph, JunctionClusterIsOneJunctionWithMedianRhoS) {
     EXPECT_EQ(g2.junctions[0].rhoS, 23.0f);
 }
 
+/// A chain along x with two junction voxels (rho_S `rhoS`) `distance` apart.
+SkeletonPointSet twoJunctionsOnAChain(int distance, float rhoS) {
+    SkeletonPointSet set(Dims{40, 5, 3});
+    const auto chain = set.chain({5, 2, 1}, {1, 0, 0}, 25);
+    for (const std::uint32_t v : {chain[5], chain[5 + std::size_t(distance)]}) {
+        set.point(v).robustRims = 3;
+        set.point(v).rhoS = rhoS;
+    }
+    return set;
+}
+
 TEST(SkeletonGraph, JunctionRegionsThatTouchMerge) {
-    // Junction voxels on one chain `distance` apart: with regionRadius 3 the
-    // regions touch (and merge) up to distance 7, not at 8.
+    // Junction voxels on one chain `distance` apart, in a part of radius 15.9
+    // (rho_S 50): with regionRadius 3 the regions touch (and merge) up to
+    // distance 7, not at 8.
     for (int distance : {7, 8}) {
-        SkeletonPointSet set(Dims{40, 5, 3});
-        const auto chain = set.chain({5, 2, 1}, {1, 0, 0}, 25);
-        set.point(chain[5]).robustRims = 3;
-        set.point(chain[5 + std::size_t(distance)]).robustRims = 3;
+        const SkeletonPointSet set = twoJunctionsOnAChain(distance, 50.0f);
         const SkeletonGraph g = buildSkeletonGraph(set.points(), set.dims(), {});
         EXPECT_EQ(g.junctions.size(), distance == 7 ? 1u : 2u) << "distance " << distance;
         // Pieces: the two ends, plus the voxel between two separate regions.
         EXPECT_EQ(g.pieceCount, distance == 7 ? 2u : 3u) << "distance " << distance;
+        EXPECT_TRUE(g.junctionContacts.empty());
     }
+}
+
+TEST(SkeletonGraph, TouchingRegionsOfJunctionsARadiusApartStayTwo) {
+    // The same chain in a part of radius 6.4 (rho_S 20): cores 7 voxels apart
+    // are 1.1 radii apart, two junctions whether their regions touch (as at
+    // a low resolution) or not; the touching regions are a contact.
+    const SkeletonPointSet set = twoJunctionsOnAChain(7, 20.0f);
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    ASSERT_EQ(g.junctions.size(), 2u);
+    EXPECT_EQ(g.pieceCount, 2u) << "the two ends; nothing between the regions";
+    ASSERT_EQ(g.junctionContacts.size(), 1u);
+    const JunctionContact& contact = g.junctionContacts[0];
+    EXPECT_EQ(contact.junction, 0u);
+    EXPECT_EQ(contact.other, 1u);
+    EXPECT_EQ(g.junctionOf[contact.node], 0u);
+    EXPECT_EQ(g.junctionOf[contact.otherNode], 1u);
+    EXPECT_EQ(std::abs(g.coord[contact.node].x - g.coord[contact.otherNode].x), 1);
+
+    SkeletonGraphOptions merging;
+    merging.junctionMergeRadii = 0.0;
+    const SkeletonGraph merged = buildSkeletonGraph(points, set.dims(), merging);
+    EXPECT_EQ(merged.junctions.size(), 1u) << "0: every touching pair is one junction";
+    EXPECT_TRUE(merged.junctionContacts.empty());
 }
 
 /// Two chains along x at y = 5, the second starting `gap` empty voxels after
