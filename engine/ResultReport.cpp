@@ -195,6 +195,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                  {"body_similarity", c.similarity},
                  {"is_corner", c.isCorner},
                  {"below_sigma_min", c.belowSigmaMin},
+                 {"stub_limb", c.stubLimb},
                  {"loop_separates", c.loopSeparates},
                  {"moved_to_separate", c.movedToSeparate},
                  {"is_cut", c.isCut}});

@@ -308,6 +308,7 @@ void recordSkeleton(ObjectState& state) {
         info.similarity = c.similarity;
         info.isCorner = c.isCorner;
         info.belowSigmaMin = c.belowSigmaMin;
+        info.stubLimb = c.stubLimb;
         info.loopSeparates = c.loopSeparates;
         info.movedToSeparate = c.movedToSeparate;
         info.isCut = c.isCut;

@@ -155,6 +155,7 @@ struct CriticalPointInfo {
     float similarity = 0.0f;
     bool isCorner = false;         // a corner of a flat end, not cut (CutCandidate::isCorner)
     bool belowSigmaMin = false;    // found by a run below sigma_min (CutCandidate::belowSigmaMin)
+    bool stubLimb = false;         // found by the stub rule (CutCandidate::stubLimb)
     bool loopSeparates = true;     // CutCandidate::loopSeparates
     bool movedToSeparate = false;  // CutCandidate::movedToSeparate
     bool isCut = false;

@@ -394,6 +394,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                 // the branch ends where the piece below falls to tau, before
                 // its loops leave the base and become tight. Its piece still
                 // reaches far past the loop (a corner's is a cap within it).
+                bool stub = false;
                 if (walk.candidate == kNoJunction && options.stubLimbs && pieceReach &&
                     walk.otherJunction == kNoJunction && !walk.levels.empty()) {
                     std::size_t best = 0;
@@ -411,6 +412,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                             walk.limbRhoS = std::min(walk.limbRhoS, t.rhoS);
                         walk.windowEnd = walk.walkEnd = walk.levels.back().level;
                         relaxed = true;
+                        stub = true;
                     }
                 }
                 if (walk.candidate == kNoJunction) continue;
@@ -428,6 +430,7 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
                 c.baseRhoS = points[g.point[node]].rhoS;
                 c.limbRhoS = walk.limbRhoS;
                 c.belowSigmaMin = relaxed;
+                c.stubLimb = stub;
                 plan.candidates.push_back(c);
             }
             // A junction in contact with another (regions touching, cores

@@ -165,6 +165,10 @@ struct CutCandidate {
     bool isCut = false;
     /// Found by a run below sigmaMin (relaxSigmaMinForLimbs).
     bool belowSigmaMin = false;
+    /// Found by the stub rule (stubLimbs): a limb of about tau with no run of
+    /// tight levels, so its sigma is its best loop's, not a run's. Such a
+    /// candidate is also belowSigmaMin.
+    bool stubLimb = false;
     /// false: the loop first chosen for this cut separated nothing
     /// (separatingCutsOnly); the cut then moved (movedToSeparate) or was
     /// dropped (isCut false).

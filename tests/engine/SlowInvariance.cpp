@@ -143,9 +143,12 @@ TEST(Invariance, PsbLimbsBelowSigmaMinAndPassagesKeepTheirPartCount) {
             const double margin = parameters.at("limb_sigma_margin").get<double>();
             for (const auto& point : report.at("critical_points")) {
                 if (!point.at("below_sigma_min").get<bool>()) continue;
-                // Within the digitisation margin below sigma_min, never further.
-                EXPECT_GE(point.at("sigma").get<double>(), sigmaMin - margin - 1e-6)
-                    << model << ": " << out.filename();
+                // A run: within the digitisation margin below sigma_min, never
+                // further. A stub (§8.12) has no run of tight levels: its sigma
+                // is its best loop's, whatever that reads.
+                if (!point.at("stub_limb").get<bool>())
+                    EXPECT_GE(point.at("sigma").get<double>(), sigmaMin - margin - 1e-6)
+                        << model << ": " << out.filename();
                 cutsBelowSigmaMin += point.at("is_cut").get<bool>();
             }
         }

@@ -679,6 +679,7 @@ TEST(CutPlacement, LimbOfAboutTauWhoseLoopsNeverTightenIsCutWhereItsPieceReaches
                                   [](const CutCandidate& c) { return c.isCut; });
     ASSERT_NE(cut, limb.candidates.end());
     EXPECT_TRUE(cut->belowSigmaMin);
+    EXPECT_TRUE(cut->stubLimb) << "reported as found by the stub rule";
     EXPECT_LT(cut->similarity, 0.6f);
     EXPECT_FLOAT_EQ(cut->sigma, 0.7f) << "the stub's best loop";
     EXPECT_TRUE(stubLimbPlan(1.0, true).cutNodes.empty()) << "a cap is no limb";
