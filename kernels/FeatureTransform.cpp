@@ -17,9 +17,12 @@ constexpr std::int64_t kInfiniteCost = std::numeric_limits<std::int64_t>::max() 
 /// Lower envelope of the parabolas cost[i] + (j - i)^2 over one line of n
 /// samples; writes for every j the i that minimises it (or -1 if every cost is
 /// infinite). Scratch vectors are passed in to avoid allocation per line.
+/// apexHeight: scratch, the parabola's value at its own apex for each apex
+/// (kept so that a parabola popped and compared again is not recomputed).
 void nearestAlongLine(const std::int64_t* cost, int n, int* nearest, std::vector<int>& apex,
-                      std::vector<double>& boundary) {
+                      std::vector<double>& apexHeight, std::vector<double>& boundary) {
     apex.resize(std::size_t(n));
+    apexHeight.resize(std::size_t(n));
     boundary.resize(std::size_t(n) + 1);
     int k = -1;
     for (int q = 0; q < n; ++q) {
@@ -27,12 +30,14 @@ void nearestAlongLine(const std::int64_t* cost, int n, int* nearest, std::vector
         const double fq = double(cost[q]) + double(q) * double(q);
         while (k >= 0) {
             const int v = apex[std::size_t(k)];
-            const double fv = double(cost[v]) + double(v) * double(v);
+            const double fv = apexHeight[std::size_t(k)];
             const double s = (fq - fv) / (2.0 * double(q - v));
             if (s <= boundary[std::size_t(k)]) {
                 --k;
             } else {
-                apex[std::size_t(++k)] = q;
+                ++k;
+                apex[std::size_t(k)] = q;
+                apexHeight[std::size_t(k)] = fq;
                 boundary[std::size_t(k)] = s;
                 boundary[std::size_t(k) + 1] = std::numeric_limits<double>::infinity();
                 goto placed;
@@ -40,6 +45,7 @@ void nearestAlongLine(const std::int64_t* cost, int n, int* nearest, std::vector
         }
         k = 0;
         apex[0] = q;
+        apexHeight[0] = fq;
         boundary[0] = -std::numeric_limits<double>::infinity();
         boundary[1] = std::numeric_limits<double>::infinity();
     placed:;
@@ -55,10 +61,31 @@ void nearestAlongLine(const std::int64_t* cost, int n, int* nearest, std::vector
     }
 }
 
+/// floor(n / d) for 32-bit n by a multiply and a shift, exact for every n:
+/// m = floor((2^64 - 1) / d) + 1 is at least 2^64 / d and exceeds it by less
+/// than 1, so n * m / 2^64 exceeds n / d by less than n / 2^64 < 1 / d and
+/// cannot reach the next integer. The last pass needs one division by the
+/// row length per voxel, and a hardware division is several times slower.
+class RowDivider {
+public:
+    explicit RowDivider(std::uint32_t divisor) noexcept
+        : mDivisor(divisor), mMultiplier(divisor > 1 ? ~std::uint64_t(0) / divisor + 1 : 0) {}
+
+    std::uint32_t operator()(std::uint32_t n) const noexcept {
+        if (mDivisor <= 1) return n;
+        __extension__ typedef unsigned __int128 Wide;
+        return std::uint32_t((Wide(n) * Wide(mMultiplier)) >> 64);
+    }
+
+private:
+    std::uint32_t mDivisor;
+    std::uint64_t mMultiplier;
+};
+
 struct LineScratch {
     std::vector<std::int64_t> cost;
     std::vector<int> nearest, apex;
-    std::vector<double> boundary;
+    std::vector<double> apexHeight, boundary;
     std::vector<std::uint32_t> features;
     std::vector<std::uint32_t> result;  // the slab's new features, same layout
 };
@@ -115,6 +142,7 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
     // the line's sample i to its current feature in the other dimensions.
     // Lines of one slab are gathered into a tile whose rows are contiguous in
     // memory so the strided axis is read once.
+    const RowDivider rowOf{std::uint32_t(nx)};
     auto pass = [&](int axis) {
         const int lineLength = axis == 1 ? ny : nz;
         const int outer = axis == 1 ? nz : ny;  // one slab per outer index
@@ -164,7 +192,7 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
                             } else {
                                 const std::uint32_t inSlice =
                                     f - std::uint32_t(std::size_t(i) * sliceSize);
-                                const std::uint32_t fy = inSlice / std::uint32_t(nx);
+                                const std::uint32_t fy = rowOf(inSlice);
                                 const std::int64_t dx =
                                     std::int64_t(inSlice - fy * std::uint32_t(nx)) - x;
                                 const std::int64_t dy = std::int64_t(fy) - o;
@@ -173,7 +201,7 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
                             scratch.cost[std::size_t(i)] = c;
                         }
                         nearestAlongLine(scratch.cost.data(), lineLength, scratch.nearest.data(),
-                                         scratch.apex, scratch.boundary);
+                                         scratch.apex, scratch.apexHeight, scratch.boundary);
                         for (int j = 0; j < lineLength; ++j) {
                             const int i = scratch.nearest[std::size_t(j)];
                             scratch.result[std::size_t(j) * std::size_t(nx) + std::size_t(x)] =
