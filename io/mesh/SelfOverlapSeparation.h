@@ -23,8 +23,10 @@
 // a gap between the two surfaces. A group is cleared
 // only if that adds no topology in the box around it (genus and cavities do
 // not grow), as for contacts; a refused group is tried again one voxel wider
-// at a time, within the bounds `maxClearance` describes. The buried faces then take the label
-// of the nearest part (FaceLabels.h).
+// at a time, within the bounds `maxClearance` describes. A clearing after
+// which the voxels around it lie in two objects of the whole mask (it cut a
+// thin limb loose) is set back (kernels/SeveredObjects.h). The buried faces
+// then take the label of the nearest part (FaceLabels.h).
 //
 // Limits: open pieces and pieces not consistently oriented have no winding
 // number and are left alone; where two surfaces cross at a grazing angle the
@@ -63,8 +65,12 @@ struct SelfOverlapOptions {
 struct SelfOverlapSeparation {
     /// Places (26-connected groups of doubly enclosed voxels) separated.
     std::size_t overlaps = 0;
-    /// Places found but left joined: clearing them would have added topology.
+    /// Places found but left joined: clearing them would have added topology
+    /// or cut an object in two.
     std::size_t overlapsKept = 0;
+    /// Of overlapsKept: cleared, then set back because the clearing cut an
+    /// object in two (kernels/SeveredObjects.h).
+    std::size_t overlapsRejoined = 0;
     /// Voxel centres enclosed twice or more by one piece.
     std::size_t overlapVoxels = 0;
     /// Object voxels cleared.
