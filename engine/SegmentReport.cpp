@@ -35,7 +35,7 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
         context.input["self_overlap_clearance"] = options.selfOverlapClearance;
         context.input["self_overlaps_separated"] = shape.input->selfOverlaps.overlaps;
         context.input["self_overlaps_kept"] = shape.input->selfOverlaps.overlapsKept;
-        context.input["self_overlaps_rejoined"] = shape.input->selfOverlaps.overlapsRejoined;
+        context.input["self_overlaps_severing"] = shape.input->selfOverlaps.overlapsSevering;
         context.input["self_overlap_voxels"] = shape.input->selfOverlaps.overlapVoxels;
         context.input["self_overlap_voxels_cleared"] = shape.input->selfOverlaps.voxelsCleared;
         context.input["thin_part_fill"] = shape.input->thinPartFill;

@@ -35,7 +35,8 @@ std::vector<bool> rejoinSeveredObjects(MaskVolume& mask, const std::vector<Clear
         if (around.size() < 2) continue;
         // The group's voxels are 26-connected and touch each of these
         // objects: set back, it joins them all again.
-        for (const auto& c : cleared[g]) mask(c[0], c[1], c[2]) = 1;
+        if (options.setBack)
+            for (const auto& c : cleared[g]) mask(c[0], c[1], c[2]) = 1;
         for (std::size_t k = 1; k < around.size(); ++k) joined.unite(around[0], around[k]);
         setBack[g] = true;
     }

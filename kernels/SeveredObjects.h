@@ -33,11 +33,15 @@ using ClearedGroup = std::vector<std::array<int, 3>>;
 struct SeveredObjectsOptions {
     /// false: the labelling runs on the calling thread (same result).
     bool threaded = true;
+    /// false: the mask is left as it is and only the groups that would be
+    /// set back are reported (a stage that counts its cuts without undoing
+    /// them).
+    bool setBack = true;
 };
 
 /// Sets back to 1 the groups of `cleared` (voxels of `mask` that are now 0)
 /// that cut an object of `mask` in two (see above) and returns, per group,
-/// whether it was set back.
+/// whether it was (or, with setBack off, would be) set back.
 /// @throw InterruptedError.
 std::vector<bool> rejoinSeveredObjects(MaskVolume& mask, const std::vector<ClearedGroup>& cleared,
                                        const SeveredObjectsOptions& options = {},

@@ -375,17 +375,20 @@ SelfOverlapSeparation separateSelfOverlaps(const TriangleMesh& mesh, MaskVolume&
         }
         if (!separated && !nothingToClear) ++result.overlapsKept;
     }
-    // A clearing that cut an object in two (a thin limb beside the crossing)
-    // is set back: its box cannot see that (SeveredObjects.h).
+    // A clearing that cut an object in two (a limb passing through another)
+    // is counted, and set back when asked: its box cannot see that
+    // (SeveredObjects.h).
     SeveredObjectsOptions severedOptions;
     severedOptions.threaded = options.threaded;
-    const std::vector<bool> setBack =
+    severedOptions.setBack = options.rejoinSevered;
+    const std::vector<bool> severing =
         rejoinSeveredObjects(mask, clearedGroups, severedOptions, interrupter);
-    for (std::size_t g = 0; g < setBack.size(); ++g) {
-        if (!setBack[g]) continue;
+    for (std::size_t g = 0; g < severing.size(); ++g) {
+        if (!severing[g]) continue;
+        ++result.overlapsSevering;
+        if (!options.rejoinSevered) continue;
         --result.overlaps;
         ++result.overlapsKept;
-        ++result.overlapsRejoined;
         result.voxelsCleared -= clearedGroups[g].size();
     }
     return result;

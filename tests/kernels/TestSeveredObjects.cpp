@@ -75,6 +75,17 @@ TEST(SeveredObjects, SerialEqualsParallel) {
     EXPECT_EQ(serial.values(), parallel.values());
 }
 
+TEST(SeveredObjects, CountsWithoutSettingBack) {
+    MaskVolume mask = bar(12);
+    const std::vector<ClearedGroup> groups{clear(mask, sectionAt(6))};
+    MaskVolume cut = bar(12);
+    clear(cut, groups[0]);
+    SeveredObjectsOptions countOnly;
+    countOnly.setBack = false;
+    EXPECT_EQ(rejoinSeveredObjects(mask, groups, countOnly), std::vector<bool>{true});
+    EXPECT_EQ(mask.values(), cut.values());
+}
+
 class StopAtOnce final : public Interrupter {
 public:
     bool wasInterrupted(double) override { return true; }
