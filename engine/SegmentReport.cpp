@@ -31,9 +31,11 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
         context.input["voxel_genus"] = shape.input->voxelGenus.genus;
         context.input["contacts_separated"] = shape.input->contacts.contacts;
         context.input["contact_voxels_cleared"] = shape.input->contacts.voxelsCleared;
+        context.input["contacts_rejoined"] = shape.input->contacts.contactsRejoined;
         context.input["self_overlap_clearance"] = options.selfOverlapClearance;
         context.input["self_overlaps_separated"] = shape.input->selfOverlaps.overlaps;
         context.input["self_overlaps_kept"] = shape.input->selfOverlaps.overlapsKept;
+        context.input["self_overlaps_severing"] = shape.input->selfOverlaps.overlapsSevering;
         context.input["self_overlap_voxels"] = shape.input->selfOverlaps.overlapVoxels;
         context.input["self_overlap_voxels_cleared"] = shape.input->selfOverlaps.voxelsCleared;
         context.input["thin_part_fill"] = shape.input->thinPartFill;

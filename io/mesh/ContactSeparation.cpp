@@ -13,6 +13,7 @@
 #include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshOrientation.h"
 #include "io/mesh/Vec3Arithmetic.h"
+#include "kernels/SeveredObjects.h"
 #include "kernels/VoxelGenus.h"
 #include "kernels/base/ParallelFor.h"
 
@@ -403,6 +404,7 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
         for (std::uint32_t i : voxels) cells.push_back(coordOf(i));
         return cells;
     };
+    std::vector<ClearedGroup> clearedGroups;
     for (std::size_t c = 0; c < contacts.size(); ++c) {
         throwIfInterrupted(interrupter);
         const std::vector<std::uint32_t>* seam = &contacts[c];
@@ -413,9 +415,28 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
                 continue;
             }
         }
-        for (std::uint32_t i : *seam) mask.data()[i] = 0;
+        ClearedGroup clearedNow;
+        for (std::uint32_t i : *seam)
+            if (mask.data()[i]) {
+                mask.data()[i] = 0;
+                clearedNow.push_back(coordOf(i));
+            }
         ++result.contacts;
-        result.voxelsCleared += seam->size();
+        result.voxelsCleared += clearedNow.size();
+        clearedGroups.push_back(std::move(clearedNow));
+    }
+    // 6. A seam that cut an object in two (a thin limb next to the contact)
+    //    is set back: the box of step 5 cannot see it (SeveredObjects.h).
+    SeveredObjectsOptions severedOptions;
+    severedOptions.threaded = options.threaded;
+    const std::vector<bool> setBack =
+        rejoinSeveredObjects(mask, clearedGroups, severedOptions, interrupter);
+    for (std::size_t g = 0; g < setBack.size(); ++g) {
+        if (!setBack[g]) continue;
+        --result.contacts;
+        ++result.contactsKept;
+        ++result.contactsRejoined;
+        result.voxelsCleared -= clearedGroups[g].size();
     }
     result.contactPairs = pairs;
     return result;

@@ -32,7 +32,10 @@
 // surfaces touch; a group is cleared only if that adds no topology in the box
 // around it (its genus must not grow, no cavity may appear): a contact of
 // which some pairs were missed would otherwise get a hole punched through
-// it instead of being separated.
+// it instead of being separated. A contact separates two surfaces, it never
+// cuts a piece of the shape loose: a seam after which the voxels around it
+// lie in two objects of the whole mask (a thin limb cut next to the contact)
+// is set back (kernels/SeveredObjects.h).
 //
 // Limits: a mesh that intersects itself can have contacts detected where it
 // crosses itself; pieces that merely touch stay joined (rule 3); a contact
@@ -63,8 +66,12 @@ struct ContactSeparation {
     /// Places where surfaces touched that were separated (26-connected groups
     /// of cleared voxels).
     std::size_t contacts = 0;
-    /// Places found but left joined: clearing them would have added topology.
+    /// Places found but left joined: clearing them would have added topology
+    /// or cut an object in two.
     std::size_t contactsKept = 0;
+    /// Of contactsKept: cleared, then set back because the seam cut an object
+    /// in two (kernels/SeveredObjects.h).
+    std::size_t contactsRejoined = 0;
     /// Object voxels cleared.
     std::size_t voxelsCleared = 0;
     /// Neighbouring voxel pairs found to be contacts.

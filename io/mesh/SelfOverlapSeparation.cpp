@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "io/mesh/MeshVoxelizer.h"
+#include "kernels/SeveredObjects.h"
 #include "kernels/VoxelGenus.h"
 #include "kernels/base/ParallelFor.h"
 
@@ -334,6 +335,7 @@ SelfOverlapSeparation separateSelfOverlaps(const TriangleMesh& mesh, MaskVolume&
     VoxelTopologyOptions topologyOptions;
     topologyOptions.threaded = options.threaded;
     std::int64_t maskGenus = -1;  // the genus of the mask as it stands; -1: not known
+    std::vector<ClearedGroup> clearedGroups;
     for (const auto& group : groupsOf(voxels, dims)) {
         throwIfInterrupted(interrupter);
         // A clearing that adds topology in its box is tried again wider:
@@ -368,9 +370,26 @@ SelfOverlapSeparation separateSelfOverlaps(const TriangleMesh& mesh, MaskVolume&
             }
             ++result.overlaps;
             result.voxelsCleared += cells.size();
+            clearedGroups.push_back(cells);
             separated = true;
         }
         if (!separated && !nothingToClear) ++result.overlapsKept;
+    }
+    // A clearing that cut an object in two (a limb passing through another)
+    // is counted, and set back when asked: its box cannot see that
+    // (SeveredObjects.h).
+    SeveredObjectsOptions severedOptions;
+    severedOptions.threaded = options.threaded;
+    severedOptions.setBack = options.rejoinSevered;
+    const std::vector<bool> severing =
+        rejoinSeveredObjects(mask, clearedGroups, severedOptions, interrupter);
+    for (std::size_t g = 0; g < severing.size(); ++g) {
+        if (!severing[g]) continue;
+        ++result.overlapsSevering;
+        if (!options.rejoinSevered) continue;
+        --result.overlaps;
+        ++result.overlapsKept;
+        result.voxelsCleared -= clearedGroups[g].size();
     }
     return result;
 }

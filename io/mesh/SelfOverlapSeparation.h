@@ -23,8 +23,11 @@
 // a gap between the two surfaces. A group is cleared
 // only if that adds no topology in the box around it (genus and cavities do
 // not grow), as for contacts; a refused group is tried again one voxel wider
-// at a time, within the bounds `maxClearance` describes. The buried faces then take the label
-// of the nearest part (FaceLabels.h).
+// at a time, within the bounds `maxClearance` describes. The buried faces
+// then take the label of the nearest part (FaceLabels.h). A clearing after
+// which the voxels around it lie in two objects of the whole mask (a limb that
+// passes through another is cut where it crosses) is counted, and set back
+// only when `rejoinSevered` is on (kernels/SeveredObjects.h).
 //
 // Limits: open pieces and pieces not consistently oriented have no winding
 // number and are left alone; where two surfaces cross at a grazing angle the
@@ -56,6 +59,12 @@ struct SelfOverlapOptions {
     /// frees a handle in some poses of a character and not in others
     /// (docs/meshes.md, "Places kept fused on posed characters").
     int maxClearance = 4;
+    /// Set back a clearing that cuts an object in two. Off: where a limb
+    /// passes through another, clearing the crossing cuts the limb and
+    /// setting it back keeps the false handle; on the posed characters
+    /// measured, the handle costs more parts than the loose piece
+    /// (docs/meshes.md, "A separation never cuts a limb loose").
+    bool rejoinSevered = false;
     /// false: everything runs on the calling thread (same result).
     bool threaded = true;
 };
@@ -63,8 +72,13 @@ struct SelfOverlapOptions {
 struct SelfOverlapSeparation {
     /// Places (26-connected groups of doubly enclosed voxels) separated.
     std::size_t overlaps = 0;
-    /// Places found but left joined: clearing them would have added topology.
+    /// Places found but left joined: clearing them would have added topology
+    /// or cut an object in two.
     std::size_t overlapsKept = 0;
+    /// Places whose clearing cut an object in two (kernels/SeveredObjects.h):
+    /// set back (and counted in overlapsKept) when rejoinSevered is on, else
+    /// left cleared.
+    std::size_t overlapsSevering = 0;
     /// Voxel centres enclosed twice or more by one piece.
     std::size_t overlapVoxels = 0;
     /// Object voxels cleared.

@@ -106,6 +106,35 @@ TEST(ContactSeparation, ThinPlateAndTorusAreLeftAlone) {
     EXPECT_EQ(voxelTopology(torusVoxels.mask).genus, 1);
 }
 
+/// A thick slab with a thin rod lying on it across one fine voxel: the rod
+/// is joined to the slab at one end (x = 25..31) and runs along the slab's
+/// top (z = 0..1, two fine voxels high) and on past the slab's far end
+/// (x = -30) into a free tip. At resolutions 22 and 26 the rod is under a
+/// voxel thick and the seam along the contact takes its whole cross section.
+TriangleMesh rodOnSlab() {
+    Shape s;
+    s.box({0, 0, -10}, {30.5, 12.5, 8.5});  // slab: z = -18..-2
+    s.box({-7, 0, 0.5}, {38.5, 2.5, 1});    // rod: x = -45..31, z = 0..1
+    s.box({28, 0, -1}, {3.5, 2.5, 1.5});    // joint: z = -1 at x = 25..31
+    return test::meshOfShape(s, {-48, -15, -21}, {34, 15, 8});
+}
+
+TEST(ContactSeparation, ASeamNeverCutsALimbLoose) {
+    const TriangleMesh mesh = rodOnSlab();
+    ASSERT_EQ(meshTopology(mesh).genus, 0);
+    for (int resolution : {22, 26}) {
+        VoxelizeOptions options = coarse(true);
+        options.resolution = resolution;
+        VoxelizeOptions plain = coarse(false);
+        plain.resolution = resolution;
+        ASSERT_EQ(voxelTopology(voxelizeMesh(mesh, plain)).objects, 1u)
+            << "the rod must be whole before the separation, resolution " << resolution;
+        const MeshVoxelization kept = voxelizeMeshWithContacts(mesh, options);
+        EXPECT_EQ(voxelTopology(kept.mask).objects, 1u) << "resolution " << resolution;
+        EXPECT_EQ(kept.contacts.contactsRejoined, 1u) << "resolution " << resolution;
+    }
+}
+
 TEST(ContactSeparation, SerialEqualsParallel) {
     const TriangleMesh mesh = cutRing();
     const MeshVoxelization serial = voxelizeMeshWithContacts(mesh, coarse(true, false));
