@@ -148,6 +148,9 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
                       "A branch between two junctions without a run of tight levels is not body");
     command->add_flag("!--no-shared-body-reference", rules.shareBodyAcrossPassages,
                       "Junctions joined through a passage keep their own body reference");
+    command->add_flag("!--no-two-sided-siblings", rules.siblingsBothWays,
+                      "Pull onto the body any candidate above 1 - --sibling-tolerance of the "
+                      "thinner body member, however much thicker");
     command->add_flag("!--no-body-check-below-sigma-min", rules.belowSigmaMinOnlyLimbs,
                       "Keep a candidate of the walk below --sigma-min even where it reads body");
     command->add_flag("!--no-passage-area-check", rules.passageCutsOnlySmallerCandidates,

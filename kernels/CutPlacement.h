@@ -60,6 +60,11 @@ struct CutOptions {
     /// answer; narrower than the gap to a thinner branch beside a body passing
     /// through, so the body is not cut there (both bounds: docs/algorithm.md §8.6).
     double siblingTolerance = 0.25;
+    /// The sibling must be alike both ways: within siblingTolerance of the
+    /// thinner body member and that member within siblingTolerance of it
+    /// (off: any candidate above (1 - siblingTolerance) times the thinner
+    /// member is pulled in; docs/algorithm.md §8.6, "Siblings").
+    bool siblingsBothWays = true;
     /// A cut moves further out along the limb while its loop still shrinks
     /// by more than this fraction over the next loop diameter (a limb's own
     /// taper is less; a skirt lying on a thigh shrinks faster).

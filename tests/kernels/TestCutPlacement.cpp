@@ -867,6 +867,34 @@ TEST(CutPlacement, PassageCountsInTheSiblingTest) {
     EXPECT_FALSE(candidates[1].onBody) << "without the passage: one body candidate";
 }
 
+TEST(CutPlacement, ArmBesideAThinPassageIsNoSiblingOfItAtTwoScales) {
+    // A shoulder junction (rho_S 100 s) on a figure whose hand makes a
+    // junction of its own: the forearm between them has no tight run and is
+    // a passage (loop 14 s), the way to the other shoulder a passage too
+    // (85 s), and the upper arm gives a candidate (29 s, similarity 0.29).
+    // The forearm is the thinner body member; the upper arm is twice as
+    // thick, no sibling of it, and stays a limb (modelled on a held-out
+    // character at 320, docs/quality.md "flips15").
+    for (const float scale : {1.0f, 2.0f}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        std::vector<CutCandidate> arm(1);
+        arm[0].baseRhoS = 37.0f * scale;
+        arm[0].limbRhoS = 29.0f * scale;
+        const std::vector<float> passages{14.0f * scale, 85.0f * scale};
+        markBodyCandidates(100.0f * scale, {}, arm.data(), arm.size(), passages);
+        EXPECT_LT(arm[0].similarity, 0.6f);
+        EXPECT_FALSE(arm[0].onBody) << "twice the thinner member is no sibling";
+        CutOptions oneSided;
+        oneSided.siblingsBothWays = false;
+        markBodyCandidates(100.0f * scale, oneSided, arm.data(), arm.size(), passages);
+        EXPECT_TRUE(arm[0].onBody) << "the one-sided bound pulls it in";
+        // A candidate nearly as thick as the forearm is still its sibling.
+        arm[0].baseRhoS = arm[0].limbRhoS = 12.0f * scale;
+        markBodyCandidates(100.0f * scale, {}, arm.data(), arm.size(), passages);
+        EXPECT_TRUE(arm[0].onBody);
+    }
+}
+
 /// A torso junction (rho_S 80 s) with the torso (80 s) and a leg (20 s), and
 /// a shoulder junction (68 s) with a neck (44 s) and an arm (20 s), at scale
 /// s; the junctions' cores are `gap` voxels apart along x, joined by a
