@@ -290,16 +290,17 @@ void markBodyCandidates(float junctionRhoS, const CutOptions& options, CutCandid
     std::vector<float> body2 = passageRhoS;
     for (std::size_t i = 0; i < count; ++i)
         if (candidates[i].onBody) body2.push_back(candidates[i].limbRhoS);
-    // "Nearly as thick" both ways: a candidate much thicker than the thinner
-    // member is no sibling of it (a passage along a limb's forearm, beside
-    // the upper arm's candidate, is not its twin).
     if (body2.size() != 2) return;
     const float thinner = std::min(body2[0], body2[1]);
-    const float tolerance = float(1.0 - options.siblingTolerance);
+    // Nearly as thick as the thinner member, and (siblingsBothWays) that
+    // member nearly as thick as the candidate: a candidate much thicker than
+    // the thinner member is no sibling of it (a passage along a limb's
+    // forearm, beside the upper arm's candidate, is not its twin).
+    const float siblingRatio = float(1.0 - options.siblingTolerance);
     for (std::size_t i = 0; i < count; ++i)
         if (CutCandidate& c = candidates[i];
-            !c.onBody && c.limbRhoS >= tolerance * thinner &&
-            (!options.siblingsBothWays || tolerance * c.limbRhoS <= thinner))
+            !c.onBody && c.limbRhoS >= siblingRatio * thinner &&
+            (!options.siblingsBothWays || siblingRatio * c.limbRhoS <= thinner))
             c.onBody = true;
 }
 
