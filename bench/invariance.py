@@ -55,6 +55,11 @@ def parse_args(argv):
                    help="the shared data folder (default: ../shared/data next to the repository)")
     p.add_argument("--pose-resolution", type=int, default=192,
                    help="resolution for the pose sequences (default 192)")
+    p.add_argument("--pose-grid", choices=["frame", "largest", "smallest"], default="frame",
+                   help="voxel size of the pose frames: 'frame' (default) gives each frame "
+                        "--pose-resolution voxels along its own longest side; 'largest' and "
+                        "'smallest' give every frame of a sequence one voxel size, that of its "
+                        "frame with the largest or smallest bounding box at --pose-resolution")
     p.add_argument("--resolutions", default="128,192,256,320",
                    help="comma-separated resolutions for the shapes (default 128,192,256,320)")
     p.add_argument("--shapes", default=",".join(DEFAULT_SHAPES),
@@ -110,6 +115,30 @@ def segment(skelseg, mesh, out, resolution):
             "mesh_genus": report.get("input", {}).get("mesh_genus"),
             "voxel_genus": report.get("input", {}).get("voxel_genus"),
             "contacts_separated": report.get("input", {}).get("contacts_separated")}
+
+
+def longest_side(mesh):
+    """The longest side of a mesh's bounding box (vertices of .obj or .off only)."""
+    text = Path(mesh).read_text(errors="replace").split("\n")
+    if Path(mesh).suffix.lower() == ".off":
+        body = [line.split("#")[0].split() for line in text]
+        body = [t for t in body if t]
+        header = 1 if body[0][0].upper().endswith("OFF") and len(body[0]) == 1 else 0
+        counts = body[header] if header else body[0][1:]
+        points = [list(map(float, t[:3])) for t in body[header + 1:header + 1 + int(counts[0])]]
+    else:
+        points = [list(map(float, line.split()[1:4])) for line in text if line.startswith("v ")]
+    points = np.asarray(points)
+    return float((points.max(axis=0) - points.min(axis=0)).max())
+
+
+def frame_resolutions(frames, resolution, grid):
+    """Per-frame --resolution for --pose-grid: one voxel size across a sequence unless 'frame'."""
+    if grid == "frame":
+        return [resolution] * len(frames)
+    sides = [longest_side(f) for f in frames]
+    voxel = (max(sides) if grid == "largest" else min(sides)) / resolution
+    return [max(8, int(round(side / voxel))) for side in sides]
 
 
 def compare(runs):
@@ -186,14 +215,17 @@ def main(argv):
         work = Path(workdir_holder.name)
 
     results = {"skelseg": str(skelseg), "pose_resolution": args.pose_resolution,
+               "pose_grid": args.pose_grid,
                "sequences": {}, "resolutions": {}}
     wanted = {s for s in args.sequences.split(",") if s}
     for name, frames in pose_sequences(data / "poses").items() if (data / "poses").is_dir() else []:
         if wanted and name not in wanted or "none" in wanted:
             continue
-        runs = [segment(skelseg, f, work / "poses" / f.stem, args.pose_resolution) for f in frames]
+        grids = frame_resolutions(frames, args.pose_resolution, args.pose_grid)
+        runs = [segment(skelseg, f, work / "poses" / f.stem, r) for f, r in zip(frames, grids)]
         entry = compare(runs)
         entry["frames"] = [f.stem.rpartition("_")[2] for f in frames]
+        entry["frame_resolutions"] = grids
         results["sequences"][name] = entry
         print(f"{name}: parts {fmt_list(entry['parts'])}, mean RI error "
               f"{entry['mean_ri_error']:.3f}", file=sys.stderr)
@@ -233,12 +265,17 @@ def main(argv):
 
     lines = []
     if results["sequences"]:
-        lines += [f"Pose sequences (resolution {args.pose_resolution}):", "",
+        grid_note = ("" if args.pose_grid == "frame" else
+                     f"; one voxel size per sequence, that of its {args.pose_grid} frame")
+        lines += [f"Pose sequences (resolution {args.pose_resolution}{grid_note}):", "",
                   "| sequence | frames | parts per frame | mean RI error between frames "
                   "| voxel genus per frame (mesh genus) | contacts separated |",
                   "| --- | --- | --- | --- | --- | --- |"]
         for name, e in results["sequences"].items():
-            lines.append(f"| {name} | {fmt_list(e['frames'])} | {fmt_list(e['parts'])} | "
+            frames = fmt_list(e["frames"])
+            if args.pose_grid != "frame":
+                frames += f" (at {fmt_list(e['frame_resolutions'])})"
+            lines.append(f"| {name} | {frames} | {fmt_list(e['parts'])} | "
                          f"{e['mean_ri_error']:.3f} | {fmt_list(e['voxel_genus'])} "
                          f"({fmt_set(e['mesh_genus'])}) | "
                          f"{fmt_list(e['contacts_separated'])} |")
