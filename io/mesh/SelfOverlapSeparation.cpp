@@ -24,6 +24,39 @@ constexpr double kRayOffsetZ = 1.7e-5;
 /// A voxel as (x, y, z), ordered for sorting.
 using Cell = std::array<int, 3>;
 
+/// Dilates the marks of a byte grid of `size` (x fastest) by a cube of
+/// half-width `reach`: one running count per axis, since a cube is the
+/// product of three segments.
+void dilateBoxAlongAxes(std::vector<std::uint8_t>& marks, const std::array<int, 3>& size,
+                        int reach) {
+    if (reach <= 0) return;
+    const std::array<std::size_t, 3> stride{1, std::size_t(size[0]),
+                                            std::size_t(size[0]) * std::size_t(size[1])};
+    std::vector<std::uint8_t> line;
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+        const int length = size[axis];
+        line.resize(std::size_t(length));
+        const std::size_t a = (axis + 1) % 3, b = (axis + 2) % 3;
+        for (int j = 0; j < size[b]; ++j)
+            for (int i = 0; i < size[a]; ++i) {
+                const std::size_t base = std::size_t(i) * stride[a] + std::size_t(j) * stride[b];
+                // marked[t] counts the marks in [t - reach, t + reach].
+                int inWindow = 0;
+                for (int t = 0; t < std::min(reach, length); ++t)
+                    inWindow += marks[base + std::size_t(t) * stride[axis]];
+                for (int t = 0; t < length; ++t) {
+                    if (t + reach < length)
+                        inWindow += marks[base + std::size_t(t + reach) * stride[axis]];
+                    if (t - reach - 1 >= 0)
+                        inWindow -= marks[base + std::size_t(t - reach - 1) * stride[axis]];
+                    line[std::size_t(t)] = inWindow > 0 ? 1 : 0;
+                }
+                for (int t = 0; t < length; ++t)
+                    marks[base + std::size_t(t) * stride[axis]] = line[std::size_t(t)];
+            }
+    }
+}
+
 /// The sign each piece's crossings count with: +1 or -1 for a closed,
 /// consistently oriented piece (outward or inward), 0 for a piece without a
 /// winding number.
@@ -294,39 +327,57 @@ SelfOverlapSeparation separateSelfOverlaps(const TriangleMesh& mesh, MaskVolume&
     result.overlapVoxels = voxels.size();
     if (voxels.empty()) return result;
     const std::uint64_t nx = std::uint64_t(dims.x), nxy = nx * std::uint64_t(dims.y);
-    const int firstReach = std::max(0, options.clearance);
-    const int lastReach = std::max(firstReach, options.maxClearance);
-    // The object voxels within `reach` of the group.
-    auto cellsAround = [&](const std::vector<std::size_t>& group, int reach) {
-        std::vector<Cell> cells;
-        for (std::size_t i : group) {
-            const std::uint64_t v = voxels[i];
-            const int x = int(v % nx), y = int((v / nx) % std::uint64_t(dims.y)), z = int(v / nxy);
-            for (int dz = -reach; dz <= reach; ++dz)
-                for (int dy = -reach; dy <= reach; ++dy)
-                    for (int dx = -reach; dx <= reach; ++dx) {
-                        const int xx = x + dx, yy = y + dy, zz = z + dz;
-                        if (xx >= 0 && yy >= 0 && zz >= 0 && xx < dims.x && yy < dims.y &&
-                            zz < dims.z && mask(xx, yy, zz))
-                            cells.push_back(Cell{xx, yy, zz});
-                    }
-        }
-        std::sort(cells.begin(), cells.end());
-        cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-        return cells;
+    auto cellOf = [&](std::uint64_t v) {
+        return Cell{int(v % nx), int((v / nx) % std::uint64_t(dims.y)), int(v / nxy)};
     };
-    // The thickness of a group: the narrowest side of its bounding box.
-    auto thicknessOf = [&](const std::vector<std::size_t>& group) {
-        std::array<int, 3> low{dims.x, dims.y, dims.z}, high{-1, -1, -1};
+    // The lowest and highest corner of a group's bounding box.
+    auto boundsOf = [&](const std::vector<std::size_t>& group) {
+        Cell low{dims.x, dims.y, dims.z}, high{-1, -1, -1};
         for (std::size_t i : group) {
-            const std::uint64_t v = voxels[i];
-            const std::array<int, 3> c{int(v % nx), int((v / nx) % std::uint64_t(dims.y)),
-                                       int(v / nxy)};
+            const Cell c = cellOf(voxels[i]);
             for (std::size_t k = 0; k < 3; ++k) {
                 low[k] = std::min(low[k], c[k]);
                 high[k] = std::max(high[k], c[k]);
             }
         }
+        return std::make_pair(low, high);
+    };
+    const int firstReach = std::max(0, options.clearance);
+    const int lastReach = std::max(firstReach, options.maxClearance);
+    // The object voxels within `reach` (Chebyshev distance) of the group, in
+    // (x, y, z) order. The cube around every voxel is separable: the group
+    // is marked in a byte grid over its bounding box grown by `reach` and
+    // dilated along x, y and z in turn, so a group costs its box, not
+    // (2 reach + 1)^3 entries per voxel to sort.
+    auto cellsAround = [&](const std::vector<std::size_t>& group, int reach) {
+        auto [low, high] = boundsOf(group);
+        const std::array<int, 3> limit{dims.x, dims.y, dims.z};
+        std::array<int, 3> size{};
+        for (std::size_t k = 0; k < 3; ++k) {
+            low[k] = std::max(0, low[k] - reach);
+            high[k] = std::min(limit[k] - 1, high[k] + reach);
+            size[k] = high[k] - low[k] + 1;
+        }
+        const std::size_t sx = std::size_t(size[0]), sxy = sx * std::size_t(size[1]);
+        std::vector<std::uint8_t> near(sxy * std::size_t(size[2]), 0);
+        for (std::size_t i : group) {
+            const Cell c = cellOf(voxels[i]);
+            near[std::size_t(c[0] - low[0]) + std::size_t(c[1] - low[1]) * sx +
+                 std::size_t(c[2] - low[2]) * sxy] = 1;
+        }
+        dilateBoxAlongAxes(near, size, reach);
+        std::vector<Cell> cells;
+        for (int x = 0; x < size[0]; ++x)
+            for (int y = 0; y < size[1]; ++y)
+                for (int z = 0; z < size[2]; ++z)
+                    if (near[std::size_t(x) + std::size_t(y) * sx + std::size_t(z) * sxy] &&
+                        mask(low[0] + x, low[1] + y, low[2] + z))
+                        cells.push_back(Cell{low[0] + x, low[1] + y, low[2] + z});
+        return cells;
+    };
+    // The thickness of a group: the narrowest side of its bounding box.
+    auto thicknessOf = [&](const std::vector<std::size_t>& group) {
+        const auto [low, high] = boundsOf(group);
         return 1 + std::min({high[0] - low[0], high[1] - low[1], high[2] - low[2]});
     };
     auto setCells = [&](const std::vector<Cell>& cells, std::uint8_t value) {
