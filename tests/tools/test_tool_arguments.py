@@ -31,6 +31,7 @@ POSITIONALS = {
     "bench/cut_separation.py": ["out"],
     "bench/joint_candidates.py": ["out"],
     "bench/merge_measures.py": ["out"],
+    "bench/trace_handles.py": ["out"],
     "bench/scaling.py": ["mesh.off"],
     "bench/time_budget.py": ["mesh.off"],
     "profiles/stage_table.py": ["report.json"],
