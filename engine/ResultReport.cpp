@@ -68,6 +68,7 @@ json methodParameters(const SegmentationParameters& p) {
             {"one_branch_junctions_end_the_body", cut.oneBranchJunctionsEndTheBody},
             {"separating_cuts_only", cut.separatingCutsOnly},
             {"window_from_body_reference", cut.windowFromBodyReference},
+            {"surface_loops", cut.surfaceLoops},
             {"stub_limbs", cut.stubLimbs},
             {"limbs_below_sigma_min", cut.relaxSigmaMinForLimbs},
             {"limb_sigma_margin", cut.limbSigmaMargin},

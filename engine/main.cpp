@@ -161,6 +161,9 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
     command->add_flag("!--no-body-radius-window", rules.windowFromBodyReference,
                       "Read the limb circumference over one radius of the junction's median "
                       "rho_S, not of the body reference");
+    command->add_flag("--surface-loops", rules.surfaceLoops,
+                      "Compare half the surface's loop length in the body test, not rho_S (the "
+                      "longest feature-pair geodesic)");
     command->add_flag("!--no-stub-limbs", rules.stubLimbs,
                       "A free branch with no tight loop is not cut even where its piece reaches "
                       "far past its best loop (a limb of about tau)");

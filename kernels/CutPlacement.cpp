@@ -317,9 +317,13 @@ std::uint32_t limbCircumferenceLevels(float junctionRhoS, int consecutiveLevels)
                                    std::uint32_t(std::ceil(bodyRadius)));
 }
 
-CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
-                  const CutOptions& options, const std::function<double(std::uint32_t)>& exactRhoC,
-                  const LoopSeparation& loopsSeparate, const PieceReach& pieceReach) {
+namespace {
+
+/// placeCuts on the loop lengths it is given (points' and junctions' rhoS).
+CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                    const CutOptions& options,
+                    const std::function<double(std::uint32_t)>& exactRhoC,
+                    const LoopSeparation& loopsSeparate, const PieceReach& pieceReach) {
     // Junctions joined by a passage lie on one body (the body passes through
     // both), and whether their regions touch and make one junction depends
     // on the resolution: a first plan measures each junction's body
@@ -652,6 +656,34 @@ CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& poin
     if (options.passagesAreBody && options.shareBodyAcrossPassages && !passageLinks.empty())
         plan = planWith(sharedBodyReference(bodyOf, passageLinks));
     return plan;
+}
+
+}  // namespace
+
+CutPlan placeCuts(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                  const CutOptions& options, const std::function<double(std::uint32_t)>& exactRhoC,
+                  const LoopSeparation& loopsSeparate, const PieceReach& pieceReach) {
+    if (!options.surfaceLoops)
+        return placeCutsOn(g, points, options, exactRhoC, loopsSeparate, pieceReach);
+    // The same plan on the surface's half loops: every point's and every
+    // junction's rho_S replaced by it. A junction's median is taken again
+    // over its J_tau points (as SkeletonGraph does); a junction whose core
+    // holds forks only keeps its own, the rho_S of its widest branch's
+    // point.
+    std::vector<SkeletonPoint> surface(points);
+    for (SkeletonPoint& p : surface) p.rhoS = surfaceHalfLoop(p);
+    SkeletonGraph graph = g;
+    std::vector<float> loops;
+    for (SkeletonJunction& j : graph.junctions) {
+        loops.clear();
+        for (std::uint32_t n : j.core)
+            if (isJunctionPoint(points[g.point[n]])) loops.push_back(surface[g.point[n]].rhoS);
+        if (loops.empty()) continue;
+        std::sort(loops.begin(), loops.end());
+        const std::size_t m = loops.size() / 2;
+        j.rhoS = loops.size() % 2 ? loops[m] : 0.5f * (loops[m - 1] + loops[m]);
+    }
+    return placeCutsOn(graph, surface, options, exactRhoC, loopsSeparate, pieceReach);
 }
 
 }  // namespace skelseg

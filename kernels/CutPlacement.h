@@ -136,6 +136,16 @@ struct CutOptions {
     /// branches, where nothing branches off the body, keep their median
     /// (docs/algorithm.md §8.11).
     bool windowFromBodyReference = true;
+    /// Every loop length the cut placement reads (the body test's limb
+    /// circumference and body reference, the walk's tight levels, passages)
+    /// is half the circumference of the surface round the point
+    /// (surfaceHalfLoop), not rho_S: rho_S reads a share of it that depends
+    /// on the part's radius and angle to the grid, so a limb and a body at
+    /// different angles or sizes read a ratio that moves with pose and
+    /// resolution (docs/algorithm.md §8.13).
+    /// Off by default: at body_ratio 0.6 it moves one shared shape's neck
+    /// across the threshold (docs/quality.md, "loops16").
+    bool surfaceLoops = false;
     /// A branch that ends free with no run of tight levels, even below
     /// sigmaMin, is a limb whose area is about tau when the piece past its
     /// best loop reaches at least stubReach times the loop's size from the

@@ -143,7 +143,9 @@ bool measure(Workspace& ws, const SkeletonCandidate& c, std::uint32_t candidateI
         out.rhoC >=
             (options.sigmaTau >= 0.0 ? std::min(options.sigmaTau, options.tau) : options.tau)) {
         ++ws.sigmaEvaluations;
-        out.sigma = ws.geodesicness.evaluate(ws.rims, a, b, ws.sigmaSearch).sigma;
+        const GeodesicnessResult g = ws.geodesicness.evaluate(ws.rims, a, b, ws.sigmaSearch);
+        out.sigma = g.sigma;
+        out.loopLength = g.loopLength;
     }
     return true;
 }

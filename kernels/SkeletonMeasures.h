@@ -52,6 +52,10 @@ struct SkeletonPoint {
     double junctionArea = -1.0;
     float sigma = -1.0f;  // geodesicness; -1 where not computed (rho_C < tau)
     std::uint32_t featureA = kNoNode, featureB = kNoNode;  // pair realising rho_S
+    /// Chord length of the whole loop Gamma(p) goes round (sigma's two
+    /// halves, docs/algorithm.md §7.1); 0 where sigma is not computed or
+    /// finds no loop.
+    float loopLength = 0.0f;
 };
 
 /// Rims a point needs to be a junction point (a point of J_tau): its loop
@@ -61,6 +65,17 @@ constexpr std::uint8_t kJunctionRims = 3;
 /// Whether `p` is a junction point, a point of J_tau (docs/algorithm.md §6).
 constexpr bool isJunctionPoint(const SkeletonPoint& p) noexcept {
     return p.robustRims >= kJunctionRims;
+}
+
+/// Half the circumference of the surface round p, the length the body test
+/// compares (docs/algorithm.md §8.13): half the loop's chord length plus
+/// pi times half a voxel, since the loop runs through boundary-voxel centres
+/// about half a voxel inside the surface. rho_S where p has no loop length.
+/// Unlike rho_S, whose feature pair is not antipodal and spans an angle that
+/// depends on the radius and on the part's angle to the grid, it reads the
+/// same fraction of the true length at every radius and orientation.
+constexpr float surfaceHalfLoop(const SkeletonPoint& p) noexcept {
+    return p.loopLength > 0.0f ? 0.5f * p.loopLength + 0.5f * 3.14159265358979323846f : p.rhoS;
 }
 
 /// Radius of a round part whose loop has rho_S = `rhoS` (rho_S, the longest

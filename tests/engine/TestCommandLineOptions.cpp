@@ -82,6 +82,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
                                                    "--no-body-end-check",
                                                    "--no-separation-check",
                                                    "--no-body-radius-window",
+                                                   "--surface-loops",
                                                    "--no-stub-limbs",
                                                    "--no-fork-junctions",
                                                    "--no-grow-regions"});
@@ -98,6 +99,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(set.at("passage_cuts_only_smaller"), false);
     EXPECT_EQ(set.at("one_branch_junctions_end_the_body"), false);
     EXPECT_EQ(set.at("separating_cuts_only"), false);
+    EXPECT_EQ(set.at("surface_loops"), true);
     EXPECT_EQ(set.at("window_from_body_reference"), false);
     EXPECT_EQ(set.at("stub_limbs"), false);
     EXPECT_EQ(set.at("fork_junctions"), false);
@@ -123,6 +125,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     parameters.cutRules.oneBranchJunctionsEndTheBody = false;
     parameters.cutRules.separatingCutsOnly = false;
     parameters.cutRules.windowFromBodyReference = false;
+    parameters.cutRules.surfaceLoops = true;
     parameters.cutRules.relaxSigmaMinForLimbs = false;
     parameters.cutRules.limbSigmaMargin = 0.25;
     parameters.cutRules.limbLoopVariation = 0.75;
@@ -142,6 +145,7 @@ TEST(CommandLineOptions, CutPlacementRunsWithTheRulesAndTheSharedThresholds) {
     EXPECT_FALSE(options.oneBranchJunctionsEndTheBody);
     EXPECT_FALSE(options.separatingCutsOnly);
     EXPECT_FALSE(options.windowFromBodyReference);
+    EXPECT_TRUE(options.surfaceLoops);
     EXPECT_FALSE(options.relaxSigmaMinForLimbs);
     EXPECT_EQ(options.limbSigmaMargin, 0.25);
     EXPECT_EQ(options.limbLoopVariation, 0.75);
