@@ -14,7 +14,9 @@
 #include <vector>
 
 #include "kernels/BoundaryGraph.h"
+#include "kernels/FeatureTransform.h"
 #include "kernels/PathSearch.h"
+#include "kernels/SkeletonCandidates.h"
 #include "kernels/SkeletonMeasures.h"
 #include "kernels/base/Volume.h"
 
@@ -207,5 +209,30 @@ protected:
     static inline MaskVolume* mask = nullptr;
     static inline BoundaryGraph* graph = nullptr;
 };
+
+/// A mask's skeleton points as the engine measures them, serially: tau 1%
+/// of the boundary area and the engine's noise area (the tube tests read
+/// the middle of long tubes, where 3% would simplify too little away).
+struct OnePercentSkeleton {
+    BoundaryGraph graph;
+    std::vector<SkeletonPoint> points;
+};
+
+inline OnePercentSkeleton measureSkeletonAtOnePercent(const MaskVolume& mask) {
+    OnePercentSkeleton out;
+    const Volume<std::uint32_t> ft = featureTransform(boundaryVoxels(mask, {false}), {false});
+    out.graph = buildBoundaryGraph(mask, {false});
+    CandidateOptions candidateOptions;
+    candidateOptions.threaded = false;
+    const auto candidates = selectSkeletonCandidates(mask, ft, out.graph, candidateOptions);
+    const Landmarks landmarks = computeLandmarks(out.graph, false);
+    SkeletonMeasureOptions options;
+    options.tau = 0.01 * out.graph.nodeCount();
+    options.noiseArea = std::min(std::max(10.0, 0.002 * out.graph.nodeCount()), options.tau);
+    options.landmarks = &landmarks;
+    options.threaded = false;
+    out.points = measureSkeleton(out.graph, candidates, options);
+    return out;
+}
 
 }  // namespace skelseg::test

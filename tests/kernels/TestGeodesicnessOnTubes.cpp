@@ -11,9 +11,7 @@
 #include <map>
 #include <vector>
 
-#include "kernels/FeatureTransform.h"
 #include "kernels/Geodesicness.h"
-#include "kernels/SkeletonCandidates.h"
 #include "kernels/SkeletonMeasures.h"
 #include "tests/kernels/KernelTestSupport.h"
 
@@ -84,18 +82,9 @@ struct MeasuredSkeleton {
 
     explicit MeasuredSkeleton(MaskVolume m, Vec3 origin = {0, 0, 0})
         : mask(std::move(m)), offset(origin) {
-        const Volume<std::uint32_t> ft = featureTransform(boundaryVoxels(mask, {false}), {false});
-        graph = buildBoundaryGraph(mask, {false});
-        CandidateOptions candidateOptions;
-        candidateOptions.threaded = false;
-        const auto candidates = selectSkeletonCandidates(mask, ft, graph, candidateOptions);
-        const Landmarks landmarks = computeLandmarks(graph, false);
-        SkeletonMeasureOptions options;
-        options.tau = 0.01 * graph.nodeCount();
-        options.noiseArea = std::min(std::max(10.0, 0.002 * graph.nodeCount()), options.tau);
-        options.landmarks = &landmarks;
-        options.threaded = false;
-        points = measureSkeleton(graph, candidates, options);
+        test::OnePercentSkeleton measured = test::measureSkeletonAtOnePercent(mask);
+        graph = std::move(measured.graph);
+        points = std::move(measured.points);
     }
     Vec3 position(const SkeletonPoint& p) const {
         const Dims d = mask.dims();

@@ -10,8 +10,6 @@
 #include <cstdio>
 #include <vector>
 
-#include "kernels/FeatureTransform.h"
-#include "kernels/SkeletonCandidates.h"
 #include "kernels/SkeletonMeasures.h"
 #include "tests/kernels/KernelTestSupport.h"
 
@@ -82,18 +80,7 @@ double middleThirdHalfLoop(const Tube& t) {
                     (u / t.ra) * (u / t.ra) + (v / t.rb) * (v / t.rb) <= 1.0)
                     mask(x, y, z) = 1;
             }
-    const Volume<std::uint32_t> ft = featureTransform(boundaryVoxels(mask, {false}), {false});
-    const BoundaryGraph graph = buildBoundaryGraph(mask, {false});
-    CandidateOptions candidateOptions;
-    candidateOptions.threaded = false;
-    const auto candidates = selectSkeletonCandidates(mask, ft, graph, candidateOptions);
-    const Landmarks landmarks = computeLandmarks(graph, false);
-    SkeletonMeasureOptions options;
-    options.tau = 0.01 * graph.nodeCount();
-    options.noiseArea = std::min(std::max(10.0, 0.002 * graph.nodeCount()), options.tau);
-    options.landmarks = &landmarks;
-    options.threaded = false;
-    const std::vector<SkeletonPoint> points = measureSkeleton(graph, candidates, options);
+    const std::vector<SkeletonPoint> points = test::measureSkeletonAtOnePercent(mask).points;
     std::vector<double> loops;
     const std::uint32_t nx = std::uint32_t(extent[0]), ny = std::uint32_t(extent[1]);
     for (const SkeletonPoint& p : points) {
