@@ -144,7 +144,8 @@ def run_score(skelseg, mesh, candidate, humans):
     cmd = [skelseg, "score", str(mesh), str(candidate)] + [str(h) for h in humans] + ["--json"]
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
-        return None, {"exit_code": proc.returncode, "stderr": last_line(proc.stderr), "command": cmd}
+        return None, {"exit_code": proc.returncode, "stderr": last_line(proc.stderr),
+                      "command": [str(part) for part in cmd]}
     doc = json.loads(proc.stdout)
     return doc["mean"], None
 
