@@ -9,7 +9,7 @@
 #   bench  every benchmark at its smallest size, compared with the baseline
 #   asan   unit tests under AddressSanitizer + UBSan, built with clang (SKELSEG_CI_ASAN=0 skips)
 #   fuzz   each parser under libFuzzer for a bounded time, JOBS targets at a time
-#          (SKELSEG_FUZZ_SECONDS per target, default 30; 0 skips)
+#          (SKELSEG_FUZZ_SECONDS per target, default 20; 0 skips)
 #   cluster  `skelseg batch` as a Slurm job array on a one-node Slurm it starts
 #          (label cluster; skipped without slurm-wlm/munge or root)
 #   slow   robustness on real data and degenerate shapes (label slow)
@@ -26,7 +26,7 @@ esac
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
 jobs="${SKELSEG_JOBS:-2}"
-fuzz_seconds="${SKELSEG_FUZZ_SECONDS:-30}"
+fuzz_seconds="${SKELSEG_FUZZ_SECONDS:-20}"
 start=$(date +%s)
 stamp() { echo "== $1 ($(( $(date +%s) - start )) s)"; }
 

@@ -106,12 +106,12 @@ TEST(SelfOverlap, ClearsEveryObjectVoxelWithinItsReachOfThePlaceAndNothingElse) 
     // The clearing is a cube of half-width `clearance` around every doubly
     // enclosed voxel, cut to the object: checked against a direct listing.
     const TriangleMesh mesh = test::CurledTube{}.mesh();
+    const MaskVolume before = voxelizeMesh(mesh, atResolution(96, false));
+    const Dims dims = before.dims();
+    const auto voxels = selfOverlapVoxels(mesh, dims, before.geometry);
+    ASSERT_FALSE(voxels.empty());
     for (int clearance : {1, 2, 3}) {
-        MaskVolume mask = voxelizeMesh(mesh, atResolution(96, false));
-        const MaskVolume before = mask;
-        const Dims dims = mask.dims();
-        const auto voxels = selfOverlapVoxels(mesh, dims, mask.geometry);
-        ASSERT_FALSE(voxels.empty());
+        MaskVolume mask = before;
         std::vector<std::uint8_t> expected(before.values().size(), 0);
         const std::uint64_t nx = std::uint64_t(dims.x), nxy = nx * std::uint64_t(dims.y);
         for (std::uint64_t v : voxels) {
