@@ -11,8 +11,9 @@ budget when it exits 0 and its wall time is at most B; the table also
 counts runs whose CPU seconds are at most B (the model predicts CPU
 seconds, which a loaded machine inflates less than wall seconds). Runs that stop
 (exit 3: nothing fitted, the budget acted as --time-limit) count as not
-within budget. Prints a Markdown table per budget and one row per run in
-OUT/budget.json. The 1-minute load average is printed at the start and the
+within budget. Prints a Markdown table per budget (with the share of the
+budget the finished runs used) and one row per run in OUT/budget.json
+(with report.json's calibration: bench/fit_budget_calibration.py fits it). The 1-minute load average is printed at the start and the
 end (the machine is shared: repeat a table measured under a load over 3).
 """
 import argparse, json, os, statistics, subprocess, sys, time
@@ -53,7 +54,9 @@ def main():
                 row["cpu"] = rep["timing"]["cpu_seconds"]
                 row.update(resolution=tb["resolution"], coarsening=tb["coarsening"],
                            predicted=tb["predicted_seconds"], probe=tb["probe_seconds"], fits=tb["fits"],
-                           skipped=tb.get("skipped", []))
+                           skipped=tb.get("skipped", []),
+                           predicted_cpu=tb.get("predicted_cpu_seconds", tb["predicted_seconds"]),
+                           calibration=tb.get("calibration"))
             rows.append(row)
             print(f"{inp.name} budget {budget:g}: exit {proc.returncode}, {wall:.2f} s, "
                   f"resolution {row.get('resolution')}, predicted {row.get('predicted', 0):.2f}",
@@ -62,8 +65,8 @@ def main():
     print(f"1-minute load average: {load_start:.1f} at the start, {os.getloadavg()[0]:.1f} at the end\n")
     print("| budget s | runs | within budget (wall) | within budget (CPU s) | stopped (exit 3) | "
           "resolution chosen (median, range) | wall s (median, worst) | CPU s (median, worst) | predicted s (median) | "
-          "preview skipped |")
-    print("| ---: | ---: | ---: | ---: | ---: | --- | --- | --- | ---: | ---: |")
+          "preview skipped | budget used (median, worst) |")
+    print("| ---: | ---: | ---: | ---: | ---: | --- | --- | --- | ---: | ---: | --- |")
     for budget in map(float, args.budgets.split(",")):
         rs = [r for r in rows if r["budget"] == budget]
         ok = [r for r in rs if r["exit"] == 0 and r["wall"] <= budget]
@@ -73,13 +76,16 @@ def main():
         res = [r["resolution"] for r in rs if r.get("resolution")]
         walls = [r["wall"] for r in rs]
         pred = [r["predicted"] for r in rs if "predicted" in r]
+        # Of the runs that finished: the share of the budget a user got used.
+        used = [r["wall"] / budget for r in rs if r["exit"] == 0] or [0.0]
         res_text = f"{statistics.median(res):.0f} ({min(res)} to {max(res)})" if res else "-"
         print(f"| {budget:g} | {len(rs)} | {len(ok)} ({100.0 * len(ok) / max(len(rs), 1):.0f}%) | "
               f"{len(ok_cpu)} ({100.0 * len(ok_cpu) / max(len(rs), 1):.0f}%) | "
               f"{len(stopped)} | {res_text} | {statistics.median(walls):.2f}, {max(walls):.2f} | "
               f"{statistics.median(cpus):.2f}, {max(cpus):.2f} | "
               f"{statistics.median(pred) if pred else 0:.2f} | "
-              f"{sum(1 for r in rs if r.get('skipped'))} |")
+              f"{sum(1 for r in rs if r.get('skipped'))} | "
+              f"{100.0 * statistics.median(used):.0f}%, {100.0 * max(used):.0f}% |")
     return 0
 
 

@@ -251,6 +251,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     inputOptions.threads = threads;
     inputOptions.levels = int(options.parameters.levelCount());
     inputOptions.timeBudgetSeconds = options.timeBudgetSeconds;
+    inputOptions.calibrateTimeBudget = options.calibrateTimeBudget;
     inputOptions.start = wallStart;
     inputOptions.memoryLimit =
         options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit();

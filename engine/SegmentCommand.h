@@ -59,6 +59,7 @@ struct SegmentCommandOptions {
     int threads = 0;                   // 0: all cores
     double timeLimitSeconds = 0;       // 0: none
     double timeBudgetSeconds = 0;      // 0: none; engine/TimeBudget.h
+    bool calibrateTimeBudget = true;   // --budget-calibration probe (engine/BudgetCalibration.h)
     bool force = false;                // replace earlier results in OUTDIR
     std::uint64_t maxMemoryBytes = 0;  // 0: default share of physical memory
     bool writePreview = true;

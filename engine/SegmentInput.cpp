@@ -124,8 +124,10 @@ BudgetChoice planMeshBudget(const SegmentSource& source, const SegmentInputOptio
     VoxelizeOptions voxelizeOptions;
     voxelizeOptions.resolution = options.resolution;
     voxelizeOptions.meshIsClosed = source.meshDiagnostics.closed;
-    BudgetChoice choice = planMeshRun(*source.mesh, voxelizeOptions, secondsLeft(options),
-                                      CostModel::fitted(), interrupter);
+    const ProbeCostModel probeModel = ProbeCostModel::fitted();
+    BudgetChoice choice =
+        planMeshRun(*source.mesh, voxelizeOptions, secondsLeft(options), CostModel::fitted(),
+                    options.calibrateTimeBudget ? &probeModel : nullptr, interrupter);
     choice.budgetSeconds = options.timeBudgetSeconds;
     return choice;
 }

@@ -79,7 +79,8 @@ struct SegmentInputOptions {
     int threads = 1;  // for the memory estimate (per-thread workspaces)
     int levels = 1;   // for the memory estimate (hierarchy runs: --tau list)
     std::uint64_t memoryLimit = 0;
-    double timeBudgetSeconds = 0;  // 0: none; counted from `start`
+    double timeBudgetSeconds = 0;     // 0: none; counted from `start`
+    bool calibrateTimeBudget = true;  // meshes: engine/BudgetCalibration.h
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 };
 

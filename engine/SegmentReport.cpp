@@ -9,6 +9,23 @@
 using json = nlohmann::json;
 
 namespace skelseg {
+namespace {
+
+json budgetCalibrationJson(const BudgetChoice& budget) {
+    const BudgetCalibration& c = budget.calibration;
+    return {{"method", c.enabled ? "probe" : "cpu"},
+            {"probe_wall_seconds", budget.probeSeconds},
+            {"probe_cpu_seconds", c.probeCpuSeconds},
+            {"probe_predicted_cpu_seconds", c.probePredictedCpuSeconds},
+            {"probe_grid_voxels", budget.probeWork.gridVoxels},
+            {"probe_object_voxels", budget.probeWork.objectVoxels},
+            {"probe_boundary_voxels", budget.probeWork.boundaryVoxels},
+            {"probe_candidates", budget.probeWork.candidates},
+            {"wall_per_cpu_second", c.wallPerCpuSecond},
+            {"clamped", c.clamped}};
+}
+
+}  // namespace
 
 std::string segmentReportJson(const SegmentCommandOptions& options, const SegmentedShape& shape,
                               const std::vector<StageTiming>& timings,
@@ -64,6 +81,9 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
             {"budget_seconds", budget->budgetSeconds},
             {"probe_seconds", budget->probeSeconds},
             {"predicted_seconds", budget->predictedSeconds},
+            {"predicted_cpu_seconds", budget->predictedCpuSeconds},
+            {"seconds_left_after_probe", budget->secondsLeft},
+            {"calibration", budgetCalibrationJson(*budget)},
             {"actual_seconds", wall},
             {"resolution", source.isMesh() ? json(budget->resolution) : json(nullptr)},
             {"requested_resolution", source.isMesh() ? json(options.resolution) : json(nullptr)},

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engine/StageTimer.h"
 #include "kernels/BoundaryGraph.h"
 #include "kernels/FeatureTransform.h"
 #include "kernels/SkeletonCandidates.h"
@@ -155,8 +156,10 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxelize, double seconds,
-                         const CostModel& model, Interrupter& interrupter) {
+                         const CostModel& cpuModel, const ProbeCostModel* probeModel,
+                         Interrupter& interrupter) {
     const auto start = std::chrono::steady_clock::now();
+    const double cpuStart = processCpuSeconds();
     VoxelizeOptions probeOptions = voxelize;
     probeOptions.resolution = std::min(voxelize.resolution, kProbeResolution);
     // Separating contacts and self-overlaps moves a few voxels and costs as
@@ -168,12 +171,20 @@ BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxeli
         countWork(voxelizeMesh(mesh, probeOptions, interrupter), voxelize.threaded, interrupter);
     probe.meshFaces = double(mesh.faceCount);
     const double spent = secondsSince(start);
+    BudgetCalibration calibration;
+    if (probeModel)
+        calibration = calibrateFromProbe(*probeModel, probe, spent, processCpuSeconds() - cpuStart);
+    const CostModel model = calibratedCostModel(cpuModel, calibration);
     BudgetChoice preview;
     const double left = planPreview(model, double(mesh.triangles.size()), seconds - spent, preview);
     BudgetChoice choice =
         chooseMeshResolution(model, probe, probeOptions.resolution, voxelize.resolution, 16, left);
     choice.budgetSeconds = seconds;
     choice.probeSeconds = spent;
+    choice.secondsLeft = seconds - spent;
+    choice.calibration = calibration;
+    choice.probeWork = probe;
+    choice.predictedCpuSeconds = choice.predictedSeconds / calibration.wallPerCpuSecond;
     choice.previewSeconds = preview.previewSeconds;
     choice.writePreview = preview.writePreview;
     return choice;
@@ -195,6 +206,9 @@ BudgetChoice planVolumeRun(const MaskVolume& mask, double seconds, const CostMod
     BudgetChoice choice = chooseVolumeCoarsening(model, probe, probeCoarsening, left);
     choice.budgetSeconds = seconds;
     choice.probeSeconds = spent;
+    choice.secondsLeft = seconds - spent;
+    choice.probeWork = probe;
+    choice.predictedCpuSeconds = choice.predictedSeconds;
     choice.previewSeconds = preview.previewSeconds;
     choice.writePreview = preview.writePreview;
     return choice;

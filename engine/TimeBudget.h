@@ -5,8 +5,10 @@
 // first stages (grid, object and boundary voxels, skeleton candidates) on a
 // coarse grid; a cost model fitted on the benchmark shapes
 // (bench/fit_cost_model.py, docs/performance.md) predicts the seconds of a
-// full run from them (CPU seconds at 2 threads, compared with the wall-clock
-// budget counted from the start of the process), with a safety margin chosen
+// full run from them (CPU seconds at 2 threads); for meshes the probe's own
+// wall time turns them into this machine's wall seconds now
+// (engine/BudgetCalibration.h), which the wall-clock budget, counted from
+// the start of the process, is compared with, with a safety margin chosen
 // from the fit's residuals; the engine then takes
 //   - for meshes: the largest resolution up to --resolution that fits;
 //   - for volumes: the finest of 1, 2 or 4 times coarser grids that fits
@@ -25,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/BudgetCalibration.h"
 #include "engine/Segmenter.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/MeshVoxelizer.h"
@@ -78,15 +81,19 @@ struct CostModel {
 /// What the budget chose.
 struct BudgetChoice {
     double budgetSeconds = 0.0;
-    double probeSeconds = 0.0;      // spent on the probe
-    double predictedSeconds = 0.0;  // of the chosen run, probe excluded
-    int resolution = 0;             // meshes: the chosen --resolution
-    int coarsening = 1;             // volumes: 1, 2 or 4
-    bool coarsened = false;         // resolution below --resolution, or coarsening > 1
-    bool fits = true;               // false: even the coarsest choice is predicted over
-    double safetyMargin = 0.0;      // CostModel::safetyMargin used in the choice
-    double previewSeconds = 0.0;    // predicted cost of preview.png
-    bool writePreview = true;       // false: preview.png skipped to fit the budget
+    double probeSeconds = 0.0;         // spent on the probe
+    double predictedSeconds = 0.0;     // of the chosen run, probe excluded (calibrated: wall)
+    double predictedCpuSeconds = 0.0;  // the same, as CostModel predicts it (CPU at 2 threads)
+    int resolution = 0;                // meshes: the chosen --resolution
+    int coarsening = 1;                // volumes: 1, 2 or 4
+    bool coarsened = false;            // resolution below --resolution, or coarsening > 1
+    bool fits = true;                  // false: even the coarsest choice is predicted over
+    double safetyMargin = 0.0;         // the margin used in the choice (calibrated or not)
+    double previewSeconds = 0.0;       // predicted cost of preview.png
+    bool writePreview = true;          // false: preview.png skipped to fit the budget
+    double secondsLeft = 0.0;          // of the budget when the probe ended
+    WorkCounts probeWork;              // the probe's counters
+    BudgetCalibration calibration;     // meshes: from the probe; volumes: not enabled
 };
 
 /// Whether preview.png fits: its predicted cost, with the safety margin, is
@@ -132,11 +139,14 @@ constexpr int kProbeResolution = 64;
 
 /// The whole plan for a mesh: voxelises at a probe resolution
 /// (kProbeResolution, or --resolution when lower; without the topology
-/// separations), counts the work, decides the preview (planPreview) and
-/// chooses a resolution from `voxelize.resolution` down to 16 that fits in
-/// `seconds` minus the probe's own time and the preview's.
+/// separations), counts the work, calibrates `model` to wall seconds with
+/// the probe's time when `probeModel` is given (calibrateFromProbe;
+/// otherwise CPU seconds are compared with the budget), decides the preview
+/// (planPreview) and chooses a resolution from `voxelize.resolution` down to
+/// 16 that fits in `seconds` minus the probe's own time and the preview's.
 BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxelize, double seconds,
-                         const CostModel& model, Interrupter& interrupter = nullInterrupter());
+                         const CostModel& model, const ProbeCostModel* probeModel,
+                         Interrupter& interrupter = nullInterrupter());
 
 /// The whole plan for a volume: counts the work on the volume coarsened 2
 /// times (or on the volume itself when it is small) and chooses a coarsening.

@@ -54,6 +54,7 @@ std::uint64_t parseBytes(const std::string& text) {
 struct SegmentCli {
     skelseg::SegmentCommandOptions options;
     std::string tauText = "3%", modeText = "junction-rule", maxMemoryText, skeletonSearchText;
+    std::string budgetCalibrationText = "probe";
     bool quiet = false, exhaustive = false;
 
     /// Turns the texts into options. Throws UsageError.
@@ -74,6 +75,7 @@ struct SegmentCli {
         else if (skeletonSearchText == "band")
             options.parameters.skeletonSearch = skelseg::SkeletonSearch::Band;
         if (!maxMemoryText.empty()) options.maxMemoryBytes = parseBytes(maxMemoryText);
+        options.calibrateTimeBudget = budgetCalibrationText == "probe";
         // A hierarchy runs the exhaustive search (skeletonSearchToRun): an
         // explicit band with a list is refused before any work.
         if (!options.parameters.finerTaus.empty() && skeletonSearchText == "band")
@@ -223,6 +225,12 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
                      "Choose the resolution (meshes) or coarsening (volumes) predicted to finish "
                      "within this many seconds; stops like --time-limit only when nothing fits")
         ->check(positiveSeconds());
+    command
+        ->add_option("--budget-calibration", cli.budgetCalibrationText,
+                     "--time-budget, meshes: probe (default: the probe's own time turns the "
+                     "predicted CPU seconds into this machine's wall seconds now) or cpu (CPU "
+                     "seconds compared with the budget, the cautious choice before)")
+        ->check(CLI::IsMember({"probe", "cpu"}));
     command->add_option("--max-memory", cli.maxMemoryText,
                         "Refuse runs estimated to need more (e.g. 4G; default 75% of RAM)");
     command->add_flag("--force", seg.force,

@@ -193,5 +193,43 @@ TEST(CommandLineOptions, SelfOverlapClearanceReachesTheVoxeliserAndReportJson) {
     EXPECT_GE(refusedAtTwo, 1);
 }
 
+TEST(CommandLineOptions, BudgetCalibrationReachesReportJson) {
+    // A small mesh under an ample budget: the choice is the requested
+    // resolution either way; report.json says how the prediction was made.
+    const test::TempDir dir;
+    const fs::path input = dir / "sphere.off";
+    writeOff(input, test::sphereMesh({0.0, 0.0, 0.0}, 1.0, 12, 16));
+    const auto budgetReport = [&](const std::vector<std::string>& flags) {
+        std::vector<std::string> arguments = {
+            "segment",      input.string(), "-o", (dir / "out").string(), "-q",  "--force",
+            "--no-preview", "--resolution", "16", "--time-budget",        "1000"};
+        arguments.insert(arguments.end(), flags.begin(), flags.end());
+        const test::CliResult run = test::runSkelseg(arguments);
+        EXPECT_EQ(run.exitCode, 0) << run.describe();
+        return nlohmann::json::parse(test::fileBytes(dir / "out" / "report.json"))
+            .at("time_budget");
+    };
+    const nlohmann::json probe = budgetReport({});
+    const nlohmann::json& calibration = probe.at("calibration");
+    EXPECT_EQ(calibration.at("method"), "probe");
+    EXPECT_GT(calibration.at("probe_predicted_cpu_seconds").get<double>(), 0.0);
+    EXPECT_GT(calibration.at("probe_grid_voxels").get<double>(), 0.0);
+    const double factor = calibration.at("wall_per_cpu_second").get<double>();
+    EXPECT_GT(factor, 0.0);
+    EXPECT_NEAR(probe.at("predicted_seconds").get<double>(),
+                factor * probe.at("predicted_cpu_seconds").get<double>(), 1e-9);
+    EXPECT_LT(probe.at("seconds_left_after_probe").get<double>(), 1000.0);
+    EXPECT_EQ(probe.at("resolution"), 16);
+    const nlohmann::json cpu = budgetReport({"--budget-calibration", "cpu"});
+    EXPECT_EQ(cpu.at("calibration").at("method"), "cpu");
+    EXPECT_EQ(cpu.at("calibration").at("wall_per_cpu_second"), 1.0);
+    EXPECT_EQ(cpu.at("predicted_seconds"), cpu.at("predicted_cpu_seconds"));
+    EXPECT_EQ(cpu.at("safety_margin"), 0.64);
+    EXPECT_EQ(test::runSkelseg({"segment", input.string(), "-o", (dir / "bad").string(), "-q",
+                                "--budget-calibration", "wall"})
+                  .exitCode,
+              2);
+}
+
 }  // namespace
 }  // namespace skelseg

@@ -29,6 +29,7 @@ POSITIONALS = {
     "bench/alternate_stages.py": ["skelseg"],
     "bench/compare_search.py": ["mesh.off"],
     "bench/cut_separation.py": ["out"],
+    "bench/fit_budget_calibration.py": ["out"],
     "bench/joint_candidates.py": ["out"],
     "bench/merge_measures.py": ["out"],
     "bench/trace_handles.py": ["out"],
