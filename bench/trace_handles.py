@@ -33,32 +33,17 @@ Usage: trace_handles.py OUT [OUT ...]   (the mesh is read from report.json)
 """
 
 import argparse
-import gzip
 import json
 import sys
+from pathlib import Path
 
 import numpy as np
 from scipy import ndimage, sparse
 from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
 
-
-def read_nrrd(path):
-    with open(path, "rb") as f:
-        data = f.read()
-    header_end = data.index(b"\n\n")
-    header = {}
-    for line in data[:header_end].decode().splitlines()[1:]:
-        if line.startswith("#") or ":" not in line:
-            continue
-        key, value = line.split(":", 1)
-        header[key.strip()] = value.strip()
-    body = data[header_end + 2:]
-    if header.get("encoding") == "gzip":
-        body = gzip.decompress(body)
-    dtype = {"uint16": "<u2", "uint8": "u1", "int32": "<i4", "uint32": "<u4"}[header["type"]]
-    sizes = [int(s) for s in header["sizes"].split()]
-    return np.frombuffer(body, dtype=dtype).reshape(sizes[::-1]).transpose(2, 1, 0)
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from cut_separation import read_nrrd  # noqa: E402  (one labels.nrrd reader for the bench scripts)
 
 
 def read_mesh(path):
@@ -196,7 +181,7 @@ def trace(out_dir, regions):
     grid = report["grid"]
     h = grid["voxel_size"]
     origin = np.array(grid["origin"])
-    labels = read_nrrd(f"{out_dir}/labels.nrrd")
+    labels = read_nrrd(f"{out_dir}/labels.nrrd")[0].transpose(2, 1, 0)  # (z, y, x) -> (x, y, z)
     mask = labels > 0
     V, F = read_mesh(report["input"]["file"])
     face_segment = np.loadtxt(regions or f"{out_dir}/segmentation.seg", dtype=int)
@@ -327,7 +312,6 @@ def trace(out_dir, regions):
     for kind, part, grow in (("doubly enclosed", mask & (W >= 2), 2),
                              ("outside the mesh", mask & (W == 0), 1)):
         lab, count = ndimage.label(part, CUBE)
-        sizes = ndimage.sum(part, lab, range(1, count + 1))
         for p in range(1, count + 1):
             evaluate(kind, lab == p, grow, None)
         print(f"  {kind}: {int(part.sum())} solid voxels in {count} places")
