@@ -248,6 +248,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     inputOptions.gridName = options.gridName;
     inputOptions.resolution = options.resolution;
     inputOptions.selfOverlapClearance = options.selfOverlapClearance;
+    inputOptions.contactPatchSeams = options.contactPatchSeams;
     inputOptions.threads = threads;
     inputOptions.levels = int(options.parameters.levelCount());
     inputOptions.timeBudgetSeconds = options.timeBudgetSeconds;

@@ -55,6 +55,9 @@ struct SegmentCommandOptions {
     /// Meshes: widest clearing, in voxels, of a place where the mesh passes
     /// through itself, in [2, 4] (SelfOverlapOptions::maxClearance).
     int selfOverlapClearance = 4;
+    /// Meshes: seams between the two mesh patches of a contact kept by the
+    /// box check (ContactSeparationOptions::patchSeams).
+    bool contactPatchSeams = false;
     SegmentationParameters parameters;
     int threads = 0;                   // 0: all cores
     double timeLimitSeconds = 0;       // 0: none

@@ -83,6 +83,7 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
     voxelizeOptions.meshIsClosed = source.meshDiagnostics.closed;
     voxelizeOptions.fillThinParts = fillThinParts;
     voxelizeOptions.selfOverlapOptions.maxClearance = options.selfOverlapClearance;
+    voxelizeOptions.contactOptions.patchSeams = options.contactPatchSeams;
     // The voxeliser's refusals (a grid over the cap, a mesh collapsed to a
     // point) do not know the file: name it, as every error must.
     const auto nameTheFile = [&](const UsageError& error) {

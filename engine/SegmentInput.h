@@ -76,6 +76,9 @@ struct SegmentInputOptions {
     // Meshes: widest clearing of a place where the mesh passes through itself
     // (SelfOverlapOptions::maxClearance; 2: no wider retry).
     int selfOverlapClearance = 4;
+    // Meshes: seams between the two mesh patches of a contact the box check
+    // keeps (ContactSeparationOptions::patchSeams).
+    bool contactPatchSeams = false;
     int threads = 1;  // for the memory estimate (per-thread workspaces)
     int levels = 1;   // for the memory estimate (hierarchy runs: --tau list)
     std::uint64_t memoryLimit = 0;

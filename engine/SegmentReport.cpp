@@ -49,6 +49,8 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
         context.input["contacts_separated"] = shape.input->contacts.contacts;
         context.input["contact_voxels_cleared"] = shape.input->contacts.voxelsCleared;
         context.input["contacts_rejoined"] = shape.input->contacts.contactsRejoined;
+        context.input["contact_patch_seams"] = options.contactPatchSeams;
+        context.input["contacts_patch_seamed"] = shape.input->contacts.contactsPatchSeamed;
         context.input["self_overlap_clearance"] = options.selfOverlapClearance;
         context.input["self_overlaps_separated"] = shape.input->selfOverlaps.overlaps;
         context.input["self_overlaps_kept"] = shape.input->selfOverlaps.overlapsKept;

@@ -206,6 +206,10 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
             "(2: no retry)")
         ->capture_default_str()
         ->check(CLI::Range(2, 4));
+    command->add_flag("--contact-patch-seams", seg.contactPatchSeams,
+                      "Meshes: where a contact's seam is refused, try a seam between the two "
+                      "mesh patches of the contact, kept where it removes a handle of the voxel "
+                      "model");
     command->add_option("--grid", seg.gridName,
                         "VDB input: name of the grid to read (default: the first)");
     command

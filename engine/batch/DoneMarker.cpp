@@ -55,6 +55,7 @@ std::string outputAffectingOptions(const SegmentCommandOptions& options) {
     // a run with its default, which gives the same outputs.
     if (options.selfOverlapClearance != SegmentCommandOptions{}.selfOverlapClearance)
         j["self_overlap_clearance"] = options.selfOverlapClearance;
+    if (options.contactPatchSeams) j["contact_patch_seams"] = true;
     return j.dump();
 }
 
