@@ -69,6 +69,7 @@ json methodParameters(const SegmentationParameters& p) {
             {"separating_cuts_only", cut.separatingCutsOnly},
             {"window_from_body_reference", cut.windowFromBodyReference},
             {"surface_loops", cut.surfaceLoops},
+            {"tight_levels_in_runs", cut.tightLevelsInRuns},
             {"stub_limbs", cut.stubLimbs},
             {"limbs_below_sigma_min", cut.relaxSigmaMinForLimbs},
             {"limb_sigma_margin", cut.limbSigmaMargin},

@@ -166,6 +166,9 @@ void addSegmentOptions(CLI::App* command, SegmentCli& cli) {
     command->add_flag("--surface-loops", rules.surfaceLoops,
                       "Compare half the surface's loop length in the body test, not rho_S (the "
                       "longest feature-pair geodesic)");
+    command->add_flag("--tight-levels-in-runs", rules.tightLevelsInRuns,
+                      "Read a cut's loop lengths (limb circumference, border, taper) only on "
+                      "tight levels in a run of three, not on a single tight level");
     command->add_flag("!--no-stub-limbs", rules.stubLimbs,
                       "A free branch with no tight loop is not cut even where its piece reaches "
                       "far past its best loop (a limb of about tau)");

@@ -20,6 +20,26 @@ struct TightLevel {
     float rhoS = 0.0f;
 };
 
+/// Drops the tight levels that lie in no run of `consecutiveLevels`
+/// consecutive tight levels: a single level that reaches sigmaMin is not
+/// enough to be a loop round the part (§8.2), and near a branch's end the
+/// best node of a level can lie on a thin protrusion (an ear past a head),
+/// whose loop is a small fraction of the part's.
+void keepRuns(std::vector<TightLevel>& tight, int consecutiveLevels) {
+    const std::size_t needed = std::size_t(std::max(consecutiveLevels, 1));
+    std::vector<TightLevel> kept;
+    kept.reserve(tight.size());
+    for (std::size_t begin = 0; begin < tight.size();) {
+        std::size_t end = begin + 1;
+        while (end < tight.size() && tight[end].level == tight[end - 1].level + 1) ++end;
+        if (end - begin >= needed)
+            kept.insert(kept.end(), tight.begin() + std::ptrdiff_t(begin),
+                        tight.begin() + std::ptrdiff_t(end));
+        begin = end;
+    }
+    tight.swap(kept);
+}
+
 /// What one branch walk found (walkBranch).
 struct BranchWalk {
     /// The candidate node: the best node of the first level of the run of
@@ -137,6 +157,13 @@ BranchWalk walkBranch(const SkeletonGraph& g, const std::vector<SkeletonPoint>& 
     walk.candidate = runStart;
     walk.level = runStartLevel;
     walk.sigma = runStartSigma;
+    if (options.tightLevelsInRuns) {
+        keepRuns(tight, options.consecutiveLevels);
+        // The candidate's own run is kept, so tight is not empty.
+        limbRhoS = tight.front().rhoS;
+        for (const TightLevel& t : tight)
+            if (t.level <= lastLevel) limbRhoS = std::min(limbRhoS, t.rhoS);
+    }
     walk.limbRhoS = limbRhoS;
     walk.tight = std::move(tight);
     walk.windowEnd = lastLevel;

@@ -146,6 +146,15 @@ struct CutOptions {
     /// Off by default: at body_ratio 0.6 it moves one shared shape's neck
     /// across the threshold (docs/quality.md, "loops16").
     bool surfaceLoops = false;
+    /// The walk's tight levels after the candidate (where the limb
+    /// circumference, the cut's border and taper and a separating loop are
+    /// read) are only those in a run of consecutiveLevels tight levels, as
+    /// the candidate's own: a single level reaching sigmaMin near a branch's
+    /// end can be a loop round a thin protrusion (an ear's tip past a head),
+    /// a small fraction of the part's girth, which made the part read as thin
+    /// as the protrusion and moved its cut there (docs/algorithm.md §8.13,
+    /// "loops17").
+    bool tightLevelsInRuns = false;
     /// A branch that ends free with no run of tight levels, even below
     /// sigmaMin, is a limb whose area is about tau when the piece past its
     /// best loop reaches at least stubReach times the loop's size from the

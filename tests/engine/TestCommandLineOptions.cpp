@@ -83,6 +83,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
                                                    "--no-separation-check",
                                                    "--no-body-radius-window",
                                                    "--surface-loops",
+                                                   "--tight-levels-in-runs",
                                                    "--no-stub-limbs",
                                                    "--no-fork-junctions",
                                                    "--no-grow-regions"});
@@ -100,6 +101,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(set.at("one_branch_junctions_end_the_body"), false);
     EXPECT_EQ(set.at("separating_cuts_only"), false);
     EXPECT_EQ(set.at("surface_loops"), true);
+    EXPECT_EQ(set.at("tight_levels_in_runs"), true);
     EXPECT_EQ(set.at("window_from_body_reference"), false);
     EXPECT_EQ(set.at("stub_limbs"), false);
     EXPECT_EQ(set.at("fork_junctions"), false);

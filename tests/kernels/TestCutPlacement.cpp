@@ -261,6 +261,41 @@ TEST(CutPlacement, LimbCircumferenceIsMeasuredOneBodyRadiusOut) {
     EXPECT_EQ(r->cutVoxels, std::vector<std::uint32_t>{j.armVoxelAtLevel(2, 4)});
 }
 
+/// A Y junction (body 20 around) whose arm 0 is a head 11 around (tight on
+/// levels 1 to 5) with a single tight level 1 around at level 7, inside the
+/// body test's window (7 levels): a loop round a thin protrusion at the
+/// head's end (PSB 281's ear, docs/algorithm.md §8.13, "loops17").
+std::unique_ptr<Result> headWithAStrayTightLevel(bool tightLevelsInRuns) {
+    Junction y;
+    y.setRhoS(0, 11.0f);
+    y.setSigma(0, {0.95f, 0.95f, 0.95f, 0.95f, 0.95f, 0.0f, 0.85f});
+    y.setRhoSPerLevel(0, {11.0f, 11.0f, 11.0f, 11.0f, 11.0f, 11.0f, 1.0f});
+    for (int arm : {1, 2}) y.setSigma(arm, std::vector<float>(12, 0.95f)), y.setRhoS(arm, 20.0f);
+    CutOptions options;
+    options.tightLevelsInRuns = tightLevelsInRuns;
+    return place(y, options);
+}
+
+TEST(CutPlacement, SingleTightLevelAtABranchEndIsNotTheLimbsGirth) {
+    // Read on runs of three tight levels only, the head is 11 around
+    // (similarity 0.55) and its cut stays at its base; read on every tight
+    // level, the stray loop makes it 1 around, the border (20 + 1) / 2 lies
+    // under every loop of the head, and the cut goes to the protrusion.
+    Junction y;
+    const auto runs = headWithAStrayTightLevel(true);
+    ASSERT_EQ(runs->cutVoxels.size(), 1u);
+    EXPECT_EQ(runs->cutVoxels[0], y.armVoxelAtLevel(0, 1));
+    const CutCandidate* head = runs->byVoxel.at(y.armVoxelAtLevel(0, 1));
+    EXPECT_FLOAT_EQ(head->limbRhoS, 11.0f);
+    EXPECT_NEAR(head->similarity, 0.55f, 1e-5f);
+    EXPECT_TRUE(head->isCut);
+
+    const auto every = headWithAStrayTightLevel(false);
+    ASSERT_EQ(every->cutVoxels.size(), 1u);
+    EXPECT_EQ(every->cutVoxels[0], y.armVoxelAtLevel(0, 7)) << "the rule this test guards";
+    EXPECT_FLOAT_EQ(every->byVoxel.at(y.armVoxelAtLevel(0, 7))->limbRhoS, 1.0f);
+}
+
 TEST(CutPlacement, LimbWindowIsOneRadiusOfTheBodyNotOfAThinJunctionMedian) {
     // The junction's median fell on thin core voxels (rho_S 3: a window of
     // the run's three levels), while the body through it is 20 thick (one
