@@ -42,6 +42,20 @@ TEST(BudgetCalibration, ASlowerProbeNeverChoosesALargerResolution) {
     }
 }
 
+TEST(BudgetCalibration, NeverChoosesMoreThanTheCpuSecondsAllow) {
+    // However fast the probe, the calibrated choice is at most the one the
+    // uncalibrated CPU-second model makes; a slow probe can only lower it.
+    const double expected = ProbeCostModel::fitted().predictSeconds(probeWork());
+    for (double seconds : {0.5, 1.0, 2.0, 5.0, 20.0}) {
+        const BudgetChoice cpu =
+            chooseMeshResolution(CostModel::fitted(), probeWork(), 64, 400, 16, seconds);
+        for (double speed : {0.0, 0.1, 0.5, 1.0}) {
+            const BudgetChoice c = chooseAfterProbe(speed * expected, seconds);
+            EXPECT_LE(c.resolution, cpu.resolution) << seconds << " s, probe " << speed;
+        }
+    }
+}
+
 TEST(BudgetCalibration, AFastProbeNeverExceedsTheRequestedResolution) {
     for (int maximum : {100, 256, 400})
         for (double probeWall : {0.0, 1e-6, 1e-3}) {
