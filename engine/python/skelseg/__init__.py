@@ -207,13 +207,10 @@ class Score:
 # keywords of segment() and segment_mesh() are their names in snake_case
 # (--no-stub-limbs: no_stub_limbs=True); the engine parses and checks them as
 # the CLI does, with its messages.
+# Not keywords: the options that only concern files the module does not
+# write (force, quiet, no_preview, level_previews) and grid (read_volume's);
+# the mesh options are keywords of segment_mesh() only.
 _OPTIONS = {option["keyword"]: option for option in _skelseg.segment_options()}
-# Options that only name files the module does not write, or pick the grid
-# of a .vdb file (read_volume's `grid`): not keywords.
-_NOT_KEYWORDS = frozenset({"force", "quiet", "no_preview", "level_previews", "grid"})
-# Options of meshes only: keywords of segment_mesh(), not of segment().
-_MESH_KEYWORDS = frozenset({"resolution", "self_overlap_clearance", "contact_patch_seams",
-                            "budget_calibration"})
 
 
 def _option_text(keyword: str, value: Any) -> str:
