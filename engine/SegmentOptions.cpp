@@ -53,13 +53,11 @@ void SegmentOptionTexts::finish() {
     options.parameters.tau = taus.back();
     taus.pop_back();
     options.parameters.finerTaus = std::move(taus);
-    options.parameters.mode =
-        modeText == "junctions" ? CutMode::Junctions : CutMode::JunctionRule;
+    options.parameters.mode = modeText == "junctions" ? CutMode::Junctions : CutMode::JunctionRule;
     // --exhaustive is the name for the reference search; it may
     // repeat --skeleton-search exhaustive but not contradict it.
     if (exhaustive && skeletonSearchText == "band")
-        throw UsageError(
-            "--exhaustive contradicts --skeleton-search band: give one of them");
+        throw UsageError("--exhaustive contradicts --skeleton-search band: give one of them");
     if (exhaustive || skeletonSearchText == "exhaustive")
         options.parameters.skeletonSearch = SkeletonSearch::Exhaustive;
     else if (skeletonSearchText == "band")
@@ -69,8 +67,7 @@ void SegmentOptionTexts::finish() {
     // A hierarchy runs the exhaustive search (skeletonSearchToRun): an
     // explicit band with a list is refused before any work.
     if (!options.parameters.finerTaus.empty() && skeletonSearchText == "band")
-        throw UsageError(
-            "--skeleton-search band takes a single --tau, not a list of levels");
+        throw UsageError("--skeleton-search band takes a single --tau, not a list of levels");
 }
 
 void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
@@ -222,7 +219,6 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
     command->add_flag("--level-previews", seg.writeLevelPreviews,
                       "Hierarchy runs (--tau list, --joints): also levels/k/preview.png per level");
 }
-
 
 std::string oneLineMessage(std::string message) {
     std::replace(message.begin(), message.end(), '\n', ' ');

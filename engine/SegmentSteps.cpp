@@ -24,14 +24,13 @@ SegmentInputOptions segmentInputOptions(const SegmentCommandOptions& options, in
 
 double limitTimeToBudget(const SegmentMask& mask, double currentLimit, double budgetAsTimeLimit) {
     if (!mask.budget || mask.budget->fits) return currentLimit;
-    return currentLimit <= 0 || currentLimit > budgetAsTimeLimit ? budgetAsTimeLimit
-                                                                 : currentLimit;
+    return currentLimit <= 0 || currentLimit > budgetAsTimeLimit ? budgetAsTimeLimit : currentLimit;
 }
 
-std::shared_ptr<SegmentedShape> segmentMaskStep(std::shared_ptr<const SegmentMask> input,
-                                                const SegmentationParameters& parameters,
-                                                StageTimer& timer, Interrupter& interrupter,
-                                                const std::function<void(const std::string&)>& warn) {
+std::shared_ptr<SegmentedShape> segmentMaskStep(
+    std::shared_ptr<const SegmentMask> input, const SegmentationParameters& parameters,
+    StageTimer& timer, Interrupter& interrupter,
+    const std::function<void(const std::string&)>& warn) {
     auto shape = std::make_shared<SegmentedShape>();
     shape->result = segmentVolume(input->mask, parameters, interrupter, &timer);
     for (const auto& w : shape->result.warnings) warn(w);

@@ -41,10 +41,10 @@ SegmentInputOptions segmentInputOptions(const SegmentCommandOptions& options, in
 double limitTimeToBudget(const SegmentMask& mask, double currentLimit, double budgetAsTimeLimit);
 
 /// Segments the mask; warnings go to `warn` as they come and stay in the result.
-std::shared_ptr<SegmentedShape> segmentMaskStep(std::shared_ptr<const SegmentMask> input,
-                                                const SegmentationParameters& parameters,
-                                                StageTimer& timer, Interrupter& interrupter,
-                                                const std::function<void(const std::string&)>& warn);
+std::shared_ptr<SegmentedShape> segmentMaskStep(
+    std::shared_ptr<const SegmentMask> input, const SegmentationParameters& parameters,
+    StageTimer& timer, Interrupter& interrupter,
+    const std::function<void(const std::string&)>& warn);
 
 /// A volume coarsened for --time-budget: its result back on the input grid
 /// (stage "refine labels"); nothing otherwise.

@@ -28,7 +28,7 @@ std::vector<std::vector<std::uint32_t>> PatchSeamFinder::seams(
 }
 
 bool PatchSeamFinder::sidesOf(const std::vector<std::pair<std::int32_t, std::int32_t>>& pairs,
-             std::vector<std::pair<std::uint32_t, int>>& patch) const {
+                              std::vector<std::pair<std::uint32_t, int>>& patch) const {
     std::vector<std::uint32_t> seeds;
     for (const auto& [ta, tb] : pairs) {
         seeds.push_back(std::uint32_t(ta));
@@ -73,13 +73,11 @@ bool PatchSeamFinder::sidesOf(const std::vector<std::pair<std::int32_t, std::int
         if (at.settled || d > at.distance) continue;
         at.settled = true;
         const std::uint32_t seed = at.seed;
-        for (std::uint32_t n = mGraph.firstNeighbour[u]; n < mGraph.firstNeighbour[u + 1];
-             ++n) {
+        for (std::uint32_t n = mGraph.firstNeighbour[u]; n < mGraph.firstNeighbour[u + 1]; ++n) {
             const std::uint32_t v = mGraph.neighbours[n];
             const double next = d + distance(mGraph.points[u], mGraph.points[v]);
             const auto it = reached.find(v);
-            if (it != reached.end() && it->second.settled &&
-                next + it->second.distance <= mGrowth)
+            if (it != reached.end() && it->second.settled && next + it->second.distance <= mGrowth)
                 addLink(seed, it->second.seed, 1);
             if (next > mGrowth) continue;
             if (it == reached.end()) {
@@ -124,8 +122,7 @@ bool PatchSeamFinder::sidesOf(const std::vector<std::pair<std::int32_t, std::int
         }
     }
     std::size_t crossing = 0;
-    for (const auto& [ta, tb] : pairs)
-        crossing += sideOfSeed[seedOf(ta)] == sideOfSeed[seedOf(tb)];
+    for (const auto& [ta, tb] : pairs) crossing += sideOfSeed[seedOf(ta)] == sideOfSeed[seedOf(tb)];
     if (crossing * 10 > pairs.size()) return false;
     // Each triangle touched by the growth takes the side of its nearest
     // reached corner (ties: side 0); the seeds keep their own.
@@ -152,8 +149,7 @@ const std::vector<std::uint32_t>& PatchSeamFinder::trianglesAt(std::uint32_t v) 
         mIncidence.assign(mGraph.points.size(), {});
         for (std::uint32_t t = 0; t < mGraph.triangles.size(); ++t)
             for (std::uint32_t u : mGraph.triangles[t])
-                if (mIncidence[u].empty() || mIncidence[u].back() != t)
-                    mIncidence[u].push_back(t);
+                if (mIncidence[u].empty() || mIncidence[u].back() != t) mIncidence[u].push_back(t);
     });
     return mIncidence[v];
 }

@@ -19,7 +19,7 @@ namespace skelseg {
 
 /// The mesh as a graph over canonical vertices, in voxel index space.
 struct SurfaceGraph {
-    std::vector<vec3::Vec3> points;                             // per vertex
+    std::vector<vec3::Vec3> points;                       // per vertex
     std::vector<std::array<std::uint32_t, 3>> triangles;  // canonical corners
     std::vector<std::uint32_t> piece;                     // per triangle
     /// Per triangle: +1 when its normal (right hand rule) points out of the

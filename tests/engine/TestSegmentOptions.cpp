@@ -71,7 +71,11 @@ TEST(SegmentOptions, DescriptionsNameEveryOptionOnce) {
     EXPECT_EQ(find("--sigma-min")->defaultText, "0.8");
     EXPECT_FALSE(find("--time-budget")->help.empty());
     EXPECT_EQ(find("--help"), options.end());
-    for (const auto& o : options) EXPECT_EQ(std::count_if(options.begin(), options.end(), [&](const auto& p) { return p.name == o.name; }), 1) << o.name;
+    for (const auto& o : options)
+        EXPECT_EQ(std::count_if(options.begin(), options.end(),
+                                [&](const auto& p) { return p.name == o.name; }),
+                  1)
+            << o.name;
 }
 
 }  // namespace
