@@ -13,9 +13,9 @@
 
 #include "engine/SegmentOutput.h"
 #include "engine/SegmentReport.h"
+#include "engine/SegmentSteps.h"
 #include "engine/Stage.h"
 #include "io/files/OutputDirectory.h"
-#include "io/mesh/FaceLabels.h"
 
 namespace fs = std::filesystem;
 
@@ -81,53 +81,19 @@ MaskMessage maskShape(const RunContext& run, SourceMessage source) {
     auto mask = std::make_shared<SegmentMask>(
         maskSegmentSource(std::move(source), run.inputOptions, run.timer, run.progress,
                           [&](const std::string& w) { run.warn(w); }));
-    // Nothing fits the budget: it becomes a time limit, as --time-limit. A
-    // run whose choice fits finishes even when it overruns the prediction:
-    // a late answer is worth more to the user than none.
-    if (mask->budget && !mask->budget->fits) {
-        const double limit = run.budgetAsTimeLimit;
-        if (run.progress.timeLimit() <= 0 || run.progress.timeLimit() > limit)
-            run.progress.setTimeLimit(limit);
-    }
+    const double limit = limitTimeToBudget(*mask, run.progress.timeLimit(), run.budgetAsTimeLimit);
+    if (limit != run.progress.timeLimit()) run.progress.setTimeLimit(limit);
     return mask;
 }
 
 SegmentingMessage segmentShape(const RunContext& run, MaskMessage input) {
-    auto shape = std::make_shared<SegmentedShape>();
-    shape->result = segmentVolume(input->mask, run.options.parameters, run.progress, &run.timer);
-    for (const auto& w : shape->result.warnings) run.warn(w);
-    shape->input = std::move(input);
-    return shape;
-}
-
-/// A volume coarsened for --time-budget: its result back on the input grid.
-SegmentingMessage refineShape(const RunContext& run, SegmentingMessage shape) {
-    const SegmentMask& input = *shape->input;
-    if (input.budget && input.budget->coarsening > 1) {
-        Stage stage(run.timer, run.progress, "refine labels", true);
-        refineSegmentationResult(shape->result, input.fineMask, input.budget->coarsening);
-    }
-    return shape;
+    return segmentMaskStep(std::move(input), run.options.parameters, run.timer, run.progress,
+                           [&](const std::string& w) { run.warn(w); });
 }
 
 /// What the writers need besides the result: face labels, world geometry.
 ShapeMessage completeShape(const RunContext& run, SegmentingMessage shape) {
-    const SegmentSource& source = *shape->input->source;
-    if (source.isMesh()) {
-        FaceLabelStatistics statistics;
-        {
-            Stage stage(run.timer, run.progress, "face labels", true);
-            shape->faceLabels =
-                labelFaces(*source.mesh, shape->result.labels, {}, run.progress, &statistics);
-        }
-        shape->voxelLabelOfFaceLabel = std::move(statistics.voxelLabels);
-        if (shape->result.levelCount() > 1) {
-            Stage stage(run.timer, run.progress, "level face labels", true);
-            labelLevelFaces(*source.mesh, shape->result, shape->faceLabels,
-                            shape->voxelLabelOfFaceLabel, shape->levels, run.progress);
-        }
-    }
-    if (shape->result.levelCount() > 1) shape->levels.cutLoops = levelCutLoops(shape->result);
+    completeStep(*shape, run.timer, run.progress);
     shape->world = gatherWorldGeometry(shape->result);
     return shape;
 }
@@ -181,8 +147,10 @@ void runGraph(const RunContext& run) {
         graph, flow::serial,
         [&](MaskMessage input) { return segmentShape(run, std::move(input)); });
     flow::function_node<SegmentingMessage, SegmentingMessage> refine(
-        graph, flow::serial,
-        [&](SegmentingMessage shape) { return refineShape(run, std::move(shape)); });
+        graph, flow::serial, [&](SegmentingMessage shape) {
+            refineStep(*shape, run.timer, run.progress);
+            return shape;
+        });
     flow::function_node<SegmentingMessage, ShapeMessage> complete(
         graph, flow::serial,
         [&](SegmentingMessage shape) { return completeShape(run, std::move(shape)); });
@@ -244,18 +212,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     const auto wallStart = std::chrono::steady_clock::now();
     const double cpuStart = processCpuSeconds();
     const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
-    SegmentInputOptions inputOptions;
-    inputOptions.gridName = options.gridName;
-    inputOptions.resolution = options.resolution;
-    inputOptions.selfOverlapClearance = options.selfOverlapClearance;
-    inputOptions.contactPatchSeams = options.contactPatchSeams;
-    inputOptions.threads = threads;
-    inputOptions.levels = int(options.parameters.levelCount());
-    inputOptions.timeBudgetSeconds = options.timeBudgetSeconds;
-    inputOptions.calibrateTimeBudget = options.calibrateTimeBudget;
-    inputOptions.start = wallStart;
-    inputOptions.memoryLimit =
-        options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit();
+    SegmentInputOptions inputOptions = segmentInputOptions(options, threads, wallStart);
 
     refuseInputAmongOutputs(options);
     checkInputFileSize(options.input, inputOptions.memoryLimit);

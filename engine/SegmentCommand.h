@@ -27,8 +27,9 @@
 //                                     v  (join: all five done)
 //                                   report ──> report.json (SegmentReport.h)
 //
-// The five writers (SegmentOutput.h) run concurrently (levels/ only in
-// hierarchy runs, engine/SegmentationLevels.h). Shared by every node
+// The nodes from mask to complete run the steps of SegmentSteps.h (the
+// Python module runs them in a row). The five writers (SegmentOutput.h) run
+// concurrently (levels/ only in hierarchy runs, engine/SegmentationLevels.h). Shared by every node
 // and thread-safe: the StageTimer, the ProgressReporter and the
 // OutputDirectory. The whole graph runs in a task arena of `threads` slots,
 // so concurrent calls (one per shape) each keep their own thread limit. An

@@ -27,9 +27,8 @@ json budgetCalibrationJson(const BudgetChoice& budget) {
 
 }  // namespace
 
-std::string segmentReportJson(const SegmentCommandOptions& options, const SegmentedShape& shape,
-                              const std::vector<StageTiming>& timings,
-                              const SegmentRunFigures& figures) {
+json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& shape,
+                   const std::vector<StageTiming>& timings, const SegmentRunFigures& figures) {
     const SegmentSource& source = *shape.input->source;
     const SegmentationResult& result = shape.result;
     ResultReportContext context;
@@ -97,7 +96,13 @@ std::string segmentReportJson(const SegmentCommandOptions& options, const Segmen
             {"skipped",
              figures.previewSkippedForBudget ? json::array({"preview.png"}) : json::array()},
             {"chosen", describeBudgetChoice(*budget)}};
-    return report.dump(2) + "\n";
+    return report;
+}
+
+std::string segmentReportJson(const SegmentCommandOptions& options, const SegmentedShape& shape,
+                              const std::vector<StageTiming>& timings,
+                              const SegmentRunFigures& figures) {
+    return segmentReport(options, shape, timings, figures).dump(2) + "\n";
 }
 
 }  // namespace skelseg

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,12 @@ struct SegmentRunFigures {
     double cpuSeconds = 0.0;               // process CPU time since the start of the command
     bool previewSkippedForBudget = false;  // --time-budget left no time for preview.png
 };
+
+/// report.json's content; "input" describes options.input. The Python
+/// module's result holds it too, with its own "input" (ResultReport.h).
+nlohmann::json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& shape,
+                             const std::vector<StageTiming>& timings,
+                             const SegmentRunFigures& figures);
 
 /// The text of report.json (indented, ending in a newline).
 std::string segmentReportJson(const SegmentCommandOptions& options, const SegmentedShape& shape,

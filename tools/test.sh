@@ -2,20 +2,22 @@
 # Set-up command 2 (and what CI runs): check the include layering and the
 # formatting, build everything in Release with strict warnings and run the
 # test suites, fastest first, slow ones last:
+#   bench  every benchmark at its smallest size, compared with the baseline
 #   unit   kernels, readers/writers, scoring          (label unit)
 #   scene  generated shapes end to end                (label scene)
 #   python the Python module with pytest, Dask included (label python)
 #   browser viewer.html in headless Chromium           (label browser)
-#   bench  every benchmark at its smallest size, compared with the baseline
 #   asan   unit tests under AddressSanitizer + UBSan, built with clang (SKELSEG_CI_ASAN=0 skips)
 #   fuzz   each parser under libFuzzer for a bounded time, JOBS targets at a time
 #          (SKELSEG_FUZZ_SECONDS per target, default 20; 0 skips)
 #   cluster  `skelseg batch` as a Slurm job array on a one-node Slurm it starts
 #          (label cluster; skipped without slurm-wlm/munge or root)
 #   slow   robustness on real data and degenerate shapes (label slow)
-# The fuzz targets are built in the background while the sanitizer build runs
-# (both are CPU-bound; together they keep the cores busy); its log is
-# build-ci/fuzz-build.log.
+# The benchmarks run right after the build, on an otherwise idle machine (they
+# compare speed with the baseline). The fuzz targets are then built in the
+# background (one job) while the Release suites run, which leave part of the
+# cores idle; its log is build-ci/fuzz-build.log. The scene tests run two at a
+# time (each in its own temporary directory; none is timed).
 set -euo pipefail
 usage="usage: tools/test.sh   (build and run every suite as CI does; settings via SKELSEG_* variables)"
 case "${1:-}" in
@@ -38,37 +40,42 @@ stamp "build (Release, strict warnings)"
 cmake -S . -B build-ci -G Ninja -DCMAKE_BUILD_TYPE=Release -DSKELSEG_WERROR=ON > /dev/null
 cmake --build build-ci -j"$jobs"
 
+stamp "benchmarks (smallest size) vs baseline"
+tools/run-benchmarks.sh build-ci
+
+fuzz_build=""
+if [ "$fuzz_seconds" != "0" ]; then
+  stamp "fuzz build started in the background"
+  # In its own process group, so that a failing suite below, which ends this
+  # script, stops the whole build (ninja and its compilers) with it.
+  JOBS=1 setsid tools/run-fuzzers.sh --build-only > build-ci/fuzz-build.log 2>&1 &
+  fuzz_build=$!
+  trap '[ -z "$fuzz_build" ] || kill -- "-$fuzz_build" 2>/dev/null || true' EXIT
+fi
+
 stamp "unit tests"
 ctest --test-dir build-ci -L unit --output-on-failure -j"$jobs"
 stamp "scene tests"
-ctest --test-dir build-ci -L scene --output-on-failure
+ctest --test-dir build-ci -L scene --output-on-failure -j"$jobs"
 stamp "python tests"
 ctest --test-dir build-ci -L python --output-on-failure
 stamp "browser tests"
 ctest --test-dir build-ci -L browser --output-on-failure
 
-stamp "benchmarks (smallest size) vs baseline"
-tools/run-benchmarks.sh build-ci
+if [ -n "$fuzz_build" ]; then
+  stamp "waiting for the fuzz build"
+  if ! wait "$fuzz_build"; then
+    fuzz_build=""
+    cat build-ci/fuzz-build.log
+    echo "test.sh: fuzz build failed" >&2
+    exit 1
+  fi
+  fuzz_build=""
+fi
 
 if [ "${SKELSEG_CI_ASAN:-1}" != "0" ]; then
   stamp "build (ASan+UBSan, clang)"
-  fuzz_build=""
-  if [ "$fuzz_seconds" != "0" ]; then
-    JOBS=1 tools/run-fuzzers.sh --build-only > build-ci/fuzz-build.log 2>&1 &
-    fuzz_build=$!
-  fi
-  if ! CXX=clang++ JOBS="$jobs" tools/run-asan-tests.sh --build-only; then
-    [ -z "$fuzz_build" ] || wait "$fuzz_build" || true
-    exit 1
-  fi
-  if [ -n "$fuzz_build" ]; then
-    stamp "waiting for the fuzz build"
-    if ! wait "$fuzz_build"; then
-      cat build-ci/fuzz-build.log
-      echo "test.sh: fuzz build failed" >&2
-      exit 1
-    fi
-  fi
+  CXX=clang++ JOBS="$jobs" tools/run-asan-tests.sh --build-only
   stamp "unit tests under ASan+UBSan"
   JOBS="$jobs" tools/run-asan-tests.sh
 fi

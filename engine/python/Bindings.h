@@ -15,37 +15,43 @@
 #include <optional>
 #include <string>
 
+#include "engine/SegmentCommand.h"
+
 namespace skelseg {
 
-/// Parameters every segmentation call takes (see __init__.py for meaning).
+/// What every segmentation call takes: the options of `skelseg segment`
+/// (parsed from the keywords by parseSegmentOptions(), engine/SegmentOptions.h)
+/// and the progress callback.
 struct CallOptions {
-    std::string tau = "3%";
-    double sigmaMin = 0.8;
-    double bodyRatio = 0.6;
-    std::string mode = "junction-rule";
-    bool joints = false;               // also cut at joints (--joints)
-    int threads = 0;                   // 0: all cores
-    double timeLimitSeconds = 0.0;     // 0: none
-    std::uint64_t maxMemoryBytes = 0;  // 0: 75% of physical memory
-    pybind11::object progress;         // callable(stage, fraction) or None
+    SegmentCommandOptions command;
+    pybind11::object progress;  // callable(stage, fraction) or None
 };
 
 /// Segments a 3-D array (any dtype numpy can give as bool, int, uint or
 /// float; any strides). Returns {"labels", "skeleton", "cuts", "report",
-/// "warnings"}; labels has the array's shape (Fortran order, axis 0 = x).
+/// "warnings", "levels"}; labels has the array's shape (Fortran order, axis 0 = x).
 pybind11::dict segmentArray(const pybind11::array& mask, const std::array<double, 3>& spacing,
                             const CallOptions& options);
 
-/// Voxelises and segments a triangle mesh given as arrays: vertices (V, 3)
-/// float64, faces (F, 3) int64 triangles, triangleFace (F,) the input face of
-/// each triangle or empty (each triangle is a face); selfOverlapClearance as
-/// the CLI's --self-overlap-clearance. Returns the same keys as segmentArray
+/// Voxelises and segments a triangle mesh given as arrays, as the CLI does
+/// a mesh file (resolution, self-overlap clearance, contact patch seams and
+/// the time budget from options.command): vertices (V, 3) float64, faces
+/// (F, 3) int64 triangles, triangleFace (F,) the input face of each triangle
+/// or empty (each triangle is a face). Returns the same keys as segmentArray
 /// plus "face_labels" (int32, one per input face).
 pybind11::dict segmentMeshArrays(const pybind11::array_t<double>& vertices,
                                  const pybind11::array_t<std::int64_t>& faces,
                                  const pybind11::array_t<std::int64_t>& triangleFace,
-                                 int resolution, int selfOverlapClearance,
                                  const CallOptions& options);
+
+/// Every option of `skelseg segment` as parseSegmentOptions() takes it: a
+/// list of {"name": "--sigma-min", "keyword": "sigma_min", "flag": bool,
+/// "default": text, "help": text}.
+pybind11::list segmentOptionList();
+
+/// `message` with the command line's option names (--max-memory) written as
+/// the module's keywords (max_memory), for the module's exceptions.
+std::string withKeywordNames(const std::string& message);
 
 /// Reads a volume file's mask as a bool array, axis 0 = x (Fortran order),
 /// and its voxel spacing. Returns (array, spacing, origin).

@@ -2,12 +2,12 @@
 
 namespace skelseg {
 
-CallerPolledInterrupter::CallerPolledInterrupter(double timeLimitSeconds)
-    : mHasDeadline(timeLimitSeconds > 0) {
-    if (mHasDeadline)
-        mDeadline = std::chrono::steady_clock::now() +
-                    std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                        std::chrono::duration<double>(timeLimitSeconds));
+CallerPolledInterrupter::CallerPolledInterrupter(double timeLimitSeconds) {
+    setTimeLimit(timeLimitSeconds);
+}
+
+void CallerPolledInterrupter::setTimeLimit(double seconds) {
+    mTimeLimit.store(seconds > 0 ? seconds : 0.0);
 }
 
 void CallerPolledInterrupter::start(const char* name) {
@@ -19,8 +19,9 @@ void CallerPolledInterrupter::start(const char* name) {
 bool CallerPolledInterrupter::wasInterrupted(double fraction) {
     if (fraction >= 0) mFraction.store(fraction, std::memory_order_relaxed);
     if (mCancelled.load(std::memory_order_relaxed)) return true;
-    if (mHasDeadline && !mTimedOut.load(std::memory_order_relaxed) &&
-        std::chrono::steady_clock::now() >= mDeadline)
+    const double limit = mTimeLimit.load(std::memory_order_relaxed);
+    if (limit > 0 && !mTimedOut.load(std::memory_order_relaxed) &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count() >= limit)
         mTimedOut = true;
     return mTimedOut.load(std::memory_order_relaxed);
 }

@@ -31,6 +31,12 @@ public:
     bool wasInterrupted(double fraction = -1.0) override;
     InterruptedError::Reason reason() const override;
 
+    /// Sets the time limit, counted from the construction (a time budget that
+    /// nothing fits becomes one, engine/SegmentSteps.h); <= 0: none.
+    void setTimeLimit(double seconds);
+    /// The time limit in seconds from the construction; 0: none.
+    double timeLimit() const noexcept { return mTimeLimit.load(); }
+
     /// Asks the engine to stop at its next poll (from any thread).
     void cancel() noexcept { mCancelled = true; }
 
@@ -48,8 +54,8 @@ public:
     std::vector<std::string> stagesSince(unsigned alreadySeen) const;
 
 private:
-    std::chrono::steady_clock::time_point mDeadline;
-    bool mHasDeadline = false;
+    const std::chrono::steady_clock::time_point mStart = std::chrono::steady_clock::now();
+    std::atomic<double> mTimeLimit{0.0};
     std::atomic<bool> mCancelled{false};
     std::atomic<bool> mTimedOut{false};
     std::atomic<double> mFraction{-1.0};

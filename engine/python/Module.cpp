@@ -8,9 +8,11 @@
 //   InterruptedError (user interrupt)  -> KeyboardInterrupt
 //   OutputError                        -> OSError
 //   any other skelseg::Error           -> RuntimeError
-// Messages are the engine's one-line what(), as the CLI prints them.
+// Messages are the engine's one-line what(), as the CLI prints them, with
+// the CLI's option names written as the keywords (--max-memory: max_memory).
 #include <pybind11/stl.h>
 
+#include "engine/SegmentOptions.h"
 #include "engine/Version.h"
 #include "engine/python/Bindings.h"
 #include "kernels/base/Error.h"
@@ -26,32 +28,23 @@ void translateEngineErrors(std::exception_ptr error) {
     } catch (const InterruptedError& e) {
         PyErr_SetString(e.reason() == InterruptedError::Reason::TimeLimit ? PyExc_TimeoutError
                                                                           : PyExc_KeyboardInterrupt,
-                        e.what());
+                        withKeywordNames(e.what()).c_str());
     } catch (const MemoryLimitError& e) {
-        PyErr_SetString(PyExc_MemoryError, e.what());
+        PyErr_SetString(PyExc_MemoryError, withKeywordNames(e.what()).c_str());
     } catch (const InputError& e) {
-        PyErr_SetString(PyExc_ValueError, e.what());
+        PyErr_SetString(PyExc_ValueError, withKeywordNames(e.what()).c_str());
     } catch (const UsageError& e) {
-        PyErr_SetString(PyExc_ValueError, e.what());
+        PyErr_SetString(PyExc_ValueError, withKeywordNames(e.what()).c_str());
     } catch (const OutputError& e) {
-        PyErr_SetString(PyExc_OSError, e.what());
+        PyErr_SetString(PyExc_OSError, withKeywordNames(e.what()).c_str());
     } catch (const Error& e) {
-        PyErr_SetString(PyExc_RuntimeError, e.what());
+        PyErr_SetString(PyExc_RuntimeError, withKeywordNames(e.what()).c_str());
     }
 }
 
-CallOptions callOptions(std::string tau, double sigmaMin, double bodyRatio, std::string mode,
-                        bool joints, int threads, double timeLimit, std::uint64_t maxMemory,
-                        py::object progress) {
+CallOptions callOptions(const std::vector<std::string>& arguments, py::object progress) {
     CallOptions options;
-    options.tau = std::move(tau);
-    options.sigmaMin = sigmaMin;
-    options.bodyRatio = bodyRatio;
-    options.mode = std::move(mode);
-    options.joints = joints;
-    options.threads = threads;
-    options.timeLimitSeconds = timeLimit;
-    options.maxMemoryBytes = maxMemory;
+    options.command = parseSegmentOptions(arguments);
     options.progress = std::move(progress);
     return options;
 }
@@ -65,32 +58,22 @@ PYBIND11_MODULE(_skelseg, m) {
 
     m.def(
         "segment_array",
-        [](const py::array& mask, std::array<double, 3> spacing, std::string tau, double sigmaMin,
-           double bodyRatio, std::string mode, bool joints, int threads, double timeLimit,
-           std::uint64_t maxMemory, py::object progress) {
-            return segmentArray(
-                mask, spacing,
-                callOptions(std::move(tau), sigmaMin, bodyRatio, std::move(mode), joints, threads,
-                            timeLimit, maxMemory, std::move(progress)));
+        [](const py::array& mask, std::array<double, 3> spacing,
+           const std::vector<std::string>& arguments, py::object progress) {
+            return segmentArray(mask, spacing, callOptions(arguments, std::move(progress)));
         },
-        py::arg("mask"), py::arg("spacing"), py::arg("tau"), py::arg("sigma_min"),
-        py::arg("body_ratio"), py::arg("mode"), py::arg("joints"), py::arg("threads"),
-        py::arg("time_limit"), py::arg("max_memory"), py::arg("progress"));
+        py::arg("mask"), py::arg("spacing"), py::arg("arguments"), py::arg("progress"));
     m.def(
         "segment_mesh",
         [](const py::array_t<double>& vertices, const py::array_t<std::int64_t>& faces,
-           const py::array_t<std::int64_t>& triangleFace, int resolution, int selfOverlapClearance,
-           std::string tau, double sigmaMin, double bodyRatio, std::string mode, bool joints,
-           int threads, double timeLimit, std::uint64_t maxMemory, py::object progress) {
-            return segmentMeshArrays(
-                vertices, faces, triangleFace, resolution, selfOverlapClearance,
-                callOptions(std::move(tau), sigmaMin, bodyRatio, std::move(mode), joints, threads,
-                            timeLimit, maxMemory, std::move(progress)));
+           const py::array_t<std::int64_t>& triangleFace, const std::vector<std::string>& arguments,
+           py::object progress) {
+            return segmentMeshArrays(vertices, faces, triangleFace,
+                                     callOptions(arguments, std::move(progress)));
         },
-        py::arg("vertices"), py::arg("faces"), py::arg("triangle_face"), py::arg("resolution"),
-        py::arg("self_overlap_clearance"), py::arg("tau"), py::arg("sigma_min"),
-        py::arg("body_ratio"), py::arg("mode"), py::arg("joints"), py::arg("threads"),
-        py::arg("time_limit"), py::arg("max_memory"), py::arg("progress"));
+        py::arg("vertices"), py::arg("faces"), py::arg("triangle_face"), py::arg("arguments"),
+        py::arg("progress"));
+    m.def("segment_options", &segmentOptionList);
     m.def("read_volume", &readVolumeArray, py::arg("path"), py::arg("grid"));
     m.def("read_mesh", &readMeshArrays, py::arg("path"));
     m.def("read_seg", &readSegArray, py::arg("path"));

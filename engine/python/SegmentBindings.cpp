@@ -2,22 +2,23 @@
 #include <pybind11/stl.h>
 #include <tbb/info.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <optional>
 
 #include "engine/LevelOutputs.h"
-#include "engine/ResultReport.h"
-#include "engine/SegmentCommand.h"
+#include "engine/SegmentOptions.h"
+#include "engine/SegmentReport.h"
+#include "engine/SegmentSteps.h"
 #include "engine/Stage.h"
 #include "engine/python/ArrayMask.h"
 #include "engine/python/Bindings.h"
 #include "engine/python/EngineCall.h"
 #include "engine/python/ResultArrays.h"
-#include "io/mesh/FaceLabels.h"
 #include "io/mesh/MeshCheck.h"
-#include "io/mesh/MeshVoxelizer.h"
 
 namespace py = pybind11;
 
@@ -29,66 +30,56 @@ namespace {
 const std::string kMaskName = "mask";
 const std::string kMeshName = "mesh";
 
-SegmentationParameters parametersFrom(const CallOptions& options) {
-    SegmentationParameters p;
-    std::vector<TauSpec> taus = parseTauList(options.tau);
-    p.tau = taus.back();
-    taus.pop_back();
-    p.finerTaus = std::move(taus);
-    p.sigmaMin = options.sigmaMin;
-    p.bodyRatio = options.bodyRatio;
-    p.joints = options.joints;
-    if (options.mode == "junction-rule")
-        p.mode = CutMode::JunctionRule;
-    else if (options.mode == "junctions")
-        p.mode = CutMode::Junctions;
-    else
-        throw UsageError("mode '" + options.mode + "' is not junction-rule or junctions");
-    return p;
-}
-
-/// What every call measures and reports besides the engine's result.
+/// One call: its options, clocks and interrupter, and the CLI's steps from
+/// the input to the result (engine/SegmentSteps.h).
 struct CallRecord {
-    explicit CallRecord(const CallOptions& options)
-        : parameters(parametersFrom(options)),
+    explicit CallRecord(const CallOptions& callOptions)
+        : options(callOptions.command),
           threads(options.threads > 0 ? options.threads : tbb::info::default_concurrency()),
-          memoryLimit(options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit()),
+          inputOptions(segmentInputOptions(options, threads, wallStart)),
           interrupter(options.timeLimitSeconds) {}
 
-    int levels() const { return int(parameters.levelCount()); }
-
-    void checkMemory(const std::string& name, std::uint64_t estimate, const std::string& detail) {
-        estimatedMemory = std::max(estimatedMemory, estimate);
-        if (estimate > memoryLimit)
-            throw MemoryLimitError(name + ": needs about " + formatBytes(estimate) + detail +
-                                   ", over the limit of " + formatBytes(memoryLimit) +
-                                   " (max_memory)");
+    /// The mask, its segmentation and the face labels, as the CLI's graph
+    /// makes them. The time budget counts from the start of the call.
+    std::shared_ptr<SegmentedShape> segment(std::shared_ptr<SegmentSource> source) {
+        const auto quiet = [](const std::string&) {};  // warnings come back in the result
+        auto mask = std::make_shared<SegmentMask>(
+            maskSegmentSource(std::move(source), inputOptions, timer, interrupter, quiet));
+        interrupter.setTimeLimit(
+            limitTimeToBudget(*mask, interrupter.timeLimit(), options.timeBudgetSeconds));
+        auto shape =
+            segmentMaskStep(std::move(mask), options.parameters, timer, interrupter, quiet);
+        refineStep(*shape, timer, interrupter);
+        completeStep(*shape, timer, interrupter);
+        return shape;
     }
 
-    py::dict finish(SegmentationResult&& result, nlohmann::json input,
-                    std::optional<std::uint32_t> faceSegments = std::nullopt,
-                    const std::vector<std::vector<std::uint32_t>>* levelFaceLabels = nullptr) {
-        for (const auto& w : result.warnings) warnings.push_back(w);
-        ResultReportContext context;
-        context.input = std::move(input);
-        context.parameters = parameters;
-        context.threads = threads;
-        context.stages = timer.timings();
-        context.wallSeconds =
+    /// The result as plain Python objects; `input` replaces report.json's
+    /// description of the input file.
+    py::dict finish(SegmentedShape& shape, const nlohmann::json& input) {
+        SegmentRunFigures figures;
+        figures.threads = threads;
+        figures.memoryLimit = inputOptions.memoryLimit;
+        figures.wallSeconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
-        context.cpuSeconds = processCpuSeconds() - cpuStart;
-        context.estimatedMemoryBytes = estimatedMemory;
-        context.memoryLimitBytes = memoryLimit;
-        context.warnings = warnings;
-        context.faceSegments = faceSegments;
+        figures.cpuSeconds = processCpuSeconds() - cpuStart;
+        nlohmann::json report = segmentReport(options, shape, timer.timings(), figures);
+        report["input"].erase("file");
+        for (const auto& [key, value] : input.items()) report["input"][key] = value;
+        SegmentationResult& result = shape.result;
         py::dict out;
-        out["report"] = jsonToPython(resultReport(result, context));
+        out["warnings"] = jsonToPython(report["warnings"]);
+        out["report"] = jsonToPython(report);
         out["skeleton"] = skeletonArrays(result);
         out["cuts"] = cutArrays(result);
-        out["warnings"] = py::cast(warnings);
         // Every level, finest first; labels None: the top-level "labels".
         // Mesh inputs add each level's face labels (segmentation.seg's).
-        const auto levelLoops = levelCutLoops(result);
+        const auto levelLoops =
+            shape.levels.cutLoops.empty() ? levelCutLoops(result) : shape.levels.cutLoops;
+        const bool mesh = shape.input->source->isMesh();
+        const std::vector<std::vector<std::uint32_t>> singleLevelFaces = {shape.faceLabels};
+        const auto& levelFaceLabels =
+            shape.levels.faceLabels.empty() ? singleLevelFaces : shape.levels.faceLabels;
         py::list levels;
         for (std::size_t k = 0; k < result.levelCount(); ++k) {
             py::dict entry;
@@ -115,11 +106,8 @@ struct CallRecord {
                 entry["labels"] = py::none();
                 entry["parents"] = py::none();
             }
-            if (levelFaceLabels && k < levelFaceLabels->size()) {
-                std::vector<std::int32_t> faces((*levelFaceLabels)[k].begin(),
-                                                (*levelFaceLabels)[k].end());
-                const auto faceCount = py::ssize_t(faces.size());
-                entry["face_labels"] = arrayOwning(std::move(faces), {faceCount});
+            if (mesh && k < levelFaceLabels.size()) {
+                entry["face_labels"] = faceLabelArray(levelFaceLabels[k]);
             } else {
                 entry["face_labels"] = py::none();
             }
@@ -127,18 +115,23 @@ struct CallRecord {
         }
         out["levels"] = levels;
         out["labels"] = labelArray(std::move(result.labels));
+        if (mesh) out["face_labels"] = faceLabelArray(shape.faceLabels);
         return out;
     }
 
-    SegmentationParameters parameters;
-    int threads;
-    std::uint64_t memoryLimit;
-    CallerPolledInterrupter interrupter;
-    StageTimer timer;
-    std::uint64_t estimatedMemory = 0;
-    std::vector<std::string> warnings;
+    static py::array_t<std::int32_t> faceLabelArray(const std::vector<std::uint32_t>& labels) {
+        std::vector<std::int32_t> faces(labels.begin(), labels.end());
+        const auto faceCount = py::ssize_t(faces.size());
+        return arrayOwning(std::move(faces), {faceCount});
+    }
+
+    SegmentCommandOptions options;
     std::chrono::steady_clock::time_point wallStart = std::chrono::steady_clock::now();
     double cpuStart = processCpuSeconds();
+    int threads;
+    SegmentInputOptions inputOptions;
+    CallerPolledInterrupter interrupter;
+    StageTimer timer;
 };
 
 std::string dtypeName(const py::dtype& dtype) {
@@ -191,36 +184,36 @@ py::dict segmentArray(const py::array& array, const std::array<double, 3>& spaci
         if (!(s > 0) || !std::isfinite(s))
             throw UsageError("spacing must be three positive finite numbers");
 
-    SegmentationResult result;
-    std::uint64_t objectVoxels = 0;
+    std::shared_ptr<SegmentedShape> shape;
     runEngineCall(
         [&] {
-            // Counting first costs a pass over the array; it is only needed
-            // when the bound that counts every voxel as object is too high.
-            if (estimateSegmentationMemory(dims, dims.voxelCount(), call.threads) >
-                call.memoryLimit) {
-                objectVoxels = countObjectVoxels(view, kMaskName);
-                call.checkMemory(
-                    kMaskName,
-                    estimateSegmentationMemory(dims, objectVoxels, call.threads, call.levels()),
-                    "");
+            // The array is converted before the CLI's memory check (which
+            // counts the mask's object voxels): refuse first what cannot fit.
+            // Counting costs a pass over the array; it is only needed when
+            // the bound that counts every voxel as object is too high.
+            const SegmentInputOptions& in = call.inputOptions;
+            if (estimateSegmentationMemory(dims, dims.voxelCount(), in.threads) > in.memoryLimit) {
+                const std::uint64_t estimate = estimateSegmentationMemory(
+                    dims, countObjectVoxels(view, kMaskName), in.threads, in.levels);
+                if (estimate > in.memoryLimit)
+                    throw MemoryLimitError(kMaskName + ": needs about " + formatBytes(estimate) +
+                                           ", over the limit of " + formatBytes(in.memoryLimit) +
+                                           " (--max-memory)");
             }
-            MaskVolume mask = maskFromArray(view, kMaskName);
-            mask.geometry.directions = {
+            auto source = std::make_shared<SegmentSource>();
+            source->file = kMaskName;
+            source->volumeMask = maskFromArray(view, kMaskName);
+            source->volumeMask.geometry.directions = {
                 {{spacing[0], 0, 0}, {0, spacing[1], 0}, {0, 0, spacing[2]}}};
-            objectVoxels = 0;
-            for (std::uint8_t v : mask.values()) objectVoxels += v;
-            call.estimatedMemory =
-                estimateSegmentationMemory(dims, objectVoxels, call.threads, call.levels());
-            result = segmentVolume(mask, call.parameters, call.interrupter, &call.timer);
+            shape = call.segment(std::move(source));
         },
-        call.interrupter, options.threads, options.progress);
+        call.interrupter, call.options.threads, options.progress);
 
     nlohmann::json input = {{"kind", "array"},
                             {"shape", {view.shape[0], view.shape[1], view.shape[2]}},
                             {"dtype", dtypeName(array.dtype())},
                             {"spacing", {spacing[0], spacing[1], spacing[2]}}};
-    return call.finish(std::move(result), std::move(input));
+    return call.finish(*shape, input);
 }
 
 TriangleMesh meshFromArrays(const py::array_t<double>& vertices,
@@ -277,87 +270,63 @@ TriangleMesh meshFromArrays(const py::array_t<double>& vertices,
 
 py::dict segmentMeshArrays(const py::array_t<double>& vertices,
                            const py::array_t<std::int64_t>& faces,
-                           const py::array_t<std::int64_t>& triangleFace, int resolution,
-                           int selfOverlapClearance, const CallOptions& options) {
+                           const py::array_t<std::int64_t>& triangleFace,
+                           const CallOptions& options) {
     CallRecord call(options);
-    const TriangleMesh mesh = meshFromArrays(vertices, faces, triangleFace);
-
-    MeshDiagnostics diagnostics{};
-    SegmentationResult result;
-    std::vector<std::uint32_t> faceLabels;
-    LevelOutputs levels;
+    auto source = std::make_shared<SegmentSource>();
+    source->file = kMeshName;
+    source->mesh = meshFromArrays(vertices, faces, triangleFace);
+    std::shared_ptr<SegmentedShape> shape;
     runEngineCall(
         [&] {
-            // As the CLI: the voxeliser's refusals name the input.
-            const auto named = [](const UsageError& error) {
-                return UsageError(kMeshName + ": " + error.what());
-            };
-            MaskVolume mask;
             {
-                InterrupterScope scope(call.interrupter, "voxelise");
-                diagnostics = checkMesh(mesh);
-                VoxelizeOptions vo;
-                vo.resolution = resolution;
-                vo.selfOverlapOptions.maxClearance = selfOverlapClearance;
-                vo.meshIsClosed = diagnostics.closed;
-                VoxelGrid grid;
-                try {
-                    grid = voxelGridFor(mesh, vo);
-                } catch (const UsageError& error) {
-                    throw named(error);
-                }
-                call.checkMemory(kMeshName,
-                                 estimateSegmentationMemory(grid.dims, grid.dims.voxelCount() / 4,
-                                                            call.threads) +
-                                     grid.dims.voxelCount() * 8,
-                                 " at resolution " + std::to_string(resolution));
-                Stage t(call.timer, call.interrupter, "voxelise", true);
-                try {
-                    mask = voxelizeMesh(mesh, vo, call.interrupter);
-                } catch (const UsageError& error) {
-                    throw named(error);
-                }
+                Stage stage(call.timer, call.interrupter, "check mesh", false);
+                source->meshDiagnostics = checkMesh(*source->mesh);
             }
-            for (const auto& w : meshWarnings(diagnostics, kMeshName)) call.warnings.push_back(w);
-            std::uint64_t objectVoxels = 0;
-            for (std::uint8_t value : mask.values()) objectVoxels += value != 0;
-            call.checkMemory(
-                kMeshName,
-                estimateSegmentationMemory(mask.dims(), objectVoxels, call.threads, call.levels()),
-                "");
-            result = segmentVolume(mask, call.parameters, call.interrupter, &call.timer);
-            FaceLabelStatistics statistics;
-            {
-                Stage t(call.timer, call.interrupter, "face labels", true);
-                faceLabels = labelFaces(mesh, result.labels, {}, call.interrupter, &statistics);
-            }
-            if (result.levelCount() > 1) {
-                // As the CLI's levels/k/segmentation.seg: nested level to level.
-                Stage t(call.timer, call.interrupter, "level face labels", true);
-                labelLevelFaces(mesh, result, faceLabels, statistics.voxelLabels, levels,
-                                call.interrupter);
-            } else {
-                levels.faceLabels = {faceLabels};
-            }
+            shape = call.segment(std::move(source));
         },
-        call.interrupter, options.threads, options.progress);
+        call.interrupter, call.options.threads, options.progress);
+    return call.finish(*shape, {{"kind", "mesh"}});
+}
 
-    std::uint32_t faceSegments = 0;
-    for (std::uint32_t l : faceLabels) faceSegments = std::max(faceSegments, l + 1);
-    nlohmann::json input = {{"kind", "mesh"},
-                            {"faces", mesh.faceCount},
-                            {"vertices", mesh.vertices.size()},
-                            {"resolution", resolution},
-                            {"self_overlap_clearance", selfOverlapClearance},
-                            {"mesh_closed", diagnostics.closed},
-                            {"mesh_pieces", diagnostics.pieces},
-                            {"mesh_boundary_edges", diagnostics.boundaryEdges},
-                            {"mesh_degenerate_faces", diagnostics.degenerateFaces}};
-    std::vector<std::int32_t> labels(faceLabels.begin(), faceLabels.end());
-    const auto faceCount = py::ssize_t(labels.size());
-    py::dict out =
-        call.finish(std::move(result), std::move(input), faceSegments, &levels.faceLabels);
-    out["face_labels"] = arrayOwning(std::move(labels), {faceCount});
+py::list segmentOptionList() {
+    py::list list;
+    for (const SegmentOptionDescription& d : segmentOptionDescriptions()) {
+        std::string keyword = d.name.substr(2);
+        std::replace(keyword.begin(), keyword.end(), '-', '_');
+        py::dict entry;
+        entry["name"] = d.name;
+        entry["keyword"] = keyword;
+        entry["flag"] = d.flag;
+        entry["default"] = d.defaultText;
+        entry["help"] = d.help;
+        list.append(entry);
+    }
+    return list;
+}
+
+std::string withKeywordNames(const std::string& message) {
+    static const std::vector<SegmentOptionDescription> options = segmentOptionDescriptions();
+    std::string out;
+    for (std::size_t i = 0; i < message.size();) {
+        const bool starts = message.compare(i, 2, "--") == 0 &&
+                            (i == 0 || !std::isalnum(static_cast<unsigned char>(message[i - 1])));
+        std::size_t end = i + 2;
+        while (starts && end < message.size() &&
+               (std::islower(static_cast<unsigned char>(message[end])) || message[end] == '-'))
+            ++end;
+        const std::string name = message.substr(i, end - i);
+        const bool known = starts && std::any_of(options.begin(), options.end(),
+                                                 [&](const auto& o) { return o.name == name; });
+        if (!known) {
+            out += message[i++];
+            continue;
+        }
+        std::string keyword = name.substr(2);
+        std::replace(keyword.begin(), keyword.end(), '-', '_');
+        out += keyword;
+        i = end;
+    }
     return out;
 }
 

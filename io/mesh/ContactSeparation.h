@@ -37,28 +37,9 @@
 // lie in two objects of the whole mask (a thin limb cut next to the contact)
 // is set back (kernels/SeveredObjects.h).
 //
-// Patch seams (ContactSeparationOptions::patchSeams, off by default): a
-// contact kept by the box check is usually one whose pairs were missed at its
-// rim, so its seam stops short and punches a hole (an ear lying on a head).
-// The pairs found still tell the two surfaces apart: their triangles are split
-// into the contact's two sides by a vote (triangles within patchGrowth of each
-// other along the mesh count for one side, the two triangles of a pair for
-// two, so a few links across a crease are outvoted; a contact with over a
-// tenth of its pairs on one side is left), and each side is grown along the
-// mesh by patchGrowth into a patch, which reaches the rim the pairs missed.
-// For every object voxel within patchReach of both patches, f = (depth in side
-// 0's solid) - (depth in side 1's), signed distances to each patch, is 0 on
-// the middle surface between them and changes by at most 2 sqrt(3) between
-// 26-neighbours; so clearing the voxels with |f| <= 2 sqrt(3) on one side
-// parts the two sides wherever both patches are near, however the voxels'
-// nearest triangles fall. Voxels inside both solids are left (a crease where
-// the surfaces join: there the middle surface runs through the solid). Tried
-// in turn: into the side with more such voxels (a head rather than the thin
-// ear lying on it), into the other, and |f| <= sqrt(3) on both sides. The box
-// check cannot judge it (a whole contact closes the loop outside any box), so
-// a seam is kept only where the whole model's genus drops and no object or
-// cavity is added (kernels/VoxelGenus.h): one whole-model count per seam
-// tried, and none once the genus is 0.
+// Patch seams (ContactSeparationOptions::patchSeams, off by default): step
+// 7, seams for the contacts the box check keeps, between the contact's two
+// mesh patches (io/mesh/ContactPatchSeams.h).
 //
 // Limits: a mesh that intersects itself can have contacts detected where it
 // crosses itself; pieces that merely touch stay joined (rule 3); a contact

@@ -3,18 +3,13 @@
 #include <gtest/gtest.h>
 
 #include "engine/TimeBudget.h"
+#include "tests/support/WorkCountsFixture.h"
 
 namespace skelseg {
 namespace {
 
 WorkCounts probeWork() {
-    WorkCounts w;
-    w.gridVoxels = 64.0 * 48 * 40;
-    w.objectVoxels = 30000;
-    w.boundaryVoxels = 6000;
-    w.candidates = 7000;
-    w.meshFaces = 50000;
-    return w;
+    return test::workCounts({64, 48, 40}, 30000, 6000, 7000, 50000);
 }
 
 /// The resolution chosen for `seconds` when the probe of probeWork() took

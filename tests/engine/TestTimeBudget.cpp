@@ -7,18 +7,13 @@
 
 #include "engine/Segmenter.h"
 #include "io/shapes/SyntheticShapes.h"
+#include "tests/support/WorkCountsFixture.h"
 
 namespace skelseg {
 namespace {
 
 WorkCounts someWork() {
-    WorkCounts w;
-    w.gridVoxels = 64.0 * 64 * 64;
-    w.objectVoxels = 50000;
-    w.boundaryVoxels = 8000;
-    w.candidates = 9000;
-    w.meshFaces = 20000;
-    return w;
+    return test::workCounts({64, 64, 64}, 50000, 8000, 9000, 20000);
 }
 
 TEST(TimeBudget, ScalingFollowsVolumeAndSurface) {

@@ -64,14 +64,14 @@ def test_unsupported_dtypes_are_type_errors(capfd, dtype):
 
 
 @pytest.mark.parametrize("kwargs,message", [
-    ({"tau": "3x"}, r"--tau '3x' is not a number of voxels or a percentage"),
-    ({"tau": "150%"}, r"--tau '150%' is out of range"),
-    ({"sigma_min": 1.5}, r"sigma_min 1.5 is not in \[0, 1\]"),
-    ({"mode": "magic"}, r"mode 'magic' is not"),
-    ({"threads": 0}, r"threads must be None or a positive integer"),
-    ({"time_limit": -1}, r"time_limit must be None or a positive number"),
+    ({"tau": "3x"}, r"^tau '3x' is not a number of voxels or a percentage"),
+    ({"tau": "150%"}, r"^tau '150%' is out of range"),
+    ({"sigma_min": 1.5}, r"^sigma_min: Value 1.5 not in range 0.000000 to 1.000000$"),
+    ({"mode": "magic"}, r"^mode: magic not in \{junction-rule,junctions\}$"),
+    ({"threads": 0}, r"^threads: Value 0 not in range 1 to 1024$"),
+    ({"time_limit": -1}, r"^time_limit: '-1' is not a positive number of seconds$"),
     ({"spacing": (1, 0, 1)}, r"spacing must be three positive finite numbers"),
-    ({"max_memory": "4X"}, r"max_memory '4X' is not a size"),
+    ({"max_memory": "4X"}, r"^max_memory '4X': unknown unit 'X'$"),
 ])
 def test_bad_parameters_are_value_errors(capfd, kwargs, message):
     with pytest.raises(ValueError, match=message):

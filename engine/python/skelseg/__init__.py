@@ -202,66 +202,77 @@ class Score:
     per_human: Tuple["Score", ...] = ()
 
 
-def _options(tau: Union[str, float], sigma_min: float, body_ratio: float, mode: str,
-             joints: bool, threads: Optional[int], time_limit: Optional[float],
-             max_memory: Union[None, int, str], progress: Optional[ProgressCallback]) -> dict:
-    def one_tau(value: Any) -> str:
-        if isinstance(value, bool) or not isinstance(value, (str, numbers.Real)):
-            raise TypeError(f"tau must be a string such as '3%' or a number of voxels, "
-                            f"or a list of them, not {value!r}")
-        return repr(float(value)) if isinstance(value, numbers.Real) else value
+# The options of `skelseg segment` (engine/SegmentOptions.h), by keyword:
+# {"name": "--sigma-min", "flag": bool, "default": text, "help": text}. The
+# keywords of segment() and segment_mesh() are their names in snake_case
+# (--no-stub-limbs: no_stub_limbs=True); the engine parses and checks them as
+# the CLI does, with its messages.
+# Not keywords: the options that only concern files the module does not
+# write (force, quiet, no_preview, level_previews) and grid (read_volume's);
+# the mesh options are keywords of segment_mesh() only.
+_OPTIONS = {option["keyword"]: option for option in _skelseg.segment_options()}
 
-    if isinstance(tau, (list, tuple)):
-        # A hierarchy run: the CLI's --tau 1%,3%,9%.
-        if not tau:
-            raise ValueError("tau: the list is empty")
-        tau = ",".join(one_tau(t) for t in tau)
-    else:
-        tau = one_tau(tau)
-    for name, value in (("sigma_min", sigma_min), ("body_ratio", body_ratio)):
-        if isinstance(value, bool) or not isinstance(value, numbers.Real):
-            raise TypeError(f"{name} must be a number, not {value!r}")
-        if not 0.0 <= float(value) <= 1.0:
-            raise ValueError(f"{name} {value!r} is not in [0, 1]")
-    if mode not in ("junction-rule", "junctions"):
-        raise ValueError(f"mode {mode!r} is not 'junction-rule' or 'junctions'")
-    if not isinstance(joints, bool):
-        raise TypeError(f"joints must be True or False, not {joints!r}")
-    if threads is None:
-        threads = 0
-    elif isinstance(threads, bool) or not isinstance(threads, numbers.Integral) or threads < 1:
-        raise ValueError(f"threads must be None or a positive integer, not {threads!r}")
-    if time_limit is None:
-        time_limit = 0.0
-    elif (isinstance(time_limit, bool) or not isinstance(time_limit, numbers.Real)
-          or not 0 < float(time_limit) < 1e9):
-        raise ValueError(f"time_limit must be None or a positive number of seconds, "
-                         f"not {time_limit!r}")
+
+def _option_text(keyword: str, value: Any) -> str:
+    """One option value as the command line spells it."""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{keyword} must be a number or a string as the CLI takes it, "
+                        f"not {value!r}")
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    return repr(float(value))
+
+
+def _arguments(keywords: dict) -> List[str]:
+    """The keywords as `skelseg segment` options: None leaves an option out,
+    a flag is given when True, tau may be a list (the CLI's --tau 1%,3%,9%)."""
+    arguments: List[str] = []
+    for keyword, value in keywords.items():
+        option = _OPTIONS[keyword]
+        if option["flag"]:
+            if not isinstance(value, (bool, np.bool_)):
+                raise TypeError(f"{keyword} must be True or False, not {value!r}")
+            if value:
+                arguments.append(option["name"])
+        elif value is not None:
+            if keyword == "tau" and isinstance(value, (list, tuple)):
+                if not value:
+                    raise ValueError("tau: the list is empty")
+                text = ",".join(_option_text(keyword, v) for v in value)
+            else:
+                text = _option_text(keyword, value)
+            arguments += [option["name"], text]
+    return arguments
+
+
+def _call_arguments(given: dict, progress: Optional[ProgressCallback]) -> List[str]:
+    """The options among a call's arguments (its locals()) as command-line options."""
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be None or a callable (stage, fraction), not {progress!r}")
-    return dict(tau=tau, sigma_min=float(sigma_min), body_ratio=float(body_ratio), mode=mode,
-                joints=joints, threads=int(threads), time_limit=float(time_limit),
-                max_memory=_bytes(max_memory), progress=progress)
+    return _arguments({keyword: value for keyword, value in given.items()
+                       if keyword in _OPTIONS})
 
 
-def _bytes(size: Union[None, int, str]) -> int:
-    """max_memory as bytes: None (0: 75% of RAM), an int, or '4G', '512M', '100K'."""
-    if size is None:
-        return 0
-    if isinstance(size, str):
-        scale = {"K": 1e3, "KB": 1e3, "M": 1e6, "MB": 1e6, "G": 1e9, "GB": 1e9}
-        text = size.strip()
-        unit = text.lstrip("0123456789.eE+-")
-        number = text[: len(text) - len(unit)]
-        try:
-            value = float(number) * (scale[unit] if unit else 1.0)
-        except (ValueError, KeyError):
-            raise ValueError(f"max_memory {size!r} is not a size such as 4G or 512M") from None
-        size = int(value)
-    if isinstance(size, bool) or not isinstance(size, numbers.Integral) or size <= 0:
-        raise ValueError(f"max_memory must be None, a positive number of bytes or a size "
-                         f"such as '4G', not {size!r}")
-    return int(size)
+def _with_option_help(function: Callable) -> Callable:
+    """Appends the CLI's help of every option keyword of `function` that its
+    docstring does not describe, so help() documents each one."""
+    import inspect
+    import textwrap
+    lines = []
+    for keyword in inspect.signature(function).parameters:
+        option = _OPTIONS.get(keyword)
+        if option is None or f"        {keyword}:" in (function.__doc__ or ""):
+            continue
+        default = f"; default {option['default']}" if option["default"] else ""
+        lines.append(textwrap.fill(f"{keyword}: {option['help']} (the CLI's {option['name']}"
+                                   f"{default})", width=79, initial_indent="    ",
+                                   subsequent_indent="        "))
+    function.__doc__ = (function.__doc__ or "") + (
+        "\n    The other options, as `skelseg segment --help` describes them:\n\n"
+        + "\n".join(lines) + "\n")
+    return function
 
 
 def _result(raw: dict, cls: type = SegmentationResult, **extra: Any) -> SegmentationResult:
@@ -277,12 +288,34 @@ def _result(raw: dict, cls: type = SegmentationResult, **extra: Any) -> Segmenta
                report=raw["report"], levels=levels, **extra)
 
 
-def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, float]]] = "3%", sigma_min: float = 0.8,
-            body_ratio: float = 0.6, mode: str = "junction-rule", joints: bool = False,
-            spacing: Sequence[float] = (1, 1, 1), threads: Optional[int] = None,
-            time_limit: Optional[float] = None, max_memory: Union[None, int, str] = None,
-            progress: Optional[ProgressCallback] = None) -> SegmentationResult:
+@_with_option_help
+def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
+            sigma_min: float = 0.8, body_ratio: float = 0.6, mode: str = "junction-rule",
+            joints: bool = False, spacing: Sequence[float] = (1, 1, 1),
+            threads: Optional[int] = None, time_limit: Optional[float] = None,
+            max_memory: Union[None, int, str] = None,
+            progress: Optional[ProgressCallback] = None,
+            time_budget: Optional[float] = None, exhaustive: bool = False,
+            skeleton_search: Optional[str] = None,
+            sibling_tolerance: float = 0.25, limb_taper: float = 0.3,
+            corner_length: float = 0.5, corner_reach: float = 1.16,
+            junction_merge_radii: float = 0.8, limb_sigma_margin: float = 0.05,
+            limb_loop_variation: float = 0.065, no_limbs_below_sigma_min: bool = False,
+            no_passages_as_body: bool = False, no_shared_body_reference: bool = False,
+            no_two_sided_siblings: bool = False, no_body_check_below_sigma_min: bool = False,
+            no_passage_area_check: bool = False, no_body_end_check: bool = False,
+            no_body_radius_window: bool = False, surface_loops: bool = False,
+            tight_levels_in_runs: bool = False, no_stub_limbs: bool = False,
+            no_separation_check: bool = False, no_fork_junctions: bool = False,
+            no_grow_regions: bool = False, joint_ratio: float = 0.82,
+            bend_angle: float = 360.0, joint_min_part: float = 0.25) -> SegmentationResult:
     """Segments the object(s) of a 3-D mask into parts.
+
+    Every option of `skelseg segment` that changes the result or the run is a
+    keyword, named as the option in snake_case (--sigma-min: sigma_min,
+    --no-stub-limbs: no_stub_limbs=True), with the CLI's default; the engine
+    checks the values as the CLI does and refuses bad ones with its message
+    (ValueError). None leaves an option out (the CLI's default).
 
     Args:
         mask: any 3-D array-like; nonzero is object. bool, any integer or
@@ -301,10 +334,10 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
             loops are the cuts: the RT07 baseline).
         joints: also cut inside parts where a limb narrows clearly between
             two wider stretches (elbows, knees, necks), like the CLI's
-            --joints (with its default thresholds): one more level, below
-            the finest (.levels[0]); with a single tau the result is that
-            joint level, as the CLI's top-level files. Each cut's kind is in
-            report["cuts"].
+            --joints (thresholds: joint_ratio, bend_angle, joint_min_part):
+            one more level, below the finest (.levels[0]); with a single tau
+            the result is that joint level, as the CLI's top-level files.
+            Each cut's kind is in report["cuts"].
         spacing: voxel size along the three axes; scales the skeleton's and
             the cuts' coordinates (the segmentation works in voxels, as the CLI).
         threads: worker threads for this call (None: all cores). Results do
@@ -317,22 +350,38 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
             (fraction None when the stage has no measure), and ("done", 1.0)
             at the end. If it raises, the run is cancelled and the exception
             propagates.
+        time_budget: seconds, counted from the call: segment the mask as
+            many times coarser as is predicted to finish within it (the
+            labels come back on the mask's grid), as the CLI's --time-budget.
+            report["time_budget"] says what was chosen (coarsening, predicted
+            and actual seconds, "fits"). When nothing is predicted to fit,
+            the coarsest run goes ahead with the budget as its time limit:
+            it returns if it finishes in time, else raises TimeoutError, as
+            the CLI stops with exit code 3.
+        exhaustive: the reference search, which measures every candidate
+            (slower on large grids, same answer); the CLI's --exhaustive.
+        skeleton_search: "band" or "exhaustive" (None: band for a single
+            tau, exhaustive for a list); exhaustive=True is the same as
+            "exhaustive" and contradicts "band".
 
     Returns:
         SegmentationResult with .labels (uint16, the mask's shape), .skeleton,
         .cuts, .report (report.json's content) and .n_segments.
 
     Raises:
-        ValueError: not 3-D, an empty shape, NaN, bad parameters
-            ("mask: must be a 3-D array, got 2-D of shape (4, 5)").
-        TypeError: a dtype that is not bool, integer or float.
+        ValueError: not 3-D, an empty shape, NaN, bad parameters, with the
+            CLI's message and the keyword's name ("sigma_min: Value 2 not in
+            range 0.000000 to 1.000000").
+        TypeError: a dtype that is not bool, integer or float; a keyword of
+            the wrong type (joints="yes").
         MemoryError: estimated memory over max_memory.
-        TimeoutError: time_limit reached.
+        TimeoutError: time_limit reached (or a time_budget nothing fits).
         KeyboardInterrupt: Ctrl-C; the engine stops within a second.
 
     Warnings (SkelsegWarning) go through the warnings module; nothing is
     printed.
     """
+    arguments = _call_arguments(locals(), progress)
     array = np.asarray(mask)
     if array.dtype.kind == "f" and not array.dtype.isnative:
         array = array.astype(array.dtype.newbyteorder("="))
@@ -341,21 +390,38 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
     spacing3 = tuple(float(s) for s in spacing)
     if not all(math.isfinite(s) and s > 0 for s in spacing3):
         raise ValueError(f"spacing must be three positive finite numbers, not {tuple(spacing)}")
-    options = _options(tau, sigma_min, body_ratio, mode, joints, threads, time_limit,
-                       max_memory, progress)
-    return _result(_skelseg.segment_array(array, spacing3, **options))
+    return _result(_skelseg.segment_array(array, spacing3, arguments, progress))
 
 
+@_with_option_help
 def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 256,
-                 self_overlap_clearance: int = 4, triangle_face: Optional[np.ndarray] = None, tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
+                 self_overlap_clearance: int = 4, triangle_face: Optional[np.ndarray] = None,
+                 tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
                  sigma_min: float = 0.8, body_ratio: float = 0.6, mode: str = "junction-rule",
-                 joints: bool = False, threads: Optional[int] = None, time_limit: Optional[float] = None,
-                 max_memory: Union[None, int, str] = None,
-                 progress: Optional[ProgressCallback] = None) -> MeshSegmentationResult:
+                 joints: bool = False, threads: Optional[int] = None,
+                 time_limit: Optional[float] = None, max_memory: Union[None, int, str] = None,
+                 progress: Optional[ProgressCallback] = None,
+                 contact_patch_seams: bool = False, time_budget: Optional[float] = None,
+                 budget_calibration: str = "probe", exhaustive: bool = False,
+                 skeleton_search: Optional[str] = None,
+                 sibling_tolerance: float = 0.25, limb_taper: float = 0.3,
+                 corner_length: float = 0.5, corner_reach: float = 1.16,
+                 junction_merge_radii: float = 0.8, limb_sigma_margin: float = 0.05,
+                 limb_loop_variation: float = 0.065, no_limbs_below_sigma_min: bool = False,
+                 no_passages_as_body: bool = False, no_shared_body_reference: bool = False,
+                 no_two_sided_siblings: bool = False,
+                 no_body_check_below_sigma_min: bool = False,
+                 no_passage_area_check: bool = False, no_body_end_check: bool = False,
+                 no_body_radius_window: bool = False, surface_loops: bool = False,
+                 tight_levels_in_runs: bool = False, no_stub_limbs: bool = False,
+                 no_separation_check: bool = False, no_fork_junctions: bool = False,
+                 no_grow_regions: bool = False, joint_ratio: float = 0.82,
+                 bend_angle: float = 360.0,
+                 joint_min_part: float = 0.25) -> MeshSegmentationResult:
     """Voxelises a closed triangle mesh, segments it and labels its faces.
 
     The CLI's `skelseg segment MESH` on arrays: the face labels equal its
-    segmentation.seg for the same mesh and resolution.
+    segmentation.seg for the same mesh and options.
 
     Args:
         vertices: (V, 3) float positions.
@@ -367,8 +433,21 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
             voxels wide [2, 4]; the CLI's --self-overlap-clearance.
         triangle_face: with faces of shape (T, 3), the input face of each
             triangle (as read_mesh() gives it); labels are then per input face.
+        contact_patch_seams: where a contact's seam is refused, try a seam
+            between the two mesh patches of the contact (the CLI's
+            --contact-patch-seams); report["input"]["contacts_patch_seamed"].
+        time_budget: seconds, counted from the call: the resolution (at most
+            `resolution`) predicted to finish within it, as the CLI's
+            --time-budget; report["time_budget"] says what was chosen
+            (resolution, predicted and actual seconds, calibration, "fits").
+            When nothing fits, the coarsest run goes ahead with the budget as
+            its time limit: it returns if it finishes in time, else raises
+            TimeoutError, as the CLI stops with exit code 3.
+        budget_calibration: with time_budget, "probe" (the probe's own time
+            turns predicted CPU seconds into this machine's wall seconds now)
+            or "cpu" (CPU seconds compared with the budget).
         tau, sigma_min, body_ratio, mode, joints, threads, time_limit,
-            max_memory, progress: as segment().
+            max_memory, progress, exhaustive, skeleton_search: as segment().
 
     Returns:
         MeshSegmentationResult: .face_labels (int32, one per input face in
@@ -382,6 +461,7 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
             coordinates) or parameters. MemoryError, TimeoutError,
             KeyboardInterrupt: as segment().
     """
+    arguments = _call_arguments(locals(), progress)
     vertex_array = np.ascontiguousarray(vertices, dtype=np.float64)
     face_array = np.asarray(faces)
     if face_array.ndim != 2 or face_array.shape[1] < 3:
@@ -404,20 +484,8 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
                for i in range(1, k - 1)]
         triangles = np.stack(fan, axis=1).reshape(-1, 3)
         triangle_of = np.repeat(np.arange(len(face_array), dtype=np.int64), k - 2)
-    if isinstance(resolution, bool) or not isinstance(resolution, numbers.Integral):
-        raise TypeError(f"resolution must be an integer, not {resolution!r}")
-    if not 8 <= resolution <= 2048:
-        raise ValueError(f"resolution {resolution} is not in [8, 2048]")
-    if isinstance(self_overlap_clearance, bool) or not isinstance(self_overlap_clearance,
-                                                                  numbers.Integral):
-        raise TypeError(f"self_overlap_clearance must be an integer, "
-                        f"not {self_overlap_clearance!r}")
-    if not 2 <= self_overlap_clearance <= 4:
-        raise ValueError(f"self_overlap_clearance {self_overlap_clearance} is not in [2, 4]")
-    options = _options(tau, sigma_min, body_ratio, mode, joints, threads, time_limit,
-                       max_memory, progress)
     raw = _skelseg.segment_mesh(vertex_array, np.ascontiguousarray(triangles), triangle_of,
-                                int(resolution), int(self_overlap_clearance), **options)
+                                arguments, progress)
     return _result(raw, MeshSegmentationResult, face_labels=raw["face_labels"])
 
 

@@ -1,0 +1,59 @@
+// skelseg: the options of `skelseg segment` (and `batch`), defined once.
+//
+// addSegmentOptions() declares every option other than the input and the
+// output directory on a CLI11 command: its name, help, default, range and
+// check. SegmentOptionTexts::finish() turns what was given into
+// SegmentCommandOptions and refuses contradictions. The command line uses
+// both; the Python module (engine/python/) parses its keywords through
+// parseSegmentOptions(), the same definitions, so a value the CLI refuses is
+// refused in Python with the same one-line message, and a new option is
+// reachable from both (tests/python/test_options.py checks that every option
+// has its keyword).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/SegmentCommand.h"
+
+namespace CLI {
+class App;
+}
+
+namespace skelseg {
+
+/// The `segment` options as given; texts become options in finish().
+struct SegmentOptionTexts {
+    SegmentCommandOptions options;
+    std::string tauText = "3%", modeText = "junction-rule", maxMemoryText, skeletonSearchText;
+    std::string budgetCalibrationText = "probe";
+    bool quiet = false, exhaustive = false;
+
+    /// Turns the texts into options. @throw UsageError.
+    void finish();
+};
+
+/// Declares the options on `command`, bound to `texts`.
+void addSegmentOptions(CLI::App* command, SegmentOptionTexts& texts);
+
+/// One option as addSegmentOptions() declares it.
+struct SegmentOptionDescription {
+    std::string name;         // "--sigma-min"; a flag that clears a rule: "--no-stub-limbs"
+    bool flag = false;        // takes no value; given means on
+    std::string defaultText;  // the default as --help shows it ("" when none is shown)
+    std::string help;
+};
+
+/// Every option of addSegmentOptions(), in declaration order.
+std::vector<SegmentOptionDescription> segmentOptionDescriptions();
+
+/// Parses `arguments` ("--sigma-min", "0.5", "--joints", ...) as the
+/// command line's options of `skelseg segment` and finishes them.
+/// @throw UsageError with the command line's message, on one line.
+SegmentCommandOptions parseSegmentOptions(const std::vector<std::string>& arguments);
+
+/// A CLI11 message on one line, as every error of skelseg is.
+std::string oneLineMessage(std::string message);
+
+}  // namespace skelseg

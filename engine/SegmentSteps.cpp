@@ -1,0 +1,68 @@
+#include "engine/SegmentSteps.h"
+
+#include "engine/Stage.h"
+#include "io/mesh/FaceLabels.h"
+
+namespace skelseg {
+
+SegmentInputOptions segmentInputOptions(const SegmentCommandOptions& options, int threads,
+                                        std::chrono::steady_clock::time_point start) {
+    SegmentInputOptions inputOptions;
+    inputOptions.gridName = options.gridName;
+    inputOptions.resolution = options.resolution;
+    inputOptions.selfOverlapClearance = options.selfOverlapClearance;
+    inputOptions.contactPatchSeams = options.contactPatchSeams;
+    inputOptions.threads = threads;
+    inputOptions.levels = int(options.parameters.levelCount());
+    inputOptions.timeBudgetSeconds = options.timeBudgetSeconds;
+    inputOptions.calibrateTimeBudget = options.calibrateTimeBudget;
+    inputOptions.start = start;
+    inputOptions.memoryLimit =
+        options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit();
+    return inputOptions;
+}
+
+double limitTimeToBudget(const SegmentMask& mask, double currentLimit, double budgetAsTimeLimit) {
+    if (!mask.budget || mask.budget->fits) return currentLimit;
+    return currentLimit <= 0 || currentLimit > budgetAsTimeLimit ? budgetAsTimeLimit : currentLimit;
+}
+
+std::shared_ptr<SegmentedShape> segmentMaskStep(
+    std::shared_ptr<const SegmentMask> input, const SegmentationParameters& parameters,
+    StageTimer& timer, Interrupter& interrupter,
+    const std::function<void(const std::string&)>& warn) {
+    auto shape = std::make_shared<SegmentedShape>();
+    shape->result = segmentVolume(input->mask, parameters, interrupter, &timer);
+    for (const auto& w : shape->result.warnings) warn(w);
+    shape->input = std::move(input);
+    return shape;
+}
+
+void refineStep(SegmentedShape& shape, StageTimer& timer, Interrupter& interrupter) {
+    const SegmentMask& input = *shape.input;
+    if (input.budget && input.budget->coarsening > 1) {
+        Stage stage(timer, interrupter, "refine labels", true);
+        refineSegmentationResult(shape.result, input.fineMask, input.budget->coarsening);
+    }
+}
+
+void completeStep(SegmentedShape& shape, StageTimer& timer, Interrupter& interrupter) {
+    const SegmentSource& source = *shape.input->source;
+    if (source.isMesh()) {
+        FaceLabelStatistics statistics;
+        {
+            Stage stage(timer, interrupter, "face labels", true);
+            shape.faceLabels =
+                labelFaces(*source.mesh, shape.result.labels, {}, interrupter, &statistics);
+        }
+        shape.voxelLabelOfFaceLabel = std::move(statistics.voxelLabels);
+        if (shape.result.levelCount() > 1) {
+            Stage stage(timer, interrupter, "level face labels", true);
+            labelLevelFaces(*source.mesh, shape.result, shape.faceLabels,
+                            shape.voxelLabelOfFaceLabel, shape.levels, interrupter);
+        }
+    }
+    if (shape.result.levelCount() > 1) shape.levels.cutLoops = levelCutLoops(shape.result);
+}
+
+}  // namespace skelseg

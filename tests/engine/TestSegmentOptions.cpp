@@ -1,0 +1,82 @@
+// The options of `skelseg segment` parsed from an argument list, as the
+// Python module parses its keywords (engine/SegmentOptions.h): the CLI's
+// definitions, defaults and messages.
+#include "engine/SegmentOptions.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "kernels/base/Error.h"
+
+namespace skelseg {
+namespace {
+
+std::string usageMessage(const std::vector<std::string>& arguments) {
+    try {
+        parseSegmentOptions(arguments);
+    } catch (const UsageError& error) {
+        return error.what();
+    }
+    return "no error";
+}
+
+TEST(SegmentOptions, NoArgumentsGiveTheCommandDefaults) {
+    const SegmentCommandOptions parsed = parseSegmentOptions({});
+    const SegmentCommandOptions defaults;
+    EXPECT_EQ(parsed.parameters.tau.toString(), "3%");
+    EXPECT_EQ(parsed.parameters.sigmaMin, defaults.parameters.sigmaMin);
+    EXPECT_EQ(parsed.parameters.cutRules.stubLimbs, defaults.parameters.cutRules.stubLimbs);
+    EXPECT_EQ(parsed.resolution, defaults.resolution);
+    EXPECT_EQ(parsed.timeBudgetSeconds, 0.0);
+    EXPECT_TRUE(parsed.calibrateTimeBudget);
+}
+
+TEST(SegmentOptions, ArgumentsSetTheirOptions) {
+    const SegmentCommandOptions parsed = parseSegmentOptions(
+        {"--sigma-min", "0.7", "--no-stub-limbs", "--exhaustive", "--time-budget", "2.5",
+         "--budget-calibration", "cpu", "--contact-patch-seams", "--max-memory", "2G"});
+    EXPECT_EQ(parsed.parameters.sigmaMin, 0.7);
+    EXPECT_FALSE(parsed.parameters.cutRules.stubLimbs);
+    EXPECT_EQ(parsed.parameters.skeletonSearch, SkeletonSearch::Exhaustive);
+    EXPECT_EQ(parsed.timeBudgetSeconds, 2.5);
+    EXPECT_FALSE(parsed.calibrateTimeBudget);
+    EXPECT_TRUE(parsed.contactPatchSeams);
+    EXPECT_EQ(parsed.maxMemoryBytes, 2000000000u);
+}
+
+TEST(SegmentOptions, BadValuesGiveTheCommandLineMessages) {
+    EXPECT_EQ(usageMessage({"--sigma-min", "2"}),
+              "--sigma-min: Value 2 not in range 0.000000 to 1.000000");
+    EXPECT_EQ(usageMessage({"--time-budget", "0"}),
+              "--time-budget: '0' is not a positive number of seconds");
+    EXPECT_EQ(usageMessage({"--exhaustive", "--skeleton-search", "band"}),
+              "--exhaustive contradicts --skeleton-search band: give one of them");
+    EXPECT_EQ(usageMessage({"--max-memory", "4X"}), "--max-memory '4X': unknown unit 'X'");
+    EXPECT_NE(usageMessage({"--no-such-option"}), "no error");
+}
+
+TEST(SegmentOptions, DescriptionsNameEveryOptionOnce) {
+    const std::vector<SegmentOptionDescription> options = segmentOptionDescriptions();
+    const auto find = [&](const std::string& name) {
+        return std::find_if(options.begin(), options.end(),
+                            [&](const auto& o) { return o.name == name; });
+    };
+    ASSERT_NE(find("--no-stub-limbs"), options.end());
+    EXPECT_TRUE(find("--no-stub-limbs")->flag);
+    ASSERT_NE(find("--sigma-min"), options.end());
+    EXPECT_FALSE(find("--sigma-min")->flag);
+    EXPECT_EQ(find("--sigma-min")->defaultText, "0.8");
+    EXPECT_FALSE(find("--time-budget")->help.empty());
+    EXPECT_EQ(find("--help"), options.end());
+    for (const auto& o : options)
+        EXPECT_EQ(std::count_if(options.begin(), options.end(),
+                                [&](const auto& p) { return p.name == o.name; }),
+                  1)
+            << o.name;
+}
+
+}  // namespace
+}  // namespace skelseg
