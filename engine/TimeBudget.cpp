@@ -249,9 +249,13 @@ std::string describeBudgetChoice(const BudgetChoice& choice) {
     if (choice.coarsening > 1)
         std::snprintf(buffer, sizeof buffer, "volume %dx coarser (%.1f s predicted, budget %.1f s)",
                       choice.coarsening, choice.predictedSeconds, choice.budgetSeconds);
-    else
+    else if (choice.resolution > 0)
         std::snprintf(buffer, sizeof buffer, "resolution %d (%.1f s predicted, budget %.1f s)",
                       choice.resolution, choice.predictedSeconds, choice.budgetSeconds);
+    else  // a volume kept at its own grid: it has no resolution to name
+        std::snprintf(buffer, sizeof buffer,
+                      "volume at its own grid (%.1f s predicted, budget %.1f s)",
+                      choice.predictedSeconds, choice.budgetSeconds);
     return buffer;
 }
 

@@ -16,8 +16,9 @@
 # The benchmarks run right after the build, on an otherwise idle machine (they
 # compare speed with the baseline). The fuzz targets are then built in the
 # background (one job) while the Release suites run, which leave part of the
-# cores idle; its log is build-ci/fuzz-build.log. The scene tests run two at a
-# time (each in its own temporary directory; none is timed).
+# cores idle; its log is build-ci/fuzz-build.log. The scene and slow tests run
+# two at a time (each in its own temporary directory; none is timed, and two
+# overlap the serial parts of each other's runs).
 set -euo pipefail
 usage="usage: tools/test.sh   (build and run every suite as CI does; settings via SKELSEG_* variables)"
 case "${1:-}" in
@@ -88,5 +89,5 @@ stamp "cluster tests (a one-node Slurm)"
 ctest --test-dir build-ci -L cluster --output-on-failure
 
 stamp "slow tests"
-ctest --test-dir build-ci -L slow --output-on-failure
+ctest --test-dir build-ci -L slow --output-on-failure -j"$jobs"
 stamp "all passed"

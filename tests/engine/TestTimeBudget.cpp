@@ -181,5 +181,20 @@ TEST(TimeBudget, CountWorkSeesTheShape) {
     EXPECT_EQ(parallel.boundaryVoxels, w.boundaryVoxels);
 }
 
+TEST(TimeBudget, TheChoiceInWordsNamesWhatWasChosen) {
+    BudgetChoice choice;
+    choice.predictedSeconds = 0.4;
+    choice.budgetSeconds = 2.0;
+    choice.coarsening = 1;
+    choice.resolution = 0;  // a volume kept at its own grid
+    EXPECT_EQ(describeBudgetChoice(choice),
+              "volume at its own grid (0.4 s predicted, budget 2.0 s)");
+    choice.coarsening = 2;
+    EXPECT_EQ(describeBudgetChoice(choice), "volume 2x coarser (0.4 s predicted, budget 2.0 s)");
+    choice.coarsening = 1;
+    choice.resolution = 192;  // a mesh voxelised at 192
+    EXPECT_EQ(describeBudgetChoice(choice), "resolution 192 (0.4 s predicted, budget 2.0 s)");
+}
+
 }  // namespace
 }  // namespace skelseg
