@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
@@ -137,6 +138,18 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
     const std::vector<int> shardOf = assignShards(sizes, shard.count);
 
     std::error_code ec;
+    if (fs::exists(options.outroot, ec) && !fs::is_directory(options.outroot, ec))
+        throw UsageError(options.outroot.string() + ": exists and is not a directory");
+    // A batch that fails as a whole (an unwritable summary) leaves no OUTROOT
+    // it created; one that ran keeps it, with the summary.
+    struct RemoveIfFailed {
+        fs::path created;
+        ~RemoveIfFailed() {
+            std::error_code ignored;
+            if (!created.empty() && std::uncaught_exceptions() > 0) fs::remove(created, ignored);
+        }
+    } removeIfFailed;
+    if (!fs::exists(options.outroot, ec)) removeIfFailed.created = options.outroot;
     fs::create_directories(options.outroot, ec);
     if (ec || !fs::is_directory(options.outroot))
         throw OutputError(options.outroot.string() + ": cannot create the output directory" +
@@ -229,6 +242,7 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
         graph, tbb::flow::unlimited,
         [&](const BatchJob& job) { return segmentOne(job, options, optionsText); });
     auto lastSummaryWrite = std::chrono::steady_clock::now();
+    std::chrono::steady_clock::duration summaryInterval = std::chrono::seconds(1);
     std::string recordError;
     tbb::flow::function_node<FinishedJob> recordNode(
         graph, tbb::flow::serial, [&](FinishedJob finished) {
@@ -258,7 +272,7 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
             if (!finished.userInterrupt) progress.shapeFinished(entry);
             budget.release(finished.job.estimatedBytes);
             const auto now = std::chrono::steady_clock::now();
-            if (now - lastSummaryWrite > std::chrono::seconds(1)) {
+            if (now - lastSummaryWrite > summaryInterval) {
                 summary.updatedAt = utcTimestamp();
                 summary.wallSeconds = std::chrono::duration<double>(now - wallStart).count();
                 try {
@@ -266,7 +280,12 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
                 } catch (const Error& error) {
                     recordError = error.what();
                 }
-                lastSummaryWrite = now;
+                // A summary of 100000 inputs takes seconds to write: wait
+                // four times that long before the next, so that writing it
+                // stays a fifth of the time at most instead of all of it.
+                lastSummaryWrite = std::chrono::steady_clock::now();
+                summaryInterval = std::max<std::chrono::steady_clock::duration>(
+                    std::chrono::seconds(1), 4 * (lastSummaryWrite - now));
             }
         });
     tbb::flow::make_edge(segmentNode, recordNode);

@@ -241,7 +241,7 @@ std::string hierarchyJson(const SegmentationResult& result, const LevelOutputs& 
         level["segments"] = list;
         out["levels"].push_back(level);
     }
-    return out.dump(2) + "\n";
+    return out.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace skelseg

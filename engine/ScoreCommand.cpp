@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include "engine/SegmentationScore.h"
@@ -38,6 +39,11 @@ int runScoreCommand(const std::filesystem::path& meshPath,
     if (humanPaths.empty()) throw UsageError("score: give at least one human segmentation file");
     const TriangleMesh mesh = readMesh(meshPath);
     const std::vector<double> areas = faceAreas(mesh);
+    // The benchmark weights faces by area: a mesh without any cannot be scored.
+    if (std::none_of(areas.begin(), areas.end(), [](double area) { return area > 0.0; }))
+        throw InputError(meshPath.string(), "all " + std::to_string(mesh.faceCount) +
+                                                " faces have zero area; the scores weight faces "
+                                                "by area");
     const std::vector<std::int64_t> candidate = readSegFor(candidatePath, mesh.faceCount);
     std::vector<std::vector<std::int64_t>> humans;
     for (const auto& path : humanPaths) humans.push_back(readSegFor(path, mesh.faceCount));
@@ -58,7 +64,7 @@ int runScoreCommand(const std::filesystem::path& meshPath,
         }
         document["humans"] = std::move(perHuman);
         document["mean"] = scoreJson(summary.mean);
-        out << document.dump(2) << '\n';
+        out << document.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
         return 0;
     }
 

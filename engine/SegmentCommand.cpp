@@ -16,6 +16,7 @@
 #include "engine/SegmentSteps.h"
 #include "engine/Stage.h"
 #include "io/files/OutputDirectory.h"
+#include "io/volume/VdbIO.h"
 
 namespace fs = std::filesystem;
 
@@ -81,6 +82,14 @@ MaskMessage maskShape(const RunContext& run, SourceMessage source) {
     auto mask = std::make_shared<SegmentMask>(
         maskSegmentSource(std::move(source), run.inputOptions, run.timer, run.progress,
                           [&](const std::string& w) { run.warn(w); }));
+    if (run.options.writeVdb && !vdbCanHoldGeometry(mask->mask.geometry)) {
+        const std::string warning =
+            run.options.input.string() +
+            ": labels.vdb is not written: OpenVDB cannot hold voxels this small (volume under "
+            "3e-15 world units cubed); labels.nrrd holds the labels";
+        mask->warnings.push_back(warning);
+        run.warn(warning);
+    }
     const double limit = limitTimeToBudget(*mask, run.progress.timeLimit(), run.budgetAsTimeLimit);
     if (limit != run.progress.timeLimit()) run.progress.setTimeLimit(limit);
     return mask;

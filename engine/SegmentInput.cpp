@@ -95,6 +95,13 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
     } catch (const UsageError& error) {
         throw nameTheFile(error);
     }
+    // No face with area: no surface bounds anything. The voxeliser would make
+    // a wire of voxels and label it one part; refuse it, as the mesh
+    // counterpart of an empty volume.
+    if (mesh.faceCount > 0 && source.meshDiagnostics.degenerateFaces >= mesh.faceCount)
+        throw InputError(source.file.string(),
+                         "all " + std::to_string(mesh.faceCount) +
+                             " faces have zero area: the mesh has no surface to segment");
     estimatedMemory =
         estimateSegmentationMemory(grid.dims, grid.dims.voxelCount() / 4, options.threads) +
         grid.dims.voxelCount() * 12 +  // level set, dense copy, nearest-triangle grid

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cmath>
 
 #include "kernels/base/Error.h"
 
@@ -28,7 +29,11 @@ std::uint64_t parseBytes(const std::string& text) {
     else if (!unit.empty())
         throw UsageError("--max-memory '" + text + "': unknown unit '" + unit + "'");
     if (!(value > 0)) throw UsageError("--max-memory must be positive");
-    return std::uint64_t(value * scale);
+    // Sizes past 2^64 bytes mean "no limit"; converting them would be undefined.
+    const double bytes = value * scale;
+    if (bytes >= 18446744073709549568.0) return ~std::uint64_t(0);
+    if (bytes < 1) throw UsageError("--max-memory '" + text + "' is less than one byte");
+    return std::uint64_t(bytes);
 }
 
 /// --time-limit, --time-budget: a one-line refusal that says what is wanted.
@@ -44,6 +49,19 @@ CLI::Validator positiveSeconds() {
             return "'" + text + "' is not a positive number of seconds";
         },
         "SECONDS");
+}
+
+/// CLI::Range lets NaN through (every comparison with it is false).
+CLI::Validator notNaN() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            try {
+                if (std::isnan(std::stod(text))) return "Value " + text + " is not a number";
+            } catch (const std::exception&) {
+            }
+            return {};
+        },
+        "");
 }
 
 }  // namespace
@@ -81,7 +99,10 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
     // A threshold: a number in [0, most], its default shown.
     const auto addThreshold = [command](const std::string& name, double& value,
                                         const std::string& help, double most) {
-        command->add_option(name, value, help)->capture_default_str()->check(CLI::Range(0.0, most));
+        command->add_option(name, value, help)
+            ->capture_default_str()
+            ->check(notNaN())
+            ->check(CLI::Range(0.0, most));
     };
     addThreshold("--sigma-min", seg.parameters.sigmaMin, "Minimum geodesicness of a cut point",
                  1.0);

@@ -67,6 +67,11 @@ void writeLabelNrrd(OutputDirectory& out, const SegmentedShape& shape, StageTime
 void writeLabelVdb(OutputDirectory& out, const SegmentedShape& shape, StageTimer& timer,
                    Interrupter& interrupter) {
     Stage stage(timer, interrupter, "write labels.vdb", false);
+    // maskShape() warned; an earlier run's labels.vdb would not match.
+    if (!vdbCanHoldGeometry(shape.result.labels.geometry)) {
+        out.removeOnCommit("labels.vdb");
+        return;
+    }
     writeVdbLabels(out.stagingPath("labels.vdb"), shape.result.labels);
 }
 

@@ -102,7 +102,9 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
 std::string segmentReportJson(const SegmentCommandOptions& options, const SegmentedShape& shape,
                               const std::vector<StageTiming>& timings,
                               const SegmentRunFigures& figures) {
-    return segmentReport(options, shape, timings, figures).dump(2) + "\n";
+    return segmentReport(options, shape, timings, figures)
+               .dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
+           "\n";
 }
 
 }  // namespace skelseg

@@ -91,7 +91,8 @@ void writeBatchSummary(const fs::path& outroot, const std::string& stem,
         {"counts", counts},
         {"manifest_names", summary.manifestNames},
         {"entries", entries}};
-    writeFileAtomically(outroot / (stem + ".json"), j.dump(2) + "\n");
+    writeFileAtomically(outroot / (stem + ".json"),
+                        j.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
 
     std::ostringstream csv;
     csv << "name,input,status,parts,wall_seconds,cpu_seconds,peak_memory_bytes,"

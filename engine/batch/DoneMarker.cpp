@@ -56,7 +56,7 @@ std::string outputAffectingOptions(const SegmentCommandOptions& options) {
     if (options.selfOverlapClearance != SegmentCommandOptions{}.selfOverlapClearance)
         j["self_overlap_clearance"] = options.selfOverlapClearance;
     if (options.contactPatchSeams) j["contact_patch_seams"] = true;
-    return j.dump();
+    return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 bool DoneMarker::matches(const InputFingerprint& current, const std::string& currentOptions) const {
@@ -101,7 +101,8 @@ void writeDoneMarker(const fs::path& directory, const DoneMarker& marker) {
         {"wall_seconds", marker.wallSeconds},
         {"cpu_seconds", marker.cpuSeconds},
         {"peak_memory_bytes", marker.peakMemoryBytes}};
-    writeFileAtomically(directory / kDoneMarkerName, j.dump(2) + "\n");
+    writeFileAtomically(directory / kDoneMarkerName,
+                        j.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
 }
 
 void removeDoneMarker(const fs::path& directory) {

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <set>
 
+#include "io/files/TextFile.h"
 #include "kernels/base/Error.h"
 
 namespace fs = std::filesystem;
@@ -74,13 +75,17 @@ std::vector<std::string> uniqueOutputNames(const std::vector<fs::path>& inputs) 
     // later ones get a counter in manifest order, skipping names that
     // another input has.
     std::set<std::string> firstPass(names.begin(), names.end()), taken;
+    // The counter each name reached: candidates below it are taken for good,
+    // so a manifest of thousands of equal names costs no quadratic search.
+    std::map<std::string, int> nextCounter;
     for (auto& name : names) {
         if (!taken.count(name)) {
             taken.insert(name);
             continue;
         }
         std::string candidate;
-        for (int counter = 2;; ++counter) {
+        int& counter = nextCounter.emplace(name, 2).first->second;
+        for (;; ++counter) {
             candidate = name + "-" + std::to_string(counter);
             if (!taken.count(candidate) && !firstPass.count(candidate)) break;
         }
@@ -104,18 +109,31 @@ Manifest readManifest(const fs::path& source) {
         std::sort(files.begin(), files.end());
         for (const auto& file : files) listed.emplace_back(file, 0);
     } else {
-        std::ifstream in(source);
-        if (!fs::exists(source, ec)) throw InputError(source.string(), "no such file");
-        if (!in) throw InputError(source.string(), "cannot be read");
+        // A shape given where the manifest goes would read as a list of
+        // garbage paths, each a failed input.
+        if (isSupportedInputPath(source))
+            throw InputError(source.string(),
+                             "is an input file, not a manifest (segment it with skelseg segment, "
+                             "or list its path in a text file)");
+        const std::string bytes = readFileBytes(source);
+        std::string_view text(bytes);
+        text.remove_prefix(utf8BomLength(text));
         const fs::path base = source.parent_path();
-        std::string text;
-        for (int line = 1; std::getline(in, text); ++line) {
-            const std::string path = trim(text);
+        std::size_t start = 0;
+        for (int line = 1; start < text.size(); ++line) {
+            std::size_t end = text.find('\n', start);
+            if (end == std::string_view::npos) end = text.size();
+            const std::string_view rawLine = text.substr(start, end - start);
+            start = end + 1;
+            // No path holds a NUL byte: this is binary data, not a list.
+            if (rawLine.find('\0') != std::string_view::npos)
+                throw InputError(source.string(), "line " + std::to_string(line) +
+                                                      " holds a NUL byte: not a text manifest");
+            const std::string path = trim(std::string(rawLine));
             if (path.empty() || path[0] == '#') continue;
             const fs::path input(path);
             listed.emplace_back(input.is_absolute() ? input : base / input, line);
         }
-        if (in.bad()) throw InputError(source.string(), "read error");
     }
     std::map<std::string, int> firstLine;
     std::vector<fs::path> inputs;

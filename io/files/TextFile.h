@@ -51,6 +51,13 @@ constexpr bool isSpace(char c) noexcept {
     return isBlank(c) || c == '\n';
 }
 
+/// Length of a UTF-8 byte order mark at the start of `text` (3 or 0). Editors
+/// on Windows write one; the text readers skip it, so that it neither hides
+/// the first statement nor fails the magic-word check.
+constexpr std::size_t utf8BomLength(std::string_view text) noexcept {
+    return text.size() >= 3 && text[0] == '\xEF' && text[1] == '\xBB' && text[2] == '\xBF' ? 3 : 0;
+}
+
 /// `text` without leading and trailing whitespace (a view into `text`).
 std::string_view trim(std::string_view text) noexcept;
 

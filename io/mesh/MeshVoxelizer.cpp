@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -62,10 +63,26 @@ private:
     Interrupter& mInterrupter;
 };
 
+/// The length OpenVDB's distances are measured in. MeshAdapter hands it
+/// index-space points, so the transform only scales the distances: world
+/// units where OpenVDB takes the voxel size, voxel units (1) where it does
+/// not. It refuses scales whose cube is below 3e-15 (a 1 mm part modelled in
+/// metres, at resolution 256), and float distances overflow on huge voxels.
+/// (Voxel units everywhere would round a few distances differently and move
+/// single voxels on ordinary meshes.)
+double vdbDistanceUnit(const VolumeGeometry& geometry) {
+    const double size = geometry.voxelSize();
+    const bool vdbTakesIt =
+        size * size * size >= 3.0 * openvdb::math::Tolerance<double>::value() && size <= 1e30;
+    return vdbTakesIt ? size : 1.0;
+}
+
 openvdb::math::Transform::Ptr transformFor(const VolumeGeometry& geometry) {
-    auto transform = openvdb::math::Transform::createLinearTransform(geometry.voxelSize());
-    transform->postTranslate(
-        openvdb::Vec3d(geometry.origin[0], geometry.origin[1], geometry.origin[2]));
+    const double unit = vdbDistanceUnit(geometry);
+    auto transform = openvdb::math::Transform::createLinearTransform(unit);
+    if (unit == geometry.voxelSize())
+        transform->postTranslate(
+            openvdb::Vec3d(geometry.origin[0], geometry.origin[1], geometry.origin[2]));
     return transform;
 }
 
@@ -176,7 +193,7 @@ MaskVolume shellVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, do
     };
     enum : std::uint8_t { kFree = 0, kShell = 1, kSurface = 2, kOutside = 3 };
     std::vector<std::uint8_t> state(work.voxelCount(), kFree);
-    const float voxelSize = float(grid.geometry.voxelSize());
+    const float voxelSize = float(vdbDistanceUnit(grid.geometry));
     const float shellLimit = float(shellWidth) * voxelSize,
                 surfaceLimit = float(kSurfaceLayer) * voxelSize;
     forEachGridValue(*distance, work, {-pad, -pad, -pad}, interrupter,
@@ -280,8 +297,18 @@ VoxelGrid voxelGridFor(const TriangleMesh& mesh, const VoxelizeOptions& options)
                 high[c] = std::max(high[c], mesh.vertices[v][c]);
             }
     const double longest = std::max({high[0] - low[0], high[1] - low[1], high[2] - low[2]});
-    if (!(longest > 0.0) || !std::isfinite(longest))
+    if (longest == 0.0)
         throw UsageError("cannot voxelise the mesh: all its vertices lie at one point");
+    // Squared lengths and areas (mesh checks, contacts, face labels) must
+    // neither overflow nor underflow a double: 1e-100..1e100 keeps them
+    // far inside, in any unit of length anyone uses.
+    if (!(longest >= 1e-100 && longest <= 1e100)) {
+        char side[32];
+        std::snprintf(side, sizeof side, "%g", longest);
+        throw UsageError("cannot voxelise the mesh: its bounding box (longest side " +
+                         std::string(side) + ") is too " + (longest < 1.0 ? "small" : "large") +
+                         " (1e-100 to 1e100 are supported)");
+    }
     const double voxelSize = longest / options.resolution;
 
     std::int64_t extents[3];

@@ -11,7 +11,8 @@ namespace skelseg {
 
 TriangleMesh readObj(const std::string& name, const char* data, std::size_t size) {
     MeshBuilder builder(name, 1);
-    TextTokenizer lines(data, size);
+    const std::size_t bom = utf8BomLength(std::string_view(data, size));
+    TextTokenizer lines(data + bom, size - bom);
     std::string_view line;
     std::vector<std::int64_t> polygon;
     while (lines.nextSignificantLine(line)) {

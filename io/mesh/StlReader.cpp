@@ -153,7 +153,9 @@ TriangleMesh readStl(const std::string& name, const std::uint8_t* data, std::siz
             (std::uint64_t(data[82]) << 16) | (std::uint64_t(data[83]) << 24);
         if (84 + 50 * triangleCount == size) return readBinaryStl(name, data, triangleCount);
     }
-    std::size_t start = 0;
+    const std::size_t bom =
+        utf8BomLength(std::string_view(reinterpret_cast<const char*>(data), size));
+    std::size_t start = bom;
     while (start < size && isSpace(char(data[start]))) ++start;
     // ASCII STL starts with "solid" and holds no NUL byte; binary data almost
     // always does (zero attribute bytes, small floats), so a binary file whose
@@ -162,7 +164,8 @@ TriangleMesh readStl(const std::string& name, const std::uint8_t* data, std::siz
         size - start >= 5 &&
         lowercase(std::string_view(reinterpret_cast<const char*>(data) + start, 5)) == "solid" &&
         std::memchr(data, 0, size) == nullptr;
-    if (looksAscii) return readAsciiStl(name, reinterpret_cast<const char*>(data), size);
+    if (looksAscii)
+        return readAsciiStl(name, reinterpret_cast<const char*>(data) + bom, size - bom);
     if (size < 84)
         throw InputError(name, "not an STL file (too short for binary, no 'solid' for ASCII)");
     const std::uint64_t triangleCount = std::uint64_t(data[80]) | (std::uint64_t(data[81]) << 8) |

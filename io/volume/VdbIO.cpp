@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstring>
 #include <istream>
 #include <mutex>
@@ -246,6 +247,16 @@ MaskVolume readVdbMask(const fs::path& file, const std::string& gridName) {
     const std::string bytes = readFileBytes(file);
     return readVdbMaskFromMemory(file.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()),
                                  bytes.size(), gridName);
+}
+
+bool vdbCanHoldGeometry(const VolumeGeometry& geometry) {
+    const auto& d = geometry.directions;
+    const double determinant = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) -
+                               d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0]) +
+                               d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
+    // The bound of OpenVDB's ScaleMap; its AffineMap refuses the same
+    // determinants as "nearly singular".
+    return std::abs(determinant) >= 3.0 * openvdb::math::Tolerance<double>::value();
 }
 
 void writeVdbLabels(const fs::path& file, const LabelVolume& labels) {

@@ -32,6 +32,12 @@ MaskVolume readVdbMask(const std::filesystem::path& file, const std::string& gri
 MaskVolume readVdbMaskFromMemory(const std::string& name, const std::uint8_t* bytes,
                                  std::size_t size, const std::string& gridName = "");
 
+/// False when OpenVDB's linear transforms cannot hold `geometry`: they refuse
+/// a voxel whose volume (the determinant of the directions) is below 3e-15
+/// world units cubed, e.g. 10 um voxels given in metres. writeVdbLabels()
+/// would fail on such a grid; the caller leaves labels.vdb out.
+bool vdbCanHoldGeometry(const VolumeGeometry& geometry);
+
 /// Writes `labels` as one Int32Grid named "labels": background 0, active where
 /// the label is above 0. The transform reproduces labels.geometry (a uniform
 /// scale and translation when the directions are axis aligned and isotropic,

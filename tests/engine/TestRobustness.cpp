@@ -10,10 +10,13 @@
 
 #include <array>
 #include <cstring>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <ostream>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "io/mesh/MeshIO.h"
 #include "io/shapes/SyntheticShapes.h"
@@ -337,6 +340,16 @@ std::vector<BadCase> meshCases() {
         bytes("obj_nan_coordinate", "nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n",
               "non-finite"),
         bytes("obj_face_two_vertices", "twov.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", "at least 3"),
+        // Valid files that are no shape: no face has area, a bounding box
+        // over or under what doubles can measure in voxels.
+        bytes("obj_all_faces_zero_area", "line.obj",
+              "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\nf 2 3 4\n", "have zero area"),
+        bytes("obj_bounding_box_overflows", "huge.obj",
+              "v -1e308 0 0\nv 1e308 0 0\nv 0 1e308 0\nf 1 2 3\n", "too large"),
+        bytes("obj_bounding_box_huge", "huge.obj", "v 0 0 0\nv 1e150 0 0\nv 0 1e150 0\nf 1 2 3\n",
+              "too large"),
+        bytes("obj_bounding_box_subnormal", "subnormal.obj",
+              "v 0 0 0\nv 1e-320 0 0\nv 0 1e-320 0\nf 1 2 3\n", "too small"),
         bytes("obj_binary_garbage", "garbage.obj", std::string("\0\1\2\3f\xff\n", 7), ""),
         // STL
         bytes("stl_empty", "empty.stl", "", "not an STL file"),
@@ -596,6 +609,18 @@ INSTANTIATE_TEST_SUITE_P(
         UsageCase{"self_overlap_clearance_out_of_range",
                   {"segment", "{input}", "-o", "{out}", "--self-overlap-clearance", "5"},
                   "--self-overlap-clearance: Value 5 not in range"},
+        UsageCase{"sigma_min_nan",
+                  {"segment", "{input}", "-o", "{out}", "--sigma-min", "nan"},
+                  "not a number"},
+        UsageCase{"joint_ratio_nan",
+                  {"segment", "{input}", "-o", "{out}", "--joint-ratio", "nan"},
+                  "not a number"},
+        UsageCase{"junction_merge_radii_nan",
+                  {"segment", "{input}", "-o", "{out}", "--junction-merge-radii", "NaN"},
+                  "not a number"},
+        UsageCase{"max_memory_below_a_byte",
+                  {"segment", "{input}", "-o", "{out}", "--max-memory", "0.1"},
+                  "less than one byte"},
         UsageCase{"threads_zero", {"segment", "{input}", "-o", "{out}", "--threads", "0"}, ""},
         UsageCase{
             "resolution_too_small", {"segment", "{input}", "-o", "{out}", "--resolution", "2"}, ""},
@@ -659,6 +684,82 @@ TEST(ExitCodes, OutdirThatIsAFileIsExitTwo) {
     const CliResult result = runSegment(input, dir / "out");
     EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "out").string(), "not a directory"));
     EXPECT_EQ(fileBytes(dir / "out"), "not a directory");
+}
+
+TEST(BadInputCli, ScoreOnAMeshWithoutAreaNamesTheMesh) {
+    TempDir dir;
+    const fs::path mesh = dir / "line.off";
+    writeBytes(mesh, "OFF\n4 2 0\n0 0 0\n1 0 0\n2 0 0\n3 0 0\n3 0 1 2\n3 1 2 3\n");
+    writeBytes(dir / "a.seg", "0\n1\n");
+    const CliResult result =
+        runSkelseg({"score", mesh.string(), (dir / "a.seg").string(), (dir / "a.seg").string()});
+    EXPECT_TRUE(failsWithOneLine(result, 2, mesh.string(), "zero area"));
+}
+
+TEST(BadInputCli, BatchOutrootThatIsAFileIsExitTwo) {
+    TempDir dir;
+    writeBytes(dir / "tetra.off", kTetraOff);
+    writeBytes(dir / "list.txt", "tetra.off\n");
+    writeBytes(dir / "out", "not a directory");
+    const CliResult result = runSkelseg({"batch", (dir / "list.txt").string(), "-o",
+                                         (dir / "out").string(), "--quiet", "--resolution", "16"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "out").string(), "not a directory"));
+    EXPECT_EQ(fileBytes(dir / "out"), "not a directory");
+}
+
+TEST(BadInputCli, BatchRefusesAShapeOrBinaryDataAsItsManifest) {
+    TempDir dir;
+    writeBytes(dir / "tetra.off", kTetraOff);
+    writeBytes(dir / "list.txt", std::string("tetra.off\n\0\x01\x02\n", 14));
+    for (const fs::path& manifest : {dir / "tetra.off", dir / "list.txt"}) {
+        const CliResult result =
+            runSkelseg({"batch", manifest.string(), "-o", (dir / "out").string(), "--quiet"});
+        EXPECT_TRUE(failsWithOneLine(result, 2, manifest.string(),
+                                     manifest == dir / "list.txt" ? "NUL byte" : "not a manifest"));
+        EXPECT_TRUE(leftNothing(dir / "out"));
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Unusual but valid input: a result, no error
+// ---------------------------------------------------------------------------
+
+TEST(UnusualInputCli, ByteOrderMarkBeforeTheFirstObjVertexIsSkipped) {
+    TempDir dir;
+    const std::string obj =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    writeBytes(dir / "bom.obj", "\xEF\xBB\xBF" + obj);
+    writeBytes(dir / "plain.obj", obj);
+    const CliResult bom = runSegment(dir / "bom.obj", dir / "a", {"--resolution", "16"});
+    ASSERT_EQ(bom.exitCode, 0) << bom.describe();
+    ASSERT_EQ(runSegment(dir / "plain.obj", dir / "b", {"--resolution", "16"}).exitCode, 0);
+    EXPECT_EQ(fileBytes(dir / "a" / "segmentation.seg"), fileBytes(dir / "b" / "segmentation.seg"));
+}
+
+TEST(UnusualInputCli, MeshInTinyUnitsIsSegmentedWithoutLabelsVdb) {
+    TempDir dir;
+    // A 0.1 mm tetrahedron in metres: OpenVDB's transforms refuse its voxels.
+    const fs::path input = dir / "tiny.off";
+    writeBytes(input,
+               "OFF\n4 4 0\n0 0 0\n1e-4 0 0\n0 1e-4 0\n0 0 1e-4\n"
+               "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+    const CliResult result = runSegment(input, dir / "out", {"--resolution", "32"});
+    ASSERT_EQ(result.exitCode, 0) << result.describe();
+    ASSERT_EQ(result.errLines().size(), 1u) << result.describe();
+    EXPECT_NE(result.errLines()[0].find("labels.vdb is not written"), std::string::npos);
+    EXPECT_TRUE(fs::exists(dir / "out" / "labels.nrrd"));
+    EXPECT_TRUE(fs::exists(dir / "out" / "segmentation.seg"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "labels.vdb"));
+}
+
+TEST(UnusualInputCli, FileNameThatIsNotUtf8GivesAValidReport) {
+    TempDir dir;
+    const fs::path input = dir / "caf\xE9.off";
+    writeBytes(input, kTetraOff);
+    const CliResult result = runSegment(input, dir / "out", {"--resolution", "16"});
+    ASSERT_EQ(result.exitCode, 0) << result.describe();
+    std::ifstream report(dir / "out" / "report.json");
+    EXPECT_NO_THROW((void)nlohmann::json::parse(report));
 }
 
 // ---------------------------------------------------------------------------

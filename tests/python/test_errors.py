@@ -100,3 +100,27 @@ def test_bad_mesh_arrays_are_value_errors(capfd):
     with pytest.raises(ValueError, match=r"faces must have shape \(F, k\) with k >= 3"):
         skelseg.segment_mesh(vertices, np.array([[0, 1]]))
     check_quiet(capfd)
+
+
+def test_meshes_without_area_or_out_of_scale_are_value_errors(capfd):
+    triangle = np.array([[0, 1, 2]])
+    with pytest.raises(ValueError, match=r"^mesh: all 1 faces have zero area"):
+        skelseg.segment_mesh(np.array([[0., 0, 0], [1, 0, 0], [2, 0, 0]]), triangle,
+                             resolution=16)
+    with pytest.raises(ValueError, match=r"^mesh: cannot voxelise the mesh: .* too large"):
+        skelseg.segment_mesh(np.array([[0., 0, 0], [1e300, 0, 0], [0, 1e300, 0]]), triangle,
+                             resolution=16)
+    with pytest.raises(ValueError, match=r"^sigma_min: Value nan is not a number$"):
+        skelseg.segment_mesh(np.array([[0., 0, 0], [1, 0, 0], [0, 1, 0]]), triangle,
+                             resolution=16, sigma_min=float("nan"))
+    check_quiet(capfd)
+
+
+def test_mesh_in_tiny_units_is_segmented(capfd):
+    """A 0.1 mm tetrahedron in metres: OpenVDB refuses such voxel sizes; the
+    voxeliser measures in voxels instead."""
+    vertices = np.array([[0., 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    tiny = skelseg.segment_mesh(vertices * 1e-4, faces, resolution=16)
+    plain = skelseg.segment_mesh(vertices, faces, resolution=16)
+    assert np.array_equal(tiny.face_labels, plain.face_labels)

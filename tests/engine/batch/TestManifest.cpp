@@ -92,6 +92,38 @@ TEST(Manifest, EmptyOrUnreadableManifestIsAnInputError) {
     EXPECT_THROW(readManifest(dir / "nothing"), InputError);
 }
 
+TEST(Manifest, ByteOrderMarkIsSkipped) {
+    TempDir dir;
+    touch(dir / "a.nrrd");
+    writeBytes(dir / "list.txt",
+               "\xEF\xBB\xBF"
+               "a.nrrd\n");
+    const Manifest manifest = readManifest(dir / "list.txt");
+    ASSERT_EQ(manifest.entries.size(), 1u);
+    EXPECT_TRUE(manifest.entries[0].exists);
+    EXPECT_EQ(manifest.entries[0].name, "a");
+}
+
+TEST(Manifest, AShapeOrBinaryDataIsNotAManifest) {
+    TempDir dir;
+    // Each line of these would otherwise become a missing input.
+    writeBytes(dir / "shape.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    writeBytes(dir / "binary.txt", std::string("a.nrrd\nb\0c\n", 11));
+    EXPECT_THROW(readManifest(dir / "shape.off"), InputError);
+    EXPECT_THROW(readManifest(dir / "binary.txt"), InputError);
+}
+
+TEST(OutputNames, ThousandsOfEqualNamesGetDistinctCounters) {
+    std::vector<fs::path> inputs;
+    for (int i = 0; i < 3000; ++i)
+        inputs.push_back(fs::path("d" + std::to_string(i)) / "x" / "m.off");
+    const std::vector<std::string> names = uniqueOutputNames(inputs);
+    EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), inputs.size());
+    EXPECT_EQ(names[0], "x-m");
+    EXPECT_EQ(names[1], "x-m-2");
+    EXPECT_EQ(names[2999], "x-m-3000");
+}
+
 TEST(Manifest, DirectoryListsSupportedFilesByName) {
     TempDir dir;
     for (const char* name : {"c.OFF", "a.nrrd", "b.binvox", "readme.txt", "z.vdb", "m.nhdr"})

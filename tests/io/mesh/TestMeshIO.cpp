@@ -449,4 +449,32 @@ TEST(MeshIO, PrincetonModelMatchesItsSegFiles) {
 }
 
 }  // namespace
+TEST(MeshIO, ByteOrderMarkIsSkippedInEveryTextFormat) {
+    const std::string bom = "\xEF\xBB\xBF";
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nf 1 2 3\n";
+    const std::string stl =
+        "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+        "endloop\nendfacet\nendsolid t\n";
+    const std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    const std::pair<MeshFormat, std::string> files[] = {{MeshFormat::Off, kCubeOff},
+                                                        {MeshFormat::Obj, obj},
+                                                        {MeshFormat::Stl, stl},
+                                                        {MeshFormat::Ply, ply}};
+    for (const auto& [format, text] : files) {
+        SCOPED_TRACE(meshFormatName(format));
+        const TriangleMesh plain = fromText(format, text);
+        const TriangleMesh marked = fromText(format, bom + text);
+        EXPECT_EQ(marked.vertices, plain.vertices);
+        EXPECT_EQ(marked.triangles, plain.triangles);
+        EXPECT_EQ(marked.faceCount, plain.faceCount);
+    }
+    const std::string seg = bom + "3\n4\n";
+    EXPECT_EQ(
+        readSegFromMemory("a.seg", reinterpret_cast<const std::uint8_t*>(seg.data()), seg.size()),
+        (std::vector<std::int64_t>{3, 4}));
+}
+
 }  // namespace skelseg

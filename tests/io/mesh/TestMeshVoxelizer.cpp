@@ -142,6 +142,35 @@ TEST(MeshVoxelizer, SerialAndThreadedAgree) {
     EXPECT_GT(solidCount(serial), 0u);
 }
 
+TEST(MeshVoxelizer, TinyAndHugeUnitsGiveTheVoxelsOfOrdinaryOnes) {
+    // OpenVDB refuses voxels whose volume is below 3e-15 and float distances
+    // overflow on huge ones; the voxeliser measures those in voxels. Sizes
+    // outside 1e-100..1e100 are refused.
+    const TriangleMesh unit = icosphere(3, 1.0, {0, 0, 0});
+    TriangleMesh open = unit;
+    open.triangles.pop_back();
+    open.triangleFace.pop_back();
+    --open.faceCount;
+    VoxelizeOptions options;
+    options.resolution = 24;
+    for (const TriangleMesh* mesh : {&unit, static_cast<const TriangleMesh*>(&open)}) {
+        const MaskVolume reference = voxelizeMesh(*mesh, options);
+        for (double scale : {1e-5, 1e-60, 1e35, 1e90}) {
+            SCOPED_TRACE(scale);
+            TriangleMesh scaled = *mesh;
+            for (auto& v : scaled.vertices)
+                for (double& c : v) c *= scale;
+            const MaskVolume mask = voxelizeMesh(scaled, options);
+            EXPECT_EQ(mask.dims(), reference.dims());
+            EXPECT_EQ(solidCount(mask), solidCount(reference));
+        }
+        TriangleMesh huge = *mesh;
+        for (auto& v : huge.vertices)
+            for (double& c : v) c *= 1e200;
+        EXPECT_THROW(voxelizeMesh(huge, options), UsageError);
+    }
+}
+
 TEST(MeshVoxelizer, OpenSphereIsStillSolid) {
     const double radius = 1.0;
     TriangleMesh sphere = icosphere(4, radius, {0, 0, 0});
