@@ -20,6 +20,7 @@
 #include "engine/ScoreCommand.h"
 #include "engine/SegmentCommand.h"
 #include "engine/SegmentOptions.h"
+#include "engine/SequenceCommand.h"
 #include "engine/Version.h"
 #include "io/shapes/SyntheticShapes.h"
 #include "io/volume/BinvoxIO.h"
@@ -66,6 +67,18 @@ int main(int argc, char** argv) {
                       "Combine the shard summaries in this output root into summary.json/csv and "
                       "report missing inputs");
     skelseg::addSegmentOptions(batch, batchCli);
+
+    // sequence
+    skelseg::SegmentOptionTexts sequenceCli;
+    std::vector<std::string> sequenceFrames;
+    std::string sequenceOut;
+    auto* sequence = app.add_subcommand(
+        "sequence",
+        "Segment the frames of a pose sequence (meshes sharing their faces) and give them one "
+        "segmentation");
+    sequence->add_option("frames", sequenceFrames, "Frame meshes, in order")->required();
+    sequence->add_option("-o,--output", sequenceOut, "Output directory")->required();
+    skelseg::addSegmentOptions(sequence, sequenceCli);
 
     // generate
     std::string shapeName, generateOut;
@@ -169,6 +182,19 @@ int main(int argc, char** argv) {
                 for (const auto& line : outcome.failedNames) std::cerr << "  " << line << "\n";
                 return skelseg::kExitSomeInputsFailed;
             }
+        } else if (*sequence) {
+            sequenceCli.finish();
+            skelseg::SequenceCommandOptions options;
+            options.frames.assign(sequenceFrames.begin(), sequenceFrames.end());
+            options.outdir = sequenceOut;
+            options.segment = sequenceCli.options;
+            options.announceFrames = !sequenceCli.quiet;
+            options.display = sequenceCli.quiet ? skelseg::ProgressReporter::Display::Quiet
+                                                : skelseg::ProgressReporter::Display::Auto;
+            skelseg::ProgressReporter::installSignalHandlers();
+            skelseg::ProgressReporter progress(options.display);
+            skelseg::runSequenceCommand(options, progress);
+            if (!sequenceCli.quiet) progress.message("skelseg: wrote " + options.outdir.string());
         } else if (*generate) {
             skelseg::MaskVolume mask =
                 skelseg::rasterise(skelseg::makeShape(shapeName, pose), {size, 3});

@@ -1,8 +1,12 @@
-// read_volume(), read_mesh(), read_seg(), face areas and score(): the
-// engine's readers and the benchmark measures on numpy arrays.
+// read_volume(), read_mesh(), read_seg(), face areas, score() and
+// sequence_consensus(): the engine's readers, the benchmark measures and a
+// pose sequence's consensus on numpy arrays.
+#include <pybind11/stl.h>
+
 #include <cmath>
 
 #include "engine/SegmentationScore.h"
+#include "engine/SequenceConsensus.h"
 #include "engine/python/Bindings.h"
 #include "engine/python/ResultArrays.h"
 #include "io/mesh/MeshIO.h"
@@ -152,6 +156,22 @@ py::dict scoreLabels(const py::array_t<std::int64_t>& labels, const py::list& hu
     for (const auto& s : summary.perHuman) perHuman.append(scoreDict(s));
     py::dict out = scoreDict(summary.mean);
     out["per_human"] = perHuman;
+    return out;
+}
+
+py::dict sequenceConsensusOf(const py::list& frames) {
+    std::vector<std::vector<std::int64_t>> labels;
+    for (const auto& frame : frames)
+        labels.push_back(labelVector(frame.cast<py::array_t<std::int64_t>>(), "frame_labels"));
+    const SequenceConsensus c = chooseSequenceConsensus(labels);
+    const auto n = py::ssize_t(labels.size());
+    py::dict out;
+    out["reference"] = c.reference;
+    out["modal_parts"] = c.modalParts;
+    out["parts"] = c.parts;
+    out["mean_error_to_others"] = c.meanErrorToOthers;
+    out["pair_errors"] = arrayOwning(std::vector<double>(c.pairErrors), {n, n});
+    out["mean_pair_error"] = c.meanPairError;
     return out;
 }
 

@@ -8,7 +8,8 @@ The engine of the ``skelseg`` command line, on numpy arrays:
     >>> result.labels.shape == mask.shape, result.n_segments
     (True, 6)
 
-Functions: segment, segment_mesh, read_volume, read_mesh, read_seg, score.
+Functions: segment, segment_mesh, read_volume, read_mesh, read_seg, score,
+sequence_consensus.
 The engine runs without the GIL (several threads may segment at once), can
 be cancelled with Ctrl-C, and raises ValueError for bad input, MemoryError
 over the memory limit and TimeoutError at the time limit, with the CLI's
@@ -36,12 +37,14 @@ __all__ = [
     "read_mesh",
     "read_seg",
     "score",
+    "sequence_consensus",
     "SegmentationResult",
     "MeshSegmentationResult",
     "Level",
     "Skeleton",
     "Mesh",
     "Score",
+    "SequenceConsensus",
     "SkelsegWarning",
 ]
 
@@ -200,6 +203,26 @@ class Score:
     missing_rate: float
     false_alarm_rate: float
     per_human: Tuple["Score", ...] = ()
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class SequenceConsensus:
+    """One segmentation for every frame of a pose sequence (`skelseg sequence`).
+
+    reference: the frame whose labels every frame takes, the one with the
+    least mean Rand Index error to the others among the frames with the part
+    count most frames have (modal_parts; a tie goes to the earlier frame).
+    parts and mean_error_to_others are per frame; pair_errors[a, b] is the
+    Rand Index error (faces counted once each) of frames a and b;
+    mean_pair_error the mean over all pairs.
+    """
+
+    reference: int
+    modal_parts: int
+    parts: Tuple[int, ...]
+    mean_error_to_others: Tuple[float, ...]
+    pair_errors: np.ndarray
+    mean_pair_error: float
 
 
 # The options of `skelseg segment` (engine/SegmentOptions.h), by keyword:
@@ -546,3 +569,20 @@ def score(labels: np.ndarray, human_labels: Union[np.ndarray, Sequence[np.ndarra
     areas = None if face_areas is None else np.ascontiguousarray(face_areas, dtype=np.float64)
     raw = _skelseg.score(candidate, humans, areas)
     return _score(raw, tuple(_score(h) for h in raw["per_human"]))
+
+
+def sequence_consensus(frame_labels: Sequence[np.ndarray]) -> SequenceConsensus:
+    """The consensus of the face labels of a pose sequence's frames.
+
+    The frames of an animated character share their faces, so one frame's
+    labels segment every frame: frame_labels[consensus.reference]. As
+    `skelseg sequence` chooses (docs/outputs.md, "skelseg sequence").
+    Raises ValueError for fewer than two frames, no faces or frames of
+    different face counts.
+    """
+    frames = [np.ascontiguousarray(f, dtype=np.int64) for f in frame_labels]
+    raw = _skelseg.sequence_consensus(frames)
+    return SequenceConsensus(int(raw["reference"]), int(raw["modal_parts"]),
+                             tuple(int(p) for p in raw["parts"]),
+                             tuple(float(e) for e in raw["mean_error_to_others"]),
+                             raw["pair_errors"], float(raw["mean_pair_error"]))

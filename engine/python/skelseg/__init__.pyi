@@ -53,6 +53,14 @@ class Mesh:
     face_count: int
     def face_areas(self) -> npt.NDArray[np.float64]: ...
 
+class SequenceConsensus:
+    reference: int
+    modal_parts: int
+    parts: Tuple[int, ...]
+    mean_error_to_others: Tuple[float, ...]
+    pair_errors: npt.NDArray[np.float64]
+    mean_pair_error: float
+
 class Score:
     rand_index_error: float
     hamming_distance: float
@@ -163,3 +171,4 @@ def score(
     *,
     face_areas: Optional[npt.ArrayLike] = None,
 ) -> Score: ...
+def sequence_consensus(frame_labels: Sequence[npt.ArrayLike]) -> SequenceConsensus: ...

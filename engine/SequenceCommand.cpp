@@ -1,0 +1,130 @@
+#include "engine/SequenceCommand.h"
+
+#include <algorithm>
+#include <set>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/SequenceConsensus.h"
+#include "io/files/OutputDirectory.h"
+#include "io/mesh/MeshIO.h"
+#include "io/mesh/SegFile.h"
+#include "kernels/base/Error.h"
+
+namespace skelseg {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string>& sequenceOutputNames() {
+    static const std::vector<std::string> names = {"frames", "segmentation.seg", "sequence.json"};
+    return names;
+}
+
+namespace {
+
+/// `inner` lies at or below `outer` (both made absolute, symlinks resolved
+/// where they exist).
+bool isWithin(const fs::path& inner, const fs::path& outer) {
+    std::error_code ec;
+    const fs::path a = fs::weakly_canonical(inner, ec), b = fs::weakly_canonical(outer, ec);
+    auto ia = a.begin(), ib = b.begin();
+    for (; ib != b.end(); ++ia, ++ib)
+        if (ia == a.end() || *ia != *ib) return false;
+    return true;
+}
+
+/// The frames' names (their stems) and the check that they share their
+/// faces: the consensus labels faces, so it means something only where every
+/// frame has the same faces in the same order.
+std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
+    if (options.frames.size() < 2)
+        throw UsageError("sequence: give at least two frames of one mesh (got " +
+                         std::to_string(options.frames.size()) + ")");
+    std::vector<std::string> names;
+    std::set<std::string> seen;
+    for (const fs::path& frame : options.frames) {
+        meshFormatFromPath(frame);  // throws for what is not a mesh
+        const std::string name = frame.stem().string();
+        if (!seen.insert(name).second)
+            throw UsageError(frame.string() + ": two frames are named '" + name +
+                             "'; their outputs would share frames/" + name);
+        for (const std::string& output : sequenceOutputNames())
+            if (isWithin(frame, options.outdir / output))
+                throw UsageError(frame.string() + ": the frame lies in the output directory's " +
+                                 output + " and would be replaced; choose another output directory");
+        names.push_back(name);
+    }
+    const TriangleMesh first = readMesh(options.frames.front());
+    for (std::size_t f = 1; f < options.frames.size(); ++f) {
+        const TriangleMesh mesh = readMesh(options.frames[f]);
+        if (mesh.faceCount != first.faceCount)
+            throw InputError(options.frames[f].string(),
+                             "has " + std::to_string(mesh.faceCount) + " faces, " +
+                                 options.frames.front().string() + " has " +
+                                 std::to_string(first.faceCount) +
+                                 "; the frames of a sequence share their faces");
+        if (mesh.triangles != first.triangles || mesh.triangleFace != first.triangleFace)
+            throw InputError(options.frames[f].string(),
+                             "its faces differ from those of " + options.frames.front().string() +
+                                 "; the frames of a sequence share their faces (same faces in "
+                                 "the same order)");
+    }
+    return names;
+}
+
+}  // namespace
+
+void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter& progress) {
+    const std::vector<std::string> names = checkFrames(options);
+    OutputDirectory out(options.outdir, options.segment.force, sequenceOutputNames());
+    const fs::path staged = out.stagingPath("frames");
+    fs::create_directories(staged);
+
+    std::vector<std::vector<std::int64_t>> labels;
+    for (std::size_t f = 0; f < options.frames.size(); ++f) {
+        SegmentCommandOptions frame = options.segment;
+        frame.input = options.frames[f];
+        frame.outdir = staged / names[f];
+        frame.force = false;
+        if (options.announceFrames)
+            progress.message("skelseg sequence: frame " + std::to_string(f + 1) + " of " +
+                         std::to_string(options.frames.size()) + ": " + frame.input.string());
+        ProgressReporter frameProgress(options.display, frame.timeLimitSeconds);
+        runSegmentCommand(frame, frameProgress);
+        labels.push_back(readSeg(frame.outdir / "segmentation.seg"));
+    }
+    const SequenceConsensus consensus = chooseSequenceConsensus(labels);
+
+    const std::vector<std::int64_t>& chosen = labels[consensus.reference];
+    writeSeg(out.stagingPath("segmentation.seg"),
+             std::vector<std::uint32_t>(chosen.begin(), chosen.end()));
+
+    nlohmann::json document;
+    document["faces"] = chosen.size();
+    document["reference_frame"] = consensus.reference;
+    document["reference_input"] = options.frames[consensus.reference].string();
+    document["modal_parts"] = consensus.modalParts;
+    document["mean_rand_index_error"] = consensus.meanPairError;
+    document["rule"] =
+        "the frame with the least mean Rand Index error to the others, among the frames "
+        "with the part count most frames have";
+    nlohmann::json frames = nlohmann::json::array();
+    for (std::size_t f = 0; f < options.frames.size(); ++f) {
+        nlohmann::json errors = nlohmann::json::array();
+        for (std::size_t g = 0; g < options.frames.size(); ++g)
+            errors.push_back(consensus.pairErrors[f * options.frames.size() + g]);
+        frames.push_back({{"input", options.frames[f].string()},
+                          {"outputs", "frames/" + names[f]},
+                          {"parts", consensus.parts[f]},
+                          {"mean_rand_index_error_to_others", consensus.meanErrorToOthers[f]},
+                          {"rand_index_error_to_consensus",
+                           consensus.pairErrors[f * options.frames.size() + consensus.reference]},
+                          {"rand_index_errors", std::move(errors)}});
+    }
+    document["frames"] = std::move(frames);
+    writeFileAtomically(out.stagingPath("sequence.json"), document.dump(2) + "\n");
+    out.commit();
+}
+
+}  // namespace skelseg

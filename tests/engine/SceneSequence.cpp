@@ -1,0 +1,130 @@
+// `skelseg sequence` on generated frames: one mesh (the figure of
+// tests/support/ShapeMeshes.h) moved rigidly and stretched, so the frames share
+// their faces as an animated character's do.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <map>
+#include <set>
+
+#include "io/mesh/MeshIO.h"
+#include "io/mesh/SegFile.h"
+#include "tests/support/CliRunner.h"
+#include "tests/support/FileBytes.h"
+#include "tests/support/ShapeMeshes.h"
+#include "tests/support/TempDir.h"
+
+namespace skelseg {
+namespace {
+
+/// `mesh` turned by `degrees` about the z axis and stretched by `stretch`
+/// along y: same faces, other positions.
+TriangleMesh posed(TriangleMesh mesh, double degrees, double stretch) {
+    const double a = degrees * M_PI / 180.0, c = std::cos(a), s = std::sin(a);
+    for (auto& v : mesh.vertices) {
+        const double x = v[0], y = v[1] * stretch;
+        v = {c * x - s * y, s * x + c * y, v[2]};
+    }
+    return mesh;
+}
+
+std::size_t distinct(const std::vector<std::int64_t>& labels) {
+    return std::set<std::int64_t>(labels.begin(), labels.end()).size();
+}
+
+class SceneSequence : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() { figure = new TriangleMesh(test::figureMesh(false)); }
+    static void TearDownTestSuite() { delete figure, figure = nullptr; }
+    static TriangleMesh* figure;
+    test::TempDir dir;
+};
+TriangleMesh* SceneSequence::figure = nullptr;
+
+TEST_F(SceneSequence, EveryFrameIsSegmentedAndTheConsensusIsTheModalFramesLabels) {
+    const std::vector<std::string> names = {"walk_1", "walk_2", "walk_3"};
+    writeOff(dir / "walk_1.off", *figure);
+    writeOff(dir / "walk_2.off", posed(*figure, 30.0, 1.0));
+    writeOff(dir / "walk_3.off", posed(*figure, -20.0, 1.15));
+    const auto out = dir / "out";
+    const auto run = test::runSkelseg({"sequence", (dir / "walk_1.off").string(),
+                                       (dir / "walk_2.off").string(), (dir / "walk_3.off").string(),
+                                       "-o", out.string(), "--resolution", "80", "-q",
+                                       "--no-preview"});
+    ASSERT_EQ(run.exitCode, 0) << run.describe();
+    EXPECT_TRUE(run.err.empty()) << run.err;
+
+    std::ifstream in(out / "sequence.json");
+    const nlohmann::json summary = nlohmann::json::parse(in);
+    ASSERT_EQ(summary["frames"].size(), 3u);
+    std::vector<std::size_t> parts;
+    std::map<std::size_t, int> framesWith;
+    for (std::size_t f = 0; f < 3; ++f) {
+        const auto labels = readSeg(out / "frames" / names[f] / "segmentation.seg");
+        ASSERT_EQ(labels.size(), figure->faceCount);
+        parts.push_back(distinct(labels));
+        ++framesWith[parts.back()];
+        EXPECT_EQ(summary["frames"][f]["parts"].get<std::size_t>(), parts.back());
+        EXPECT_EQ(summary["frames"][f]["outputs"], "frames/" + names[f]);
+    }
+    // A figure with two arms, two legs and a head: more than one part.
+    EXPECT_GT(parts[0], 1u);
+    const std::size_t reference = summary["reference_frame"];
+    ASSERT_LT(reference, 3u);
+    int most = 0;
+    for (const auto& [count, frames] : framesWith) most = std::max(most, frames);
+    EXPECT_EQ(framesWith[parts[reference]], most);
+    EXPECT_EQ(summary["modal_parts"].get<std::size_t>(), parts[reference]);
+    EXPECT_EQ(summary["frames"][reference]["rand_index_error_to_consensus"].get<double>(), 0.0);
+    // The consensus is the reference frame's labels, byte for byte.
+    EXPECT_EQ(test::fileBytes(out / "segmentation.seg"),
+              test::fileBytes(out / "frames" / names[reference] / "segmentation.seg"));
+}
+
+TEST_F(SceneSequence, FramesWithOtherFacesAreRefusedAndNothingIsWritten) {
+    writeOff(dir / "a.off", *figure);
+    writeOff(dir / "b.off", test::figureMesh(true));  // the hand on the hip: other faces
+    const auto out = dir / "out";
+    const auto run = test::runSkelseg({"sequence", (dir / "a.off").string(),
+                                       (dir / "b.off").string(), "-o", out.string(), "-q"});
+    EXPECT_EQ(run.exitCode, 2) << run.describe();
+    ASSERT_EQ(run.errLines().size(), 1u) << run.err;
+    EXPECT_NE(run.err.find((dir / "b.off").string()), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("share their faces"), std::string::npos) << run.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST_F(SceneSequence, OneFrameAFrameInsideTheOutputsAndEarlierResultsAreRefused) {
+    writeOff(dir / "a.off", *figure);
+    writeOff(dir / "b.off", posed(*figure, 10.0, 1.0));
+    auto run = test::runSkelseg({"sequence", (dir / "a.off").string(), "-o",
+                                 (dir / "one").string(), "-q"});
+    EXPECT_EQ(run.exitCode, 2) << run.describe();
+    EXPECT_EQ(run.errLines().size(), 1u) << run.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "one"));
+
+    // A frame kept in OUTDIR/frames would be replaced by the run's frames/.
+    std::filesystem::create_directories(dir / "out" / "frames");
+    writeOff(dir / "out" / "frames" / "c.off", posed(*figure, 5.0, 1.0));
+    const std::string kept = test::fileBytes(dir / "out" / "frames" / "c.off");
+    run = test::runSkelseg({"sequence", (dir / "a.off").string(),
+                            (dir / "out" / "frames" / "c.off").string(), "-o",
+                            (dir / "out").string(), "-q", "--force"});
+    EXPECT_EQ(run.exitCode, 2) << run.describe();
+    EXPECT_NE(run.err.find("would be replaced"), std::string::npos) << run.err;
+    EXPECT_EQ(test::fileBytes(dir / "out" / "frames" / "c.off"), kept);
+
+    // Earlier results without --force: refused, left as they were.
+    std::filesystem::create_directories(dir / "earlier");
+    std::ofstream(dir / "earlier" / "sequence.json") << "{}";
+    run = test::runSkelseg({"sequence", (dir / "a.off").string(), (dir / "b.off").string(),
+                            "-o", (dir / "earlier").string(), "-q", "--resolution", "48"});
+    EXPECT_EQ(run.exitCode, 2) << run.describe();
+    EXPECT_EQ(test::directoryEntries(dir / "earlier"), std::vector<std::string>{"sequence.json"});
+    EXPECT_EQ(test::fileBytes(dir / "earlier" / "sequence.json"), "{}");
+}
+
+}  // namespace
+}  // namespace skelseg
