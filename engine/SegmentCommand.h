@@ -59,6 +59,9 @@ struct SegmentCommandOptions {
     /// Meshes: seams between the two mesh patches of a contact kept by the
     /// box check (ContactSeparationOptions::patchSeams).
     bool contactPatchSeams = false;
+    /// Meshes: a refused contact seam is retried grown by one voxel
+    /// (ContactSeparationOptions::grownSeams).
+    bool grownContactSeams = true;
     SegmentationParameters parameters;
     int threads = 0;                   // 0: all cores
     double timeLimitSeconds = 0;       // 0: none

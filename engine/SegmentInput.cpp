@@ -84,6 +84,7 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
     voxelizeOptions.fillThinParts = fillThinParts;
     voxelizeOptions.selfOverlapOptions.maxClearance = options.selfOverlapClearance;
     voxelizeOptions.contactOptions.patchSeams = options.contactPatchSeams;
+    voxelizeOptions.contactOptions.grownSeams = options.grownContactSeams;
     // The voxeliser's refusals (a grid over the cap, a mesh collapsed to a
     // point) do not know the file: name it, as every error must.
     const auto nameTheFile = [&](const UsageError& error) {

@@ -79,8 +79,9 @@ struct SegmentInputOptions {
     // Meshes: seams between the two mesh patches of a contact the box check
     // keeps (ContactSeparationOptions::patchSeams).
     bool contactPatchSeams = false;
-    int threads = 1;  // for the memory estimate (per-thread workspaces)
-    int levels = 1;   // for the memory estimate (hierarchy runs: --tau list)
+    bool grownContactSeams = true;  // ContactSeparationOptions::grownSeams
+    int threads = 1;                // for the memory estimate (per-thread workspaces)
+    int levels = 1;                 // for the memory estimate (hierarchy runs: --tau list)
     std::uint64_t memoryLimit = 0;
     double timeBudgetSeconds = 0;     // 0: none; counted from `start`
     bool calibrateTimeBudget = true;  // meshes: engine/BudgetCalibration.h

@@ -67,6 +67,7 @@ CLI::Validator notNaN() {
 }  // namespace
 
 void SegmentOptionTexts::finish() {
+    options.grownContactSeams = !noGrownContactSeams;
     std::vector<TauSpec> taus = parseTauList(tauText);
     options.parameters.tau = taus.back();
     taus.pop_back();
@@ -205,6 +206,9 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
                       "Meshes: where a contact's seam is refused, try a seam between the two "
                       "mesh patches of the contact, kept where it removes a handle of the voxel "
                       "model");
+    command->add_flag("--no-grown-contact-seams", cli.noGrownContactSeams,
+                      "Meshes: do not retry a refused contact seam grown by one voxel "
+                      "(kept where it removes a handle of the voxel model)");
     command->add_option("--grid", seg.gridName,
                         "VDB input: name of the grid to read (default: the first)");
     command

@@ -28,7 +28,7 @@ struct SegmentOptionTexts {
     SegmentCommandOptions options;
     std::string tauText = "3%", modeText = "junction-rule", maxMemoryText, skeletonSearchText;
     std::string budgetCalibrationText = "probe";
-    bool quiet = false, exhaustive = false;
+    bool quiet = false, exhaustive = false, noGrownContactSeams = false;
 
     /// Turns the texts into options. @throw UsageError.
     void finish();

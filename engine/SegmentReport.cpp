@@ -50,6 +50,8 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
         context.input["contacts_rejoined"] = shape.input->contacts.contactsRejoined;
         context.input["contact_patch_seams"] = options.contactPatchSeams;
         context.input["contacts_patch_seamed"] = shape.input->contacts.contactsPatchSeamed;
+        context.input["grown_contact_seams"] = options.grownContactSeams;
+        context.input["contacts_grown"] = shape.input->contacts.contactsGrown;
         context.input["self_overlap_clearance"] = options.selfOverlapClearance;
         context.input["self_overlaps_separated"] = shape.input->selfOverlaps.overlaps;
         context.input["self_overlaps_kept"] = shape.input->selfOverlaps.overlapsKept;

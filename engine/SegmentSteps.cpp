@@ -12,6 +12,7 @@ SegmentInputOptions segmentInputOptions(const SegmentCommandOptions& options, in
     inputOptions.resolution = options.resolution;
     inputOptions.selfOverlapClearance = options.selfOverlapClearance;
     inputOptions.contactPatchSeams = options.contactPatchSeams;
+    inputOptions.grownContactSeams = options.grownContactSeams;
     inputOptions.threads = threads;
     inputOptions.levels = int(options.parameters.levelCount());
     inputOptions.timeBudgetSeconds = options.timeBudgetSeconds;

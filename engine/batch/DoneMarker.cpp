@@ -56,6 +56,7 @@ std::string outputAffectingOptions(const SegmentCommandOptions& options) {
     if (options.selfOverlapClearance != SegmentCommandOptions{}.selfOverlapClearance)
         j["self_overlap_clearance"] = options.selfOverlapClearance;
     if (options.contactPatchSeams) j["contact_patch_seams"] = true;
+    if (!options.grownContactSeams) j["grown_contact_seams"] = false;
     return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 

@@ -321,11 +321,15 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
 
     // 7. Seams between the two mesh patches of each contact kept (see the
     //    header): tried only where the whole model has handles to lose.
+    std::sort(keptContacts.begin(), keptContacts.end());
+    VoxelTopologyOptions topologyOptions;
+    topologyOptions.threaded = options.threaded;
+    VoxelTopology before;
+    bool topologyKnown = false;
+    std::vector<char> separatedLate(contacts.size(), 0);
     if (options.patchSeams && !keptContacts.empty()) {
-        std::sort(keptContacts.begin(), keptContacts.end());
-        VoxelTopologyOptions topologyOptions;
-        topologyOptions.threaded = options.threaded;
-        VoxelTopology before = voxelTopology(mask, topologyOptions, interrupter);
+        before = voxelTopology(mask, topologyOptions, interrupter);
+        topologyKnown = true;
         const PatchSeamFinder finder(graph, mask, options);
         for (std::size_t c : keptContacts) {
             if (before.genus <= 0) break;
@@ -344,10 +348,53 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
                     ++result.contactsPatchSeamed;
                     if (rejoined[c]) --result.contactsRejoined;
                     result.voxelsCleared += seam.size();
+                    separatedLate[c] = 1;
                     break;
                 }
                 for (std::uint32_t i : seam) mask.data()[i] = 1;
             }
+        }
+    }
+    // 8. A kept contact's wide seam grown by one voxel into the object: the
+    //    pairs found stop short of the contact's rim (the walls diverge
+    //    there, and test 1 misses pairs whose voxels lie on one side of each
+    //    other's wall), so the seam leaves links at its rim. Kept only where
+    //    the whole model loses a handle and gains no object or cavity: it
+    //    must free a handle the mesh does not have and never cut a sheet or
+    //    a limb loose.
+    if (options.grownSeams && !keptContacts.empty()) {
+        if (!topologyKnown) before = voxelTopology(mask, topologyOptions, interrupter);
+        for (std::size_t c : keptContacts) {
+            if (before.genus <= 0) break;
+            if (separatedLate[c]) continue;
+            throwIfInterrupted(interrupter);
+            std::vector<std::uint32_t> seam;
+            for (std::uint32_t i : wideContacts[c]) {
+                const auto p = coordOf(i);
+                for (int dz = -1; dz <= 1; ++dz)
+                    for (int dy = -1; dy <= 1; ++dy)
+                        for (int dx = -1; dx <= 1; ++dx) {
+                            if (!mask.contains(p[0] + dx, p[1] + dy, p[2] + dz)) continue;
+                            const auto n =
+                                std::uint32_t(mask.index(p[0] + dx, p[1] + dy, p[2] + dz));
+                            if (mask.data()[n]) seam.push_back(n);
+                        }
+            }
+            std::sort(seam.begin(), seam.end());
+            seam.erase(std::unique(seam.begin(), seam.end()), seam.end());
+            for (std::uint32_t i : seam) mask.data()[i] = 0;
+            const VoxelTopology after = voxelTopology(mask, topologyOptions, interrupter);
+            if (after.genus < before.genus && after.objects <= before.objects &&
+                after.cavities <= before.cavities) {
+                before = after;
+                --result.contactsKept;
+                ++result.contacts;
+                ++result.contactsGrown;
+                if (rejoined[c]) --result.contactsRejoined;
+                result.voxelsCleared += seam.size();
+                continue;
+            }
+            for (std::uint32_t i : seam) mask.data()[i] = 1;
         }
     }
     return result;

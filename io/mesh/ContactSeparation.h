@@ -41,6 +41,16 @@
 // 7, seams for the contacts the box check keeps, between the contact's two
 // mesh patches (io/mesh/ContactPatchSeams.h).
 //
+// Grown seams (ContactSeparationOptions::grownSeams, on by default): step 8,
+// each contact still kept is tried once more with its two-voxel seam grown by
+// one voxel (26-neighbours) into the object. The pairs found stop short of
+// the contact's rim, where the walls part and test 1 misses pairs, so the
+// seam of the pairs alone leaves links there; one voxel more reaches past
+// them. Judged on the whole model, not the box: kept only where the model's
+// genus drops and no object or cavity is added, so it frees a handle the
+// mesh does not have and never cuts a sheet or a limb loose. Tried only while
+// the model has a handle.
+//
 // Limits: a mesh that intersects itself can have contacts detected where it
 // crosses itself; pieces that merely touch stay joined (rule 3); a contact
 // whose walls are parallel to a voxel diagonal may leave single corner links
@@ -64,6 +74,9 @@ struct ContactSeparationOptions {
     double farOnMeshRatio = 2.0;
     /// Seams between the two mesh patches of a contact kept (see above).
     bool patchSeams = false;
+    /// Step 8: a kept contact's seam grown by one voxel, kept where the whole
+    /// model loses a handle and gains no object or cavity (see above).
+    bool grownSeams = true;
     /// How far each side's triangles are grown along the mesh into its
     /// patch, and the greatest distance (voxels) from each patch at which a
     /// voxel is given a side. Growth must stay under farOnMesh, or the two
@@ -87,6 +100,9 @@ struct ContactSeparation {
     /// Of contacts: separated by a seam between the contact's two mesh
     /// patches (ContactSeparationOptions::patchSeams).
     std::size_t contactsPatchSeamed = 0;
+    /// Of contacts: separated by their seam grown by one voxel
+    /// (ContactSeparationOptions::grownSeams).
+    std::size_t contactsGrown = 0;
     /// Object voxels cleared.
     std::size_t voxelsCleared = 0;
     /// Neighbouring voxel pairs found to be contacts.

@@ -16,7 +16,8 @@ from conftest import REPO, cli_binary, read_nrrd
 # The keywords the module does not take: they name files it does not write,
 # or pick a .vdb grid (read_volume's `grid`).
 NOT_KEYWORDS = {"force", "quiet", "no_preview", "level_previews", "grid"}
-MESH_ONLY = {"resolution", "self_overlap_clearance", "contact_patch_seams", "budget_calibration"}
+MESH_ONLY = {"resolution", "self_overlap_clearance", "contact_patch_seams", "no_grown_contact_seams",
+             "budget_calibration"}
 # Python defaults where the CLI shows none: None leaves the option out.
 UNSHOWN_DEFAULTS = {"mode": "junction-rule", "budget_calibration": "probe"}
 
@@ -243,11 +244,14 @@ def box_pair():
 def test_mesh_keywords_reach_the_report():
     vertices, faces = box_pair()
     result = skelseg.segment_mesh(vertices, faces, resolution=40, contact_patch_seams=True,
-                                  time_budget=100.0, budget_calibration="cpu")
+                                  no_grown_contact_seams=True, time_budget=100.0,
+                                  budget_calibration="cpu")
     assert result.report["input"]["contact_patch_seams"] is True
+    assert result.report["input"]["grown_contact_seams"] is False
     assert result.report["time_budget"]["calibration"]["method"] == "cpu"
     assert result.report["time_budget"]["resolution"] == 40
     assert result.report["time_budget"]["requested_resolution"] == 40
     plain = skelseg.segment_mesh(vertices, faces, resolution=40)
     assert plain.report["input"]["contact_patch_seams"] is False
+    assert plain.report["input"]["grown_contact_seams"] is True
     assert "time_budget" not in plain.report

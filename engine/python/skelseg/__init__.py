@@ -424,7 +424,8 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
                  joints: bool = False, threads: Optional[int] = None,
                  time_limit: Optional[float] = None, max_memory: Union[None, int, str] = None,
                  progress: Optional[ProgressCallback] = None,
-                 contact_patch_seams: bool = False, time_budget: Optional[float] = None,
+                 contact_patch_seams: bool = False, no_grown_contact_seams: bool = False,
+                 time_budget: Optional[float] = None,
                  budget_calibration: str = "probe", exhaustive: bool = False,
                  skeleton_search: Optional[str] = None,
                  sibling_tolerance: float = 0.25, limb_taper: float = 0.3,
@@ -459,6 +460,9 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
         contact_patch_seams: where a contact's seam is refused, try a seam
             between the two mesh patches of the contact (the CLI's
             --contact-patch-seams); report["input"]["contacts_patch_seamed"].
+        no_grown_contact_seams: do not retry a refused contact seam grown by
+            one voxel (the CLI's --no-grown-contact-seams);
+            report["input"]["contacts_grown"] counts the seams it kept.
         time_budget: seconds, counted from the call: the resolution (at most
             `resolution`) predicted to finish within it, as the CLI's
             --time-budget; report["time_budget"] says what was chosen

@@ -126,6 +126,7 @@ def segment_mesh(
     max_memory: Union[None, int, str] = None,
     progress: Optional[ProgressCallback] = None,
     contact_patch_seams: bool = False,
+    no_grown_contact_seams: bool = False,
     budget_calibration: Literal["probe", "cpu"] = "probe",
     time_budget: Optional[float] = None,
     exhaustive: bool = False,

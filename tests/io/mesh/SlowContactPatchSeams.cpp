@@ -1,6 +1,7 @@
-// Patch seams of the contact separation (ContactSeparationOptions::patchSeams)
-// on a generated ear lying on a head. Under the slow label: the staircase mesh
-// has 44,604 triangles, and each voxelisation's contact search walks it.
+// Patch seams and grown seams of the contact separation
+// (ContactSeparationOptions::patchSeams, grownSeams) on a generated ear lying
+// on a head. Under the slow label: the staircase mesh has 44,604 triangles,
+// and each voxelisation's contact search walks it.
 #include <gtest/gtest.h>
 
 #include "io/mesh/ContactSeparation.h"
@@ -37,6 +38,7 @@ TEST(ContactPatchSeams, PartAnEarFromTheHeadWithoutCuttingItLoose) {
     VoxelizeOptions options;
     options.resolution = 16;
     options.keepMeshTopology = true;
+    options.contactOptions.grownSeams = false;  // it frees this plate too (next test)
     const MeshVoxelization plain = voxelizeMeshWithContacts(mesh, options);
     ASSERT_EQ(voxelTopology(plain.mask).genus, 1) << "the plate must fuse without patch seams";
     ASSERT_GE(plain.contacts.contactsKept, 1u);
@@ -52,6 +54,30 @@ TEST(ContactPatchSeams, PartAnEarFromTheHeadWithoutCuttingItLoose) {
     // serial = threaded in TestContactSeparation.cpp.
     options.threaded = false;
     EXPECT_EQ(voxelizeMeshWithContacts(mesh, options).mask.values(), patched.mask.values());
+}
+
+TEST(ContactGrownSeams, PartAnEarFromTheHeadWithoutCuttingItLoose) {
+    // The same plate: the seam of the pairs found, grown by one voxel into
+    // the model, reaches past the rim the pairs missed.
+    const TriangleMesh mesh = earOnHead();
+    VoxelizeOptions options;
+    options.resolution = 16;
+    options.keepMeshTopology = true;
+    options.contactOptions.grownSeams = false;
+    const MeshVoxelization plain = voxelizeMeshWithContacts(mesh, options);
+    ASSERT_EQ(voxelTopology(plain.mask).genus, 1) << "the plate must fuse without grown seams";
+    EXPECT_EQ(plain.contacts.contactsGrown, 0u);
+    options.contactOptions.grownSeams = true;
+    const MeshVoxelization grown = voxelizeMeshWithContacts(mesh, options);
+    const VoxelTopology topology = voxelTopology(grown.mask);
+    EXPECT_EQ(topology.genus, 0);
+    EXPECT_EQ(topology.objects, 1u) << "the plate must not be cut loose";
+    EXPECT_EQ(topology.cavities, 0u);
+    EXPECT_EQ(grown.contacts.contactsGrown, 1u);
+    EXPECT_EQ(grown.contacts.contacts, plain.contacts.contacts + 1);
+    EXPECT_EQ(grown.contacts.contactsKept + 1, plain.contacts.contactsKept);
+    options.threaded = false;
+    EXPECT_EQ(voxelizeMeshWithContacts(mesh, options).mask.values(), grown.mask.values());
 }
 
 }  // namespace
