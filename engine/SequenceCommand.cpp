@@ -52,7 +52,8 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
         for (const std::string& output : sequenceOutputNames())
             if (isWithin(frame, options.outdir / output))
                 throw UsageError(frame.string() + ": the frame lies in the output directory's " +
-                                 output + " and would be replaced; choose another output directory");
+                                 output +
+                                 " and would be replaced; choose another output directory");
         names.push_back(name);
     }
     const TriangleMesh first = readMesh(options.frames.front());
@@ -89,7 +90,7 @@ void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter&
         frame.force = false;
         if (options.announceFrames)
             progress.message("skelseg sequence: frame " + std::to_string(f + 1) + " of " +
-                         std::to_string(options.frames.size()) + ": " + frame.input.string());
+                             std::to_string(options.frames.size()) + ": " + frame.input.string());
         ProgressReporter frameProgress(options.display, frame.timeLimitSeconds);
         runSegmentCommand(frame, frameProgress);
         labels.push_back(readSeg(frame.outdir / "segmentation.seg"));

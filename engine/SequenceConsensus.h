@@ -40,6 +40,7 @@ struct SequenceConsensus {
 /// every frame the same number of faces).
 /// @throw UsageError with fewer than two frames, no faces, or frames of
 /// different face counts.
-SequenceConsensus chooseSequenceConsensus(const std::vector<std::vector<std::int64_t>>& frameLabels);
+SequenceConsensus chooseSequenceConsensus(
+    const std::vector<std::vector<std::int64_t>>& frameLabels);
 
 }  // namespace skelseg

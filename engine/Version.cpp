@@ -2,6 +2,6 @@
 
 namespace skelseg {
 const char* versionString() noexcept {
-    return "0.1.0";
+    return "0.2.0";
 }
 }  // namespace skelseg

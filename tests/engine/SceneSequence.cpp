@@ -5,8 +5,8 @@
 
 #include <cmath>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "io/mesh/MeshIO.h"
@@ -49,10 +49,10 @@ TEST_F(SceneSequence, EveryFrameIsSegmentedAndTheConsensusIsTheModalFramesLabels
     writeOff(dir / "walk_2.off", posed(*figure, 30.0, 1.0));
     writeOff(dir / "walk_3.off", posed(*figure, -20.0, 1.15));
     const auto out = dir / "out";
-    const auto run = test::runSkelseg({"sequence", (dir / "walk_1.off").string(),
-                                       (dir / "walk_2.off").string(), (dir / "walk_3.off").string(),
-                                       "-o", out.string(), "--resolution", "80", "-q",
-                                       "--no-preview"});
+    const auto run =
+        test::runSkelseg({"sequence", (dir / "walk_1.off").string(), (dir / "walk_2.off").string(),
+                          (dir / "walk_3.off").string(), "-o", out.string(), "--resolution", "80",
+                          "-q", "--no-preview"});
     ASSERT_EQ(run.exitCode, 0) << run.describe();
     EXPECT_TRUE(run.err.empty()) << run.err;
 
@@ -87,8 +87,8 @@ TEST_F(SceneSequence, FramesWithOtherFacesAreRefusedAndNothingIsWritten) {
     writeOff(dir / "a.off", *figure);
     writeOff(dir / "b.off", test::figureMesh(true));  // the hand on the hip: other faces
     const auto out = dir / "out";
-    const auto run = test::runSkelseg({"sequence", (dir / "a.off").string(),
-                                       (dir / "b.off").string(), "-o", out.string(), "-q"});
+    const auto run = test::runSkelseg(
+        {"sequence", (dir / "a.off").string(), (dir / "b.off").string(), "-o", out.string(), "-q"});
     EXPECT_EQ(run.exitCode, 2) << run.describe();
     ASSERT_EQ(run.errLines().size(), 1u) << run.err;
     EXPECT_NE(run.err.find((dir / "b.off").string()), std::string::npos) << run.err;
@@ -99,8 +99,8 @@ TEST_F(SceneSequence, FramesWithOtherFacesAreRefusedAndNothingIsWritten) {
 TEST_F(SceneSequence, OneFrameAFrameInsideTheOutputsAndEarlierResultsAreRefused) {
     writeOff(dir / "a.off", *figure);
     writeOff(dir / "b.off", posed(*figure, 10.0, 1.0));
-    auto run = test::runSkelseg({"sequence", (dir / "a.off").string(), "-o",
-                                 (dir / "one").string(), "-q"});
+    auto run = test::runSkelseg(
+        {"sequence", (dir / "a.off").string(), "-o", (dir / "one").string(), "-q"});
     EXPECT_EQ(run.exitCode, 2) << run.describe();
     EXPECT_EQ(run.errLines().size(), 1u) << run.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "one"));
@@ -119,8 +119,8 @@ TEST_F(SceneSequence, OneFrameAFrameInsideTheOutputsAndEarlierResultsAreRefused)
     // Earlier results without --force: refused, left as they were.
     std::filesystem::create_directories(dir / "earlier");
     std::ofstream(dir / "earlier" / "sequence.json") << "{}";
-    run = test::runSkelseg({"sequence", (dir / "a.off").string(), (dir / "b.off").string(),
-                            "-o", (dir / "earlier").string(), "-q", "--resolution", "48"});
+    run = test::runSkelseg({"sequence", (dir / "a.off").string(), (dir / "b.off").string(), "-o",
+                            (dir / "earlier").string(), "-q", "--resolution", "48"});
     EXPECT_EQ(run.exitCode, 2) << run.describe();
     EXPECT_EQ(test::directoryEntries(dir / "earlier"), std::vector<std::string>{"sequence.json"});
     EXPECT_EQ(test::fileBytes(dir / "earlier" / "sequence.json"), "{}");

@@ -28,8 +28,7 @@ TEST(SequenceConsensus, TakesTheMostTypicalFrameOfTheModalPartCount) {
 }
 
 TEST(SequenceConsensus, ErrorsAreTheScoresRandIndexOverFacesAndTheMeanCountsEachPairOnce) {
-    const std::vector<Labels> frames = {
-        {0, 0, 1, 1, 2, 2}, {0, 0, 0, 1, 2, 2}, {3, 3, 3, 3, 3, 4}};
+    const std::vector<Labels> frames = {{0, 0, 1, 1, 2, 2}, {0, 0, 0, 1, 2, 2}, {3, 3, 3, 3, 3, 4}};
     const SequenceConsensus c = chooseSequenceConsensus(frames);
     double sum = 0.0;
     for (std::size_t a = 0; a < 3; ++a)
