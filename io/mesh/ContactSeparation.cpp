@@ -327,6 +327,26 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
     VoxelTopology before;
     bool topologyKnown = false;
     std::vector<char> separatedLate(contacts.size(), 0);
+    // Clears `seam` and keeps it where the whole model loses a handle and
+    // gains no object or cavity: a kept contact c then counts as separated.
+    const auto separatesKept = [&](std::size_t c, const std::vector<std::uint32_t>& seam,
+                                   std::size_t& counter) {
+        for (std::uint32_t i : seam) mask.data()[i] = 0;
+        const VoxelTopology after = voxelTopology(mask, topologyOptions, interrupter);
+        if (after.genus < before.genus && after.objects <= before.objects &&
+            after.cavities <= before.cavities) {
+            before = after;
+            --result.contactsKept;
+            ++result.contacts;
+            ++counter;
+            if (rejoined[c]) --result.contactsRejoined;
+            result.voxelsCleared += seam.size();
+            separatedLate[c] = 1;
+            return true;
+        }
+        for (std::uint32_t i : seam) mask.data()[i] = 1;
+        return false;
+    };
     if (options.patchSeams && !keptContacts.empty()) {
         before = voxelTopology(mask, topologyOptions, interrupter);
         topologyKnown = true;
@@ -337,22 +357,8 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
             std::vector<std::pair<std::int32_t, std::int32_t>> triangles;
             triangles.reserve(contactPairs[c].size());
             for (std::size_t k : contactPairs[c]) triangles.push_back(pairTriangles[k]);
-            for (const auto& seam : finder.seams(triangles, wideContacts[c])) {
-                for (std::uint32_t i : seam) mask.data()[i] = 0;
-                const VoxelTopology after = voxelTopology(mask, topologyOptions, interrupter);
-                if (after.genus < before.genus && after.objects <= before.objects &&
-                    after.cavities <= before.cavities) {
-                    before = after;
-                    --result.contactsKept;
-                    ++result.contacts;
-                    ++result.contactsPatchSeamed;
-                    if (rejoined[c]) --result.contactsRejoined;
-                    result.voxelsCleared += seam.size();
-                    separatedLate[c] = 1;
-                    break;
-                }
-                for (std::uint32_t i : seam) mask.data()[i] = 1;
-            }
+            for (const auto& seam : finder.seams(triangles, wideContacts[c]))
+                if (separatesKept(c, seam, result.contactsPatchSeamed)) break;
         }
     }
     // 8. A kept contact's wide seam grown by one voxel into the object: the
@@ -382,19 +388,7 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
             }
             std::sort(seam.begin(), seam.end());
             seam.erase(std::unique(seam.begin(), seam.end()), seam.end());
-            for (std::uint32_t i : seam) mask.data()[i] = 0;
-            const VoxelTopology after = voxelTopology(mask, topologyOptions, interrupter);
-            if (after.genus < before.genus && after.objects <= before.objects &&
-                after.cavities <= before.cavities) {
-                before = after;
-                --result.contactsKept;
-                ++result.contacts;
-                ++result.contactsGrown;
-                if (rejoined[c]) --result.contactsRejoined;
-                result.voxelsCleared += seam.size();
-                continue;
-            }
-            for (std::uint32_t i : seam) mask.data()[i] = 1;
+            separatesKept(c, seam, result.contactsGrown);
         }
     }
     return result;

@@ -28,56 +28,63 @@ TriangleMesh earOnHead() {
     return test::meshOfShape(s, {-43, -23, -35}, {43, 23, 12});
 }
 
-TEST(ContactPatchSeams, PartAnEarFromTheHeadWithoutCuttingItLoose) {
-    // At resolution 16 the gap is a sixteenth of a voxel and the plate under
-    // two voxels thick: the pairs at the plate's rim are missed, and the seam
-    // of the pairs found would punch a hole, so the box check keeps the
-    // contact whole. The seam between the two patches reaches the rim.
-    const TriangleMesh mesh = earOnHead();
-    ASSERT_EQ(meshTopology(mesh).genus, 0);
-    VoxelizeOptions options;
-    options.resolution = 16;
-    options.keepMeshTopology = true;
-    options.contactOptions.grownSeams = false;  // it frees this plate too (next test)
-    const MeshVoxelization plain = voxelizeMeshWithContacts(mesh, options);
-    ASSERT_EQ(voxelTopology(plain.mask).genus, 1) << "the plate must fuse without patch seams";
-    ASSERT_GE(plain.contacts.contactsKept, 1u);
-    options.contactOptions.patchSeams = true;
-    const MeshVoxelization patched = voxelizeMeshWithContacts(mesh, options);
-    const VoxelTopology topology = voxelTopology(patched.mask);
-    EXPECT_EQ(topology.genus, 0);
-    EXPECT_EQ(topology.objects, 1u) << "the plate must not be cut loose";
-    EXPECT_EQ(topology.cavities, 0u);
-    EXPECT_EQ(patched.contacts.contactsPatchSeamed, 1u);
-    EXPECT_EQ(patched.contacts.contacts, plain.contacts.contacts + 1);
-    // The patch seams run serially; the rest of the stage is tested for
-    // serial = threaded in TestContactSeparation.cpp.
-    options.threaded = false;
-    EXPECT_EQ(voxelizeMeshWithContacts(mesh, options).mask.values(), patched.mask.values());
-}
+/// The plate at resolution 16 voxelised with both later steps off and then
+/// with `enable` applied to the contact options, threaded and serially.
+struct PlateRuns {
+    MeshVoxelization without, with;
+};
 
-TEST(ContactGrownSeams, PartAnEarFromTheHeadWithoutCuttingItLoose) {
-    // The same plate: the seam of the pairs found, grown by one voxel into
-    // the model, reaches past the rim the pairs missed.
+PlateRuns voxelizePlate(void (*enable)(ContactSeparationOptions&)) {
     const TriangleMesh mesh = earOnHead();
     VoxelizeOptions options;
     options.resolution = 16;
     options.keepMeshTopology = true;
     options.contactOptions.grownSeams = false;
-    const MeshVoxelization plain = voxelizeMeshWithContacts(mesh, options);
-    ASSERT_EQ(voxelTopology(plain.mask).genus, 1) << "the plate must fuse without grown seams";
-    EXPECT_EQ(plain.contacts.contactsGrown, 0u);
-    options.contactOptions.grownSeams = true;
-    const MeshVoxelization grown = voxelizeMeshWithContacts(mesh, options);
-    const VoxelTopology topology = voxelTopology(grown.mask);
+    PlateRuns runs;
+    runs.without = voxelizeMeshWithContacts(mesh, options);
+    enable(options.contactOptions);
+    runs.with = voxelizeMeshWithContacts(mesh, options);
+    // The later steps run serially; the rest of the stage is tested for
+    // serial = threaded in TestContactSeparation.cpp.
+    options.threaded = false;
+    EXPECT_EQ(voxelizeMeshWithContacts(mesh, options).mask.values(), runs.with.mask.values())
+        << "serial must equal threaded";
+    return runs;
+}
+
+/// The plate fused without the step; with it, parted and still one object
+/// without a cavity (the plate not cut loose), one contact more separated.
+void expectPlateParted(const PlateRuns& runs) {
+    ASSERT_EQ(voxelTopology(runs.without.mask).genus, 1) << "the plate must fuse without it";
+    ASSERT_GE(runs.without.contacts.contactsKept, 1u);
+    const VoxelTopology topology = voxelTopology(runs.with.mask);
     EXPECT_EQ(topology.genus, 0);
     EXPECT_EQ(topology.objects, 1u) << "the plate must not be cut loose";
     EXPECT_EQ(topology.cavities, 0u);
-    EXPECT_EQ(grown.contacts.contactsGrown, 1u);
-    EXPECT_EQ(grown.contacts.contacts, plain.contacts.contacts + 1);
-    EXPECT_EQ(grown.contacts.contactsKept + 1, plain.contacts.contactsKept);
-    options.threaded = false;
-    EXPECT_EQ(voxelizeMeshWithContacts(mesh, options).mask.values(), grown.mask.values());
+    EXPECT_EQ(runs.with.contacts.contacts, runs.without.contacts.contacts + 1);
+    EXPECT_EQ(runs.with.contacts.contactsKept + 1, runs.without.contacts.contactsKept);
+}
+
+TEST(ContactPatchSeams, PartAnEarFromTheHeadWithoutCuttingItLoose) {
+    // At resolution 16 the gap is a sixteenth of a voxel and the plate under
+    // two voxels thick: the pairs at the plate's rim are missed, and the seam
+    // of the pairs found would punch a hole, so the box check keeps the
+    // contact whole. The seam between the two patches reaches the rim.
+    ASSERT_EQ(meshTopology(earOnHead()).genus, 0);
+    const PlateRuns runs = voxelizePlate([](ContactSeparationOptions& o) { o.patchSeams = true; });
+    expectPlateParted(runs);
+    EXPECT_EQ(runs.with.contacts.contactsPatchSeamed, 1u);
+    EXPECT_EQ(runs.with.contacts.contactsGrown, 0u);
+}
+
+TEST(ContactGrownSeams, PartAnEarFromTheHeadWithoutCuttingItLoose) {
+    // The same plate: the seam of the pairs found, grown by one voxel into
+    // the model, reaches past the rim the pairs missed.
+    const PlateRuns runs = voxelizePlate([](ContactSeparationOptions& o) { o.grownSeams = true; });
+    expectPlateParted(runs);
+    EXPECT_EQ(runs.without.contacts.contactsGrown, 0u);
+    EXPECT_EQ(runs.with.contacts.contactsGrown, 1u);
+    EXPECT_EQ(runs.with.contacts.contactsPatchSeamed, 0u);
 }
 
 }  // namespace
