@@ -45,14 +45,21 @@ REPO = Path(__file__).resolve().parent.parent
 DEFAULT_SHAPES = ["camel.off", "hand.off", "horse.off", "octopus.off"]
 
 
-def parse_args(argv):
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+def binary_and_data_parser(doc):
+    """An argument parser for a script documented by `doc`, with --skelseg
+    and --data (bench/sequence_consensus.py shares it)."""
+    p = argparse.ArgumentParser(description=doc.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
-                                epilog=__doc__.split("\n\n", 1)[1])
+                                epilog=doc.split("\n\n", 1)[1])
     p.add_argument("--skelseg", default=str(REPO / "build" / "skelseg"),
                    help="the skelseg binary (default: build/skelseg in the repository)")
     p.add_argument("--data", default=str(REPO.parent / "shared" / "data"),
                    help="the shared data folder (default: ../shared/data next to the repository)")
+    return p
+
+
+def parse_args(argv):
+    p = binary_and_data_parser(__doc__)
     p.add_argument("--pose-resolution", type=int, default=192,
                    help="resolution for the pose sequences (default 192)")
     p.add_argument("--pose-grid", choices=["frame", "largest", "smallest"], default="frame",

@@ -19,7 +19,6 @@ consensus (how much the consensus overrides the single frames).
 Where DATA/poses is absent it says so and exits 0.
 """
 
-import argparse
 import json
 import subprocess
 import sys
@@ -28,19 +27,11 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from invariance import pose_sequences  # noqa: E402  (one grouping of frames)
-
-REPO = Path(__file__).resolve().parent.parent
+from invariance import binary_and_data_parser, pose_sequences  # noqa: E402  (one grouping)
 
 
 def parse_args(argv):
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                formatter_class=argparse.RawDescriptionHelpFormatter,
-                                epilog=__doc__.split("\n\n", 1)[1])
-    p.add_argument("--skelseg", default=str(REPO / "build" / "skelseg"),
-                   help="the skelseg binary (default: build/skelseg in the repository)")
-    p.add_argument("--data", default=str(REPO.parent / "shared" / "data"),
-                   help="the data folder holding poses/ (default: ../shared/data)")
+    p = binary_and_data_parser(__doc__)
     p.add_argument("--resolution", type=int, default=192, help="resolution (default 192)")
     p.add_argument("--sequences", default="",
                    help="comma-separated sequence names (default: every one)")
