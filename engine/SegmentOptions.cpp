@@ -91,6 +91,9 @@ void SegmentOptionTexts::finish() {
 
 void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
     SegmentCommandOptions& seg = cli.options;
+    // A flag takes no value: CLI11 would read `--no-stub-limbs=3` as "on"
+    // and `--joints=0` as "off" without a word.
+    command->option_defaults()->disable_flag_override();
     command
         ->add_option(
             "--tau", cli.tauText,

@@ -44,7 +44,13 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
     std::vector<std::string> names;
     std::set<std::string> seen;
     for (const fs::path& frame : options.frames) {
-        meshFormatFromPath(frame);  // throws for what is not a mesh
+        try {
+            meshFormatFromPath(frame);
+        } catch (const Error&) {  // what is not a mesh: the format of an unknown extension
+            throw UsageError(frame.string() +
+                             ": the frames of a sequence are meshes (.off, .obj, .stl or .ply) "
+                             "that share their faces");
+        }
         const std::string name = frame.stem().string();
         if (!seen.insert(name).second)
             throw UsageError(frame.string() + ": two frames are named '" + name +

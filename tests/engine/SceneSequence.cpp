@@ -105,6 +105,17 @@ TEST_F(SceneSequence, OneFrameAFrameInsideTheOutputsAndEarlierResultsAreRefused)
     EXPECT_EQ(run.errLines().size(), 1u) << run.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "one"));
 
+    // A volume is no frame: the consensus labels mesh faces.
+    std::ofstream(dir / "v.nrrd") << "NRRD0004\n";
+    run = test::runSkelseg({"sequence", (dir / "a.off").string(), (dir / "v.nrrd").string(), "-o",
+                            (dir / "vol").string(), "-q"});
+    EXPECT_EQ(run.exitCode, 2) << run.describe();
+    EXPECT_EQ(run.errLines().size(), 1u) << run.err;
+    EXPECT_NE(run.err.find((dir / "v.nrrd").string() + ": the frames of a sequence are meshes"),
+              std::string::npos)
+        << run.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "vol"));
+
     // A frame kept in OUTDIR/frames would be replaced by the run's frames/.
     std::filesystem::create_directories(dir / "out" / "frames");
     writeOff(dir / "out" / "frames" / "c.off", posed(*figure, 5.0, 1.0));

@@ -621,6 +621,12 @@ INSTANTIATE_TEST_SUITE_P(
         UsageCase{"max_memory_below_a_byte",
                   {"segment", "{input}", "-o", "{out}", "--max-memory", "0.1"},
                   "less than one byte"},
+        UsageCase{"flag_given_a_value",
+                  {"segment", "{input}", "-o", "{out}", "--no-stub-limbs=3"},
+                  "no-stub-limbs was given a disallowed flag override"},
+        UsageCase{"flag_given_false",
+                  {"batch", "{input}", "-o", "{out}", "--joints=0"},
+                  "joints was given a disallowed flag override"},
         UsageCase{"threads_zero", {"segment", "{input}", "-o", "{out}", "--threads", "0"}, ""},
         UsageCase{
             "resolution_too_small", {"segment", "{input}", "-o", "{out}", "--resolution", "2"}, ""},
@@ -759,7 +765,9 @@ TEST(UnusualInputCli, FileNameThatIsNotUtf8GivesAValidReport) {
     const CliResult result = runSegment(input, dir / "out", {"--resolution", "16"});
     ASSERT_EQ(result.exitCode, 0) << result.describe();
     std::ifstream report(dir / "out" / "report.json");
-    EXPECT_NO_THROW((void)nlohmann::json::parse(report));
+    nlohmann::json parsed;
+    EXPECT_NO_THROW(parsed = nlohmann::json::parse(report));
+    EXPECT_TRUE(parsed.is_object());
 }
 
 // ---------------------------------------------------------------------------
