@@ -17,6 +17,7 @@
 #include "engine/Stage.h"
 #include "io/files/OutputDirectory.h"
 #include "io/volume/VdbIO.h"
+#include "io/volume/VolumeReader.h"
 
 namespace fs = std::filesystem;
 
@@ -45,14 +46,19 @@ using SegmentingMessage =
 using ShapeMessage = std::shared_ptr<const SegmentedShape>;
 
 /// Never replace the input: with --force, an input stored in OUTDIR under an
-/// output name (a labels.nrrd fed back in) would be overwritten.
+/// output name (a labels.nrrd fed back in, a level's labels, a detached
+/// header's data file) would be overwritten or removed.
 void refuseInputAmongOutputs(const SegmentCommandOptions& options) {
-    for (const auto& name : segmentOutputNames()) {
-        std::error_code ec;
-        if (fs::equivalent(options.input, options.outdir / name, ec))
-            throw UsageError(options.input.string() + ": the input is " + name +
-                             " in the output directory and would be overwritten; choose another "
-                             "output directory");
+    const bool volume = volumeFormatFromPath(options.input) != VolumeFormat::Unknown;
+    for (const fs::path& file :
+         volume ? volumeInputFiles(options.input) : std::vector<fs::path>{options.input}) {
+        const std::string output = outputReplacing(file, options.outdir, segmentOutputNames());
+        if (output.empty()) continue;
+        const std::string what =
+            file == options.input ? "the input" : "its data file " + file.string();
+        throw UsageError(options.input.string() + ": " + what + " is " + output +
+                         " in the output directory and would be replaced; choose another "
+                         "output directory");
     }
 }
 

@@ -23,17 +23,6 @@ const std::vector<std::string>& sequenceOutputNames() {
 
 namespace {
 
-/// `inner` lies at or below `outer` (both made absolute, symlinks resolved
-/// where they exist).
-bool isWithin(const fs::path& inner, const fs::path& outer) {
-    std::error_code ec;
-    const fs::path a = fs::weakly_canonical(inner, ec), b = fs::weakly_canonical(outer, ec);
-    auto ia = a.begin(), ib = b.begin();
-    for (; ib != b.end(); ++ia, ++ib)
-        if (ia == a.end() || *ia != *ib) return false;
-    return true;
-}
-
 /// The frames' names (their stems) and the check that they share their
 /// faces: the consensus labels faces, so it means something only where every
 /// frame has the same faces in the same order.
@@ -55,11 +44,10 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
         if (!seen.insert(name).second)
             throw UsageError(frame.string() + ": two frames are named '" + name +
                              "'; their outputs would share frames/" + name);
-        for (const std::string& output : sequenceOutputNames())
-            if (isWithin(frame, options.outdir / output))
-                throw UsageError(frame.string() + ": the frame lies in the output directory's " +
-                                 output +
-                                 " and would be replaced; choose another output directory");
+        const std::string output = outputReplacing(frame, options.outdir, sequenceOutputNames());
+        if (!output.empty())
+            throw UsageError(frame.string() + ": the frame lies in the output directory's " +
+                             output + " and would be replaced; choose another output directory");
         names.push_back(name);
     }
     const TriangleMesh first = readMesh(options.frames.front());

@@ -117,6 +117,31 @@ void OutputDirectory::discard() noexcept {
     if (!mCommitted) removeCreatedDirectories();
 }
 
+namespace {
+
+/// `inner` lies at or below `outer` (both made absolute, symlinks resolved
+/// where they exist).
+bool isWithin(const fs::path& inner, const fs::path& outer) {
+    std::error_code ec;
+    const fs::path a = fs::weakly_canonical(inner, ec), b = fs::weakly_canonical(outer, ec);
+    auto ia = a.begin(), ib = b.begin();
+    for (; ib != b.end(); ++ia, ++ib)
+        if (ia == a.end() || *ia != *ib) return false;
+    return true;
+}
+
+}  // namespace
+
+std::string outputReplacing(const fs::path& file, const fs::path& outdir,
+                            const std::vector<std::string>& outputNames) {
+    for (const std::string& name : outputNames) {
+        std::error_code ec;
+        // equivalent() also catches a hard link to an output.
+        if (fs::equivalent(file, outdir / name, ec) || isWithin(file, outdir / name)) return name;
+    }
+    return {};
+}
+
 void writeFileAtomically(const fs::path& path, const std::string& bytes) {
     const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
     const fs::path temp = parent / ("." + path.filename().string() + ".tmp-" + uniqueSuffix());

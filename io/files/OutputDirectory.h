@@ -57,6 +57,13 @@ private:
     void removeCreatedDirectories() noexcept;
 };
 
+/// The output of `outputNames` in `outdir` whose writing would replace or
+/// remove `file` (`file` is that output, or lies inside that output directory,
+/// with symlinks resolved where they exist); empty if none. --force replaces
+/// earlier outputs, so a command refuses an input for which this is not empty.
+std::string outputReplacing(const std::filesystem::path& file, const std::filesystem::path& outdir,
+                            const std::vector<std::string>& outputNames);
+
 /// Writes `bytes` to `path` through a temporary file in the same directory and
 /// rename(2). Throws OutputError naming the path on failure.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <fstream>
 #include <stdexcept>
 #include <vector>
 
@@ -208,6 +209,16 @@ void inflateSamples(const std::string& name, const std::uint8_t* data, std::size
                                    std::to_string(expectedBytes));
 }
 
+/// A detached header's data file: relative names are relative to the header.
+fs::path resolveDataFile(const std::string& dataFile, const fs::path& headerDirectory) {
+    const fs::path dataPath(dataFile);
+    return dataPath.is_relative() ? headerDirectory / dataPath : dataPath;
+}
+
+fs::path directoryOf(const fs::path& file) {
+    return file.has_parent_path() ? file.parent_path() : fs::path(".");
+}
+
 template <typename T>
 Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std::size_t size,
                          const fs::path* headerDirectory, bool keepValues) {
@@ -225,8 +236,7 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
         if (!headerDirectory)
             throw InputError(name, "detached header (data file " + quote(*header.dataFile) +
                                        ") cannot be read from memory");
-        fs::path dataPath(*header.dataFile);
-        if (dataPath.is_relative()) dataPath = *headerDirectory / dataPath;
+        const fs::path dataPath = resolveDataFile(*header.dataFile, *headerDirectory);
         try {
             detachedBytes = readFileBytes(dataPath);
         } catch (const InputError& error) {
@@ -265,7 +275,7 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
 template <typename T>
 Volume<T> readNrrdVolumeFile(const fs::path& file, bool keepValues) {
     const std::string bytes = readFileBytes(file);
-    const fs::path directory = file.has_parent_path() ? file.parent_path() : fs::path(".");
+    const fs::path directory = directoryOf(file);
     return readNrrdVolume<T>(file.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()),
                              bytes.size(), &directory, keepValues);
 }
@@ -279,6 +289,26 @@ MaskVolume readNrrdMask(const fs::path& file) {
 MaskVolume readNrrdMaskFromMemory(const std::string& name, const std::uint8_t* bytes,
                                   std::size_t size) {
     return readNrrdVolume<std::uint8_t>(name, bytes, size, nullptr, false);
+}
+
+std::optional<fs::path> nrrdDetachedDataFile(const fs::path& header) {
+    // A header is text before the data; the first MiB holds any header the
+    // readers accept, and reading no more keeps this cheap on large volumes.
+    constexpr std::size_t kHeaderBytes = std::size_t(1) << 20;
+    std::string bytes;
+    try {
+        checkReadableFile(header);
+        std::ifstream in(header, std::ios::binary);
+        bytes.resize(kHeaderBytes);
+        in.read(bytes.data(), std::streamsize(bytes.size()));
+        bytes.resize(std::size_t(in.gcount()));
+        const nrrd::NrrdHeader parsed = nrrd::parseNrrdHeader(
+            header.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+        if (!parsed.dataFile) return std::nullopt;
+        return resolveDataFile(*parsed.dataFile, directoryOf(header));
+    } catch (const InputError&) {
+        return std::nullopt;
+    }
 }
 
 LabelVolume readNrrdLabels(const fs::path& file) {

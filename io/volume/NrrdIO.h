@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "kernels/base/Volume.h"
@@ -32,6 +33,12 @@ MaskVolume readNrrdMask(const std::filesystem::path& file);
 /// fails with an InputError.
 MaskVolume readNrrdMaskFromMemory(const std::string& name, const std::uint8_t* bytes,
                                   std::size_t size);
+
+/// The data file a detached header (`data file:`) names, resolved against the
+/// header's directory as the readers resolve it; nullopt for an attached
+/// header, and for a header the readers would refuse anyway (they say why).
+/// Lets a command make sure that no output replaces a file it reads.
+std::optional<std::filesystem::path> nrrdDetachedDataFile(const std::filesystem::path& header);
 
 /// Reads a 3D NRRD file of uint8 or uint16 samples as labels (values kept).
 /// @throw InputError as readNrrdMask(), and for any other sample type.

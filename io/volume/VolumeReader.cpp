@@ -40,4 +40,11 @@ MaskVolume readVolume(const fs::path& file, const VolumeReadOptions& options) {
                          " (supported: .nrrd, .nhdr, .binvox, .vdb)");
 }
 
+std::vector<fs::path> volumeInputFiles(const fs::path& file) {
+    std::vector<fs::path> files{file};
+    if (volumeFormatFromPath(file) == VolumeFormat::Nrrd)
+        if (auto dataFile = nrrdDetachedDataFile(file)) files.push_back(std::move(*dataFile));
+    return files;
+}
+
 }  // namespace skelseg

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "io/files/TextFile.h"  // checkReadableFile, readFileBytes, kMaxInputFileBytes
 #include "kernels/base/Volume.h"
@@ -35,5 +36,10 @@ VolumeFormat volumeFormatFromPath(const std::filesystem::path& file);
 ///        lists the supported ones), or any problem the format's reader finds.
 /// @throw UsageError if options.gridName is set for a file that is not .vdb.
 MaskVolume readVolume(const std::filesystem::path& file, const VolumeReadOptions& options = {});
+
+/// Every file readVolume(file) reads: `file`, and a detached NRRD header's
+/// data file. A command checks them against its outputs so that --force never
+/// replaces what it reads.
+std::vector<std::filesystem::path> volumeInputFiles(const std::filesystem::path& file);
 
 }  // namespace skelseg

@@ -999,9 +999,48 @@ TEST(Outputs, InputNamedLikeAnOutputIsNotOverwrittenEvenWithForce) {
     writeNrrdMask(input, makeMask(Dims{8, 8, 8}, [](int x, int, int) { return x > 2; }));
     const std::string before = fileBytes(input);
     const CliResult result = runSegment(input, out, {"--force"});
-    EXPECT_TRUE(failsWithOneLine(result, 2, input.string(), "overwritten"));
+    EXPECT_TRUE(failsWithOneLine(result, 2, input.string(), "would be replaced"));
     EXPECT_EQ(fileBytes(input), before);
     EXPECT_EQ(directoryEntries(out), std::vector<std::string>{"labels.nrrd"});
+}
+
+// A run without levels removes an earlier run's levels/ on commit: an input
+// kept there (a level's labels fed back in) would be lost with --force.
+TEST(Outputs, InputInsideAnOutputDirectoryIsNotRemovedEvenWithForce) {
+    TempDir dir;
+    const fs::path out = dir / "out";
+    fs::create_directories(out / "levels" / "0");
+    const fs::path input = out / "levels" / "0" / "labels.nrrd";
+    writeNrrdMask(input, makeMask(Dims{8, 8, 8}, [](int x, int, int) { return x > 2; }));
+    const std::string before = fileBytes(input);
+    const CliResult result = runSegment(input, out, {"--force"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, input.string(), "is levels in the output directory"));
+    EXPECT_EQ(fileBytes(input), before);
+    EXPECT_EQ(directoryEntries(out), std::vector<std::string>{"levels"});
+}
+
+// A detached NRRD header outside OUTDIR whose data file lies in OUTDIR's
+// levels/: the data file is input too.
+TEST(Outputs, DetachedDataFileAmongOutputsIsNotRemovedEvenWithForce) {
+    TempDir dir;
+    const fs::path out = dir / "out";
+    fs::create_directories(out / "levels");
+    const fs::path data = out / "levels" / "box.raw";
+    std::string voxels(8 * 8 * 8, '\0');
+    for (std::size_t i = 0; i < voxels.size(); ++i) voxels[i] = (i % 8) > 2 ? 1 : 0;
+    writeBytes(data, voxels);
+    const fs::path header = dir / "box.nhdr";
+    writeBytes(header,
+               "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 8 8 8\nencoding: raw\n"
+               "data file: out/levels/box.raw\n");
+    // Without outputs in the way the header reads (so the refusal below is
+    // about the data file's place, not the header).
+    const fs::path elsewhere = dir / "elsewhere";
+    ASSERT_EQ(runSegment(header, elsewhere).exitCode, 0);
+    const CliResult result = runSegment(header, out, {"--force"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, header.string(), data.string()));
+    EXPECT_EQ(fileBytes(data), voxels);
+    EXPECT_EQ(directoryEntries(out), std::vector<std::string>{"levels"});
 }
 
 }  // namespace
