@@ -43,8 +43,12 @@ std::vector<std::string> directoryEntries(const std::filesystem::path& directory
     return names;
 }
 
-CliResult runSkelseg(const std::vector<std::string>& arguments,
-                     const std::function<void(pid_t)>& whileRunning, std::chrono::seconds timeout) {
+namespace {
+
+/// Runs `command` (argv[0] a path, or with `searchPath` a name looked up in
+/// PATH) as runSkelseg() describes.
+CliResult runChild(const std::vector<std::string>& command, bool searchPath,
+                   const std::function<void(pid_t)>& whileRunning, std::chrono::seconds timeout) {
     TempDir capture;
     const std::string outPath = (capture / "stdout").string(),
                       errPath = (capture / "stderr").string();
@@ -56,10 +60,8 @@ CliResult runSkelseg(const std::vector<std::string>& arguments,
     posix_spawn_file_actions_addopen(&actions, 2, errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
                                      0644);
 
-    const std::string binary = skelsegBinary();
     std::vector<char*> argv;
-    argv.push_back(const_cast<char*>(binary.c_str()));
-    for (const auto& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+    for (const auto& a : command) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
 
     // The child starts with default signal handling (a test runner may have
@@ -77,11 +79,11 @@ CliResult runSkelseg(const std::vector<std::string>& arguments,
 
     const auto start = std::chrono::steady_clock::now();
     pid_t pid = 0;
-    const int spawned =
-        posix_spawn(&pid, binary.c_str(), &actions, &attributes, argv.data(), environ);
+    const int spawned = (searchPath ? posix_spawnp : posix_spawn)(
+        &pid, command.front().c_str(), &actions, &attributes, argv.data(), environ);
     posix_spawn_file_actions_destroy(&actions);
     posix_spawnattr_destroy(&attributes);
-    if (spawned != 0) throw std::runtime_error("cannot start " + binary);
+    if (spawned != 0) throw std::runtime_error("cannot start " + command.front());
 
     int status = 0;
     for (;;) {
@@ -104,6 +106,27 @@ CliResult runSkelseg(const std::vector<std::string>& arguments,
     result.out = fileBytes(outPath);
     result.err = fileBytes(errPath);
     return result;
+}
+
+}  // namespace
+
+CliResult runSkelseg(const std::vector<std::string>& arguments,
+                     const std::function<void(pid_t)>& whileRunning, std::chrono::seconds timeout) {
+    std::vector<std::string> command = {skelsegBinary()};
+    command.insert(command.end(), arguments.begin(), arguments.end());
+    return runChild(command, false, whileRunning, timeout);
+}
+
+CliResult runSkelsegAsUser(uid_t uid, gid_t gid, const std::filesystem::path& binary,
+                           const std::vector<std::string>& arguments) {
+    std::vector<std::string> command = {"setpriv",
+                                        "--reuid=" + std::to_string(uid),
+                                        "--regid=" + std::to_string(gid),
+                                        "--clear-groups",
+                                        "--",
+                                        binary.string()};
+    command.insert(command.end(), arguments.begin(), arguments.end());
+    return runChild(command, true, {}, std::chrono::seconds(600));
 }
 
 }  // namespace skelseg::test

@@ -38,6 +38,13 @@ CliResult runSkelseg(const std::vector<std::string>& arguments,
                      const std::function<void(pid_t)>& whileRunning = {},
                      std::chrono::seconds timeout = std::chrono::seconds(600));
 
+/// As runSkelseg(), but `binary` runs as user `uid` and group `gid`, without
+/// supplementary groups (through setpriv(1), util-linux): what a user without
+/// root's rights sees, for tests that run as root. `binary` must be readable
+/// and executable by that user (a copy in a TempDir made world-readable is).
+CliResult runSkelsegAsUser(uid_t uid, gid_t gid, const std::filesystem::path& binary,
+                           const std::vector<std::string>& arguments);
+
 /// Names of the entries of `directory` (empty if it does not exist), sorted.
 std::vector<std::string> directoryEntries(const std::filesystem::path& directory);
 
