@@ -251,12 +251,11 @@ MaskVolume readVdbMask(const fs::path& file, const std::string& gridName) {
 
 bool vdbCanHoldVoxelVolume(const Dims& dims, const VolumeGeometry& geometry) {
     initializeOpenVdb();
-    // OpenVDB itself decides, rather than a copy of its bound: its scale maps
-    // and its affine map compute the determinant in different orders, and a
-    // copy would disagree with one of them in the last bit. Writing a grid
-    // copies its transform, and the copy of a scale-and-translate map is
-    // rebuilt through an affine map (Transform's constructor simplifies
-    // it), so a uniform voxel must pass both checks: build the copy too.
+    // OpenVDB itself decides, rather than a formula on the directions:
+    // writing a grid copies its transform, and OpenVDB rebuilds the copy of a
+    // scale-and-translate map through an affine map whose scale depends
+    // slightly on the translation, so the copy can be refused where the
+    // original was accepted. Build the copy too.
     openvdb::math::Transform::Ptr transform;
     try {
         transform = transformFor(geometry)->copy();
