@@ -88,7 +88,7 @@ MaskMessage maskShape(const RunContext& run, SourceMessage source) {
     auto mask = std::make_shared<SegmentMask>(
         maskSegmentSource(std::move(source), run.inputOptions, run.timer, run.progress,
                           [&](const std::string& w) { run.warn(w); }));
-    if (run.options.writeVdb && !vdbCanHoldGeometry(mask->mask.geometry)) {
+    if (run.options.writeVdb && !vdbCanHoldVoxelVolume(mask->mask.dims(), mask->mask.geometry)) {
         const std::string warning =
             run.options.input.string() +
             ": labels.vdb is not written: OpenVDB cannot hold voxels this small (volume under "

@@ -68,7 +68,7 @@ void writeLabelVdb(OutputDirectory& out, const SegmentedShape& shape, StageTimer
                    Interrupter& interrupter) {
     Stage stage(timer, interrupter, "write labels.vdb", false);
     // maskShape() warned; an earlier run's labels.vdb would not match.
-    if (!vdbCanHoldGeometry(shape.result.labels.geometry)) {
+    if (!vdbCanHoldVoxelVolume(shape.result.labels.dims(), shape.result.labels.geometry)) {
         out.removeOnCommit("labels.vdb");
         return;
     }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "io/mesh/MeshCheck.h"
+#include "io/volume/VdbIO.h"
 #include "kernels/base/HugePages.h"
 
 namespace skelseg {
@@ -65,24 +66,24 @@ private:
 
 /// The length OpenVDB's distances are measured in. MeshAdapter hands it
 /// index-space points, so the transform only scales the distances: world
-/// units where OpenVDB takes the voxel size, voxel units (1) where it does
-/// not. It refuses scales whose cube is below 3e-15 (a 1 mm part modelled in
-/// metres, at resolution 256), and float distances overflow on huge voxels.
-/// (Voxel units everywhere would round a few distances differently and move
-/// single voxels on ordinary meshes.)
-double vdbDistanceUnit(const VolumeGeometry& geometry) {
-    const double size = geometry.voxelSize();
-    const bool vdbTakesIt =
-        size * size * size >= 3.0 * openvdb::math::Tolerance<double>::value() && size <= 1e30;
-    return vdbTakesIt ? size : 1.0;
+/// units where OpenVDB holds the grid (vdbCanHoldVoxelVolume: it refuses
+/// voxels whose volume is below 3e-15, e.g. a 1 mm part modelled in metres at
+/// resolution 256), voxel units (1) where it does not or where float
+/// distances would overflow (huge voxels). (Voxel units everywhere would
+/// round a few distances differently and move single voxels on ordinary
+/// meshes.)
+double vdbDistanceUnit(const VoxelGrid& grid) {
+    const double size = grid.geometry.voxelSize();
+    const bool worldUnits = size <= 1e30 && vdbCanHoldVoxelVolume(grid.dims, grid.geometry);
+    return worldUnits ? size : 1.0;
 }
 
-openvdb::math::Transform::Ptr transformFor(const VolumeGeometry& geometry) {
-    const double unit = vdbDistanceUnit(geometry);
+openvdb::math::Transform::Ptr transformFor(const VoxelGrid& grid) {
+    const double unit = vdbDistanceUnit(grid);
     auto transform = openvdb::math::Transform::createLinearTransform(unit);
-    if (unit == geometry.voxelSize())
-        transform->postTranslate(
-            openvdb::Vec3d(geometry.origin[0], geometry.origin[1], geometry.origin[2]));
+    if (unit == grid.geometry.voxelSize())
+        transform->postTranslate(openvdb::Vec3d(grid.geometry.origin[0], grid.geometry.origin[1],
+                                                grid.geometry.origin[2]));
     return transform;
 }
 
@@ -134,8 +135,8 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, d
     // outside) read as "unknown" rather than as triangle 0.
     openvdb::Int32Grid polygonIndex(-1);
     auto distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        vdbInterrupter, adapter, *transformFor(grid.geometry), float(bandWidth), float(bandWidth),
-        0, nearestTriangle ? &polygonIndex : nullptr);
+        vdbInterrupter, adapter, *transformFor(grid), float(bandWidth), float(bandWidth), 0,
+        nearestTriangle ? &polygonIndex : nullptr);
     throwIfInterrupted(interrupter);
     if (nearestTriangle) {
         // Outside the band the index grid holds its background; voxels whose
@@ -176,7 +177,7 @@ MaskVolume shellVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, do
     const MeshAdapter adapter(mesh, grid.geometry);
     const double shellWidth = holeClosing + kSurfaceLayer;
     auto distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        vdbInterrupter, adapter, *transformFor(grid.geometry), float(shellWidth + 1.5), 0.0f,
+        vdbInterrupter, adapter, *transformFor(grid), float(shellWidth + 1.5), 0.0f,
         openvdb::tools::UNSIGNED_DISTANCE_FIELD);
     throwIfInterrupted(interrupter);
 
@@ -193,7 +194,7 @@ MaskVolume shellVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, do
     };
     enum : std::uint8_t { kFree = 0, kShell = 1, kSurface = 2, kOutside = 3 };
     std::vector<std::uint8_t> state(work.voxelCount(), kFree);
-    const float voxelSize = float(vdbDistanceUnit(grid.geometry));
+    const float voxelSize = float(vdbDistanceUnit(grid));
     const float shellLimit = float(shellWidth) * voxelSize,
                 surfaceLimit = float(kSurfaceLayer) * voxelSize;
     forEachGridValue(*distance, work, {-pad, -pad, -pad}, interrupter,

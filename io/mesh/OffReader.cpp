@@ -9,6 +9,59 @@
 
 namespace skelseg {
 
+namespace {
+
+/// Parses one face line ("count i0 i1 ...", extra values ignored) and adds the
+/// polygon to `builder`.
+void addFaceLine(MeshBuilder& builder, std::string_view line, std::size_t lineNumber,
+                 std::uint64_t face, std::uint64_t vertexCount,
+                 std::vector<std::int64_t>& polygon) {
+    TextTokenizer tokens(line);
+    const std::string_view countToken = tokens.nextToken();
+    std::int64_t corners = 0;
+    if (!parseInteger(countToken, corners) || corners < 0)
+        builder.fail("line " + std::to_string(lineNumber) + ": face " + std::to_string(face) +
+                     " has a bad vertex count " + quote(countToken));
+    polygon.clear();
+    // Read at most what the line holds, whatever the count claims.
+    for (std::int64_t c = 0; c < corners; ++c) {
+        const std::string_view token = tokens.nextToken();
+        std::int64_t index = 0;
+        if (token.empty())
+            builder.fail("line " + std::to_string(lineNumber) + ": face " + std::to_string(face) +
+                         " lists " + std::to_string(c) + " of its " + std::to_string(corners) +
+                         " vertex indices");
+        if (!parseInteger(token, index))
+            builder.fail("line " + std::to_string(lineNumber) + ": face " + std::to_string(face) +
+                         " has a bad vertex index " + quote(token));
+        polygon.push_back(index);
+    }
+    builder.addFace(polygon, vertexCount);
+}
+
+/// Number of tokens on `line` when all of them are numbers, 0 otherwise.
+std::size_t realTokenCount(std::string_view line) {
+    TextTokenizer tokens(line);
+    std::size_t count = 0;
+    double value = 0;
+    for (std::string_view token = tokens.nextToken(); !token.empty(); token = tokens.nextToken()) {
+        if (!parseReal(token, value)) return 0;
+        ++count;
+    }
+    return count;
+}
+
+/// True when more than `count` significant lines follow the position of
+/// `lines` (a copy is advanced; at most count + 1 lines are read).
+bool holdsMoreLines(TextTokenizer lines, std::uint64_t count) {
+    std::string_view line;
+    for (std::uint64_t n = 0; n <= count; ++n)
+        if (!lines.nextSignificantLine(line)) return false;
+    return true;
+}
+
+}  // namespace
+
 TriangleMesh readOff(const std::string& name, const char* data, std::size_t size) {
     MeshBuilder builder(name, 0);
     const std::size_t bom = utf8BomLength(std::string_view(data, size));
@@ -74,6 +127,7 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
     if (faceCount == 0) builder.fail("the mesh has no faces");
     builder.reserve(vertexCount, faceCount);
 
+    std::string_view lastVertexLine;
     for (std::uint64_t v = 0; v < vertexCount; ++v) {
         if (!lines.nextSignificantLine(line))
             builder.fail("file ends after " + std::to_string(v) + " of " +
@@ -89,6 +143,7 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
                                             : " has a bad coordinate " + quote(token)));
         }
         builder.addVertex(xyz[0], xyz[1], xyz[2]);
+        lastVertexLine = line;
     }
 
     std::vector<std::int64_t> polygon;
@@ -96,27 +151,36 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
         if (!lines.nextSignificantLine(line))
             builder.fail("file ends after " + std::to_string(f) + " of " +
                          std::to_string(faceCount) + " faces");
-        TextTokenizer tokens(line);
-        const std::string_view countToken = tokens.nextToken();
-        std::int64_t corners = 0;
-        if (!parseInteger(countToken, corners) || corners < 0)
-            builder.fail("line " + std::to_string(lines.lineNumber()) + ": face " +
-                         std::to_string(f) + " has a bad vertex count " + quote(countToken));
-        polygon.clear();
-        // Read at most what the line holds, whatever the count claims.
-        for (std::int64_t c = 0; c < corners; ++c) {
-            const std::string_view token = tokens.nextToken();
-            std::int64_t index = 0;
-            if (token.empty())
-                builder.fail("line " + std::to_string(lines.lineNumber()) + ": face " +
-                             std::to_string(f) + " lists " + std::to_string(c) + " of its " +
-                             std::to_string(corners) + " vertex indices");
-            if (!parseInteger(token, index))
-                builder.fail("line " + std::to_string(lines.lineNumber()) + ": face " +
-                             std::to_string(f) + " has a bad vertex index " + quote(token));
-            polygon.push_back(index);
+        if (f > 0) {
+            addFaceLine(builder, line, lines.lineNumber(), f, vertexCount, polygon);
+            continue;
         }
-        builder.addFace(polygon, vertexCount);
+        // A vertex the header does not count lands where the first face is
+        // expected and fails there as a face; say what is wrong with the file.
+        try {
+            addFaceLine(builder, line, lines.lineNumber(), f, vertexCount, polygon);
+        } catch (const InputError&) {
+            if (realTokenCount(line) >= 3 &&
+                realTokenCount(line) == realTokenCount(lastVertexLine) &&
+                holdsMoreLines(lines, faceCount - 1))
+                builder.fail("line " + std::to_string(lines.lineNumber()) +
+                             ": the file holds more vertices than its header declares (" +
+                             std::to_string(vertexCount) + ")");
+            throw;
+        }
+    }
+    // Blank and comment lines may follow; anything else means the header's
+    // counts are wrong, and reading on would drop part of the mesh.
+    if (lines.nextSignificantLine(line)) {
+        TextTokenizer tokens(line);
+        std::int64_t corners = 0;
+        if (parseInteger(tokens.nextToken(), corners))
+            builder.fail("line " + std::to_string(lines.lineNumber()) +
+                         ": the file holds more faces than its header declares (" +
+                         std::to_string(faceCount) + ")");
+        builder.fail("line " + std::to_string(lines.lineNumber()) + ": " + quote(trim(line)) +
+                     " follows the last of the " + std::to_string(faceCount) +
+                     " faces the header declares");
     }
     return builder.finish();
 }

@@ -84,6 +84,18 @@ public:
         return mEncoding == PlyEncoding::Ascii ? mTokens.bytesLeft() : mSize - mPosition;
     }
 
+    /// True when anything but whitespace follows the values read so far.
+    bool dataLeft() const noexcept {
+        const char* rest = reinterpret_cast<const char*>(mData) + (mSize - bytesLeft());
+        return !std::all_of(rest, rest + bytesLeft(), isSpace);
+    }
+
+    /// ASCII: the line of the next token, counted from the start of the data (1-based).
+    std::size_t lineOfNextToken() {
+        mTokens.nextToken();
+        return mTokens.lineNumber();
+    }
+
     double readReal(PlyType type, const char* what) {
         if (mEncoding == PlyEncoding::Ascii) {
             const std::string_view token = nextToken(what);
@@ -251,6 +263,7 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
     }
     if (!haveFormat) builder.fail("the header has no 'format' line");
 
+    const std::size_t headerLines = lines.lineNumber();
     const std::size_t dataOffset = size - lines.bytesLeft();
     PlyValueReader reader(builder, encoding, data + dataOffset, size - dataOffset);
 
@@ -370,6 +383,19 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
         }
     }
     if (!haveFaceElement) builder.fail("the file has no face element");
+    // Whitespace may follow the last element; anything else means a count in
+    // the header is wrong, and reading on would drop part of the mesh.
+    if (reader.dataLeft()) {
+        const std::string last = quote(std::string_view(elements.back().name));
+        const std::string declared = std::to_string(elements.back().count);
+        if (encoding != PlyEncoding::Ascii)
+            builder.fail(std::to_string(reader.bytesLeft()) +
+                         " bytes follow the last element the header declares (" + declared +
+                         " items of " + last + ")");
+        builder.fail("line " + std::to_string(headerLines + reader.lineOfNextToken()) +
+                     ": the file holds more " + last + " lines than its header declares (" +
+                     declared + ")");
+    }
     return builder.finish();
 }
 

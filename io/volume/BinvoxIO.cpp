@@ -145,6 +145,13 @@ MaskVolume readBinvoxFromMemory(const std::string& name, const std::uint8_t* byt
     const BinvoxHeader header = BinvoxHeaderParser(name, bytes, size).parse();
     // "dim d0 d1 d2" are the extents of binvox x, z, y; ours are x, y, z.
     const Dims dims = Dims::checked(header.dim[0], header.dim[2], header.dim[1], name);
+    const double voxelSize =
+        header.scale / double(std::max({header.dim[0], header.dim[1], header.dim[2]}));
+    const VolumeGeometry geometry = VolumeGeometry::uniform(
+        voxelSize, {header.translate[0] + 0.5 * voxelSize, header.translate[1] + 0.5 * voxelSize,
+                    header.translate[2] + 0.5 * voxelSize});
+    const std::string problem = geometry.problemOver(dims);
+    if (!problem.empty()) throw InputError(name, problem);
     const std::uint64_t voxelCount = dims.voxelCount();
     const std::uint8_t* data = bytes + header.dataOffset;
     const std::size_t dataSize = size - header.dataOffset;
@@ -183,11 +190,7 @@ MaskVolume readBinvoxFromMemory(const std::string& name, const std::uint8_t* byt
         throw InputError(name, "data is too long: " + std::to_string(dataSize - offset) +
                                    " bytes of trailing data after the last voxel");
 
-    const double voxelSize =
-        header.scale / double(std::max({header.dim[0], header.dim[1], header.dim[2]}));
-    mask.geometry = VolumeGeometry::uniform(
-        voxelSize, {header.translate[0] + 0.5 * voxelSize, header.translate[1] + 0.5 * voxelSize,
-                    header.translate[2] + 0.5 * voxelSize});
+    mask.geometry = geometry;
     return mask;
 }
 

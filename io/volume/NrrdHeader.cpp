@@ -381,6 +381,8 @@ private:
         }
         if (mHeader.spaceOrigin) geometry.origin = *mHeader.spaceOrigin;
         if (mHeader.space) geometry.spaceName = *mHeader.space;
+        const std::string problem = geometry.problemOver(mHeader.dims);
+        if (!problem.empty()) fail(problem);
     }
 
     const std::string& mName;

@@ -249,18 +249,35 @@ MaskVolume readVdbMask(const fs::path& file, const std::string& gridName) {
                                  bytes.size(), gridName);
 }
 
-bool vdbCanHoldGeometry(const VolumeGeometry& geometry) {
-    const auto& d = geometry.directions;
-    const double determinant = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1]) -
-                               d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0]) +
-                               d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
-    // The bound of OpenVDB's ScaleMap; its AffineMap refuses the same
-    // determinants as "nearly singular".
-    return std::abs(determinant) >= 3.0 * openvdb::math::Tolerance<double>::value();
+bool vdbCanHoldVoxelVolume(const Dims& dims, const VolumeGeometry& geometry) {
+    initializeOpenVdb();
+    // OpenVDB itself decides, rather than a formula on the directions:
+    // writing a grid copies its transform, and OpenVDB rebuilds the copy of a
+    // scale-and-translate map through an affine map whose scale depends
+    // slightly on the translation, so the copy can be refused where the
+    // original was accepted. Build the copy too.
+    openvdb::math::Transform::Ptr transform;
+    try {
+        transform = transformFor(geometry)->copy();
+    } catch (const openvdb::ArithmeticError&) {
+        return false;
+    }
+    for (int corner = 0; corner < 8; ++corner) {
+        const openvdb::Vec3d index((corner & 1) ? dims.x - 1 : 0, (corner & 2) ? dims.y - 1 : 0,
+                                   (corner & 4) ? dims.z - 1 : 0);
+        const openvdb::Vec3d world = transform->indexToWorld(index);
+        if (!std::isfinite(world.x()) || !std::isfinite(world.y()) || !std::isfinite(world.z()))
+            return false;
+    }
+    return true;
 }
 
 void writeVdbLabels(const fs::path& file, const LabelVolume& labels) {
     initializeOpenVdb();
+    if (!vdbCanHoldVoxelVolume(labels.dims(), labels.geometry))
+        throw OutputError(file.string() +
+                          ": OpenVDB cannot hold this grid (a voxel volume under 3e-15 world "
+                          "units cubed, or world positions that are not finite)");
     const std::string temporary = temporaryNameBeside(file);
     try {
         openvdb::Int32Grid::Ptr grid = openvdb::Int32Grid::create(0);

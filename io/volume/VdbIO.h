@@ -32,17 +32,22 @@ MaskVolume readVdbMask(const std::filesystem::path& file, const std::string& gri
 MaskVolume readVdbMaskFromMemory(const std::string& name, const std::uint8_t* bytes,
                                  std::size_t size, const std::string& gridName = "");
 
-/// False when OpenVDB's linear transforms cannot hold `geometry`: they refuse
-/// a voxel whose volume (the determinant of the directions) is below 3e-15
-/// world units cubed, e.g. 10 um voxels given in metres. writeVdbLabels()
-/// would fail on such a grid; the caller leaves labels.vdb out.
-bool vdbCanHoldGeometry(const VolumeGeometry& geometry);
+/// The one test of whether OpenVDB can hold a grid of `dims` voxels placed by
+/// `geometry` (writeVdbLabels() checks it, and the mesh voxeliser measures its
+/// distances in world units only where it holds). It asks OpenVDB itself:
+/// true when OpenVDB builds the linear transform writeVdbLabels() gives the
+/// grid and that transform puts every corner voxel at a finite world
+/// position. OpenVDB's linear maps refuse a voxel whose volume (the
+/// determinant of the directions) is below 3e-15 world units cubed, e.g.
+/// 10 um voxels given in metres; the caller then leaves labels.vdb out.
+bool vdbCanHoldVoxelVolume(const Dims& dims, const VolumeGeometry& geometry);
 
 /// Writes `labels` as one Int32Grid named "labels": background 0, active where
 /// the label is above 0. The transform reproduces labels.geometry (a uniform
 /// scale and translation when the directions are axis aligned and isotropic,
 /// an affine map otherwise). Atomic: written under a temporary name, then
-/// renamed. @throw OutputError naming the file.
+/// renamed. @throw OutputError naming the file, also when
+/// vdbCanHoldVoxelVolume() is false.
 void writeVdbLabels(const std::filesystem::path& file, const LabelVolume& labels);
 
 }  // namespace skelseg

@@ -58,7 +58,23 @@ struct VolumeGeometry {
     /// grids skelseg makes, the mean step length otherwise.
     double voxelSize() const noexcept;
     static VolumeGeometry uniform(double voxelSize, std::array<double, 3> origin) noexcept;
+
+    /// Empty when a grid of `dims` voxels placed by this geometry can be
+    /// represented in doubles, otherwise the problem as one line for an
+    /// InputError. Refused: a voxel step (a direction) that is zero,
+    /// subnormal or not finite; steps so close to parallel that a voxel with
+    /// unit steps would have a volume under kMinRelativeVoxelStep; a voxel
+    /// volume that underflows or overflows doubles; a voxel centre whose world
+    /// position is not finite; and world coordinates so large that a voxel
+    /// step is below kMinRelativeVoxelStep of their magnitude, where
+    /// neighbouring voxels would get nearly the same world coordinates.
+    std::string problemOver(const Dims& dims) const;
 };
+
+/// Smallest voxel step relative to the largest world coordinate of a grid
+/// (2^-40): world positions then keep 12 bits below one voxel step, and
+/// neighbouring voxels stay distinct in every output written in doubles.
+constexpr double kMinRelativeVoxelStep = 1.0 / 1099511627776.0;
 
 template <typename T>
 class Volume {

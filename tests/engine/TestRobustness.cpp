@@ -32,8 +32,8 @@ namespace {
 // Small valid files the bad cases are derived from
 // ---------------------------------------------------------------------------
 
-const std::string kTetraOff =
-    "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+const std::string kTetraBody = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+const std::string kTetraOff = "OFF\n4 4 0\n" + kTetraBody;
 
 std::string nrrd(const std::string& fields, const std::string& data) {
     return "NRRD0004\n" + fields + "\n" + data;
@@ -207,6 +207,14 @@ std::vector<BadCase> nrrdCases() {
               nrrd(kUint8Fields + "space: up-down-sideways\n", kEightVoxels), "unknown space"),
         bytes("nrrd_origin_malformed", "origin.nrrd",
               nrrd(kUint8Fields + "space origin: 1 2 3\n", kEightVoxels), "is not a vector"),
+        // Geometry that doubles cannot represent (VolumeGeometry::problemOver).
+        bytes("nrrd_origin_too_far_for_the_spacing", "far.nrrd",
+              nrrd(kUint8Fields + "space origin: (1e15,0,0)\n", kEightVoxels),
+              "world coordinates reach 1e+15, where the voxel step along axis 0 (1) is below "
+              "2^-40 of them"),
+        bytes("nrrd_spacing_zero", "flat.nrrd",
+              nrrd(kUint8Fields + "spacings: 1 0 1\n", kEightVoxels),
+              "the voxel step along axis 1 is zero: the voxels have no volume"),
         bytes("nrrd_data_file_list", "list.nhdr",
               "NRRD0004\n" + kUint8Fields + "data file: LIST\na.raw\n", "multiple data files"),
         bytes("nrrd_data_file_missing", "detached.nhdr",
@@ -277,6 +285,8 @@ std::vector<BadCase> binvoxCases() {
               binvox("dim 4 4 4\nscale 0\ndata\n", kBinvoxRuns), "is not positive"),
         bytes("binvox_scale_nan", "scalenan.binvox",
               binvox("dim 4 4 4\nscale nan\ndata\n", kBinvoxRuns), "not a finite number"),
+        bytes("binvox_scale_subnormal", "subnormal.binvox",
+              binvox("dim 4 4 4\nscale 1e-320\ndata\n", kBinvoxRuns), "is a subnormal number"),
         bytes("binvox_translate_inf", "inf.binvox",
               binvox("dim 4 4 4\ntranslate 0 inf 0\ndata\n", kBinvoxRuns), "not a finite number"),
     };
@@ -291,6 +301,16 @@ std::vector<BadCase> meshCases() {
         "y\n"
         "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n";
     plyBinary += std::string(4 * 12, '\0') + "\x03";  // vertices, then the file ends inside face 0
+    std::string plyBinaryTetra = plyBinary;
+    plyBinaryTetra.pop_back();
+    const std::int32_t tetraFaces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    for (const auto& face : tetraFaces) {
+        plyBinaryTetra += '\x03';
+        plyBinaryTetra.append(reinterpret_cast<const char*>(face), 12);
+    }
+    const std::string plyHeaderThreeFaces =
+        kPlyHeader.substr(0, kPlyHeader.find("element face 4")) + "element face 3" +
+        kPlyHeader.substr(kPlyHeader.find("element face 4") + 14);
     return {
         // OFF
         bytes("off_empty", "empty.off", "", "empty file"),
@@ -323,6 +343,10 @@ std::vector<BadCase> meshCases() {
               "lists 3 of its 5"),
         bytes("off_face_count_huge", "fhuge.off",
               "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n", ""),
+        bytes("off_more_faces_than_declared", "morefaces.off", "OFF\n4 3 0\n" + kTetraBody,
+              "line 10: the file holds more faces than its header declares (3)"),
+        bytes("off_more_vertices_than_declared", "morevertices.off", "OFF\n3 4 0\n" + kTetraBody,
+              "line 6: the file holds more vertices than its header declares (3)"),
         // OBJ
         bytes("obj_empty", "empty.obj", "", "no faces"),
         bytes("obj_vertices_only", "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"),
@@ -411,6 +435,10 @@ std::vector<BadCase> meshCases() {
         bytes("ply_ascii_bad_value", "badval.ply",
               kPlyHeader + "0 0 0\n1 0 0\n0 one 0\n0 0 1\n3 0 2 1\n", "bad"),
         bytes("ply_binary_truncated", "cutbin.ply", plyBinary, "claims 4 items"),
+        bytes("ply_ascii_more_faces_than_declared", "morefaces.ply", plyHeaderThreeFaces + kPlyBody,
+              "line 17: the file holds more 'face' lines than its header declares (3)"),
+        bytes("ply_binary_trailing_bytes", "trailing.ply", plyBinaryTetra + "\x03\x01",
+              "2 bytes follow the last element the header declares (4 items of 'face')"),
     };
 }
 

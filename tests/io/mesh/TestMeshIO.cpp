@@ -227,6 +227,27 @@ struct BadInput {
     std::string expected;  // part of the message
 };
 
+/// Each case must throw an InputError whose one-line message starts with the
+/// file name and contains the expected problem.
+void expectEachRefused(const std::vector<BadInput>& cases) {
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        const BadInput& bad = cases[i];
+        const std::string name = std::string("bad.") + meshFormatName(bad.format);
+        try {
+            fromText(bad.format, bad.content, name);
+            ADD_FAILURE() << "case " << i << " (" << name
+                          << ") was accepted; expected: " << bad.expected;
+        } catch (const InputError& error) {
+            const std::string message = error.what();
+            EXPECT_EQ(message.rfind(name + ": ", 0), 0u) << "case " << i << ": " << message;
+            EXPECT_NE(message.find(bad.expected), std::string::npos)
+                << "case " << i << ": " << message;
+            EXPECT_EQ(message.find('\n'), std::string::npos)
+                << "case " << i << ": one line expected";
+        }
+    }
+}
+
 TEST(MeshIO, MalformedInputThrowsInputErrorNamingTheFile) {
     const std::string v3 = "0 0 0\n1 0 0\n0 1 0\n";
     // Long enough lines that the counts pass the bytes-left check.
@@ -323,22 +344,43 @@ TEST(MeshIO, MalformedInputThrowsInputErrorNamingTheFile) {
          "0.000000\n1.000000 0 0\n0.5\n",
          "file ends inside the vertex data"},
     };
-    for (std::size_t i = 0; i < cases.size(); ++i) {
-        const BadInput& bad = cases[i];
-        const std::string name = std::string("bad.") + meshFormatName(bad.format);
-        try {
-            fromText(bad.format, bad.content, name);
-            ADD_FAILURE() << "case " << i << " (" << name
-                          << ") was accepted; expected: " << bad.expected;
-        } catch (const InputError& error) {
-            const std::string message = error.what();
-            EXPECT_EQ(message.rfind(name + ": ", 0), 0u) << "case " << i << ": " << message;
-            EXPECT_NE(message.find(bad.expected), std::string::npos)
-                << "case " << i << ": " << message;
-            EXPECT_EQ(message.find('\n'), std::string::npos)
-                << "case " << i << ": one line expected";
-        }
-    }
+    expectEachRefused(cases);
+}
+
+TEST(MeshIO, DataBeyondTheHeaderCountsIsRefusedNamingWhatIsExtra) {
+    const std::string tetraVertices = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+    const std::string tetraFaces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    const auto plyHeader = [](int faces) {
+        return "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+               "property float z\nelement face " +
+               std::to_string(faces) + "\nproperty list uchar int vertex_indices\nend_header\n";
+    };
+    const std::string binaryPly = cubeBinaryPly(false);
+    const std::vector<BadInput> refused = {
+        // The header counts 3 of the 4 faces (and 4 of the 4 vertices).
+        {MeshFormat::Off, "OFF\n4 3 0\n" + tetraVertices + tetraFaces,
+         "line 10: the file holds more faces than its header declares (3)"},
+        // The header counts 3 of the 4 vertices: the 4th is read where face 0 belongs.
+        {MeshFormat::Off, "OFF\n3 4 0\n" + tetraVertices + tetraFaces,
+         "line 6: the file holds more vertices than its header declares (3)"},
+        {MeshFormat::Off, "OFF\n4 4 0\n" + tetraVertices + tetraFaces + "end\n",
+         "line 11: 'end' follows the last of the 4 faces the header declares"},
+        {MeshFormat::Ply, plyHeader(3) + tetraVertices + tetraFaces,
+         "line 17: the file holds more 'face' lines than its header declares (3)"},
+        {MeshFormat::Ply, binaryPly + std::string("\x03\0\0\0\0", 5),
+         "5 bytes follow the last element the header declares (6 items of 'face')"},
+    };
+    expectEachRefused(refused);
+
+    // Whitespace, and in OFF comment lines, may follow the last element.
+    EXPECT_EQ(fromText(MeshFormat::Off,
+                       "OFF\n4 4 0\n" + tetraVertices + tetraFaces + "\n  \t\r\n# the end\n\n")
+                  .faceCount,
+              4u);
+    EXPECT_EQ(
+        fromText(MeshFormat::Ply, plyHeader(4) + tetraVertices + tetraFaces + " \r\n\n").faceCount,
+        4u);
+    EXPECT_EQ(fromText(MeshFormat::Ply, binaryPly + "\n").faceCount, 6u);
 }
 
 TEST(MeshIO, ReadsFilesByExtensionAndNamesThemInErrors) {

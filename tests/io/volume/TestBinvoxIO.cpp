@@ -147,6 +147,15 @@ TEST(BinvoxIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
          "truncated run"},
         {"trailing-garbage", "#binvox 1\ndim 2 2 2\ndata\n" + eight + "xyz", "too long"},
         {"implausible-size", "#binvox 1\ndim 8000 8000 60\ndata\n" + eight, "cannot cover"},
+        // Geometry that doubles cannot represent (VolumeGeometry::problemOver);
+        // a voxel is scale / 2.
+        {"subnormal-scale", "#binvox 1\ndim 2 2 2\nscale 1e-320\ndata\n" + eight,
+         ") is a subnormal number: the voxels have no usable size"},
+        {"tiny-scale", "#binvox 1\ndim 2 2 2\nscale 2e-200\ndata\n" + eight,
+         "the voxel volume (1e-200 x 1e-200 x 1e-200) is outside the range of doubles"},
+        {"far", "#binvox 1\ndim 2 2 2\ntranslate 1e15 0 0\nscale 2\ndata\n" + eight,
+         "world coordinates reach 1e+15, where the voxel step along axis 0 (1) is below 2^-40 of "
+         "them"},
     };
     for (const auto& c : cases) {
         const std::string fileName = std::string(c.name) + ".binvox";

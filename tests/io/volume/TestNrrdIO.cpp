@@ -421,6 +421,45 @@ TEST(NrrdIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
     }
 }
 
+TEST(NrrdIO, GeometryThatCannotBeRepresentedIsRefused) {
+    test::TempDir dir;
+    const std::string raw24(2 * 3 * 4, '\1');
+    const std::string ok = basicFields("uint8", "2 3 4", "raw");
+    struct Case {
+        const char* name;
+        std::string fields;
+        const char* problem;
+    };
+    const std::vector<Case> cases = {
+        {"far", ok + "space origin: (1e15,0,0)\n",
+         "world coordinates reach 1e+15, where the voxel step along axis 0 (1) is below 2^-40 of "
+         "them: neighbouring voxels would get nearly the same world coordinates"},
+        {"zero-spacing", ok + "spacings: 1 0 1\n",
+         "the voxel step along axis 1 is zero: the voxels have no volume"},
+        {"subnormal-spacing", ok + "spacings: 1 1 5e-324\n",
+         "the voxel step along axis 2 (4.94066e-324) is a subnormal number: the voxels have no "
+         "usable size"},
+        {"parallel", ok + "space directions: (1,0,0) (2,0,0) (0,0,1)\n",
+         "the voxel steps are parallel or nearly so: the voxels have no volume"},
+        {"overflow", ok + "space origin: (1.7e308,0,0)\nspacings: 1e308 1 1\n",
+         "world coordinates overflow: voxel (1, 0, 0) lies at a non-finite position"},
+    };
+    for (const auto& c : cases) {
+        const std::string fileName = std::string(c.name) + ".nrrd";
+        writeBytes(dir / fileName, nrrd(c.fields, raw24));
+        try {
+            readNrrdMask(dir / fileName);
+            ADD_FAILURE() << fileName << " was accepted";
+        } catch (const InputError& error) {
+            EXPECT_EQ(std::string(error.what()), (dir / fileName).string() + ": " + c.problem);
+        }
+    }
+    // 1 um voxels a million units from the origin keep distinct positions.
+    writeBytes(dir / "micrometres.nrrd",
+               nrrd(ok + "space origin: (1e6,-1e6,0)\nspacings: 1e-6 1e-6 1e-6\n", raw24));
+    EXPECT_DOUBLE_EQ(readNrrdMask(dir / "micrometres.nrrd").geometry.origin[0], 1e6);
+}
+
 TEST(NrrdIO, FileSystemErrors) {
     test::TempDir dir;
     expectInputError([&] { readNrrdMask(dir / "absent.nrrd"); }, "absent.nrrd", "no such file");

@@ -5,10 +5,12 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/LevelSetSphere.h>
 
@@ -211,6 +213,93 @@ TEST(VdbIO, WriteLabelsUniformAndAffineGeometry) {
     // labels.vdb is an Int32Grid, which is not an input grid type.
     expectInputError([&] { readVdbMask(dir / "labels.vdb"); }, "labels.vdb",
                      "unsupported grid type int32");
+}
+
+namespace {
+
+/// The smallest factor t for which OpenVDB writes a grid with the transform
+/// `transformFor(t)`, to the last bit: asked of OpenVDB itself, never of skelseg.
+double smallestFactorOpenVdbWrites(
+    const std::function<openvdb::math::Transform::Ptr(double)>& transformFor) {
+    openvdb::initialize();
+    const auto writes = [&](double t) {
+        try {
+            auto grid = openvdb::Int32Grid::create(0);
+            grid->tree().setValueOn(openvdb::Coord(1, 1, 1), 7);
+            grid->setTransform(transformFor(t));
+            std::ostringstream out;
+            openvdb::io::Stream(out).write(openvdb::GridCPtrVec{grid});
+            return true;
+        } catch (const openvdb::ArithmeticError&) {
+            return false;
+        }
+    };
+    double low = 1e-12, high = 1.0;  // refused and written
+    EXPECT_FALSE(writes(low));
+    EXPECT_TRUE(writes(high));
+    for (;;) {
+        const double middle = low + (high - low) / 2;
+        if (middle <= low || middle >= high) break;
+        (writes(middle) ? high : low) = middle;
+    }
+    return high;
+}
+
+}  // namespace
+
+TEST(VdbIO, VoxelVolumeBoundIsOpenVdbsOwn) {
+    test::TempDir dir;
+    LabelVolume labels(Dims{3, 2, 2}, 1);
+    // The two kinds of transform labels.vdb gets (see writeVdbLabels): a
+    // uniform scale and translation, and an affine map (rotated, anisotropic).
+    const double oblique[3][3] = {{0.5, 0.1, 0.0}, {-0.1, 0.75, 0.0}, {0.0, 0.2, 1.2}};
+    struct Kind {
+        std::function<openvdb::math::Transform::Ptr(double)> transformFor;
+        std::function<VolumeGeometry(double)> geometryFor;
+    };
+    const Kind kinds[] = {
+        {[](double size) {
+             auto transform = openvdb::math::Transform::createLinearTransform(size);
+             transform->postTranslate(openvdb::Vec3d(1.0, 2.0, 3.0));
+             return transform;
+         },
+         [](double size) {
+             return VolumeGeometry::uniform(size, {1.0, 2.0, 3.0});
+         }},
+        {[&](double t) {
+             openvdb::Mat4d matrix = openvdb::Mat4d::identity();
+             for (int axis = 0; axis < 3; ++axis)
+                 for (int c = 0; c < 3; ++c) matrix[axis][c] = t * oblique[axis][c];
+             matrix.setTranslation(openvdb::Vec3d(-1.0, 0.5, 7.0));
+             return openvdb::math::Transform::createLinearTransform(matrix);
+         },
+         [&](double t) {
+             VolumeGeometry geometry;
+             geometry.origin = {-1.0, 0.5, 7.0};
+             for (int axis = 0; axis < 3; ++axis)
+                 for (int c = 0; c < 3; ++c) geometry.directions[axis][c] = t * oblique[axis][c];
+             return geometry;
+         }},
+    };
+    for (const Kind& kind : kinds) {
+        const double inside = smallestFactorOpenVdbWrites(kind.transformFor);
+        const double outside = std::nextafter(inside, 0.0);
+        // OpenVDB's bound: a voxel volume of 3e-15 world units cubed.
+        const double volume = kind.transformFor(inside)->voxelVolume();
+        EXPECT_GT(volume, 2.99e-15);
+        EXPECT_LT(volume, 3.01e-15);
+
+        labels.geometry = kind.geometryFor(inside);
+        EXPECT_TRUE(vdbCanHoldVoxelVolume(labels.dims(), labels.geometry)) << inside;
+        writeVdbLabels(dir / "inside.vdb", labels);
+        EXPECT_TRUE(fs::is_regular_file(dir / "inside.vdb"));
+        fs::remove(dir / "inside.vdb");
+
+        labels.geometry = kind.geometryFor(outside);
+        EXPECT_FALSE(vdbCanHoldVoxelVolume(labels.dims(), labels.geometry)) << outside;
+        EXPECT_THROW(writeVdbLabels(dir / "outside.vdb", labels), OutputError);
+        EXPECT_FALSE(fs::exists(dir / "outside.vdb"));
+    }
 }
 
 TEST(VdbIO, MalformedFilesGiveOneLineErrors) {
