@@ -321,7 +321,8 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
     outcome.failed = summary.count("failed");
     outcome.pending = summary.count("pending");
     for (const auto& e : summary.entries)
-        if (e.status == "failed") outcome.failedNames.push_back(e.name + ": " + e.error);
+        if (e.status == "failed")
+            outcome.failedNames.push_back(escapeControlCharacters(e.name + ": " + e.error));
     outcome.peakShapesInFlight = budget.peakShapesInFlight();
     outcome.summaryJson = options.outroot / (stem + ".json");
     return outcome;
@@ -336,13 +337,14 @@ int runBatchMerge(const fs::path& outroot, std::FILE* stream) {
                  result.shardFiles.size(), merged.entries.size(),
                  merged.entries.size() - result.missing.size(), result.failed.size(),
                  result.missing.size() - result.failed.size(),
-                 (outroot / "summary.json").string().c_str());
+                 escapeControlCharacters((outroot / "summary.json").string()).c_str());
     for (const auto& shard : result.missingShards)
         std::fprintf(stream, "skelseg batch --merge: no summary from shard %s\n", shard.c_str());
     for (const auto& e : merged.entries) {
         if (e.isDone()) continue;
-        std::fprintf(stream, "skelseg batch --merge: %s: %s%s%s\n", e.name.c_str(),
-                     e.status.c_str(), e.error.empty() ? "" : ": ", e.error.c_str());
+        std::fprintf(stream, "skelseg batch --merge: %s: %s%s%s\n",
+                     escapeControlCharacters(e.name).c_str(), e.status.c_str(),
+                     e.error.empty() ? "" : ": ", escapeControlCharacters(e.error).c_str());
     }
     return result.missing.empty() && result.missingShards.empty() ? 0 : kExitSomeInputsFailed;
 }

@@ -48,8 +48,10 @@ struct BatchCommandOptions {
 
 struct BatchOutcome {
     std::size_t inputs = 0, done = 0, skipped = 0, failed = 0, pending = 0;
-    std::vector<std::string> failedNames;  // with their errors: "name: message"
-    bool interrupted = false;              // Ctrl-C / SIGTERM: the rest was not started
+    /// With their errors, "name: message", control characters escaped (one
+    /// line each, as printed).
+    std::vector<std::string> failedNames;
+    bool interrupted = false;  // Ctrl-C / SIGTERM: the rest was not started
     std::size_t peakShapesInFlight = 0;
     std::filesystem::path summaryJson;
 };

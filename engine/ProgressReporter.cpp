@@ -4,6 +4,8 @@
 
 #include <csignal>
 
+#include "kernels/base/Error.h"
+
 namespace skelseg {
 
 namespace {
@@ -82,10 +84,12 @@ InterruptedError::Reason ProgressReporter::reason() const {
 }
 
 void ProgressReporter::message(const std::string& line) {
-    // Also when quiet: --quiet silences progress, not warnings.
+    // Also when quiet: --quiet silences progress, not warnings. Lines name
+    // files, and a file name may hold a newline or an escape sequence.
+    const std::string shown = escapeControlCharacters(line);
     std::lock_guard<std::mutex> lock(mMutex);
     clearLine();
-    std::fprintf(mStream, "%s\n", line.c_str());
+    std::fprintf(mStream, "%s\n", shown.c_str());
     std::fflush(mStream);
 }
 

@@ -37,7 +37,8 @@ public:
     InterruptedError::Reason reason() const override;
 
     /// Prints a one-line message (warnings), keeping the bar intact; also
-    /// when the display is Quiet.
+    /// when the display is Quiet. Control characters in `line` are escaped
+    /// (escapeControlCharacters()): it stays one line.
     void message(const std::string& line);
     double elapsedSeconds() const;
     /// Sets the time limit (seconds from the start; <= 0: none) after

@@ -249,8 +249,10 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
 }
 
 std::string oneLineMessage(std::string message) {
+    // CLI11 breaks some messages into lines; what the user typed (a file
+    // name) may hold any other control character.
     std::replace(message.begin(), message.end(), '\n', ' ');
-    return message;
+    return escapeControlCharacters(message);
 }
 
 std::vector<SegmentOptionDescription> segmentOptionDescriptions() {

@@ -41,6 +41,14 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
                              "that share their faces");
         }
         const std::string name = frame.stem().string();
+        // "..off" has the stem ".", "...off" "..": frames/NAME would be the
+        // frames folder itself or OUTDIR's staging folder, whose outputs the
+        // frame's would replace.
+        if (name.find_first_not_of('.') == std::string::npos)
+            throw UsageError(frame.string() + ": the frame's name has nothing but dots before " +
+                             frame.extension().string() +
+                             ", so its outputs would have no folder of their own (frames/" + name +
+                             "); rename the file");
         if (!seen.insert(name).second)
             throw UsageError(frame.string() + ": two frames are named '" + name +
                              "'; their outputs would share frames/" + name);

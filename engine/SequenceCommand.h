@@ -39,9 +39,10 @@ const std::vector<std::string>& sequenceOutputNames();
 
 /// Runs the command; `progress` carries its own lines, each frame gets a
 /// reporter of its own (its time limit counts from the frame's start).
-/// @throw UsageError for fewer than two frames, a frame
-/// that is not a mesh, two frames of one name, a frame inside OUTDIR's
-/// outputs, or OUTDIR holding earlier results without force; InputError
+/// @throw UsageError for fewer than two frames, a frame that is not a mesh,
+/// two frames of one name, a frame whose name is only dots before its
+/// extension ("..off": no folder frames/NAME of its own), a frame inside
+/// OUTDIR's outputs, or OUTDIR holding earlier results without force; InputError
 /// naming the frame whose faces differ from the first frame's, or any
 /// error of `skelseg segment` on a frame.
 void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter& progress);

@@ -171,7 +171,8 @@ int main(int argc, char** argv) {
                           << " failed" << (outcome.pending ? ", " : "")
                           << (outcome.pending ? std::to_string(outcome.pending) + " not started"
                                               : std::string())
-                          << "; summary in " << outcome.summaryJson.string() << "\n";
+                          << "; summary in "
+                          << skelseg::escapeControlCharacters(outcome.summaryJson.string()) << "\n";
             if (outcome.interrupted) {
                 std::cerr << "skelseg: error: batch interrupted; run it again to finish\n";
                 return 3;

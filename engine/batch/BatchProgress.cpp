@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kernels/base/Error.h"
+
 namespace skelseg {
 
 std::string formatDuration(double seconds) {
@@ -86,12 +88,14 @@ void BatchProgress::shapeFinished(const BatchEntry& entry) {
     // Quiet: the caller lists the failures at the end.
     if (mDisplay == Display::Quiet) return;
     clearBarLocked();
+    // The name is the input's file name: it may hold a newline.
+    const std::string name = escapeControlCharacters(entry.name);
     if (failed)
-        std::fprintf(mStream, "skelseg batch: %s failed: %s\n", entry.name.c_str(),
-                     entry.error.c_str());
+        std::fprintf(mStream, "skelseg batch: %s failed: %s\n", name.c_str(),
+                     escapeControlCharacters(entry.error).c_str());
     else if (mDisplay == Display::Lines)
         std::fprintf(mStream, "skelseg batch: [%s] %s: %llu parts, %.2f s\n",
-                     statusTextLocked().c_str(), entry.name.c_str(),
+                     statusTextLocked().c_str(), name.c_str(),
                      static_cast<unsigned long long>(entry.parts), entry.wallSeconds);
     if (mDisplay == Display::Bar) drawBarLocked();
     std::fflush(mStream);
@@ -101,7 +105,7 @@ void BatchProgress::message(const std::string& line) {
     const std::lock_guard<std::mutex> lock(mMutex);
     const bool redraw = mBarVisible;
     clearBarLocked();
-    std::fprintf(mStream, "%s\n", line.c_str());
+    std::fprintf(mStream, "%s\n", escapeControlCharacters(line).c_str());
     if (redraw) drawBarLocked();
     std::fflush(mStream);
 }

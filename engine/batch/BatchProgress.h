@@ -30,7 +30,8 @@ public:
 
     /// Counts a finished (done or failed) input and shows it.
     void shapeFinished(const BatchEntry& entry);
-    /// A line above the bar (printed in every mode).
+    /// A line above the bar (printed in every mode), control characters
+    /// escaped as in errors.
     void message(const std::string& line);
     /// "12/45 shapes, 3.4 shapes/min, ETA 9m41s".
     std::string statusText() const;

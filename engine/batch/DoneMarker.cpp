@@ -14,6 +14,7 @@
 #include "engine/ResultReport.h"
 #include "engine/Version.h"
 #include "io/files/OutputDirectory.h"
+#include "io/files/TextFile.h"
 #include "kernels/base/Error.h"
 
 namespace fs = std::filesystem;
@@ -22,9 +23,9 @@ using json = nlohmann::json;
 namespace skelseg {
 
 InputFingerprint fingerprintFile(const fs::path& file) {
+    checkReadableFile(file);
     std::ifstream in(file, std::ios::binary);
-    if (!in)
-        throw InputError(file.string(), std::string("cannot be read: ") + std::strerror(errno));
+    if (!in) throw InputError(file.string(), "cannot be read: " + describeErrno(errno));
     InputFingerprint fingerprint;
     uLong crc = ::crc32(0L, Z_NULL, 0);
     std::vector<char> block(std::size_t(1) << 20);

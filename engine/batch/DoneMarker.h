@@ -31,7 +31,9 @@ struct InputFingerprint {
 };
 
 /// Size and CRC-32 of a file, read in 1 MiB blocks.
-/// @throw InputError naming the file if it cannot be read.
+/// @throw InputError naming the file if it is not a readable regular file
+///        (checkReadableFile(): a FIFO or a device is refused before it is
+///        opened, which would block or read forever) or cannot be read.
 InputFingerprint fingerprintFile(const std::filesystem::path& file);
 
 /// The options that change a run's outputs, as canonical JSON text (keys

@@ -15,6 +15,8 @@ namespace skelseg {
 std::optional<Dims> peekVolumeDims(const fs::path& file) {
     const VolumeFormat format = volumeFormatFromPath(file);
     if (format != VolumeFormat::Nrrd && format != VolumeFormat::Binvox) return std::nullopt;
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) return std::nullopt;
     std::ifstream in(file, std::ios::binary);
     if (!in) return std::nullopt;
     std::string header(4096, '\0');

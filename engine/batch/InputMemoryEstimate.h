@@ -25,7 +25,8 @@
 namespace skelseg {
 
 /// Grid extents from an NRRD ("sizes:") or binvox ("dim") header; nullopt
-/// for other formats or a header that does not give them.
+/// for other formats, a header that does not give them, or a path that is
+/// not a regular file (a FIFO would block the batch before the input fails).
 std::optional<Dims> peekVolumeDims(const std::filesystem::path& file);
 
 /// Estimated peak bytes of segmenting `input` with `options` on `threads` threads.

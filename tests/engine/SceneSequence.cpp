@@ -137,5 +137,28 @@ TEST_F(SceneSequence, OneFrameAFrameInsideTheOutputsAndEarlierResultsAreRefused)
     EXPECT_EQ(test::fileBytes(dir / "earlier" / "sequence.json"), "{}");
 }
 
+TEST_F(SceneSequence, FramesNamedOnlyDotsBeforeTheExtensionAreRefusedAndNothingIsWritten) {
+    // frames/NAME would be frames/. or frames/.., the frames folder itself or
+    // OUTDIR's staging folder.
+    writeOff(dir / "a.off", *figure);
+    for (const std::string name : {"..off", "...off", "....OFF"}) {
+        SCOPED_TRACE(name);
+        writeOff(dir / name, posed(*figure, 10.0, 1.0));
+        const auto before = test::directoryEntries(dir.path());
+        const auto run =
+            test::runSkelseg({"sequence", (dir / "a.off").string(), (dir / name).string(), "-o",
+                              (dir / "out").string(), "-q", "--resolution", "48"});
+        EXPECT_EQ(run.exitCode, 2) << run.describe();
+        ASSERT_EQ(run.errLines().size(), 1u) << run.err;
+        EXPECT_EQ(run.errLines()[0].rfind("skelseg: error: " + (dir / name).string() +
+                                              ": the frame's name has nothing but dots before",
+                                          0),
+                  0u)
+            << run.err;
+        EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+        EXPECT_EQ(test::directoryEntries(dir.path()), before);
+    }
+}
+
 }  // namespace
 }  // namespace skelseg

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -18,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/BatchCommand.h"
 #include "io/mesh/MeshIO.h"
 #include "io/shapes/SyntheticShapes.h"
 #include "tests/engine/RobustnessHelpers.h"
@@ -778,6 +780,91 @@ TEST(BadInputCli, BatchRefusesAShapeOrBinaryDataAsItsManifest) {
                                      manifest == dir / "list.txt" ? "NUL byte" : "not a manifest"));
         EXPECT_TRUE(leftNothing(dir / "out"));
     }
+}
+
+/// True if `text` holds a control character other than the newlines that
+/// end its lines (what a raw file name would put on the terminal).
+bool holdsControlCharacters(const std::string& text) {
+    return std::any_of(text.begin(), text.end(), [](char c) {
+        const auto byte = static_cast<unsigned char>(c);
+        return c != '\n' && (byte < 0x20 || byte == 0x7f);
+    });
+}
+
+TEST(BadInputCli, FileNameWithControlCharactersIsEscapedOnTheOneLine) {
+    TempDir dir;
+    // Missing: the message is made before anything is read.
+    const fs::path missing = dir / "missing\nname\x1b[2J.off";
+    CliResult result = runSegment(missing, dir / "out");
+    EXPECT_TRUE(
+        failsWithOneLine(result, 2, (dir / "missing\\nname\\x1b[2J.off").string(), "no such file"));
+    EXPECT_FALSE(holdsControlCharacters(result.err)) << result.describe();
+    EXPECT_TRUE(leftNothing(dir / "out"));
+    // Malformed: the reader's message names the file too.
+    const fs::path bad = dir / "bad\r\tname.nrrd";
+    writeBytes(bad, "NRRD0004\n");
+    result = runSegment(bad, dir / "out");
+    EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "bad\\r\\tname.nrrd").string()));
+    EXPECT_FALSE(holdsControlCharacters(result.err)) << result.describe();
+    EXPECT_TRUE(leftNothing(dir / "out"));
+}
+
+TEST(BadInputCli, BatchPrintsFailedInputsWithControlCharactersOnOneLineEach) {
+    TempDir dir;
+    fs::create_directories(dir / "in");
+    writeBytes(dir / "in" / "tetra.off", kTetraOff);
+    writeBytes(dir / "in" / "bad\nname.off", "OFF\n");
+    // Without --quiet: a line per shape, the counts, the list of failures.
+    const CliResult result =
+        runSkelseg({"batch", (dir / "in").string(), "-o", (dir / "out").string(), "--resolution",
+                    "16", "--no-preview"},
+                   {}, std::chrono::seconds(120));
+    EXPECT_EQ(result.exitCode, kExitSomeInputsFailed) << result.describe();
+    EXPECT_FALSE(holdsControlCharacters(result.err)) << result.describe();
+    const auto lines = result.errLines();
+    ASSERT_GE(lines.size(), 2u) << result.describe();
+    const std::string escaped = (dir / "in" / "bad\\nname.off").string();
+    const auto startsWith = [&](const std::string& prefix) {
+        return std::count_if(lines.begin(), lines.end(),
+                             [&](const std::string& line) { return line.rfind(prefix, 0) == 0; });
+    };
+    EXPECT_EQ(startsWith("skelseg batch: bad\\nname failed: " + escaped + ": "), 1)
+        << result.describe();
+    EXPECT_EQ(lines[lines.size() - 2], "skelseg: error: 1 of 2 inputs failed:");
+    EXPECT_EQ(lines.back().rfind("  bad\\nname: " + escaped + ": ", 0), 0u) << lines.back();
+}
+
+TEST(BadInputCli, BatchRecordsAFifoAndADirectoryAsFailedInputsWithoutBlocking) {
+    TempDir dir;
+    writeBytes(dir / "tetra.off", kTetraOff);
+    // Named like inputs; a volume's name makes the memory estimate peek at
+    // its header, a mesh's makes the fingerprint read it.
+    ASSERT_EQ(::mkfifo((dir / "pipe.nrrd").c_str(), 0600), 0) << std::strerror(errno);
+    ASSERT_EQ(::mkfifo((dir / "fifo.off").c_str(), 0600), 0) << std::strerror(errno);
+    fs::create_directories(dir / "folder.off");
+    writeBytes(dir / "list.txt", "pipe.nrrd\ntetra.off\nfifo.off\nfolder.off\n");
+    const CliResult result =
+        runSkelseg({"batch", (dir / "list.txt").string(), "-o", (dir / "out").string(), "--quiet",
+                    "--resolution", "16", "--no-preview"},
+                   {}, std::chrono::seconds(60));
+    ASSERT_EQ(result.signal, 0) << "the batch blocked: " << result.describe();
+    EXPECT_EQ(result.exitCode, kExitSomeInputsFailed) << result.describe();
+    const auto lines = result.errLines();
+    ASSERT_EQ(lines.size(), 4u) << result.describe();
+    EXPECT_EQ(lines[0], "skelseg: error: 3 of 4 inputs failed:");
+    // In manifest order.
+    EXPECT_EQ(lines[1], "  pipe: " + (dir / "pipe.nrrd").string() + ": is not a regular file");
+    EXPECT_EQ(lines[2], "  fifo: " + (dir / "fifo.off").string() + ": is not a regular file");
+    EXPECT_EQ(lines[3],
+              "  folder: " + (dir / "folder.off").string() + ": is a directory, not a file");
+    // The regular input next to them was segmented.
+    const nlohmann::json summary = nlohmann::json::parse(fileBytes(dir / "out" / "summary.json"));
+    EXPECT_EQ(summary.at("counts").at("done"), 1);
+    EXPECT_EQ(summary.at("counts").at("failed"), 3);
+    EXPECT_TRUE(fs::exists(dir / "out" / "tetra" / "segmentation.seg"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "pipe"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "fifo"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "folder"));
 }
 
 // ---------------------------------------------------------------------------

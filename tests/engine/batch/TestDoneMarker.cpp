@@ -1,6 +1,7 @@
 // Done markers, input fingerprints and staging leftovers (engine/batch/DoneMarker.h,
 // engine/batch/StagingCleanup.h).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include "engine/Version.h"
 #include "engine/batch/DoneMarker.h"
@@ -22,6 +23,31 @@ TEST(DoneMarker, FingerprintSeesEveryByte) {
     writeBytes(dir / "a", "0123456788");
     EXPECT_FALSE(fingerprintFile(dir / "a") == first);
     EXPECT_THROW(fingerprintFile(dir / "absent"), InputError);
+}
+
+namespace {
+
+/// The problem of the InputError `fingerprintFile(file)` throws ("" if none).
+std::string fingerprintProblem(const fs::path& file) {
+    try {
+        fingerprintFile(file);
+    } catch (const InputError& error) {
+        return error.problem();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(DoneMarker, FingerprintRefusesAFifoWithoutOpeningItAndADirectory) {
+    TempDir dir;
+    // Opening a FIFO for reading blocks until a writer comes: this returns
+    // only because the type is checked first.
+    ASSERT_EQ(::mkfifo((dir / "pipe.off").c_str(), 0600), 0);
+    EXPECT_EQ(fingerprintProblem(dir / "pipe.off"), "is not a regular file");
+    fs::create_directories(dir / "folder.off");
+    EXPECT_EQ(fingerprintProblem(dir / "folder.off"), "is a directory, not a file");
+    EXPECT_EQ(fingerprintProblem(dir / "absent.off"), "no such file");
 }
 
 TEST(DoneMarker, RoundTripsAndMatchesOnlyTheSameInputOptionsAndVersion) {
