@@ -102,6 +102,41 @@ def test_bad_mesh_arrays_are_value_errors(capfd):
     check_quiet(capfd)
 
 
+@pytest.mark.parametrize("bad", [np.array([0.0, 0.0, 1.0, 1.0]),   # whole numbers: no cast either
+                                 np.array([0.0, 0.5, 1.0, 1.5]),
+                                 [0.0, 0.0, 1.0, 1.0],
+                                 np.array([True, True, False, False]),
+                                 np.array(["0", "0", "1", "1"])])
+def test_labels_that_are_not_integers_are_type_errors(capfd, bad):
+    labels = np.array([0, 0, 1, 1])
+    dtype = np.asarray(bad).dtype
+    with pytest.raises(TypeError, match=rf"^labels must be integers, not {dtype} "):
+        skelseg.score(bad, labels)
+    with pytest.raises(TypeError, match=rf"^human_labels must be integers, not {dtype} "):
+        skelseg.score(labels, bad)
+    with pytest.raises(TypeError, match=rf"^human_labels must be integers, not {dtype} "):
+        skelseg.score(labels, [labels, bad])
+    with pytest.raises(TypeError, match=rf"^frame_labels must be integers, not {dtype} "):
+        skelseg.sequence_consensus([labels, bad])
+    vertices = np.array([[0., 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    with pytest.raises(TypeError, match=rf"^mesh: triangle_face must be integers, not {dtype} "):
+        skelseg.segment_mesh(vertices, faces, triangle_face=bad, resolution=16)
+    with pytest.raises(TypeError, match=r"^mesh: faces must be integers, not float64 "):
+        skelseg.segment_mesh(vertices, faces.astype(float), resolution=16)
+    check_quiet(capfd)
+
+
+def test_integer_labels_of_any_width_are_accepted():
+    labels = np.array([0, 0, 1, 1])
+    for dtype in (np.int8, np.uint16, np.int32, np.uint64):
+        assert skelseg.score(labels.astype(dtype), labels).rand_index_error == 0
+    # Empty lists (float64 to numpy) have nothing to cast: the engine's own
+    # ValueError, not a TypeError.
+    with pytest.raises(ValueError, match=r"^segmentations without faces cannot be compared$"):
+        skelseg.score([], [[]])
+
+
 def test_meshes_without_area_or_out_of_scale_are_value_errors(capfd):
     triangle = np.array([[0, 1, 2]])
     with pytest.raises(ValueError, match=r"^mesh: all 1 faces have zero area"):

@@ -44,3 +44,15 @@ def test_lists_of_ints_are_accepted_and_a_tie_goes_to_the_earlier_frame():
 def test_bad_sequences_raise_value_error(frames):
     with pytest.raises(ValueError):
         skelseg.sequence_consensus(frames)
+
+
+@pytest.mark.parametrize("scalar", [3, 2.5, np.int64(3), np.array(3), np.array([[0, 1]])[0, 0]])
+def test_a_scalar_instead_of_frames_is_a_value_error(scalar):
+    with pytest.raises(ValueError, match=r"^frame_labels must be a sequence of per-frame label "
+                                         r"arrays, not the scalar "):
+        skelseg.sequence_consensus(scalar)
+
+
+def test_integer_valued_float_frames_are_type_errors_not_cast():
+    with pytest.raises(TypeError, match=r"^frame_labels must be integers, not float64 "):
+        skelseg.sequence_consensus([np.array([0.0, 0.0, 1.0, 1.0]), np.array([0, 1, 1, 2])])

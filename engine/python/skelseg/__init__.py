@@ -298,6 +298,19 @@ def _with_option_help(function: Callable) -> Callable:
     return function
 
 
+def _integer_array(value: Any, what: str) -> np.ndarray:
+    """value as a C-contiguous int64 array; TypeError unless its dtype is an
+    integer one. Floats are refused even when every value is whole: a cast
+    would turn 1.7 into 1 without a word, and labels or indices computed in
+    floating point are a bug to show, not to round. An empty list (float64
+    to numpy) has nothing to cast and passes."""
+    array = np.asarray(value)
+    if array.dtype.kind not in "iu" and array.size > 0:
+        raise TypeError(f"{what} must be integers, not {array.dtype} (cast with .astype(int) "
+                        f"if the values are whole)")
+    return np.ascontiguousarray(array, dtype=np.int64)
+
+
 def _result(raw: dict, cls: type = SegmentationResult, **extra: Any) -> SegmentationResult:
     for message in raw["warnings"]:
         warnings.warn(message, SkelsegWarning, stacklevel=3)
@@ -457,6 +470,7 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
             voxels wide [2, 4]; the CLI's --self-overlap-clearance.
         triangle_face: with faces of shape (T, 3), the input face of each
             triangle (as read_mesh() gives it); labels are then per input face.
+            Integers, like faces (floats raise TypeError, whole or not).
         contact_patch_seams: where a contact's seam is refused, try a seam
             between the two mesh patches of the contact (the CLI's
             --contact-patch-seams); report["input"]["contacts_patch_seamed"].
@@ -485,8 +499,9 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
 
     Raises:
         ValueError: bad arrays (shapes, indices out of range, non-finite
-            coordinates) or parameters. MemoryError, TimeoutError,
-            KeyboardInterrupt: as segment().
+            coordinates) or parameters. TypeError: faces or triangle_face
+            that are not integers (a float array, even of whole numbers).
+            MemoryError, TimeoutError, KeyboardInterrupt: as segment().
     """
     arguments = _call_arguments(locals(), progress)
     vertex_array = np.ascontiguousarray(vertices, dtype=np.float64)
@@ -494,14 +509,12 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
     if face_array.ndim != 2 or face_array.shape[1] < 3:
         raise ValueError(f"mesh: faces must have shape (F, k) with k >= 3, "
                          f"not {face_array.shape}")
-    if face_array.dtype.kind not in "iu":
-        raise TypeError(f"mesh: faces must be integers, not {face_array.dtype}")
-    face_array = face_array.astype(np.int64, copy=False)
+    face_array = _integer_array(face_array, "mesh: faces")
     if triangle_face is not None:
         if face_array.shape[1] != 3:
             raise ValueError("mesh: triangle_face needs faces of shape (T, 3)")
         triangles = face_array
-        triangle_of = np.asarray(triangle_face, dtype=np.int64)
+        triangle_of = _integer_array(triangle_face, "mesh: triangle_face")
     elif face_array.shape[1] == 3:
         triangles = face_array
         triangle_of = np.zeros(0, np.int64)
@@ -562,14 +575,19 @@ def score(labels: np.ndarray, human_labels: Union[np.ndarray, Sequence[np.ndarra
     face_areas (e.g. read_mesh(path).face_areas()) the Hamming distance is
     weighted by area, as the benchmark and the CLI do; without, every face
     counts once. Returns the mean over the humans with .per_human.
+    Raises TypeError for labels that are not integers (a float array, even
+    of whole numbers: no silent rounding) and ValueError for a scalar or
+    arrays of different lengths.
     """
-    candidate = np.ascontiguousarray(labels, dtype=np.int64)
+    candidate = _integer_array(labels, "labels")
     if isinstance(human_labels, np.ndarray):
+        if human_labels.ndim == 0:
+            raise ValueError("human_labels must be one or more arrays of labels, not a scalar")
         humans = [human_labels] if human_labels.ndim == 1 else list(human_labels)
     else:
         listed = list(human_labels)
         humans = [listed] if listed and np.ndim(listed[0]) == 0 else listed
-    humans = [np.ascontiguousarray(h, dtype=np.int64) for h in humans]
+    humans = [_integer_array(h, "human_labels") for h in humans]
     areas = None if face_areas is None else np.ascontiguousarray(face_areas, dtype=np.float64)
     raw = _skelseg.score(candidate, humans, areas)
     return _score(raw, tuple(_score(h) for h in raw["per_human"]))
@@ -581,10 +599,16 @@ def sequence_consensus(frame_labels: Sequence[np.ndarray]) -> SequenceConsensus:
     The frames of an animated character share their faces, so one frame's
     labels segment every frame: frame_labels[consensus.reference]. As
     `skelseg sequence` chooses (docs/outputs.md, "skelseg sequence").
-    Raises ValueError for fewer than two frames, no faces or frames of
-    different face counts.
+    Raises ValueError for a scalar instead of a sequence of frames, fewer
+    than two frames, no faces or frames of different face counts, and
+    TypeError for labels that are not integers (a float array, even of whole
+    numbers: no silent rounding).
     """
-    frames = [np.ascontiguousarray(f, dtype=np.int64) for f in frame_labels]
+    if isinstance(frame_labels, (numbers.Number, np.generic)) or (
+            isinstance(frame_labels, np.ndarray) and frame_labels.ndim == 0):
+        raise ValueError(f"frame_labels must be a sequence of per-frame label arrays, "
+                         f"not the scalar {frame_labels!r}")
+    frames = [_integer_array(f, "frame_labels") for f in frame_labels]
     raw = _skelseg.sequence_consensus(frames)
     return SequenceConsensus(int(raw["reference"]), int(raw["modal_parts"]),
                              tuple(int(p) for p in raw["parts"]),
