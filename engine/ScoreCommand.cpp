@@ -68,8 +68,10 @@ int runScoreCommand(const std::filesystem::path& meshPath,
         return 0;
     }
 
+    // A row per file: a name's newline would break the table.
     out << fmt::format("{} ({} faces) scored against {} human segmentation(s)\n",
-                       candidatePath.string(), mesh.faceCount, humanPaths.size());
+                       escapeControlCharacters(candidatePath.string()), mesh.faceCount,
+                       humanPaths.size());
     out << "Rand Index error over faces; Hamming distance weighted by face area (as the Princeton "
            "benchmark)\n";
     out << fmt::format("{:<40} {:>10} {:>10} {:>10} {:>10}\n", "human", "rand_err", "hamming",
@@ -77,8 +79,8 @@ int runScoreCommand(const std::filesystem::path& meshPath,
     for (std::size_t h = 0; h < humanPaths.size(); ++h) {
         const PartitionScore& s = summary.perHuman[h];
         out << fmt::format("{:<40} {:>10.4f} {:>10.4f} {:>10.4f} {:>10.4f}\n",
-                           humanPaths[h].filename().string(), s.randIndexError, s.hammingDistance,
-                           s.missingRate, s.falseAlarmRate);
+                           escapeControlCharacters(humanPaths[h].filename().string()),
+                           s.randIndexError, s.hammingDistance, s.missingRate, s.falseAlarmRate);
     }
     const PartitionScore& m = summary.mean;
     out << fmt::format("{:<40} {:>10.4f} {:>10.4f} {:>10.4f} {:>10.4f}\n", "mean", m.randIndexError,

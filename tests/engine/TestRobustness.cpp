@@ -639,6 +639,9 @@ INSTANTIATE_TEST_SUITE_P(
         UsageCase{"unknown_subcommand", {"paint", "{input}"}, ""},
         UsageCase{"missing_output", {"segment", "{input}"}, "--output"},
         UsageCase{"unknown_option", {"segment", "{input}", "-o", "{out}", "--colour"}, "--colour"},
+        UsageCase{"unknown_option_with_an_escape",
+                  {"segment", "{input}", "-o", "{out}", "--colour\x1b[2J"},
+                  "--colour\\x1b[2J"},
         UsageCase{
             "tau_not_a_number", {"segment", "{input}", "-o", "{out}", "--tau", "lots"}, "--tau"},
         UsageCase{"tau_over_100_percent",

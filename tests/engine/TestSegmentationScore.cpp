@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <sstream>
@@ -187,6 +188,15 @@ TEST(ScoreCommand, PrintsJsonAndTable) {
     runScoreCommand(dir / "cube.off", dir / "candidate.seg", {dir / "human1.seg.gz"}, false, table);
     EXPECT_NE(table.str().find("human1.seg.gz"), std::string::npos);
     EXPECT_NE(table.str().find("mean"), std::string::npos);
+
+    // A file name's newline stays inside its row: 3 header lines, 2 rows.
+    writeSeg(dir / "human\n3.seg", {0, 0, 1, 1, 2, 2});
+    std::ostringstream escaped;
+    runScoreCommand(dir / "cube.off", dir / "candidate.seg", {dir / "human\n3.seg"}, false,
+                    escaped);
+    const std::string text = escaped.str();
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 5) << text;
+    EXPECT_NE(text.find("\nhuman\\n3.seg "), std::string::npos) << text;
 
     writeSeg(dir / "short.seg", {0, 0, 1});
     try {
