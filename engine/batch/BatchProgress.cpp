@@ -27,10 +27,9 @@ BatchProgress::BatchProgress(std::size_t total, std::size_t skipped, Display dis
       mStream(stream),
       mStart(std::chrono::steady_clock::now()),
       mTotal(total),
-      mSkipped(skipped) {
+      mFinished(skipped) {
     if (mDisplay == Display::Auto)
         mDisplay = ::isatty(::fileno(stream)) ? Display::Bar : Display::Lines;
-    mFinished = skipped;
     const std::lock_guard<std::mutex> lock(mMutex);
     if (mDisplay == Display::Bar) drawBarLocked();
 }

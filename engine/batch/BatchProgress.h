@@ -46,7 +46,7 @@ private:
     Display mDisplay;
     std::FILE* mStream;
     std::chrono::steady_clock::time_point mStart;
-    std::size_t mTotal, mSkipped, mFinished = 0, mSegmented = 0;
+    std::size_t mTotal, mFinished, mSegmented = 0;  // skipped inputs count as finished
     mutable std::mutex mMutex;
     bool mBarVisible = false;
 };

@@ -226,7 +226,7 @@ void appendRegion(LabelledSurface& surface, const RegionMesh& mesh, const Volume
     const auto offset = std::uint32_t(surface.vertices.size());
     surface.vertices.reserve(surface.vertices.size() + mesh.points.size());
     for (const auto& p : mesh.points)
-        surface.vertices.push_back(geometry.indexToWorld(p[0], p[1], p[2]));
+        surface.vertices.push_back(geometry.indexToWorld(double(p[0]), double(p[1]), double(p[2])));
     surface.triangles.reserve(surface.triangles.size() + 2 * mesh.quads.size());
     surface.triangleLabels.reserve(surface.triangleLabels.size() + 2 * mesh.quads.size());
     auto addTriangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
