@@ -73,9 +73,9 @@ TriangleMesh readBinaryStl(const std::string& name, const std::uint8_t* data,
     for (std::uint64_t t = 0; t < triangleCount; ++t) {
         const std::uint8_t* record = data + 84 + 50 * t + 12;  // skip the normal
         for (int corner = 0; corner < 3; ++corner) {
-            const double x = readFloatLittleEndian(record + 12 * corner);
-            const double y = readFloatLittleEndian(record + 12 * corner + 4);
-            const double z = readFloatLittleEndian(record + 12 * corner + 8);
+            const double x = double(readFloatLittleEndian(record + 12 * corner));
+            const double y = double(readFloatLittleEndian(record + 12 * corner + 4));
+            const double z = double(readFloatLittleEndian(record + 12 * corner + 8));
             if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
                 builder.fail("triangle " + std::to_string(t) + " has a non-finite coordinate");
             polygon[std::size_t(corner)] = welder.add(x, y, z);
