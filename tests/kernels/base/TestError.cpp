@@ -21,6 +21,27 @@ TEST(EscapeControlCharacters, KeepsPrintableAsciiUtf8AndBackslashes) {
     EXPECT_EQ(escapeControlCharacters(""), "");
 }
 
+// A C1 control is a terminal escape too: CSI (U+009B) starts a sequence as
+// ESC [ does, NEL (U+0085) and the separators break lines in some terminals.
+TEST(EscapeControlCharacters, WritesC1ControlsAndLineSeparatorsAsEscapes) {
+    EXPECT_EQ(escapeControlCharacters("a\xC2\x9B"
+                                      "31mred"),
+              "a\\u009b31mred");
+    EXPECT_EQ(escapeControlCharacters("x\xC2\x85y\xE2\x80\xA8z\xE2\x80\xA9"),
+              "x\\u0085y\\u2028z\\u2029");
+    // The same bytes alone, to an 8-bit terminal: escaped as bytes.
+    EXPECT_EQ(escapeControlCharacters("a\x9B"
+                                      "31m\x85"),
+              "a\\x9b31m\\x85");
+    // Neighbours of those code points are printable and kept.
+    const std::string kept = "\xC2\xA0\xE2\x80\xA7\xE2\x80\xAA\xF0\x9F\x98\x80";
+    EXPECT_EQ(escapeControlCharacters(kept), kept);
+    // An overlong or truncated sequence is no UTF-8: its bytes from 0x80 to
+    // 0x9f are escaped, the others kept.
+    EXPECT_EQ(escapeControlCharacters("\xC1\x9B"), "\xC1\\x9b");
+    EXPECT_EQ(escapeControlCharacters("\xE2\x80"), "\xE2\\x80");
+}
+
 TEST(Error, EveryKindEscapesItsMessage) {
     const std::string name = "bad\nname\x1b.off";
     const std::string shown = "bad\\nname\\x1b.off";
