@@ -49,9 +49,7 @@ using ShapeMessage = std::shared_ptr<const SegmentedShape>;
 /// output name (a labels.nrrd fed back in, a level's labels, a detached
 /// header's data file) would be overwritten or removed.
 void refuseInputAmongOutputs(const SegmentCommandOptions& options) {
-    const bool volume = volumeFormatFromPath(options.input) != VolumeFormat::Unknown;
-    for (const fs::path& file :
-         volume ? volumeInputFiles(options.input) : std::vector<fs::path>{options.input}) {
+    for (const fs::path& file : volumeInputFiles(options.input)) {
         const std::string output = outputReplacing(file, options.outdir, segmentOutputNames());
         if (output.empty()) continue;
         const std::string what =

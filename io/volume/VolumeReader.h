@@ -37,9 +37,9 @@ VolumeFormat volumeFormatFromPath(const std::filesystem::path& file);
 /// @throw UsageError if options.gridName is set for a file that is not .vdb.
 MaskVolume readVolume(const std::filesystem::path& file, const VolumeReadOptions& options = {});
 
-/// Every file readVolume(file) reads: `file`, and a detached NRRD header's
-/// data file. A command checks them against its outputs so that --force never
-/// replaces what it reads.
+/// Every file reading `file` reads: `file`, and a detached NRRD header's
+/// data file (any other path, a mesh included, reads only itself). A command checks them against
+/// its outputs so that --force never replaces what it reads.
 std::vector<std::filesystem::path> volumeInputFiles(const std::filesystem::path& file);
 
 }  // namespace skelseg
