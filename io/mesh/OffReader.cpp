@@ -11,29 +11,38 @@ namespace skelseg {
 
 namespace {
 
-/// Parses one face line ("count i0 i1 ...", extra values ignored) and adds the
-/// polygon to `builder`.
-void addFaceLine(MeshBuilder& builder, std::string_view line, std::size_t lineNumber,
-                 std::uint64_t face, std::uint64_t vertexCount,
-                 std::vector<std::int64_t>& polygon) {
+/// Parses one face ("count i0 i1 ...", extra values after the indices on the
+/// line where the last index stands are ignored) and adds the polygon to
+/// `builder`. `line` is the face's first line; when it ends before the count's
+/// indices do, the indices go on on the next significant lines of `lines`, as
+/// OFF is free-format in its tokens (Geomview reads it so, and writers that
+/// wrap long lines, e.g. libigl's quad-mesh test data, rely on it). Only the
+/// file's end stops a short face.
+void addFace(MeshBuilder& builder, TextTokenizer& lines, std::string_view line, std::uint64_t face,
+             std::uint64_t vertexCount, std::vector<std::int64_t>& polygon) {
+    const std::size_t firstLine = lines.lineNumber();
     TextTokenizer tokens(line);
     const std::string_view countToken = tokens.nextToken();
     std::int64_t corners = 0;
     if (!parseInteger(countToken, corners) || corners < 0)
-        builder.fail("line " + std::to_string(lineNumber) + ": face " + std::to_string(face) +
+        builder.fail("line " + std::to_string(firstLine) + ": face " + std::to_string(face) +
                      " has a bad vertex count " + quote(countToken));
     polygon.clear();
-    // Read at most what the line holds, whatever the count claims.
     for (std::int64_t c = 0; c < corners; ++c) {
-        const std::string_view token = tokens.nextToken();
+        std::string_view token = tokens.nextToken();
+        while (token.empty()) {
+            std::string_view nextLine;
+            if (!lines.nextSignificantLine(nextLine))
+                builder.fail("line " + std::to_string(firstLine) + ": face " +
+                             std::to_string(face) + " lists " + std::to_string(c) + " of its " +
+                             std::to_string(corners) + " vertex indices");
+            tokens = TextTokenizer(nextLine);
+            token = tokens.nextToken();
+        }
         std::int64_t index = 0;
-        if (token.empty())
-            builder.fail("line " + std::to_string(lineNumber) + ": face " + std::to_string(face) +
-                         " lists " + std::to_string(c) + " of its " + std::to_string(corners) +
-                         " vertex indices");
         if (!parseInteger(token, index))
-            builder.fail("line " + std::to_string(lineNumber) + ": face " + std::to_string(face) +
-                         " has a bad vertex index " + quote(token));
+            builder.fail("line " + std::to_string(lines.lineNumber()) + ": face " +
+                         std::to_string(face) + " has a bad vertex index " + quote(token));
         polygon.push_back(index);
     }
     builder.addFace(polygon, vertexCount);
@@ -152,17 +161,18 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
             builder.fail("file ends after " + std::to_string(f) + " of " +
                          std::to_string(faceCount) + " faces");
         if (f > 0) {
-            addFaceLine(builder, line, lines.lineNumber(), f, vertexCount, polygon);
+            addFace(builder, lines, line, f, vertexCount, polygon);
             continue;
         }
         // A vertex the header does not count lands where the first face is
         // expected and fails there as a face; say what is wrong with the file.
+        const TextTokenizer afterFirstFaceLine = lines;
         try {
-            addFaceLine(builder, line, lines.lineNumber(), f, vertexCount, polygon);
+            addFace(builder, lines, line, f, vertexCount, polygon);
         } catch (const InputError&) {
             if (realTokenCount(line) >= 3 &&
                 realTokenCount(line) == realTokenCount(lastVertexLine) &&
-                holdsMoreLines(lines, faceCount - 1))
+                holdsMoreLines(afterFirstFaceLine, faceCount - 1))
                 builder.fail("line " + std::to_string(lines.lineNumber()) +
                              ": the file holds more vertices than its header declares (" +
                              std::to_string(vertexCount) + ")");

@@ -297,6 +297,44 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
         if (element.name == "vertex") declaredVertices += element.count;
 
     std::vector<std::int64_t> polygon;
+    // Reads every item of a face-like element into `polygon` (its
+    // 'vertex_indices' list; other properties skipped) and calls onItem.
+    auto readIndexLists = [&](const PlyElement& element, auto&& onItem) {
+        const std::string what = element.name;
+        int indexProperty = -1;
+        for (std::size_t p = 0; p < element.properties.size(); ++p) {
+            const PlyProperty& property = element.properties[p];
+            if (property.isList &&
+                (property.name == "vertex_indices" || property.name == "vertex_index"))
+                indexProperty = int(p);
+        }
+        if (indexProperty < 0)
+            builder.fail("the " + what + " element has no 'vertex_indices' list");
+        if (!plyTypeIsInteger(element.properties[std::size_t(indexProperty)].valueType))
+            builder.fail(what + " vertex indices are not integers");
+        for (std::uint64_t item = 0; item < element.count; ++item) {
+            for (std::size_t p = 0; p < element.properties.size(); ++p) {
+                const PlyProperty& property = element.properties[p];
+                if (!property.isList) {
+                    reader.skip(property.valueType, what.c_str());
+                    continue;
+                }
+                const std::int64_t count = reader.readInteger(property.countType, what.c_str());
+                if (count < 0 || std::uint64_t(count) > reader.bytesLeft())
+                    builder.fail(what + " " + std::to_string(item) + " has a bad list length " +
+                                 std::to_string(count));
+                if (int(p) != indexProperty) {
+                    for (std::int64_t i = 0; i < count; ++i)
+                        reader.skip(property.valueType, what.c_str());
+                    continue;
+                }
+                polygon.clear();
+                for (std::int64_t i = 0; i < count; ++i)
+                    polygon.push_back(reader.readInteger(property.valueType, what.c_str()));
+            }
+            onItem();
+        }
+    };
     for (const PlyElement& element : elements) {
         if (element.name == "vertex") {
             int axisProperty[3] = {-1, -1, -1};
@@ -332,39 +370,29 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
             }
         } else if (element.name == "face") {
             haveFaceElement = true;
-            int indexProperty = -1;
-            for (std::size_t p = 0; p < element.properties.size(); ++p) {
-                const PlyProperty& property = element.properties[p];
-                if (property.isList &&
-                    (property.name == "vertex_indices" || property.name == "vertex_index"))
-                    indexProperty = int(p);
-            }
-            if (indexProperty < 0) builder.fail("the face element has no 'vertex_indices' list");
-            if (!plyTypeIsInteger(element.properties[std::size_t(indexProperty)].valueType))
-                builder.fail("face vertex indices are not integers");
             builder.reserve(0, element.count);
-            for (std::uint64_t f = 0; f < element.count; ++f) {
-                for (std::size_t p = 0; p < element.properties.size(); ++p) {
-                    const PlyProperty& property = element.properties[p];
-                    if (!property.isList) {
-                        reader.skip(property.valueType, "face");
-                        continue;
-                    }
-                    const std::int64_t count = reader.readInteger(property.countType, "face");
-                    if (count < 0 || std::uint64_t(count) > reader.bytesLeft())
-                        builder.fail("face " + std::to_string(f) + " has a bad list length " +
-                                     std::to_string(count));
-                    if (int(p) != indexProperty) {
-                        for (std::int64_t i = 0; i < count; ++i)
-                            reader.skip(property.valueType, "face");
-                        continue;
-                    }
-                    polygon.clear();
-                    for (std::int64_t i = 0; i < count; ++i)
-                        polygon.push_back(reader.readInteger(property.valueType, "face"));
+            readIndexLists(element, [&] { builder.addFace(polygon, declaredVertices); });
+        } else if (element.name == "tristrips") {
+            // Triangle strips (the Stanford scanning repository's older
+            // files, e.g. igea.ply): -1 starts a new strip. Each triangle of
+            // a strip is one face, in strip order, every second one flipped
+            // to keep the orientation; the triangles a strip repeats a vertex
+            // in (to turn) are no faces.
+            haveFaceElement = true;
+            std::vector<std::int64_t> strip;
+            readIndexLists(element, [&] {
+                strip.swap(polygon);
+                std::int64_t inStrip = 0;
+                for (std::size_t i = 0; i < strip.size(); ++i) {
+                    inStrip = strip[i] == -1 ? 0 : inStrip + 1;
+                    if (inStrip < 3) continue;
+                    const std::int64_t a = strip[i - 2], b = strip[i - 1], c = strip[i];
+                    if (a == b || b == c || a == c) continue;
+                    const bool flip = (inStrip - 3) % 2 == 1;
+                    polygon.assign({flip ? b : a, flip ? a : b, c});
+                    builder.addFace(polygon, declaredVertices);
                 }
-                builder.addFace(polygon, declaredVertices);
-            }
+            });
         } else {
             // Any other element (edges, materials, ...): skip it value by value.
             for (std::uint64_t item = 0; item < element.count; ++item)

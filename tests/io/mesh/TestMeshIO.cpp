@@ -347,6 +347,35 @@ TEST(MeshIO, MalformedInputThrowsInputErrorNamingTheFile) {
     expectEachRefused(cases);
 }
 
+TEST(MeshIO, OffFaceIndicesMayContinueOnTheNextLines) {
+    // The cube with its faces wrapped as some writers do (count and first
+    // index on one line, each further index on its own), a face colour after
+    // the last index, and a comment line inside a face.
+    const std::string wrapped =
+        "OFF\n8 6 0\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2\n0 2 2\n"
+        "4 0 \n3 \n2 \n1 \n4 4 5\n# wrapped\n6 7\n4 0 1 5 4\n4 1 2\n6 5 255 0 0\n"
+        "4\n2 3 7 6\n4 3 0 4 7\n";
+    expectSameMesh(fromText(MeshFormat::Off, kCubeOff), fromText(MeshFormat::Off, wrapped));
+    // The file's end still stops a short face, naming the line it starts on.
+    expectEachRefused({{MeshFormat::Off, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0\n1 2\n",
+                        "line 6: face 0 lists 3 of its 4 vertex indices"}});
+}
+
+TEST(MeshIO, PlyTriangleStripsGiveOneFacePerTriangle) {
+    // A tetrahedron as two strips (-1 restarts) with a turn that repeats a
+    // vertex: every second triangle flipped, the repeated ones no faces.
+    const std::string strips =
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+        "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n12 0 1 2 3 3 -1 2 3 0 1 1 1\n";
+    const TriangleMesh mesh = fromText(MeshFormat::Ply, strips);
+    EXPECT_EQ(mesh.faceCount, 4u);
+    EXPECT_EQ(mesh.triangles, (std::vector<std::array<std::uint32_t, 3>>{
+                                  {0, 1, 2}, {2, 1, 3}, {2, 3, 0}, {0, 3, 1}}));
+    EXPECT_EQ(mesh.triangleFace, (std::vector<std::uint32_t>{0, 1, 2, 3}));
+    EXPECT_TRUE(checkMesh(mesh).closed);
+}
+
 TEST(MeshIO, DataBeyondTheHeaderCountsIsRefusedNamingWhatIsExtra) {
     const std::string tetraVertices = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
     const std::string tetraFaces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
