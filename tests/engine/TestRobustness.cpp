@@ -1043,7 +1043,17 @@ TEST(Outputs, TimeLimitIsExitThreeAndLeavesNothing) {
     const fs::path input = dir / "sphere.nrrd";
     writeNrrdMask(input, rasterise(makeShape("sphere"), {64, 3}));
     const CliResult result = runSegment(input, dir / "out", {"--time-limit", "0.001"});
-    EXPECT_TRUE(failsWithOneLine(result, 3, "", "time limit"));
+    EXPECT_TRUE(failsWithOneLine(result, 3, "sphere.nrrd", "time limit reached (--time-limit"));
+    EXPECT_TRUE(leftNothing(dir / "out"));
+}
+
+// A budget that no resolution fits is a time limit, and the line says so.
+TEST(Outputs, ABudgetNothingFitsNamesTheFileAndTheBudget) {
+    TempDir dir;
+    const fs::path input = dir / "sphere.nrrd";
+    writeNrrdMask(input, rasterise(makeShape("sphere"), {64, 3}));
+    const CliResult result = runSegment(input, dir / "out", {"--time-budget", "0.001"});
+    EXPECT_TRUE(failsWithOneLine(result, 3, "sphere.nrrd", "fit --time-budget 0.001 s"));
     EXPECT_TRUE(leftNothing(dir / "out"));
 }
 
@@ -1054,7 +1064,7 @@ TEST(Outputs, TimeLimitKeepsAnExistingOutdirAsItWas) {
     fs::create_directory(dir / "out");
     writeBytes(dir / "out" / "notes.txt", "mine");
     const CliResult result = runSegment(input, dir / "out", {"--time-limit", "0.001"});
-    EXPECT_TRUE(failsWithOneLine(result, 3, "", "time limit"));
+    EXPECT_TRUE(failsWithOneLine(result, 3, "sphere.nrrd", "time limit"));
     EXPECT_EQ(directoryEntries(dir / "out"), std::vector<std::string>{"notes.txt"});
 }
 
