@@ -1,8 +1,8 @@
 #include "engine/SegmentCommand.h"
 
+#include <fmt/format.h>
 #include <tbb/flow_graph.h>
 #include <tbb/info.h>
-#include <fmt/format.h>
 #include <tbb/task_arena.h>
 #include <unistd.h>
 

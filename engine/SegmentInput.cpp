@@ -204,9 +204,8 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         }
         result.resolution = chosen.resolution;
         SignedVoxelization signedVoxels;
-        MeshVoxelization voxelised =
-            voxelise(*source, chosen, timer, stop, result.estimatedMemory, false, "voxelise",
-                     0, signedVoxels);
+        MeshVoxelization voxelised = voxelise(*source, chosen, timer, stop, result.estimatedMemory,
+                                              false, "voxelise", 0, signedVoxels);
         {
             Stage stage(timer, stop, "genus", true);
             result.meshGenus = meshTopology(*source->mesh);
@@ -224,8 +223,8 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         if (!fillThinParts) signedVoxels = SignedVoxelization{};  // free it before the skeleton
         if (fillThinParts) {
             std::uint64_t filledMemory = 0;
-            MeshVoxelization filled = voxelise(*source, chosen, timer, stop, filledMemory,
-                                               true, "voxelise with thin parts filled",
+            MeshVoxelization filled = voxelise(*source, chosen, timer, stop, filledMemory, true,
+                                               "voxelise with thin parts filled",
                                                voxelised.mask.dims().voxelCount(), signedVoxels);
             signedVoxels = SignedVoxelization{};
             result.estimatedMemory = std::max(result.estimatedMemory, filledMemory);
