@@ -1,5 +1,6 @@
 #include "engine/SegmentCommand.h"
 
+#include <fmt/format.h>
 #include <tbb/flow_graph.h>
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
@@ -219,6 +220,20 @@ void runGraph(const RunContext& run) {
     graph.wait_for_all();
 }
 
+/// Why a run stopped at its time limit, in words: the budget when it was
+/// the limit (no choice fitted it), otherwise --time-limit.
+std::string timeLimitReached(const SegmentCommandOptions& options) {
+    const auto seconds = [](double s) { return fmt::format("{:g} s", s); };
+    const bool budgetWasTheLimit =
+        options.timeBudgetSeconds > 0 &&
+        (options.timeLimitSeconds <= 0 || options.timeLimitSeconds > options.timeBudgetSeconds);
+    if (budgetWasTheLimit)
+        return "time limit reached: no resolution or coarsening was predicted to fit "
+               "--time-budget " +
+               seconds(options.timeBudgetSeconds) + ", so the run stopped at it";
+    return "time limit reached (--time-limit " + seconds(options.timeLimitSeconds) + ")";
+}
+
 }  // namespace
 
 void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& progress) {
@@ -265,8 +280,14 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
                          previewSkippedForBudget,
                          budgetAsTimeLimit};
     tbb::task_arena arena(threads);
-    arena.execute([&] { runGraph(run); });
-    throwIfInterrupted(progress);
+    try {
+        arena.execute([&] { runGraph(run); });
+        throwIfInterrupted(progress);
+    } catch (const InterruptedError& error) {
+        if (error.reason() != InterruptedError::Reason::TimeLimit) throw;
+        throw InterruptedError(error.reason(),
+                               options.input.string() + ": " + timeLimitReached(options));
+    }
     out.commit();
 }
 

@@ -1,6 +1,7 @@
 #include "engine/SegmentInput.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cstdio>
 
@@ -125,6 +126,36 @@ double secondsLeft(const SegmentInputOptions& options) {
            std::chrono::duration<double>(std::chrono::steady_clock::now() - options.start).count();
 }
 
+/// Under --time-budget, the caller's interrupter until the plan says a
+/// choice fits, stopping the run once the budget is spent: the probe, and
+/// the mask of a choice predicted over the budget, end at the budget as
+/// --time-limit would, instead of finishing a voxelisation that the caller's
+/// limit (limitTimeToBudget) only stops after.
+class BudgetStop final : public Interrupter {
+public:
+    BudgetStop(Interrupter& inner, const SegmentInputOptions& options)
+        : mInner(inner), mOptions(options) {}
+    void start(const char* name) override { mInner.start(name); }
+    void end() override { mInner.end(); }
+    bool wasInterrupted(double fraction) override {
+        if (mInner.wasInterrupted(fraction)) return true;
+        if (!mActive.load(std::memory_order_relaxed) || secondsLeft(mOptions) > 0.0) return false;
+        mSpent.store(true);
+        return true;
+    }
+    InterruptedError::Reason reason() const override {
+        return mSpent.load() ? InterruptedError::Reason::TimeLimit : mInner.reason();
+    }
+    /// A choice fits: from here on only the caller's interrupter stops the
+    /// run (a late answer rather than none, docs/performance.md).
+    void release() noexcept { mActive.store(false); }
+
+private:
+    Interrupter& mInner;
+    const SegmentInputOptions& mOptions;
+    std::atomic<bool> mActive{true}, mSpent{false};
+};
+
 /// Chooses the resolution (meshes) before voxelising; budget of the user,
 /// not what is left after reading, in the choice's budgetSeconds.
 BudgetChoice planMeshBudget(const SegmentSource& source, const SegmentInputOptions& options,
@@ -162,21 +193,23 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
                               Interrupter& interrupter,
                               const std::function<void(const std::string&)>& warn) {
     SegmentMask result;
+    BudgetStop budgetStop(interrupter, options);
+    Interrupter& stop = options.timeBudgetSeconds > 0 ? budgetStop : interrupter;
     if (source->isMesh()) {
         SegmentInputOptions chosen = options;
         if (options.timeBudgetSeconds > 0) {
-            result.budget = planMeshBudget(*source, options, timer, interrupter);
+            result.budget = planMeshBudget(*source, options, timer, stop);
             chosen.resolution = result.budget->resolution;
+            if (result.budget->fits) budgetStop.release();
         }
         result.resolution = chosen.resolution;
         SignedVoxelization signedVoxels;
-        MeshVoxelization voxelised =
-            voxelise(*source, chosen, timer, interrupter, result.estimatedMemory, false, "voxelise",
-                     0, signedVoxels);
+        MeshVoxelization voxelised = voxelise(*source, chosen, timer, stop, result.estimatedMemory,
+                                              false, "voxelise", 0, signedVoxels);
         {
-            Stage stage(timer, interrupter, "genus", true);
+            Stage stage(timer, stop, "genus", true);
             result.meshGenus = meshTopology(*source->mesh);
-            result.voxelGenus = voxelTopology(voxelised.mask, {}, interrupter);
+            result.voxelGenus = voxelTopology(voxelised.mask, {}, stop);
         }
         // Handles the mesh does not have: parts thinner than a voxel (an ear)
         // may have come out perforated. Voxelise again with their middles
@@ -190,15 +223,15 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         if (!fillThinParts) signedVoxels = SignedVoxelization{};  // free it before the skeleton
         if (fillThinParts) {
             std::uint64_t filledMemory = 0;
-            MeshVoxelization filled = voxelise(*source, chosen, timer, interrupter, filledMemory,
-                                               true, "voxelise with thin parts filled",
+            MeshVoxelization filled = voxelise(*source, chosen, timer, stop, filledMemory, true,
+                                               "voxelise with thin parts filled",
                                                voxelised.mask.dims().voxelCount(), signedVoxels);
             signedVoxels = SignedVoxelization{};
             result.estimatedMemory = std::max(result.estimatedMemory, filledMemory);
             VoxelTopology filledGenus;
             {
-                Stage stage(timer, interrupter, "genus with thin parts filled", true);
-                filledGenus = voxelTopology(filled.mask, {}, interrupter);
+                Stage stage(timer, stop, "genus with thin parts filled", true);
+                filledGenus = voxelTopology(filled.mask, {}, stop);
             }
             result.thinPartFill = filledGenus.genus < result.voxelGenus.genus ? "kept" : "rejected";
             result.thinPartGenus = filledGenus.genus;
@@ -217,7 +250,10 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         }
     } else {
         result.mask = std::move(source->volumeMask);
-        if (options.timeBudgetSeconds > 0) planVolumeBudget(result, options, timer, interrupter);
+        if (options.timeBudgetSeconds > 0) {
+            planVolumeBudget(result, options, timer, stop);
+            if (result.budget->fits) budgetStop.release();
+        }
     }
     std::uint64_t objectVoxels = 0;
     for (std::uint8_t v : result.mask.values()) objectVoxels += v != 0;

@@ -1038,13 +1038,20 @@ bool hasStagingDirectory(const fs::path& outdir) {
     return false;
 }
 
+// A time limit, and a budget that no resolution fits (then a time limit
+// too): exit 3, nothing left, and the line names the input and the limit.
 TEST(Outputs, TimeLimitIsExitThreeAndLeavesNothing) {
     TempDir dir;
     const fs::path input = dir / "sphere.nrrd";
     writeNrrdMask(input, rasterise(makeShape("sphere"), {64, 3}));
-    const CliResult result = runSegment(input, dir / "out", {"--time-limit", "0.001"});
-    EXPECT_TRUE(failsWithOneLine(result, 3, "", "time limit"));
-    EXPECT_TRUE(leftNothing(dir / "out"));
+    const std::pair<const char*, const char*> limits[] = {
+        {"--time-limit", "time limit reached (--time-limit 0.001 s)"},
+        {"--time-budget", "to fit --time-budget 0.001 s"}};
+    for (const auto& [option, problem] : limits) {
+        const CliResult result = runSegment(input, dir / "out", {option, "0.001"});
+        EXPECT_TRUE(failsWithOneLine(result, 3, "sphere.nrrd", problem)) << option;
+        EXPECT_TRUE(leftNothing(dir / "out")) << option;
+    }
 }
 
 TEST(Outputs, TimeLimitKeepsAnExistingOutdirAsItWas) {
@@ -1054,7 +1061,7 @@ TEST(Outputs, TimeLimitKeepsAnExistingOutdirAsItWas) {
     fs::create_directory(dir / "out");
     writeBytes(dir / "out" / "notes.txt", "mine");
     const CliResult result = runSegment(input, dir / "out", {"--time-limit", "0.001"});
-    EXPECT_TRUE(failsWithOneLine(result, 3, "", "time limit"));
+    EXPECT_TRUE(failsWithOneLine(result, 3, "sphere.nrrd", "time limit"));
     EXPECT_EQ(directoryEntries(dir / "out"), std::vector<std::string>{"notes.txt"});
 }
 

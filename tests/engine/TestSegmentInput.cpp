@@ -1,0 +1,70 @@
+// The mask of an input under --time-budget (engine/SegmentInput.h).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+
+#include "engine/SegmentInput.h"
+#include "engine/StageTimer.h"
+#include "io/mesh/MeshCheck.h"
+#include "tests/support/ShapeMeshes.h"
+
+namespace skelseg {
+namespace {
+
+std::shared_ptr<SegmentSource> figureSource() {
+    auto source = std::make_shared<SegmentSource>();
+    source->file = "figure.off";
+    source->mesh = test::figureMesh(false);
+    source->meshDiagnostics = checkMesh(*source->mesh);
+    return source;
+}
+
+SegmentInputOptions budgetOptions(double seconds) {
+    SegmentInputOptions options;
+    options.resolution = 64;
+    options.memoryLimit = std::uint64_t(1) << 34;
+    options.timeBudgetSeconds = seconds;
+    options.start = std::chrono::steady_clock::now();
+    return options;
+}
+
+bool hasStage(const StageTimer& timer, const std::string& name) {
+    const auto timings = timer.timings();
+    return std::any_of(timings.begin(), timings.end(),
+                       [&](const StageTiming& t) { return t.name == name; });
+}
+
+// A budget spent before the plan is made: nothing can fit, so the run stops
+// at the budget as --time-limit does, before voxelising at any resolution
+// (the caller's limit alone would only stop it after the whole mask).
+TEST(SegmentInput, ABudgetSpentDuringTheProbeStopsBeforeVoxelising) {
+    const SegmentInputOptions options = budgetOptions(1e-9);
+    StageTimer timer;
+    try {
+        maskSegmentSource(figureSource(), options, timer, nullInterrupter(),
+                          [](const std::string&) {});
+        ADD_FAILURE() << "a spent budget produced a mask";
+    } catch (const InterruptedError& e) {
+        EXPECT_EQ(e.reason(), InterruptedError::Reason::TimeLimit);
+    }
+    EXPECT_FALSE(hasStage(timer, "voxelise"));
+}
+
+// A choice that fits is voxelised whatever the clock says after the plan:
+// the budget is then no limit (a late answer rather than none).
+TEST(SegmentInput, AnAmpleBudgetGivesTheMaskOfTheChosenResolution) {
+    const SegmentInputOptions options = budgetOptions(1000.0);
+    StageTimer timer;
+    const SegmentMask mask = maskSegmentSource(figureSource(), options, timer, nullInterrupter(),
+                                               [](const std::string&) {});
+    ASSERT_TRUE(mask.budget.has_value());
+    EXPECT_TRUE(mask.budget->fits);
+    EXPECT_EQ(mask.resolution, 64);
+    EXPECT_TRUE(hasStage(timer, "voxelise"));
+    EXPECT_GT(mask.mask.dims().voxelCount(), 0u);
+}
+
+}  // namespace
+}  // namespace skelseg
