@@ -886,6 +886,34 @@ TEST(UnusualInputCli, ByteOrderMarkBeforeTheFirstObjVertexIsSkipped) {
     EXPECT_EQ(fileBytes(dir / "a" / "segmentation.seg"), fileBytes(dir / "b" / "segmentation.seg"));
 }
 
+TEST(UnusualInputCli, BatchInputsNamedLikeTheSummaryOrWithLongNamesAreSegmented) {
+    TempDir dir;
+    // Each failed (exit 5): summary.json.off's folder was the summary file
+    // ("cannot remove: Not a directory"), and a 251-byte stem in two folders
+    // gave "folder-stem", over the 255 bytes of a folder name ("File name too
+    // long").
+    const std::string stem(251, 'x');
+    for (const fs::path& input :
+         {fs::path("summary.json.off"), fs::path("summary.csv.off"),
+          fs::path(std::string(200, 'p')) / (stem + ".off"), fs::path("qq") / (stem + ".off")}) {
+        fs::create_directories((dir / input).parent_path());
+        writeBytes(dir / input, kTetraOff);
+    }
+    writeBytes(dir / "list.txt", "summary.json.off\nsummary.csv.off\n" + std::string(200, 'p') +
+                                     "/" + stem + ".off\nqq/" + stem + ".off\n");
+    const CliResult result =
+        runSkelseg({"batch", (dir / "list.txt").string(), "-o", (dir / "out").string(), "--quiet",
+                    "--resolution", "16", "--no-preview"});
+    ASSERT_EQ(result.exitCode, 0) << result.describe();
+    EXPECT_TRUE(result.errLines().empty()) << result.describe();
+    const nlohmann::json summary = nlohmann::json::parse(fileBytes(dir / "out" / "summary.json"));
+    EXPECT_EQ(summary.at("counts").at("done"), 4);
+    for (const std::string& name :
+         {std::string("summary.json-2"), std::string("summary.csv-2"), "ppp-" + stem, "qq-" + stem})
+        EXPECT_TRUE(fs::exists(dir / "out" / name / "segmentation.seg")) << name;
+    EXPECT_TRUE(fs::is_regular_file(dir / "out" / "summary.csv"));
+}
+
 TEST(UnusualInputCli, MeshInTinyUnitsIsSegmentedWithoutLabelsVdb) {
     TempDir dir;
     // A 0.1 mm tetrahedron in metres: OpenVDB's transforms refuse its voxels.

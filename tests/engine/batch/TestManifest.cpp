@@ -150,6 +150,47 @@ TEST(OutputNames, CollisionsGetTheFolderThenACounter) {
     EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
 }
 
+TEST(OutputNames, TheBatchsOwnFileNamesGetACounter) {
+    // OUTROOT/summary.json is the batch's file: a folder of that name could
+    // not be made, and the input failed.
+    const std::vector<fs::path> inputs = {"a/summary.json.off",
+                                          "summary.csv.ply",
+                                          "summary.shard-0-of-2.json.obj",
+                                          "summary.off",
+                                          "summary.shard-1-of-2.csv.stl",
+                                          "summary.txt.off"};
+    const auto names = uniqueOutputNames(inputs);
+    EXPECT_EQ(names, (std::vector<std::string>{"summary.json-2", "summary.csv-2",
+                                               "summary.shard-0-of-2.json-2", "summary",
+                                               "summary.shard-1-of-2.csv-2", "summary.txt"}));
+}
+
+TEST(OutputNames, NoNameIsLongerThanAFolderNameCanBe) {
+    // A 251-byte stem (a 255-byte file name) in several folders:
+    // "folder-stem" was over 255 bytes and the input failed with "File name
+    // too long".
+    const std::string stem(251, 'x');
+    const std::string folder(200, 'p');
+    const std::string accented = "a\xC3\xA9\xC3\xA9";  // a cut must not split a character
+    const std::vector<fs::path> inputs = {
+        fs::path(folder) / (stem + ".off"), fs::path("qq") / (stem + ".off"),
+        fs::path(accented) / (stem + ".off"), fs::path("r") / "qq" / (stem + ".off")};
+    const auto names = uniqueOutputNames(inputs);
+    for (const auto& name : names) EXPECT_LE(name.size(), 255u) << name;
+    EXPECT_EQ(names[0], "ppp-" + stem);  // the folder's name is cut, not the stem
+    EXPECT_EQ(names[1], "qq-" + stem);
+    EXPECT_EQ(names[2], "a\xC3\xA9-" + stem);
+    EXPECT_EQ(names[3], "qq-" + stem.substr(0, 250) + "-2");  // cut before the counter
+    EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
+    // Cut names that become equal are told apart by the counter.
+    std::vector<fs::path> many;
+    for (int i = 0; i < 12; ++i)
+        many.push_back(fs::path(std::string(240, 'd') + std::to_string(i)) / (stem + ".off"));
+    const auto cut = uniqueOutputNames(many);
+    EXPECT_EQ(std::set<std::string>(cut.begin(), cut.end()).size(), many.size());
+    for (const auto& name : cut) EXPECT_LE(name.size(), 255u);
+}
+
 TEST(Shards, EveryInputInExactlyOneShardForOneToSevenShards) {
     std::mt19937 random(11);
     std::vector<std::uint64_t> sizes(41);
