@@ -115,6 +115,30 @@ TEST(BatchSummary, MergeWithoutSummariesIsAnInputError) {
     EXPECT_THROW(mergeBatchSummaries(dir.path()), InputError);
 }
 
+TEST(BatchSummary, MergeRefusesASummaryWhoseShardIsNotTheOneItsNameSays) {
+    TempDir dir;
+    writeBatchSummary(dir.path(), "summary.shard-1-of-2", shardSummary(1, 2, {entry("b", "done")}));
+    // A damaged shard-0 file claiming a count of 2^31 - 1, the newest: the
+    // merge listed every missing share of that count, for minutes.
+    BatchSummary damaged = shardSummary(0, 2147483647, {entry("a", "done")});
+    damaged.updatedAt = "2026-11-30T07:00:00Z";
+    writeBatchSummary(dir.path(), "summary.shard-0-of-2", damaged);
+    try {
+        mergeBatchSummaries(dir.path());
+        ADD_FAILURE() << "the damaged summary was merged";
+    } catch (const InputError& error) {
+        EXPECT_EQ(std::string(error.what()),
+                  (dir / "summary.shard-0-of-2.json").string() +
+                      ": not a skelseg batch summary: it holds shard 0/2147483647 but is named "
+                      "for 0/2");
+    }
+    EXPECT_FALSE(fs::exists(dir / "summary.json"));
+    // The single summary of an unsharded batch is share 0/1.
+    TempDir single;
+    writeBatchSummary(single.path(), "summary", shardSummary(3, 5, {entry("a", "done")}));
+    EXPECT_THROW(mergeBatchSummaries(single.path()), InputError);
+}
+
 TEST(MemoryBudget, AdmitsWhatFitsAndOneOversizedShapeAlone) {
     MemoryBudget budget(100, 3);
     EXPECT_TRUE(budget.acquire(60));
