@@ -146,7 +146,7 @@ Manifest readManifest(const fs::path& source) {
                              "or list its path in a text file)");
         const std::string bytes = readFileBytes(source);
         std::string_view text(bytes);
-        text.remove_prefix(utf8BomLength(text));
+        text.remove_prefix(textContentStart(source.string(), text));
         const fs::path base = source.parent_path();
         std::size_t start = 0;
         for (int line = 1; start < text.size(); ++line) {

@@ -26,7 +26,7 @@ bool stripContinuation(std::string_view& line) {
 
 TriangleMesh readObj(const std::string& name, const char* data, std::size_t size) {
     MeshBuilder builder(name, 1);
-    const std::size_t bom = utf8BomLength(std::string_view(data, size));
+    const std::size_t bom = textContentStart(name, std::string_view(data, size));
     TextTokenizer lines(data + bom, size - bom);
     std::string_view line;
     std::string joined;  // a statement continued over several lines

@@ -95,6 +95,19 @@ BadCase bytes(std::string name, std::string fileName, std::string content, std::
             [content](const fs::path& f) { writeBytes(f, content); }, std::move(problem)};
 }
 
+/// `ascii` as UTF-16 with a byte order mark, as Windows PowerShell's `>` and
+/// Notepad's "Unicode" write text.
+std::string utf16(const std::string& ascii, bool bigEndian = false) {
+    std::string out = bigEndian ? "\xFE\xFF" : "\xFF\xFE";
+    for (char c : ascii) {
+        out += bigEndian ? '\0' : c;
+        out += bigEndian ? c : '\0';
+    }
+    return out;
+}
+const std::string kUtf16Problem =
+    "is UTF-16 text (it starts with a UTF-16 byte order mark); save it as UTF-8";
+
 BadCase seg(std::string name, std::string content, std::string problem) {
     BadCase c = bytes(std::move(name), "labels.seg", std::move(content), std::move(problem));
     c.score = true;
@@ -441,6 +454,19 @@ std::vector<BadCase> meshCases() {
               "line 17: the file holds more 'face' lines than its header declares (3)"),
         bytes("ply_binary_trailing_bytes", "trailing.ply", plyBinaryTetra + "\x03\x01",
               "2 bytes follow the last element the header declares (4 items of 'face')"),
+        // Each reader refused these for another reason: "the mesh has no
+        // faces" (OBJ), "it starts with '??O?F?F?'" (OFF), "no 'ply' line".
+        bytes("off_utf16", "utf16.off", utf16(kTetraOff), kUtf16Problem),
+        bytes("obj_utf16", "utf16.obj",
+              utf16("v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nv 0 0 1\r\nf 1 3 2\r\nf 1 2 4\r\n"),
+              kUtf16Problem),
+        bytes("obj_utf16_big_endian", "utf16be.obj",
+              utf16("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", true), kUtf16Problem),
+        bytes("stl_ascii_utf16", "utf16.stl",
+              utf16("solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 "
+                    "1 0\nendloop\nendfacet\nendsolid t\n"),
+              kUtf16Problem),
+        bytes("ply_utf16", "utf16.ply", utf16(kPlyHeader + kPlyBody), kUtf16Problem),
     };
 }
 
@@ -452,6 +478,7 @@ std::vector<BadCase> segCases() {
         seg("seg_two_numbers_on_a_line", "0\n1 2\n1\n0\n", "line 2"),
         seg("seg_too_few_labels", "0\n1\n", ""),
         seg("seg_too_many_labels", "0\n1\n1\n0\n1\n", ""),
+        seg("seg_utf16", utf16("0\r\n1\r\n1\r\n0\r\n"), kUtf16Problem),
         seg("seg_gzip_truncated", gz.substr(0, gz.size() - 6), "truncated"),
         seg("seg_gzip_corrupt", gz.substr(0, 10) + std::string(6, '\xee') + gz.substr(16), ""),
         seg("seg_binary_garbage",

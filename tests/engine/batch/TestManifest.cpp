@@ -111,6 +111,20 @@ TEST(Manifest, AShapeOrBinaryDataIsNotAManifest) {
     writeBytes(dir / "binary.txt", std::string("a.nrrd\nb\0c\n", 11));
     EXPECT_THROW(readManifest(dir / "shape.off"), InputError);
     EXPECT_THROW(readManifest(dir / "binary.txt"), InputError);
+    // `dir /b > list.txt` in Windows PowerShell writes UTF-16: it was refused
+    // for "a NUL byte", as if it were binary data.
+    writeBytes(dir / "utf16.txt", std::string("\xFF\xFE"
+                                              "a\0.\0n\0r\0r\0d\0\r\0\n\0",
+                                              18));
+    try {
+        readManifest(dir / "utf16.txt");
+        ADD_FAILURE() << "a UTF-16 manifest was read";
+    } catch (const InputError& error) {
+        EXPECT_EQ(
+            std::string(error.what()),
+            (dir / "utf16.txt").string() +
+                ": is UTF-16 text (it starts with a UTF-16 byte order mark); save it as UTF-8");
+    }
 }
 
 TEST(OutputNames, ThousandsOfEqualNamesGetDistinctCounters) {
