@@ -727,6 +727,13 @@ INSTANTIATE_TEST_SUITE_P(
         UsageCase{"sigma_min_with_a_unit",
                   {"segment", "{input}", "-o", "{out}", "--sigma-min", "0.5x"},
                   "--sigma-min: '0.5x' is not a number"},
+        // An empty output was exit 1 (": cannot create directory: Invalid
+        // argument"); an empty input named no file (": no such file").
+        UsageCase{"output_empty", {"segment", "{input}", "-o", ""}, "--output: the path is empty"},
+        UsageCase{"input_empty", {"segment", "", "-o", "{out}"}, "input: the path is empty"},
+        UsageCase{"sequence_output_empty",
+                  {"sequence", "{input}", "{input}", "-o", ""},
+                  "--output: the path is empty"},
         UsageCase{"resolution_past_64_bits",
                   {"segment", "{input}", "-o", "{out}", "--resolution", "99999999999999999999"},
                   "--resolution: Value 99999999999999999999 not in range"},
