@@ -887,6 +887,36 @@ TEST(BadInputCli, BatchPrintsFailedInputsWithControlCharactersOnOneLineEach) {
     EXPECT_EQ(lines.back().rfind("  bad\\nname: " + escaped + ": ", 0), 0u) << lines.back();
 }
 
+TEST(BadInputCli, BatchRefusesAnInputThatAnotherInputsRunWouldReplace) {
+    TempDir dir;
+    writeBytes(dir / "a.off", kTetraOff);
+    // An earlier batch's labels fed back into a batch writing to the same
+    // OUTROOT: a's run replaced them while "labels" read them (a result
+    // depending on the order), and the input changed.
+    const fs::path labels = dir / "out" / "a" / "labels.nrrd";
+    fs::create_directories(labels.parent_path());
+    writeNrrdMask(labels, makeMask(Dims{8, 8, 8}, [](int x, int, int) { return x > 2; }));
+    const std::string before = fileBytes(labels);
+    writeBytes(dir / "list.txt", "a.off\nout/a/labels.nrrd\n");
+    const CliResult result =
+        runSkelseg({"batch", (dir / "list.txt").string(), "-o", (dir / "out").string(), "--quiet",
+                    "--resolution", "16", "--no-preview"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "list.txt").string(),
+                                 "line 2: " + (dir / "out" / "a" / "labels.nrrd").string() +
+                                     " is labels.nrrd in " + (dir / "out" / "a").string() +
+                                     ", which the batch rewrites for " + (dir / "a.off").string() +
+                                     "; choose another OUTROOT"));
+    EXPECT_EQ(fileBytes(labels), before);
+    EXPECT_FALSE(fs::exists(dir / "out" / "summary.json"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "labels"));
+    // Into another OUTROOT the same manifest is fine.
+    const CliResult elsewhere =
+        runSkelseg({"batch", (dir / "list.txt").string(), "-o", (dir / "out2").string(), "--quiet",
+                    "--resolution", "16", "--no-preview"});
+    EXPECT_EQ(elsewhere.exitCode, 0) << elsewhere.describe();
+    EXPECT_EQ(fileBytes(labels), before);
+}
+
 TEST(BadInputCli, BatchRecordsAFifoAndADirectoryAsFailedInputsWithoutBlocking) {
     TempDir dir;
     writeBytes(dir / "tetra.off", kTetraOff);
