@@ -37,17 +37,17 @@ int main(int argc, char** argv) {
     const CLI::Validator nonEmptyPath(
         [](std::string& text) -> std::string { return text.empty() ? "the path is empty" : ""; },
         "");
+    const auto addRequiredPath = [&nonEmptyPath](CLI::App* command, const std::string& name,
+                                                 auto& target, const std::string& help) {
+        return command->add_option(name, target, help)->required()->check(nonEmptyPath);
+    };
 
     // segment
     skelseg::SegmentOptionTexts segmentCli;
     auto* segment = app.add_subcommand(
         "segment", "Segment a volume (.nrrd .binvox .vdb) or a mesh (.off .obj .stl .ply)");
-    segment->add_option("input", segmentCli.options.input, "Input file")
-        ->required()
-        ->check(nonEmptyPath);
-    segment->add_option("-o,--output", segmentCli.options.outdir, "Output directory")
-        ->required()
-        ->check(nonEmptyPath);
+    addRequiredPath(segment, "input", segmentCli.options.input, "Input file");
+    addRequiredPath(segment, "-o,--output", segmentCli.options.outdir, "Output directory");
     skelseg::addSegmentOptions(segment, segmentCli);
 
     // batch
@@ -93,12 +93,8 @@ int main(int argc, char** argv) {
         "sequence",
         "Segment the frames of a pose sequence (meshes sharing their faces) and give them one "
         "segmentation");
-    sequence->add_option("frames", sequenceFrames, "Frame meshes, in order")
-        ->required()
-        ->check(nonEmptyPath);
-    sequence->add_option("-o,--output", sequenceOut, "Output directory")
-        ->required()
-        ->check(nonEmptyPath);
+    addRequiredPath(sequence, "frames", sequenceFrames, "Frame meshes, in order");
+    addRequiredPath(sequence, "-o,--output", sequenceOut, "Output directory");
     skelseg::addSegmentOptions(sequence, sequenceCli);
 
     // generate
@@ -111,9 +107,7 @@ int main(int argc, char** argv) {
     std::string shapeList;
     for (const auto& n : skelseg::shapeNames()) shapeList += (shapeList.empty() ? "" : ", ") + n;
     generate->add_option("shape", shapeName, "One of: " + shapeList)->required();
-    generate->add_option("-o,--output", generateOut, "Output file (.nrrd or .binvox)")
-        ->required()
-        ->check(nonEmptyPath);
+    addRequiredPath(generate, "-o,--output", generateOut, "Output file (.nrrd or .binvox)");
     generate->add_option("--size", size, "Voxels along the longest side")
         ->capture_default_str()
         ->check(skelseg::integerText())
@@ -136,15 +130,9 @@ int main(int argc, char** argv) {
     bool scoreJson = false;
     auto* score = app.add_subcommand(
         "score", "Rand Index error and Hamming distance of a face segmentation against human ones");
-    score->add_option("mesh", scoreMesh, "The mesh the segmentations label")
-        ->required()
-        ->check(nonEmptyPath);
-    score->add_option("candidate", candidate, "Candidate .seg (or .seg.gz)")
-        ->required()
-        ->check(nonEmptyPath);
-    score->add_option("humans", humans, "Human .seg or .seg.gz files")
-        ->required()
-        ->check(nonEmptyPath);
+    addRequiredPath(score, "mesh", scoreMesh, "The mesh the segmentations label");
+    addRequiredPath(score, "candidate", candidate, "Candidate .seg (or .seg.gz)");
+    addRequiredPath(score, "humans", humans, "Human .seg or .seg.gz files");
     score->add_flag("--json", scoreJson, "JSON output");
 
     try {
