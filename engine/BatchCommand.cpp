@@ -180,8 +180,7 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
     const std::vector<int> shardOf = assignShards(sizes, shard.count);
 
     std::error_code ec;
-    if (fs::exists(options.outroot, ec) && !fs::is_directory(options.outroot, ec))
-        throw UsageError(options.outroot.string() + ": exists and is not a directory");
+    checkOutputDirectoryPath(options.outroot);
     refuseInputsAmongOutputs(manifest, options.outroot);
     // A batch that fails as a whole (an unwritable summary) leaves no OUTROOT
     // it created; one that ran keeps it, with the summary.
@@ -192,7 +191,8 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
             if (!created.empty() && std::uncaught_exceptions() > 0) fs::remove(created, ignored);
         }
     } removeIfFailed;
-    if (!fs::exists(options.outroot, ec)) removeIfFailed.created = options.outroot;
+    if (!fs::exists(fs::symlink_status(options.outroot, ec)))
+        removeIfFailed.created = options.outroot;
     fs::create_directories(options.outroot, ec);
     if (ec || !fs::is_directory(options.outroot))
         throw OutputError(options.outroot.string() + ": cannot create the output directory" +

@@ -822,6 +822,34 @@ TEST(BadInputCli, BatchOutrootThatIsAFileIsExitTwo) {
     EXPECT_EQ(fileBytes(dir / "out"), "not a directory");
 }
 
+TEST(BadInputCli, OutdirThatIsADanglingSymlinkIsExitTwoAndTheLinkStays) {
+    TempDir dir;
+    writeBytes(dir / "tetra.off", kTetraOff);
+    writeBytes(dir / "tetra2.off", kTetraOff);
+    writeBytes(dir / "list.txt", "tetra.off\n");
+    // segment, batch and sequence took the link for a folder they had made
+    // when creating it failed (exit 1, "cannot create directory: File
+    // exists"), and removed it.
+    const std::vector<std::vector<std::string>> commands = {
+        {"segment", (dir / "tetra.off").string()},
+        {"batch", (dir / "list.txt").string()},
+        {"sequence", (dir / "tetra.off").string(), (dir / "tetra2.off").string()}};
+    const fs::path link = dir / "out";
+    fs::create_symlink(dir / "missing", link);
+    for (std::vector<std::string> arguments : commands) {
+        for (const char* more : {"-o", "", "--quiet", "--resolution", "16"})
+            arguments.push_back(more);
+        arguments[arguments.size() - 4] = link.string();
+        const CliResult result = runSkelseg(arguments);
+        EXPECT_TRUE(failsWithOneLine(
+            result, 2, link.string(),
+            "is a symbolic link to " + (dir / "missing").string() + ", which does not exist"))
+            << arguments[0];
+        EXPECT_TRUE(fs::is_symlink(fs::symlink_status(link))) << arguments[0];
+        EXPECT_FALSE(fs::exists(dir / "missing")) << arguments[0];
+    }
+}
+
 TEST(BadInputCli, BatchRefusesAShapeOrBinaryDataAsItsManifest) {
     TempDir dir;
     writeBytes(dir / "tetra.off", kTetraOff);
