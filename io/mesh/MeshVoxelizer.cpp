@@ -335,6 +335,13 @@ VoxelGrid voxelGridFor(const TriangleMesh& mesh, const VoxelizeOptions& options)
     VoxelGrid grid;
     grid.dims = Dims{int(extents[0]), int(extents[1]), int(extents[2])};
     grid.geometry = VolumeGeometry::uniform(voxelSize, origin);
+    // The rule every volume reader applies to its header: a mesh far from
+    // the origin for its size would give voxels whose world coordinates,
+    // and so the outputs' placement, round together.
+    if (const std::string problem = grid.geometry.problemOver(grid.dims); !problem.empty())
+        throw UsageError("cannot voxelise the mesh at resolution " +
+                         std::to_string(options.resolution) + ": " + problem +
+                         " (move the mesh nearer the origin)");
     return grid;
 }
 

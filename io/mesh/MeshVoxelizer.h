@@ -88,8 +88,9 @@ struct VoxelizeOptions {
 };
 
 /// Size and placement of the grid voxelizeMesh() makes, without voxelising.
-/// @throw UsageError for options out of range, a grid over kMaxVoxels, or a
-/// mesh without extent (all vertices at one point).
+/// @throw UsageError for options out of range, a grid over kMaxVoxels, a
+/// mesh without extent (all vertices at one point), or a grid whose voxel
+/// step is too small for its world coordinates (VolumeGeometry::problemOver).
 struct VoxelGrid {
     Dims dims;
     VolumeGeometry geometry;

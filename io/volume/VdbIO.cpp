@@ -142,11 +142,7 @@ MaskVolume denseFromReal(const std::string& name, const GridT& grid) {
     return denseFromActive(name, *interior, grid.transform());
 }
 
-MaskVolume maskFromGrid(const std::string& name, const openvdb::GridBase::Ptr& grid) {
-    if (!grid->transform().isLinear())
-        throw InputError(name, "grid " + quote(grid->getName()) + " has a non-linear (" +
-                                   grid->transform().mapType() +
-                                   ") transform, which is not supported");
+MaskVolume maskFromLinearGrid(const std::string& name, const openvdb::GridBase::Ptr& grid) {
     if (auto boolGrid = openvdb::GridBase::grid<openvdb::BoolGrid>(grid))
         return denseFromActive(name, *boolGrid, boolGrid->transform());
     if (auto maskGrid = openvdb::GridBase::grid<openvdb::MaskGrid>(grid))
@@ -157,6 +153,19 @@ MaskVolume maskFromGrid(const std::string& name, const openvdb::GridBase::Ptr& g
         return denseFromReal(name, *doubleGrid);
     throw InputError(name, "unsupported grid type " + grid->valueType() + " (grid " +
                                quote(grid->getName()) + "; supported: bool, mask, float, double)");
+}
+
+MaskVolume maskFromGrid(const std::string& name, const openvdb::GridBase::Ptr& grid) {
+    if (!grid->transform().isLinear())
+        throw InputError(name, "grid " + quote(grid->getName()) + " has a non-linear (" +
+                                   grid->transform().mapType() +
+                                   ") transform, which is not supported");
+    MaskVolume mask = maskFromLinearGrid(name, grid);
+    // OpenVDB bounds the voxel size, not how far out the grid lies: the same
+    // geometry rule as the NRRD and binvox headers.
+    if (const std::string problem = mask.geometry.problemOver(mask.dims()); !problem.empty())
+        throw InputError(name, "grid " + quote(grid->getName()) + ": " + problem);
+    return mask;
 }
 
 openvdb::math::Transform::Ptr transformFor(const VolumeGeometry& geometry) {

@@ -387,6 +387,12 @@ std::vector<BadCase> meshCases() {
               "v -1e308 0 0\nv 1e308 0 0\nv 0 1e308 0\nf 1 2 3\n", "too large"),
         bytes("obj_bounding_box_huge", "huge.obj", "v 0 0 0\nv 1e150 0 0\nv 0 1e150 0\nf 1 2 3\n",
               "too large"),
+        // A unit tetrahedron at 1e15: doubles there step by 0.125, coarser
+        // than the voxels (NRRD's "far.nrrd" above, for meshes).
+        bytes("obj_too_far_from_the_origin", "far.obj",
+              "v 1e15 1e15 1e15\nv 1000000000000001 1e15 1e15\nv 1e15 1000000000000001 1e15\n"
+              "v 1e15 1e15 1000000000000001\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+              "2^-40 of them"),
         bytes("obj_bounding_box_subnormal", "subnormal.obj",
               "v 0 0 0\nv 1e-320 0 0\nv 0 1e-320 0\nf 1 2 3\n", "too small"),
         bytes("obj_binary_garbage", "garbage.obj", std::string("\0\1\2\3f\xff\n", 7), ""),

@@ -96,6 +96,13 @@ std::vector<VdbCase> vdbCases() {
              writeGrids(f, {grid});
          },
          "over the limit of 8192"},
+        {"grid_too_far_for_its_voxel_size",
+         [](const fs::path& f) {
+             auto grid = cubeGrid();
+             grid->transform().postTranslate(openvdb::Vec3d(1e15, 0, 0));
+             writeGrids(f, {grid});
+         },
+         "2^-40 of them"},
         {"grid_name_not_found",
          [](const fs::path& f) { writeGrids(f, {cubeGrid()}); },
          "no grid named 'nope'",

@@ -234,6 +234,30 @@ TEST(MeshVoxelizer, FlatSheetBecomesAPlate) {
     EXPECT_LE(count, 20u * 20u * 3u);
 }
 
+// The geometry rule of the volume readers (VolumeGeometry::problemOver):
+// a mesh whose voxels are finer than 2^-40 of its world coordinates is
+// refused; the same mesh nearer the origin is voxelised.
+TEST(MeshVoxelizer, RefusesAMeshTooFarOutForItsVoxels) {
+    const TriangleMesh sphere = icosphere(2, 1.0, {0, 0, 0});
+    VoxelizeOptions options;
+    options.resolution = 64;
+    const auto movedBy = [&](double offset) {
+        TriangleMesh moved = sphere;
+        for (auto& v : moved.vertices)
+            for (double& c : v) c += offset;
+        return moved;
+    };
+    // Voxels of 1/32: 2^-40 of 1e10 is 0.009, under the step; of 1e11,
+    // 0.09, over it.
+    EXPECT_NO_THROW(voxelGridFor(movedBy(1.0e10), options));
+    try {
+        voxelGridFor(movedBy(1.0e11), options);
+        ADD_FAILURE() << "a mesh at 1e11 with voxels of 1/32 was voxelised";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("2^-40 of them"), std::string::npos) << e.what();
+    }
+}
+
 TEST(MeshVoxelizer, RejectsBadOptionsAndHonoursInterrupts) {
     const TriangleMesh sphere = icosphere(2, 1.0, {0, 0, 0});
     VoxelizeOptions options;
