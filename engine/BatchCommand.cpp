@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <exception>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <sstream>
@@ -22,6 +23,8 @@
 #include "engine/batch/InputMemoryEstimate.h"
 #include "engine/batch/MemoryBudget.h"
 #include "engine/batch/StagingCleanup.h"
+#include "io/files/OutputDirectory.h"
+#include "io/volume/VolumeReader.h"
 #include "kernels/base/Error.h"
 
 namespace fs = std::filesystem;
@@ -127,6 +130,45 @@ FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
     return finished;
 }
 
+/// Refuses a manifest in which the run of one input would replace the file
+/// of another: OUTROOT/a/labels.nrrd listed beside a.off. `segment` refuses an
+/// input among its own outputs; here the writer is another input, so the file
+/// changed under the batch (the other input read the old or the new one,
+/// depending on the order) and its done marker never matched again. Only
+/// inputs under OUTROOT are looked at, each against the one folder it lies in.
+/// @throw InputError naming the manifest, before anything is written.
+void refuseInputsAmongOutputs(const Manifest& manifest, const fs::path& outroot) {
+    std::error_code ec;
+    const fs::path root = fs::weakly_canonical(outroot, ec);
+    if (ec) return;
+    std::map<std::string, const ManifestEntry*> byName;
+    for (const auto& entry : manifest.entries) byName.emplace(entry.name, &entry);
+    for (const auto& entry : manifest.entries) {
+        if (!entry.exists) continue;  // a FIFO's header is not peeked at
+        std::vector<fs::path> files;
+        try {
+            files = volumeInputFiles(entry.input);
+        } catch (const Error&) {
+            continue;  // a bad header: the input fails on its own
+        }
+        for (const fs::path& file : files) {
+            const fs::path relative = fs::weakly_canonical(file, ec).lexically_relative(root);
+            if (ec || relative.empty() || *relative.begin() == "..") continue;
+            const auto writer = byName.find(relative.begin()->string());
+            if (writer == byName.end() || writer->second == &entry) continue;
+            const fs::path outdir = outroot / writer->first;
+            const std::string output = outputReplacing(file, outdir, segmentOutputNames());
+            if (output.empty()) continue;
+            const std::string where =
+                entry.line > 0 ? "line " + std::to_string(entry.line) + ": " : std::string();
+            throw InputError(manifest.source.string(),
+                             where + file.string() + " is " + output + " in " + outdir.string() +
+                                 ", which the batch rewrites for " +
+                                 writer->second->input.string() + "; choose another OUTROOT");
+        }
+    }
+}
+
 }  // namespace
 
 BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stream) {
@@ -138,8 +180,8 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
     const std::vector<int> shardOf = assignShards(sizes, shard.count);
 
     std::error_code ec;
-    if (fs::exists(options.outroot, ec) && !fs::is_directory(options.outroot, ec))
-        throw UsageError(options.outroot.string() + ": exists and is not a directory");
+    checkOutputDirectoryPath(options.outroot);
+    refuseInputsAmongOutputs(manifest, options.outroot);
     // A batch that fails as a whole (an unwritable summary) leaves no OUTROOT
     // it created; one that ran keeps it, with the summary.
     struct RemoveIfFailed {
@@ -149,7 +191,8 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
             if (!created.empty() && std::uncaught_exceptions() > 0) fs::remove(created, ignored);
         }
     } removeIfFailed;
-    if (!fs::exists(options.outroot, ec)) removeIfFailed.created = options.outroot;
+    if (!fs::exists(fs::symlink_status(options.outroot, ec)))
+        removeIfFailed.created = options.outroot;
     fs::create_directories(options.outroot, ec);
     if (ec || !fs::is_directory(options.outroot))
         throw OutputError(options.outroot.string() + ": cannot create the output directory" +

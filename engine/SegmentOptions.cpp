@@ -51,20 +51,33 @@ CLI::Validator positiveSeconds() {
         "SECONDS");
 }
 
-/// CLI::Range lets NaN through (every comparison with it is false).
-CLI::Validator notNaN() {
+}  // namespace
+
+CLI::Validator numberText() {
     return CLI::Validator(
         [](std::string& text) -> std::string {
-            try {
-                if (std::isnan(std::stod(text))) return "Value " + text + " is not a number";
-            } catch (const std::exception&) {
-            }
+            double value = 0.0;
+            if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+            if (std::isnan(value)) return "Value " + text + " is not a number";
             return {};
         },
         "");
 }
 
-}  // namespace
+CLI::Validator integerText() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            long long value = 0;
+            if (CLI::detail::lexical_cast(text, value)) return {};
+            // Digits too many for 64 bits: the range check says what is wrong.
+            const std::size_t signLength = text.find_first_not_of("+-") == 1 ? 1 : 0;
+            if (text.size() > signLength &&
+                text.find_first_not_of("0123456789", signLength) == std::string::npos)
+                return {};
+            return "'" + text + "' is not an integer";
+        },
+        "");
+}
 
 void SegmentOptionTexts::finish() {
     options.grownContactSeams = !noGrownContactSeams;
@@ -105,7 +118,7 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
                                         const std::string& help, double most) {
         command->add_option(name, value, help)
             ->capture_default_str()
-            ->check(notNaN())
+            ->check(numberText())
             ->check(CLI::Range(0.0, most));
     };
     addThreshold("--sigma-min", seg.parameters.sigmaMin, "Minimum geodesicness of a cut point",
@@ -193,9 +206,11 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
                      "junction-rule (default) or junctions (the RT07 baseline)")
         ->check(CLI::IsMember({"junction-rule", "junctions"}));
     command->add_option("--threads", seg.threads, "Worker threads (default: all cores)")
+        ->check(integerText())
         ->check(CLI::Range(1, 1024));
     command->add_option("--resolution", seg.resolution, "Meshes: voxels along the longest side")
         ->capture_default_str()
+        ->check(integerText())
         ->check(CLI::Range(8, 2048));
     command
         ->add_option(
@@ -204,6 +219,7 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
             "would add a handle, retry wider, up to this many voxels where that removes a handle "
             "(2: no retry)")
         ->capture_default_str()
+        ->check(integerText())
         ->check(CLI::Range(2, 4));
     command->add_flag("--contact-patch-seams", seg.contactPatchSeams,
                       "Meshes: where a contact's seam is refused, try a seam between the two "

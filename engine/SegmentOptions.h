@@ -19,7 +19,8 @@
 
 namespace CLI {
 class App;
-}
+class Validator;
+}  // namespace CLI
 
 namespace skelseg {
 
@@ -52,6 +53,13 @@ std::vector<SegmentOptionDescription> segmentOptionDescriptions();
 /// command line's options of `skelseg segment` and finishes them.
 /// @throw UsageError with the command line's message, on one line.
 SegmentCommandOptions parseSegmentOptions(const std::vector<std::string>& arguments);
+
+/// Checks for a number option, placed before its CLI::Range: the range check
+/// reads a text that is no number ("steep", or "12.5" for an integer) as out
+/// of range and says "Value 12.5 not in range 8 to 2048", which is not the
+/// problem; and it lets NaN through (every comparison with it is false).
+CLI::Validator numberText();
+CLI::Validator integerText();
 
 /// A CLI11 message on one line, as every error of skelseg is.
 std::string oneLineMessage(std::string message);

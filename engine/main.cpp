@@ -31,13 +31,23 @@ int main(int argc, char** argv) {
     CLI::App app{"skelseg: part-type segmentation of 3D shapes with the junction rule"};
     app.set_version_flag("--version", std::string("skelseg ") + skelseg::versionString());
     app.require_subcommand(1);
+    // An empty path named no file in its message (": no such file") and, as
+    // an output, was an internal error (": cannot create directory: Invalid
+    // argument", exit 1): it is bad usage.
+    const CLI::Validator nonEmptyPath(
+        [](std::string& text) -> std::string { return text.empty() ? "the path is empty" : ""; },
+        "");
+    const auto addRequiredPath = [&nonEmptyPath](CLI::App* command, const std::string& name,
+                                                 auto& target, const std::string& help) {
+        return command->add_option(name, target, help)->required()->check(nonEmptyPath);
+    };
 
     // segment
     skelseg::SegmentOptionTexts segmentCli;
     auto* segment = app.add_subcommand(
         "segment", "Segment a volume (.nrrd .binvox .vdb) or a mesh (.off .obj .stl .ply)");
-    segment->add_option("input", segmentCli.options.input, "Input file")->required();
-    segment->add_option("-o,--output", segmentCli.options.outdir, "Output directory")->required();
+    addRequiredPath(segment, "input", segmentCli.options.input, "Input file");
+    addRequiredPath(segment, "-o,--output", segmentCli.options.outdir, "Output directory");
     skelseg::addSegmentOptions(segment, segmentCli);
 
     // batch
@@ -46,10 +56,13 @@ int main(int argc, char** argv) {
     int shards = 0, shapesInFlight = 0;
     auto* batch = app.add_subcommand(
         "batch", "Segment every input of a manifest (or a folder) into OUTROOT/<name>/, resumably");
-    batch->add_option("manifest", manifestText,
-                      "Text file with one input path per line (# comments; relative to the "
-                      "manifest), or a folder of inputs");
-    batch->add_option("-o,--output", outrootText, "Output root: one folder per input");
+    batch
+        ->add_option("manifest", manifestText,
+                     "Text file with one input path per line (# comments; relative to the "
+                     "manifest), or a folder of inputs")
+        ->check(nonEmptyPath);
+    batch->add_option("-o,--output", outrootText, "Output root: one folder per input")
+        ->check(nonEmptyPath);
     batch->add_option("--shard", shardText,
                       "Process share I of N (0 <= I < N), e.g. 0/4; default: from "
                       "SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX, else all");
@@ -57,15 +70,19 @@ int main(int argc, char** argv) {
         ->add_option("--shards", shards,
                      "Number of shares when the index comes from JOB_COMPLETION_INDEX "
                      "(Kubernetes Indexed Job)")
+        ->check(skelseg::integerText())
         ->check(CLI::Range(1, 1000000));
     batch
         ->add_option("--shapes-in-flight", shapesInFlight,
                      "Most shapes in flight at once (default: threads + 1; --max-memory bounds "
                      "them too)")
+        ->check(skelseg::integerText())
         ->check(CLI::Range(1, 1024));
-    batch->add_option("--merge", mergeText,
-                      "Combine the shard summaries in this output root into summary.json/csv and "
-                      "report missing inputs");
+    batch
+        ->add_option("--merge", mergeText,
+                     "Combine the shard summaries in this output root into summary.json/csv and "
+                     "report missing inputs")
+        ->check(nonEmptyPath);
     skelseg::addSegmentOptions(batch, batchCli);
 
     // sequence
@@ -76,8 +93,8 @@ int main(int argc, char** argv) {
         "sequence",
         "Segment the frames of a pose sequence (meshes sharing their faces) and give them one "
         "segmentation");
-    sequence->add_option("frames", sequenceFrames, "Frame meshes, in order")->required();
-    sequence->add_option("-o,--output", sequenceOut, "Output directory")->required();
+    addRequiredPath(sequence, "frames", sequenceFrames, "Frame meshes, in order");
+    addRequiredPath(sequence, "-o,--output", sequenceOut, "Output directory");
     skelseg::addSegmentOptions(sequence, sequenceCli);
 
     // generate
@@ -90,17 +107,20 @@ int main(int argc, char** argv) {
     std::string shapeList;
     for (const auto& n : skelseg::shapeNames()) shapeList += (shapeList.empty() ? "" : ", ") + n;
     generate->add_option("shape", shapeName, "One of: " + shapeList)->required();
-    generate->add_option("-o,--output", generateOut, "Output file (.nrrd or .binvox)")->required();
+    addRequiredPath(generate, "-o,--output", generateOut, "Output file (.nrrd or .binvox)");
     generate->add_option("--size", size, "Voxels along the longest side")
         ->capture_default_str()
+        ->check(skelseg::integerText())
         ->check(CLI::Range(16, 2048));
     generate
         ->add_option("--pose", pose,
                      "figure: pose 0, 1 or 2; capsule-chain, bent-capsule-chain, bent-tube: "
                      "orientation 0, 1 or 2")
         ->capture_default_str()
+        ->check(skelseg::integerText())
         ->check(CLI::Range(0, 2));
     generate->add_option("--noise", noise, "Fraction of boundary voxels to flip")
+        ->check(skelseg::numberText())
         ->check(CLI::Range(0.0, 0.5));
     generate->add_option("--seed", seed, "Noise seed")->capture_default_str();
 
@@ -110,9 +130,9 @@ int main(int argc, char** argv) {
     bool scoreJson = false;
     auto* score = app.add_subcommand(
         "score", "Rand Index error and Hamming distance of a face segmentation against human ones");
-    score->add_option("mesh", scoreMesh, "The mesh the segmentations label")->required();
-    score->add_option("candidate", candidate, "Candidate .seg (or .seg.gz)")->required();
-    score->add_option("humans", humans, "Human .seg or .seg.gz files")->required();
+    addRequiredPath(score, "mesh", scoreMesh, "The mesh the segmentations label");
+    addRequiredPath(score, "candidate", candidate, "Candidate .seg (or .seg.gz)");
+    addRequiredPath(score, "humans", humans, "Human .seg or .seg.gz files");
     score->add_flag("--json", scoreJson, "JSON output");
 
     try {

@@ -135,9 +135,22 @@ MergeResult mergeBatchSummaries(const fs::path& outroot) {
     std::vector<std::pair<fs::path, BatchSummary>> shards;
     const std::regex shardName(R"(summary\.shard-(\d+)-of-(\d+)\.json)");
     std::error_code ec;
-    for (const auto& item : fs::directory_iterator(outroot, ec))
-        if (std::regex_match(item.path().filename().string(), shardName))
-            shards.emplace_back(item.path(), readBatchSummary(item.path()));
+    // The share a file holds must be the one its name says: a damaged file
+    // claiming a count of 2^31 made the merge list two billion missing shares.
+    auto readShare = [](const fs::path& file, const std::string& index, const std::string& count) {
+        BatchSummary summary = readBatchSummary(file);
+        const std::string share = summary.shard.toString();
+        if (share != index + "/" + count)
+            throw InputError(file.string(), "not a skelseg batch summary: it holds shard " + share +
+                                                " but is named for " + index + "/" + count);
+        return summary;
+    };
+    std::smatch match;
+    for (const auto& item : fs::directory_iterator(outroot, ec)) {
+        const std::string file = item.path().filename().string();
+        if (std::regex_match(file, match, shardName))
+            shards.emplace_back(item.path(), readShare(item.path(), match[1], match[2]));
+    }
     if (ec) throw InputError(outroot.string(), "cannot list the directory: " + ec.message());
     if (shards.empty()) {
         const fs::path single = outroot / "summary.json";
@@ -145,7 +158,7 @@ MergeResult mergeBatchSummaries(const fs::path& outroot) {
             throw InputError(outroot.string(),
                              "holds no batch summary (summary.json or "
                              "summary.shard-I-of-N.json)");
-        shards.emplace_back(single, readBatchSummary(single));
+        shards.emplace_back(single, readShare(single, "0", "1"));
     }
     // The split of the newest file; ties by name, so the choice is deterministic.
     std::sort(shards.begin(), shards.end(),

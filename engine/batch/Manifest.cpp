@@ -5,6 +5,7 @@
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <regex>
 #include <set>
 
 #include "io/files/TextFile.h"
@@ -50,6 +51,25 @@ int parseIntegerVariable(const char* name, const char* text) {
     throw UsageError(std::string(name) + "='" + text + "' is not a non-negative integer");
 }
 
+/// The longest file name Linux file systems take (NAME_MAX): a longer output
+/// folder cannot be created, and the input would fail for its name alone.
+constexpr std::size_t kMaxOutputNameBytes = 255;
+
+/// `text` cut to at most `bytes` bytes, never inside a UTF-8 sequence.
+std::string cutToBytes(const std::string& text, std::size_t bytes) {
+    if (text.size() <= bytes) return text;
+    std::size_t end = bytes;
+    while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;
+    return text.substr(0, end);
+}
+
+/// The files the batch writes beside the output folders: an input named
+/// like one of them would find a file where its folder goes.
+bool isBatchFileName(const std::string& name) {
+    static const std::regex summaryName(R"(summary(\.shard-\d+-of-\d+)?\.(json|csv))");
+    return std::regex_match(name, summaryName);
+}
+
 }  // namespace
 
 bool isSupportedInputPath(const fs::path& path) {
@@ -69,12 +89,20 @@ std::vector<std::string> uniqueOutputNames(const std::vector<fs::path>& inputs) 
     for (std::size_t i = 0; i < inputs.size(); ++i) {
         if (stemCount[names[i]] < 2) continue;
         const std::string parent = inputs[i].parent_path().filename().string();
-        if (!parent.empty() && parent != "." && parent != "..") names[i] = parent + "-" + names[i];
+        if (parent.empty() || parent == "." || parent == "..") continue;
+        // The stem is what tells inputs apart: a long folder name is cut, not it.
+        const std::string prefix =
+            names[i].size() + 1 < kMaxOutputNameBytes
+                ? cutToBytes(parent, kMaxOutputNameBytes - 1 - names[i].size())
+                : std::string();
+        if (!prefix.empty()) names[i] = prefix + "-" + names[i];
     }
     // Still equal (same folder name, or no folder): the first keeps the name,
     // later ones get a counter in manifest order, skipping names that
-    // another input has.
+    // another input has. The batch's own files count as taken.
     std::set<std::string> firstPass(names.begin(), names.end()), taken;
+    for (const auto& name : names)
+        if (isBatchFileName(name)) taken.insert(name);
     // The counter each name reached: candidates below it are taken for good,
     // so a manifest of thousands of equal names costs no quadratic search.
     std::map<std::string, int> nextCounter;
@@ -86,7 +114,8 @@ std::vector<std::string> uniqueOutputNames(const std::vector<fs::path>& inputs) 
         std::string candidate;
         int& counter = nextCounter.emplace(name, 2).first->second;
         for (;; ++counter) {
-            candidate = name + "-" + std::to_string(counter);
+            const std::string suffix = "-" + std::to_string(counter);
+            candidate = cutToBytes(name, kMaxOutputNameBytes - suffix.size()) + suffix;
             if (!taken.count(candidate) && !firstPass.count(candidate)) break;
         }
         taken.insert(candidate);
@@ -117,7 +146,7 @@ Manifest readManifest(const fs::path& source) {
                              "or list its path in a text file)");
         const std::string bytes = readFileBytes(source);
         std::string_view text(bytes);
-        text.remove_prefix(utf8BomLength(text));
+        text.remove_prefix(textContentStart(source.string(), text));
         const fs::path base = source.parent_path();
         std::size_t start = 0;
         for (int line = 1; start < text.size(); ++line) {

@@ -10,8 +10,12 @@
 // Each input gets an output name, the folder OUTROOT/<name>/: the file name
 // without its extension. Inputs that share it get their parent folder's name
 // in front ("chairs-1", "tables-1"); if that still collides, a counter in
-// manifest order ("1-2"). The names depend only on the manifest, so every
-// shard of a cluster job computes the same ones.
+// manifest order ("1-2"). A name that is one of the batch's own files in
+// OUTROOT (summary.json, summary.csv, summary.shard-I-of-N.json/.csv) gets a
+// counter too ("summary.json-2"), and no name is longer than the 255 bytes a
+// folder name can have (a long parent folder's name is cut, then the name
+// before a counter). The names depend only on the manifest, so every shard of
+// a cluster job computes the same ones.
 //
 // Shards: assignShards() splits the inputs into N shares of about equal total
 // file size (largest first, each to the lightest shard so far; ties by

@@ -27,8 +27,7 @@ OutputDirectory::OutputDirectory(const fs::path& outdir, bool force,
                                  const std::vector<std::string>& outputNames)
     : mDirectory(outdir) {
     std::error_code ec;
-    if (fs::exists(outdir, ec) && !fs::is_directory(outdir, ec))
-        throw UsageError(outdir.string() + ": exists and is not a directory");
+    checkOutputDirectoryPath(outdir);
     if (!force) {
         for (const auto& name : outputNames)
             if (fs::exists(outdir / name, ec))
@@ -37,7 +36,9 @@ OutputDirectory::OutputDirectory(const fs::path& outdir, bool force,
     }
     // Remember which directories this run creates: a run that fails removes
     // them again (if still empty), so bad input leaves no trace.
-    for (fs::path p = outdir; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    // symlink_status: a link is the user's, wherever it points.
+    for (fs::path p = outdir; !p.empty() && !fs::exists(fs::symlink_status(p, ec));
+         p = p.parent_path()) {
         mCreated.push_back(p);
         if (p == p.parent_path()) break;
     }
@@ -131,6 +132,17 @@ bool isWithin(const fs::path& inner, const fs::path& outer) {
 }
 
 }  // namespace
+
+void checkOutputDirectoryPath(const fs::path& outdir) {
+    std::error_code ec;
+    if (fs::is_symlink(fs::symlink_status(outdir, ec)) && !fs::exists(outdir, ec)) {
+        const fs::path target = fs::read_symlink(outdir, ec);
+        throw UsageError(outdir.string() + ": is a symbolic link to " + target.string() +
+                         ", which does not exist");
+    }
+    if (fs::exists(outdir, ec) && !fs::is_directory(outdir, ec))
+        throw UsageError(outdir.string() + ": exists and is not a directory");
+}
 
 std::string outputReplacing(const fs::path& file, const fs::path& outdir,
                             const std::vector<std::string>& outputNames) {

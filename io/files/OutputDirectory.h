@@ -57,6 +57,12 @@ private:
     void removeCreatedDirectories() noexcept;
 };
 
+/// Throws UsageError when `outdir` exists as something other than a
+/// directory: a regular file ("exists and is not a directory"), or a symbolic
+/// link to nothing, which no run can create a directory through (and which a
+/// failed run took for a folder of its own, and removed).
+void checkOutputDirectoryPath(const std::filesystem::path& outdir);
+
 /// The output of `outputNames` in `outdir` whose writing would replace or
 /// remove `file` (`file` is that output, or lies inside that output directory,
 /// with symlinks resolved where they exist); empty if none. --force replaces

@@ -85,4 +85,13 @@ std::vector<std::string> splitWhitespace(std::string_view text) {
     return tokens;
 }
 
+std::size_t textContentStart(const std::string& name, std::string_view text) {
+    if (text.size() >= 2 &&
+        ((text[0] == '\xFF' && text[1] == '\xFE') || (text[0] == '\xFE' && text[1] == '\xFF')))
+        throw InputError(name,
+                         "is UTF-16 text (it starts with a UTF-16 byte order mark); "
+                         "save it as UTF-8");
+    return utf8BomLength(text);
+}
+
 }  // namespace skelseg

@@ -58,6 +58,13 @@ constexpr std::size_t utf8BomLength(std::string_view text) noexcept {
     return text.size() >= 3 && text[0] == '\xEF' && text[1] == '\xBB' && text[2] == '\xBF' ? 3 : 0;
 }
 
+/// Where the content of the text file `name` starts: after a UTF-8 byte order
+/// mark (utf8BomLength()). @throw InputError(name, ...) when it starts with a
+/// UTF-16 one (FF FE or FE FF): Windows PowerShell's `>` and Notepad's
+/// "Unicode" write such files, whose every other byte is NUL, and each reader
+/// refused them for a different wrong reason ("the mesh has no faces").
+std::size_t textContentStart(const std::string& name, std::string_view text);
+
 /// `text` without leading and trailing whitespace (a view into `text`).
 std::string_view trim(std::string_view text) noexcept;
 

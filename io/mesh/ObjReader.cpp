@@ -9,13 +9,42 @@
 
 namespace skelseg {
 
+namespace {
+
+/// Removes a final backslash (and the blanks around it) from `line`; false
+/// when the line has none. The OBJ format continues a statement on the next
+/// line after one: exporters wrap long faces that way.
+bool stripContinuation(std::string_view& line) {
+    std::size_t end = line.size();
+    while (end > 0 && isBlank(line[end - 1])) --end;
+    if (end == 0 || line[end - 1] != '\\') return false;
+    line = line.substr(0, end - 1);
+    return true;
+}
+
+}  // namespace
+
 TriangleMesh readObj(const std::string& name, const char* data, std::size_t size) {
     MeshBuilder builder(name, 1);
-    const std::size_t bom = utf8BomLength(std::string_view(data, size));
+    const std::size_t bom = textContentStart(name, std::string_view(data, size));
     TextTokenizer lines(data + bom, size - bom);
     std::string_view line;
+    std::string joined;  // a statement continued over several lines
     std::vector<std::int64_t> polygon;
     while (lines.nextSignificantLine(line)) {
+        // Messages name the line the statement starts on.
+        const std::size_t lineNumber = lines.lineNumber();
+        if (stripContinuation(line)) {
+            joined.assign(line);
+            std::string_view next;
+            bool continues = true;
+            while (continues && lines.nextLine(next, true)) {
+                continues = stripContinuation(next);
+                joined += ' ';
+                joined.append(next);
+            }
+            line = joined;
+        }
         TextTokenizer tokens(line);
         const std::string_view keyword = tokens.nextToken();
         if (keyword == "v") {
@@ -23,7 +52,7 @@ TriangleMesh readObj(const std::string& name, const char* data, std::size_t size
             for (double& coordinate : xyz) {
                 const std::string_view token = tokens.nextToken();
                 if (!parseReal(token, coordinate))
-                    builder.fail("line " + std::to_string(lines.lineNumber()) +
+                    builder.fail("line " + std::to_string(lineNumber) +
                                  (token.empty() ? ": vertex has fewer than 3 coordinates"
                                                 : ": bad vertex coordinate " + quote(token)));
             }
@@ -36,13 +65,13 @@ TriangleMesh readObj(const std::string& name, const char* data, std::size_t size
                 const std::string_view vertexPart = token.substr(0, token.find('/'));
                 std::int64_t index = 0;
                 if (!parseInteger(vertexPart, index) || index == 0)
-                    builder.fail("line " + std::to_string(lines.lineNumber()) +
-                                 ": bad face vertex " + quote(token));
+                    builder.fail("line " + std::to_string(lineNumber) + ": bad face vertex " +
+                                 quote(token));
                 if (index < 0) {
                     // Negative: relative to the vertices defined so far.
                     const std::int64_t resolved = std::int64_t(builder.vertexCount()) + index;
                     if (resolved < 0)
-                        builder.fail("line " + std::to_string(lines.lineNumber()) + ": face " +
+                        builder.fail("line " + std::to_string(lineNumber) + ": face " +
                                      std::to_string(builder.faceCount()) + " references vertex " +
                                      std::to_string(index) + " but only " +
                                      std::to_string(builder.vertexCount()) +

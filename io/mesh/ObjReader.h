@@ -1,6 +1,7 @@
 // skelseg: the OBJ reader (internal to io/mesh/; readMesh() in MeshIO.h
 // dispatches to it by extension). Reads v and f statements
-// (v, v/vt, v//vn, v/vt/vn and negative indices) and ignores every other one.
+// (v, v/vt, v//vn, v/vt/vn and negative indices) and ignores every other one;
+// a backslash at the end of a line continues the statement on the next.
 #pragma once
 
 #include <cstddef>

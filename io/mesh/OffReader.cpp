@@ -73,7 +73,7 @@ bool holdsMoreLines(TextTokenizer lines, std::uint64_t count) {
 
 TriangleMesh readOff(const std::string& name, const char* data, std::size_t size) {
     MeshBuilder builder(name, 0);
-    const std::size_t bom = utf8BomLength(std::string_view(data, size));
+    const std::size_t bom = textContentStart(name, std::string_view(data, size));
     TextTokenizer lines(data + bom, size - bom);
     std::string_view line;
     if (!lines.nextSignificantLine(line)) builder.fail("empty file");

@@ -202,7 +202,7 @@ static_assert(sizeof(float) == 4 && sizeof(double) == 8, "IEEE floats expected")
 TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::size_t size) {
     MeshBuilder builder(name, 0);
     const std::size_t bom =
-        utf8BomLength(std::string_view(reinterpret_cast<const char*>(data), size));
+        textContentStart(name, std::string_view(reinterpret_cast<const char*>(data), size));
     data += bom;
     size -= bom;
     TextTokenizer lines(reinterpret_cast<const char*>(data), size);

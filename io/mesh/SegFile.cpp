@@ -91,7 +91,7 @@ std::string gzipCompress(const std::string& text, const std::filesystem::path& p
 }
 
 std::vector<std::int64_t> parseLabels(const std::string& name, std::string_view text) {
-    text.remove_prefix(utf8BomLength(text));
+    text.remove_prefix(textContentStart(name, text));
     std::vector<std::int64_t> labels;
     labels.reserve(text.size() / 2);
     TextTokenizer lines(text);

@@ -154,7 +154,7 @@ TriangleMesh readStl(const std::string& name, const std::uint8_t* data, std::siz
         if (84 + 50 * triangleCount == size) return readBinaryStl(name, data, triangleCount);
     }
     const std::size_t bom =
-        utf8BomLength(std::string_view(reinterpret_cast<const char*>(data), size));
+        textContentStart(name, std::string_view(reinterpret_cast<const char*>(data), size));
     std::size_t start = bom;
     while (start < size && isSpace(char(data[start]))) ++start;
     // ASCII STL starts with "solid" and holds no NUL byte; binary data almost

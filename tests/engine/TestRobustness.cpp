@@ -95,6 +95,19 @@ BadCase bytes(std::string name, std::string fileName, std::string content, std::
             [content](const fs::path& f) { writeBytes(f, content); }, std::move(problem)};
 }
 
+/// `ascii` as UTF-16 with a byte order mark, as Windows PowerShell's `>` and
+/// Notepad's "Unicode" write text.
+std::string utf16(const std::string& ascii, bool bigEndian = false) {
+    std::string out = bigEndian ? "\xFE\xFF" : "\xFF\xFE";
+    for (char c : ascii) {
+        out += bigEndian ? '\0' : c;
+        out += bigEndian ? c : '\0';
+    }
+    return out;
+}
+const std::string kUtf16Problem =
+    "is UTF-16 text (it starts with a UTF-16 byte order mark); save it as UTF-8";
+
 BadCase seg(std::string name, std::string content, std::string problem) {
     BadCase c = bytes(std::move(name), "labels.seg", std::move(content), std::move(problem));
     c.score = true;
@@ -447,6 +460,19 @@ std::vector<BadCase> meshCases() {
               "line 17: the file holds more 'face' lines than its header declares (3)"),
         bytes("ply_binary_trailing_bytes", "trailing.ply", plyBinaryTetra + "\x03\x01",
               "2 bytes follow the last element the header declares (4 items of 'face')"),
+        // Each reader refused these for another reason: "the mesh has no
+        // faces" (OBJ), "it starts with '??O?F?F?'" (OFF), "no 'ply' line".
+        bytes("off_utf16", "utf16.off", utf16(kTetraOff), kUtf16Problem),
+        bytes("obj_utf16", "utf16.obj",
+              utf16("v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nv 0 0 1\r\nf 1 3 2\r\nf 1 2 4\r\n"),
+              kUtf16Problem),
+        bytes("obj_utf16_big_endian", "utf16be.obj",
+              utf16("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", true), kUtf16Problem),
+        bytes("stl_ascii_utf16", "utf16.stl",
+              utf16("solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 "
+                    "1 0\nendloop\nendfacet\nendsolid t\n"),
+              kUtf16Problem),
+        bytes("ply_utf16", "utf16.ply", utf16(kPlyHeader + kPlyBody), kUtf16Problem),
     };
 }
 
@@ -458,6 +484,7 @@ std::vector<BadCase> segCases() {
         seg("seg_two_numbers_on_a_line", "0\n1 2\n1\n0\n", "line 2"),
         seg("seg_too_few_labels", "0\n1\n", ""),
         seg("seg_too_many_labels", "0\n1\n1\n0\n1\n", ""),
+        seg("seg_utf16", utf16("0\r\n1\r\n1\r\n0\r\n"), kUtf16Problem),
         seg("seg_gzip_truncated", gz.substr(0, gz.size() - 6), "truncated"),
         seg("seg_gzip_corrupt", gz.substr(0, 10) + std::string(6, '\xee') + gz.substr(16), ""),
         seg("seg_binary_garbage",
@@ -661,7 +688,7 @@ INSTANTIATE_TEST_SUITE_P(
                   "--sibling-tolerance: Value 2 not in range"},
         UsageCase{"limb_taper_not_a_number",
                   {"segment", "{input}", "-o", "{out}", "--limb-taper", "steep"},
-                  "--limb-taper: Value steep not in range"},
+                  "--limb-taper: 'steep' is not a number"},
         UsageCase{"corner_length_out_of_range",
                   {"segment", "{input}", "-o", "{out}", "--corner-length", "50"},
                   "--corner-length: Value 50 not in range"},
@@ -693,6 +720,29 @@ INSTANTIATE_TEST_SUITE_P(
                   {"batch", "{input}", "-o", "{out}", "--joints=0"},
                   "joints was given a disallowed flag override"},
         UsageCase{"threads_zero", {"segment", "{input}", "-o", "{out}", "--threads", "0"}, ""},
+        // A text that is no number was "Value 12.5 not in range 8 to 2048".
+        UsageCase{"resolution_not_an_integer",
+                  {"segment", "{input}", "-o", "{out}", "--resolution", "12.5"},
+                  "--resolution: '12.5' is not an integer"},
+        UsageCase{"threads_not_a_number",
+                  {"segment", "{input}", "-o", "{out}", "--threads", "all"},
+                  "--threads: 'all' is not an integer"},
+        UsageCase{"shapes_in_flight_not_an_integer",
+                  {"batch", "{input}", "-o", "{out}", "--shapes-in-flight", "1e3"},
+                  "--shapes-in-flight: '1e3' is not an integer"},
+        UsageCase{"sigma_min_with_a_unit",
+                  {"segment", "{input}", "-o", "{out}", "--sigma-min", "0.5x"},
+                  "--sigma-min: '0.5x' is not a number"},
+        // An empty output was exit 1 (": cannot create directory: Invalid
+        // argument"); an empty input named no file (": no such file").
+        UsageCase{"output_empty", {"segment", "{input}", "-o", ""}, "--output: the path is empty"},
+        UsageCase{"input_empty", {"segment", "", "-o", "{out}"}, "input: the path is empty"},
+        UsageCase{"sequence_output_empty",
+                  {"sequence", "{input}", "{input}", "-o", ""},
+                  "--output: the path is empty"},
+        UsageCase{"resolution_past_64_bits",
+                  {"segment", "{input}", "-o", "{out}", "--resolution", "99999999999999999999"},
+                  "--resolution: Value 99999999999999999999 not in range"},
         UsageCase{
             "resolution_too_small", {"segment", "{input}", "-o", "{out}", "--resolution", "2"}, ""},
         UsageCase{"mode_unknown", {"segment", "{input}", "-o", "{out}", "--mode", "magic"}, ""},
@@ -778,6 +828,34 @@ TEST(BadInputCli, BatchOutrootThatIsAFileIsExitTwo) {
     EXPECT_EQ(fileBytes(dir / "out"), "not a directory");
 }
 
+TEST(BadInputCli, OutdirThatIsADanglingSymlinkIsExitTwoAndTheLinkStays) {
+    TempDir dir;
+    writeBytes(dir / "tetra.off", kTetraOff);
+    writeBytes(dir / "tetra2.off", kTetraOff);
+    writeBytes(dir / "list.txt", "tetra.off\n");
+    // segment, batch and sequence took the link for a folder they had made
+    // when creating it failed (exit 1, "cannot create directory: File
+    // exists"), and removed it.
+    const std::vector<std::vector<std::string>> commands = {
+        {"segment", (dir / "tetra.off").string()},
+        {"batch", (dir / "list.txt").string()},
+        {"sequence", (dir / "tetra.off").string(), (dir / "tetra2.off").string()}};
+    const fs::path link = dir / "out";
+    fs::create_symlink(dir / "missing", link);
+    for (std::vector<std::string> arguments : commands) {
+        for (const char* more : {"-o", "", "--quiet", "--resolution", "16"})
+            arguments.push_back(more);
+        arguments[arguments.size() - 4] = link.string();
+        const CliResult result = runSkelseg(arguments);
+        EXPECT_TRUE(failsWithOneLine(
+            result, 2, link.string(),
+            "is a symbolic link to " + (dir / "missing").string() + ", which does not exist"))
+            << arguments[0];
+        EXPECT_TRUE(fs::is_symlink(fs::symlink_status(link))) << arguments[0];
+        EXPECT_FALSE(fs::exists(dir / "missing")) << arguments[0];
+    }
+}
+
 TEST(BadInputCli, BatchRefusesAShapeOrBinaryDataAsItsManifest) {
     TempDir dir;
     writeBytes(dir / "tetra.off", kTetraOff);
@@ -843,6 +921,36 @@ TEST(BadInputCli, BatchPrintsFailedInputsWithControlCharactersOnOneLineEach) {
     EXPECT_EQ(lines.back().rfind("  bad\\nname: " + escaped + ": ", 0), 0u) << lines.back();
 }
 
+TEST(BadInputCli, BatchRefusesAnInputThatAnotherInputsRunWouldReplace) {
+    TempDir dir;
+    writeBytes(dir / "a.off", kTetraOff);
+    // An earlier batch's labels fed back into a batch writing to the same
+    // OUTROOT: a's run replaced them while "labels" read them (a result
+    // depending on the order), and the input changed.
+    const fs::path labels = dir / "out" / "a" / "labels.nrrd";
+    fs::create_directories(labels.parent_path());
+    writeNrrdMask(labels, makeMask(Dims{8, 8, 8}, [](int x, int, int) { return x > 2; }));
+    const std::string before = fileBytes(labels);
+    writeBytes(dir / "list.txt", "a.off\nout/a/labels.nrrd\n");
+    const CliResult result =
+        runSkelseg({"batch", (dir / "list.txt").string(), "-o", (dir / "out").string(), "--quiet",
+                    "--resolution", "16", "--no-preview"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "list.txt").string(),
+                                 "line 2: " + (dir / "out" / "a" / "labels.nrrd").string() +
+                                     " is labels.nrrd in " + (dir / "out" / "a").string() +
+                                     ", which the batch rewrites for " + (dir / "a.off").string() +
+                                     "; choose another OUTROOT"));
+    EXPECT_EQ(fileBytes(labels), before);
+    EXPECT_FALSE(fs::exists(dir / "out" / "summary.json"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "labels"));
+    // Into another OUTROOT the same manifest is fine.
+    const CliResult elsewhere =
+        runSkelseg({"batch", (dir / "list.txt").string(), "-o", (dir / "out2").string(), "--quiet",
+                    "--resolution", "16", "--no-preview"});
+    EXPECT_EQ(elsewhere.exitCode, 0) << elsewhere.describe();
+    EXPECT_EQ(fileBytes(labels), before);
+}
+
 TEST(BadInputCli, BatchRecordsAFifoAndADirectoryAsFailedInputsWithoutBlocking) {
     TempDir dir;
     writeBytes(dir / "tetra.off", kTetraOff);
@@ -890,6 +998,34 @@ TEST(UnusualInputCli, ByteOrderMarkBeforeTheFirstObjVertexIsSkipped) {
     ASSERT_EQ(bom.exitCode, 0) << bom.describe();
     ASSERT_EQ(runSegment(dir / "plain.obj", dir / "b", {"--resolution", "16"}).exitCode, 0);
     EXPECT_EQ(fileBytes(dir / "a" / "segmentation.seg"), fileBytes(dir / "b" / "segmentation.seg"));
+}
+
+TEST(UnusualInputCli, BatchInputsNamedLikeTheSummaryOrWithLongNamesAreSegmented) {
+    TempDir dir;
+    // Each failed (exit 5): summary.json.off's folder was the summary file
+    // ("cannot remove: Not a directory"), and a 251-byte stem in two folders
+    // gave "folder-stem", over the 255 bytes of a folder name ("File name too
+    // long").
+    const std::string stem(251, 'x');
+    for (const fs::path& input :
+         {fs::path("summary.json.off"), fs::path("summary.csv.off"),
+          fs::path(std::string(200, 'p')) / (stem + ".off"), fs::path("qq") / (stem + ".off")}) {
+        fs::create_directories((dir / input).parent_path());
+        writeBytes(dir / input, kTetraOff);
+    }
+    writeBytes(dir / "list.txt", "summary.json.off\nsummary.csv.off\n" + std::string(200, 'p') +
+                                     "/" + stem + ".off\nqq/" + stem + ".off\n");
+    const CliResult result =
+        runSkelseg({"batch", (dir / "list.txt").string(), "-o", (dir / "out").string(), "--quiet",
+                    "--resolution", "16", "--no-preview"});
+    ASSERT_EQ(result.exitCode, 0) << result.describe();
+    EXPECT_TRUE(result.errLines().empty()) << result.describe();
+    const nlohmann::json summary = nlohmann::json::parse(fileBytes(dir / "out" / "summary.json"));
+    EXPECT_EQ(summary.at("counts").at("done"), 4);
+    for (const std::string& name :
+         {std::string("summary.json-2"), std::string("summary.csv-2"), "ppp-" + stem, "qq-" + stem})
+        EXPECT_TRUE(fs::exists(dir / "out" / name / "segmentation.seg")) << name;
+    EXPECT_TRUE(fs::is_regular_file(dir / "out" / "summary.csv"));
 }
 
 TEST(UnusualInputCli, MeshInTinyUnitsIsSegmentedWithoutLabelsVdb) {

@@ -69,6 +69,8 @@ def test_unsupported_dtypes_are_type_errors(capfd, dtype):
     ({"sigma_min": 1.5}, r"^sigma_min: Value 1.5 not in range 0.000000 to 1.000000$"),
     ({"mode": "magic"}, r"^mode: magic not in \{junction-rule,junctions\}$"),
     ({"threads": 0}, r"^threads: Value 0 not in range 1 to 1024$"),
+    # Not "Value 2.5 not in range 1 to 1024": the value is in the range.
+    ({"threads": 2.5}, r"^threads: '2\.5' is not an integer$"),
     ({"time_limit": -1}, r"^time_limit: '-1' is not a positive number of seconds$"),
     ({"spacing": (1, 0, 1)}, r"spacing must be three positive finite numbers"),
     ({"max_memory": "4X"}, r"^max_memory '4X': unknown unit 'X'$"),
@@ -99,6 +101,14 @@ def test_bad_mesh_arrays_are_value_errors(capfd):
                              np.array([[0, 1, 2]]))
     with pytest.raises(ValueError, match=r"faces must have shape \(F, k\) with k >= 3"):
         skelseg.segment_mesh(vertices, np.array([[0, 1]]))
+    # An unsigned index past int64 was cast to a negative one and named so.
+    huge = np.array([[0, 1, 2**63]], dtype=np.uint64)
+    with pytest.raises(ValueError, match=r"^mesh: faces: index 9223372036854775808 is out of "
+                                         r"range$"):
+        skelseg.segment_mesh(vertices, huge)
+    with pytest.raises(ValueError, match=r"^mesh: triangle_face: index 9223372036854775808 is "
+                                         r"out of range$"):
+        skelseg.segment_mesh(vertices, np.array([[0, 1, 2]]), triangle_face=huge[0, 2:])
     check_quiet(capfd)
 
 

@@ -298,16 +298,22 @@ def _with_option_help(function: Callable) -> Callable:
     return function
 
 
-def _integer_array(value: Any, what: str) -> np.ndarray:
+def _integer_array(value: Any, what: str, indices: bool = False) -> np.ndarray:
     """value as a C-contiguous int64 array; TypeError unless its dtype is an
     integer one. Floats are refused even when every value is whole: a cast
     would turn 1.7 into 1 without a word, and labels or indices computed in
     floating point are a bug to show, not to round. An empty list (float64
-    to numpy) has nothing to cast and passes."""
+    to numpy) has nothing to cast and passes. Indices (not labels, which only
+    need to stay distinct) past int64 are a ValueError: the cast made 2**63 a
+    negative index, and the message named vertex -9223372036854775808."""
     array = np.asarray(value)
     if array.dtype.kind not in "iu" and array.size > 0:
         raise TypeError(f"{what} must be integers, not {array.dtype} (cast with .astype(int) "
                         f"if the values are whole)")
+    if indices and array.dtype.kind == "u" and array.size > 0:
+        largest = int(array.max())
+        if largest > np.iinfo(np.int64).max:
+            raise ValueError(f"{what}: index {largest} is out of range")
     return np.ascontiguousarray(array, dtype=np.int64)
 
 
@@ -509,12 +515,12 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
     if face_array.ndim != 2 or face_array.shape[1] < 3:
         raise ValueError(f"mesh: faces must have shape (F, k) with k >= 3, "
                          f"not {face_array.shape}")
-    face_array = _integer_array(face_array, "mesh: faces")
+    face_array = _integer_array(face_array, "mesh: faces", indices=True)
     if triangle_face is not None:
         if face_array.shape[1] != 3:
             raise ValueError("mesh: triangle_face needs faces of shape (T, 3)")
         triangles = face_array
-        triangle_of = _integer_array(triangle_face, "mesh: triangle_face")
+        triangle_of = _integer_array(triangle_face, "mesh: triangle_face", indices=True)
     elif face_array.shape[1] == 3:
         triangles = face_array
         triangle_of = np.zeros(0, np.int64)

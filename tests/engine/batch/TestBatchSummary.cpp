@@ -115,6 +115,31 @@ TEST(BatchSummary, MergeWithoutSummariesIsAnInputError) {
     EXPECT_THROW(mergeBatchSummaries(dir.path()), InputError);
 }
 
+TEST(BatchSummary, MergeRefusesASummaryWhoseShardIsNotTheOneItsNameSays) {
+    TempDir dir;
+    writeBatchSummary(dir.path(), "summary.shard-1-of-2", shardSummary(1, 2, {entry("b", "done")}));
+    // A damaged shard-0 file, the newest, claiming another count: the merge
+    // took that count, ignored the real shards and listed the shares of the
+    // claimed count as missing; with a count of 2^31 - 1 it listed two
+    // billion of them until the memory ran out.
+    BatchSummary damaged = shardSummary(0, 3, {entry("a", "done")});
+    damaged.updatedAt = "2026-11-30T07:00:00Z";
+    writeBatchSummary(dir.path(), "summary.shard-0-of-2", damaged);
+    try {
+        mergeBatchSummaries(dir.path());
+        ADD_FAILURE() << "the damaged summary was merged";
+    } catch (const InputError& error) {
+        EXPECT_EQ(std::string(error.what()),
+                  (dir / "summary.shard-0-of-2.json").string() +
+                      ": not a skelseg batch summary: it holds shard 0/3 but is named for 0/2");
+    }
+    EXPECT_FALSE(fs::exists(dir / "summary.json"));
+    // The single summary of an unsharded batch is share 0/1.
+    TempDir single;
+    writeBatchSummary(single.path(), "summary", shardSummary(3, 5, {entry("a", "done")}));
+    EXPECT_THROW(mergeBatchSummaries(single.path()), InputError);
+}
+
 TEST(MemoryBudget, AdmitsWhatFitsAndOneOversizedShapeAlone) {
     MemoryBudget budget(100, 3);
     EXPECT_TRUE(budget.acquire(60));

@@ -111,6 +111,20 @@ TEST(Manifest, AShapeOrBinaryDataIsNotAManifest) {
     writeBytes(dir / "binary.txt", std::string("a.nrrd\nb\0c\n", 11));
     EXPECT_THROW(readManifest(dir / "shape.off"), InputError);
     EXPECT_THROW(readManifest(dir / "binary.txt"), InputError);
+    // `dir /b > list.txt` in Windows PowerShell writes UTF-16: it was refused
+    // for "a NUL byte", as if it were binary data.
+    writeBytes(dir / "utf16.txt", std::string("\xFF\xFE"
+                                              "a\0.\0n\0r\0r\0d\0\r\0\n\0",
+                                              18));
+    try {
+        readManifest(dir / "utf16.txt");
+        ADD_FAILURE() << "a UTF-16 manifest was read";
+    } catch (const InputError& error) {
+        EXPECT_EQ(
+            std::string(error.what()),
+            (dir / "utf16.txt").string() +
+                ": is UTF-16 text (it starts with a UTF-16 byte order mark); save it as UTF-8");
+    }
 }
 
 TEST(OutputNames, ThousandsOfEqualNamesGetDistinctCounters) {
@@ -148,6 +162,47 @@ TEST(OutputNames, CollisionsGetTheFolderThenACounter) {
     EXPECT_EQ(names[6], "solo");
     EXPECT_EQ(names[7], "3-2");
     EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
+}
+
+TEST(OutputNames, TheBatchsOwnFileNamesGetACounter) {
+    // OUTROOT/summary.json is the batch's file: a folder of that name could
+    // not be made, and the input failed.
+    const std::vector<fs::path> inputs = {"a/summary.json.off",
+                                          "summary.csv.ply",
+                                          "summary.shard-0-of-2.json.obj",
+                                          "summary.off",
+                                          "summary.shard-1-of-2.csv.stl",
+                                          "summary.txt.off"};
+    const auto names = uniqueOutputNames(inputs);
+    EXPECT_EQ(names, (std::vector<std::string>{"summary.json-2", "summary.csv-2",
+                                               "summary.shard-0-of-2.json-2", "summary",
+                                               "summary.shard-1-of-2.csv-2", "summary.txt"}));
+}
+
+TEST(OutputNames, NoNameIsLongerThanAFolderNameCanBe) {
+    // A 251-byte stem (a 255-byte file name) in several folders:
+    // "folder-stem" was over 255 bytes and the input failed with "File name
+    // too long".
+    const std::string stem(251, 'x');
+    const std::string folder(200, 'p');
+    const std::string accented = "a\xC3\xA9\xC3\xA9";  // a cut must not split a character
+    const std::vector<fs::path> inputs = {
+        fs::path(folder) / (stem + ".off"), fs::path("qq") / (stem + ".off"),
+        fs::path(accented) / (stem + ".off"), fs::path("r") / "qq" / (stem + ".off")};
+    const auto names = uniqueOutputNames(inputs);
+    for (const auto& name : names) EXPECT_LE(name.size(), 255u) << name;
+    EXPECT_EQ(names[0], "ppp-" + stem);  // the folder's name is cut, not the stem
+    EXPECT_EQ(names[1], "qq-" + stem);
+    EXPECT_EQ(names[2], "a\xC3\xA9-" + stem);
+    EXPECT_EQ(names[3], "qq-" + stem.substr(0, 250) + "-2");  // cut before the counter
+    EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
+    // Cut names that become equal are told apart by the counter.
+    std::vector<fs::path> many;
+    for (int i = 0; i < 12; ++i)
+        many.push_back(fs::path(std::string(240, 'd') + std::to_string(i)) / (stem + ".off"));
+    const auto cut = uniqueOutputNames(many);
+    EXPECT_EQ(std::set<std::string>(cut.begin(), cut.end()).size(), many.size());
+    for (const auto& name : cut) EXPECT_LE(name.size(), 255u);
 }
 
 TEST(Shards, EveryInputInExactlyOneShardForOneToSevenShards) {

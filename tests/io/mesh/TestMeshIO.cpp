@@ -221,6 +221,29 @@ TEST(MeshIO, ObjForwardAndNegativeIndices) {
     EXPECT_EQ(mesh.triangles[1], (std::array<std::uint32_t, 3>{3, 2, 1}));
 }
 
+TEST(MeshIO, ObjBackslashContinuesAStatementOnTheNextLine) {
+    // Valid OBJ that exporters write for long faces: it was refused with
+    // "bad face vertex '\'".
+    const std::string vertices = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+    const TriangleMesh wrapped = fromText(
+        MeshFormat::Obj, vertices + "f 1 2 \\\n  3 4\nf 1 \\ \r\n 3\\\n 4 # done\nv 5 \\\n 5 5\n");
+    const TriangleMesh plain =
+        fromText(MeshFormat::Obj, vertices + "f 1 2 3 4\nf 1 3 4\nv 5 5 5\n");
+    EXPECT_EQ(wrapped.triangles, plain.triangles);
+    EXPECT_EQ(wrapped.vertices, plain.vertices);
+    // A message names the line the statement starts on.
+    try {
+        fromText(MeshFormat::Obj, vertices + "f 1 2 \\\n 3 x\n", "wrapped.obj");
+        ADD_FAILURE() << "a bad vertex after a continuation was accepted";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("wrapped.obj: line 5: bad face vertex 'x'"),
+                  std::string::npos)
+            << error.what();
+    }
+    // A backslash on the last line continues into nothing.
+    EXPECT_EQ(fromText(MeshFormat::Obj, vertices + "f 1 2 3 \\").faceCount, 1u);
+}
+
 struct BadInput {
     MeshFormat format;
     std::string content;
