@@ -91,7 +91,17 @@ std::size_t textContentStart(const std::string& name, std::string_view text) {
         throw InputError(name,
                          "is UTF-16 text (it starts with a UTF-16 byte order mark); "
                          "save it as UTF-8");
-    return utf8BomLength(text);
+    const std::size_t bom = utf8BomLength(text);
+    // Only the first line end is judged: a binary PLY body or a binary STL
+    // header may hold any byte, but after a text header's first '\n'.
+    const std::string_view content = text.substr(bom);
+    const std::size_t cr = content.find('\r');
+    if (cr != std::string_view::npos && cr < content.find('\n') &&
+        (cr + 1 == content.size() || content[cr + 1] != '\n'))
+        throw InputError(name,
+                         "ends its lines with a carriage return alone (classic Mac OS text); "
+                         "save it with LF or CRLF line ends");
+    return bom;
 }
 
 }  // namespace skelseg

@@ -62,7 +62,9 @@ constexpr std::size_t utf8BomLength(std::string_view text) noexcept {
 /// mark (utf8BomLength()). @throw InputError(name, ...) when it starts with a
 /// UTF-16 one (FF FE or FE FF): Windows PowerShell's `>` and Notepad's
 /// "Unicode" write such files, whose every other byte is NUL, and each reader
-/// refused them for a different wrong reason ("the mesh has no faces").
+/// refused them for a different wrong reason ("the mesh has no faces"); and
+/// when its first line ends in a carriage return alone (classic Mac OS text),
+/// which the line-based readers would take for one long line.
 std::size_t textContentStart(const std::string& name, std::string_view text);
 
 /// `text` without leading and trailing whitespace (a view into `text`).

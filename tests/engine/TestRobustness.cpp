@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstring>
@@ -107,6 +108,13 @@ std::string utf16(const std::string& ascii, bool bigEndian = false) {
 }
 const std::string kUtf16Problem =
     "is UTF-16 text (it starts with a UTF-16 byte order mark); save it as UTF-8";
+
+/// `text` with every '\n' a carriage return, as classic Mac OS wrote text.
+std::string crLineEnds(std::string text) {
+    std::replace(text.begin(), text.end(), '\n', '\r');
+    return text;
+}
+const std::string kCrProblem = "ends its lines with a carriage return alone";
 
 BadCase seg(std::string name, std::string content, std::string problem) {
     BadCase c = bytes(std::move(name), "labels.seg", std::move(content), std::move(problem));
@@ -473,6 +481,15 @@ std::vector<BadCase> meshCases() {
                     "1 0\nendloop\nendfacet\nendsolid t\n"),
               kUtf16Problem),
         bytes("ply_utf16", "utf16.ply", utf16(kPlyHeader + kPlyBody), kUtf16Problem),
+        // Read as one long line: "the mesh has no faces" (OBJ, ASCII STL).
+        bytes("off_cr_line_ends", "mac.off", crLineEnds(kTetraOff), kCrProblem),
+        bytes("obj_cr_line_ends", "mac.obj",
+              crLineEnds("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n"), kCrProblem),
+        bytes("stl_ascii_cr_line_ends", "mac.stl",
+              crLineEnds("solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 "
+                         "0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n"),
+              kCrProblem),
+        bytes("ply_cr_line_ends", "mac.ply", crLineEnds(kPlyHeader + kPlyBody), kCrProblem),
     };
 }
 
@@ -485,6 +502,7 @@ std::vector<BadCase> segCases() {
         seg("seg_too_few_labels", "0\n1\n", ""),
         seg("seg_too_many_labels", "0\n1\n1\n0\n1\n", ""),
         seg("seg_utf16", utf16("0\r\n1\r\n1\r\n0\r\n"), kUtf16Problem),
+        seg("seg_cr_line_ends", "0\r1\r1\r0\r", kCrProblem),
         seg("seg_gzip_truncated", gz.substr(0, gz.size() - 6), "truncated"),
         seg("seg_gzip_corrupt", gz.substr(0, 10) + std::string(6, '\xee') + gz.substr(16), ""),
         seg("seg_binary_garbage",

@@ -89,6 +89,11 @@ def test_unreadable_files_are_value_errors_naming_the_file(capfd, tmp_path):
     bad.write_text("OFF\n3 1 0\n0 0 0\n1 0 0\n")
     with pytest.raises(ValueError, match=rf"^{bad}: "):
         skelseg.read_mesh(bad)
+    # A directory is said to be one, whatever its name's extension says.
+    for directory in (tmp_path, tmp_path / "folder.off"):
+        directory.mkdir(exist_ok=True)
+        with pytest.raises(ValueError, match=rf"^{directory}: is a directory, not a file$"):
+            skelseg.read_mesh(directory)
     check_quiet(capfd)
 
 

@@ -125,6 +125,15 @@ TEST(Manifest, AShapeOrBinaryDataIsNotAManifest) {
             (dir / "utf16.txt").string() +
                 ": is UTF-16 text (it starts with a UTF-16 byte order mark); save it as UTF-8");
     }
+    // Classic Mac OS line ends made one input of the whole list.
+    writeBytes(dir / "mac.txt", "a.nrrd\rb.nrrd\r");
+    try {
+        readManifest(dir / "mac.txt");
+        ADD_FAILURE() << "a manifest with carriage returns alone was read";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("carriage return alone"), std::string::npos)
+            << error.what();
+    }
 }
 
 TEST(OutputNames, ThousandsOfEqualNamesGetDistinctCounters) {
