@@ -73,12 +73,10 @@ TriangleMesh readMeshFromMemory(const std::string& name, MeshFormat format,
 }
 
 TriangleMesh readMesh(const std::filesystem::path& path) {
-    // What is wrong with the path (missing, a directory, a FIFO) before what
-    // its name says: a directory has no extension to judge.
+    // What is wrong with the path (missing, a directory, a FIFO, which would
+    // block) before what its name says: a directory has no extension to judge.
     checkReadableFile(path);
     const MeshFormat format = meshFormatFromPath(path);
-    // readFileBytes refuses directories, FIFOs and devices before opening them
-    // (opening a FIFO would block, a directory "reads" as garbage).
     const std::string bytes = readFileBytes(path);
     return readMeshFromMemory(path.string(), format,
                               reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());

@@ -186,6 +186,15 @@ TriangleMesh withoutCap(const TriangleMesh& mesh, double top) {
     return open;
 }
 
+/// Solid voxels of `open` over those of `closed`, both at `resolution`: near
+/// 1 where the hole was bridged and the inside filled, far below for a shell.
+double solidShareOfClosed(const TriangleMesh& open, const TriangleMesh& closed, int resolution) {
+    VoxelizeOptions options;
+    options.resolution = resolution;
+    return double(solidCount(voxelizeMesh(open, options))) /
+           double(solidCount(voxelizeMesh(closed, options)));
+}
+
 TEST(MeshVoxelizer, OpenSphereIsStillSolid) {
     const double radius = 1.0;
     TriangleMesh sphere = icosphere(4, radius, {0, 0, 0});
@@ -208,20 +217,16 @@ TEST(MeshVoxelizer, OpenSphereIsStillSolid) {
     sphere.faceCount = kept.size();
     ASSERT_FALSE(checkMesh(sphere).closed);
 
-    VoxelizeOptions options;
-    options.resolution = 48;
-    const std::size_t closedCount = solidCount(voxelizeMesh(closed, options));
-    const std::size_t openCount = solidCount(voxelizeMesh(sphere, options));
     // Filled, not just a shell; a little fatter than the closed one.
-    EXPECT_GT(double(openCount), 0.99 * double(closedCount));
-    EXPECT_LT(double(openCount), 1.10 * double(closedCount));
+    const double small = solidShareOfClosed(sphere, closed, 48);
+    EXPECT_GT(small, 0.99);
+    EXPECT_LT(small, 1.10);
 
     // A hole far wider than the default closing (a cap of about 10 voxels
     // across) is bridged by the retries with a larger closing.
-    const TriangleMesh wide = withoutCap(closed, 0.97 * radius);
-    const std::size_t wideCount = solidCount(voxelizeMesh(wide, options));
-    EXPECT_GT(double(wideCount), 0.9 * double(closedCount));
-    EXPECT_LT(double(wideCount), 1.10 * double(closedCount));
+    const double wide = solidShareOfClosed(withoutCap(closed, 0.97 * radius), closed, 48);
+    EXPECT_GT(wide, 0.9);
+    EXPECT_LT(wide, 1.10);
 }
 
 TEST(MeshVoxelizer, HoleThatNeedsTheWidestClosingStillGivesASolid) {
@@ -233,12 +238,9 @@ TEST(MeshVoxelizer, HoleThatNeedsTheWidestClosingStillGivesASolid) {
     const TriangleMesh closed = icosphere(5, radius, {0, 0, 0});
     const TriangleMesh open = withoutCap(closed, 0.97 * radius);
     ASSERT_FALSE(checkMesh(open).closed);
-    VoxelizeOptions options;
-    options.resolution = 96;
-    const std::size_t closedCount = solidCount(voxelizeMesh(closed, options));
-    const std::size_t openCount = solidCount(voxelizeMesh(open, options));
-    EXPECT_GT(double(openCount), 0.9 * double(closedCount));
-    EXPECT_LT(double(openCount), 1.15 * double(closedCount));
+    const double share = solidShareOfClosed(open, closed, 96);
+    EXPECT_GT(share, 0.9);
+    EXPECT_LT(share, 1.15);
 }
 
 TEST(MeshVoxelizer, FlatSheetBecomesAPlate) {
