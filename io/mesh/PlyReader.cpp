@@ -333,6 +333,10 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
             builder.fail("the " + what + " element has no 'vertex_indices' list");
         if (!plyTypeIsInteger(element.properties[std::size_t(indexProperty)].valueType))
             builder.fail(what + " vertex indices are not integers");
+        // Only now: the size check bounds the count of an element with a
+        // list (a count byte per item at least), not of one without
+        // properties, whose reserve took gigabytes (found by FuzzPly).
+        builder.reserve(0, element.count);
         for (std::uint64_t item = 0; item < element.count; ++item) {
             for (std::size_t p = 0; p < element.properties.size(); ++p) {
                 const PlyProperty& property = element.properties[p];
@@ -393,7 +397,6 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
             }
         } else if (element.name == "face") {
             haveFaceElement = true;
-            builder.reserve(0, element.count);
             readIndexLists(element, [&] { builder.addFace(polygon, declaredVertices); });
         } else if (element.name == "tristrips") {
             // Triangle strips (the Stanford scanning repository's older
@@ -416,8 +419,11 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
                     builder.addFace(polygon, declaredVertices);
                 }
             });
-        } else {
-            // Any other element (edges, materials, ...): skip it value by value.
+        } else if (!element.properties.empty()) {
+            // Any other element (edges, materials, ...): skip it value by
+            // value. One without properties holds no data, whatever its
+            // count (which the size check cannot bound: a fuzzed header's
+            // 2 billion empty items took over 25 s to "read").
             for (std::uint64_t item = 0; item < element.count; ++item) {
                 for (const PlyProperty& property : element.properties) {
                     if (!property.isList) {

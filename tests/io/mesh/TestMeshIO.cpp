@@ -303,6 +303,29 @@ TEST(MeshIO, AsciiPlyIgnoresValuesAfterAnItemOnItsLine) {
                    plain);
 }
 
+TEST(MeshIO, PlyElementWithoutPropertiesIsSkippedWhateverItsCount) {
+    // Found by FuzzPly: an element of no properties holds no data, so the
+    // size check cannot bound its count; 4 billion empty items were "read"
+    // one by one.
+    const std::string tetra =
+        "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    const TriangleMesh mesh =
+        fromText(MeshFormat::Ply,
+                 "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty "
+                 "float y\nproperty float z\nelement nothing 4000000000\n" +
+                     tetra);
+    EXPECT_EQ(mesh.faceCount, 4u);
+    EXPECT_EQ(mesh.vertices.size(), 4u);
+    // A face element without properties is refused before memory is
+    // reserved for its count (FuzzPly: a 5.7 GB reserve).
+    expectEachRefused({{MeshFormat::Ply,
+                        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+                        "y\nproperty float z\nelement face 2000000000\nelement face 1\nproperty "
+                        "list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                        "the face element has no 'vertex_indices' list"}});
+}
+
 TEST(MeshIO, OffKeywordsOfGeomviewsFullSyntax) {
     // Valid OFF that was refused: the first count glued to the keyword
     // (trimesh's whitespace.off, "OFF8 6 12"), homogeneous vertices (4OFF:
