@@ -7,6 +7,7 @@
 
 #include "engine/Segmenter.h"
 #include "engine/Stage.h"
+#include "io/files/TextFile.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "io/volume/VolumeReader.h"
 
@@ -19,6 +20,25 @@ bool isMeshPath(const fs::path& path) {
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     return ext == ".off" || ext == ".obj" || ext == ".stl" || ext == ".ply";
+}
+
+std::string unknownInputFormatProblem(const fs::path& file) {
+    // The volume reader's own message lists the volume formats only, which
+    // told the user of "part.obj.zip" or "part.stl.gz" that meshes are not
+    // read at all; an archive is the commonest such input (test-model
+    // collections ship them), so say what to do with it.
+    const std::string extension = file.extension().string();
+    const std::string lower = lowercase(extension);
+    static const char* const kArchives[] = {".gz",  ".tgz", ".bz2", ".xz",  ".zst", ".lz4",
+                                            ".zip", ".7z",  ".rar", ".tar", ".z"};
+    const std::string supported =
+        "skelseg reads .off, .obj, .stl and .ply meshes and .nrrd, .nhdr, .binvox and .vdb volumes";
+    if (extension.empty()) return "has no file extension to tell the format (" + supported + ")";
+    for (const char* archive : kArchives)
+        if (lower == archive)
+            return "is a compressed file or archive (" + quote(extension) + "); unpack it first (" +
+                   supported + ")";
+    return "unknown input format " + quote(extension) + " (" + supported + ")";
 }
 
 std::string formatBytes(std::uint64_t bytes) {
@@ -60,6 +80,10 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
         source.meshDiagnostics = checkMesh(*source.mesh);
     } else {
         Stage stage(timer, interrupter, "read volume", false);
+        if (volumeFormatFromPath(file) == VolumeFormat::Unknown) {
+            checkReadableFile(file);
+            throw InputError(file.string(), unknownInputFormatProblem(file));
+        }
         VolumeReadOptions readOptions;
         readOptions.gridName = options.gridName;
         source.volumeMask = readVolume(file, readOptions);

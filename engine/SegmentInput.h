@@ -110,6 +110,11 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
                               Interrupter& interrupter,
                               const std::function<void(const std::string&)>& warn);
 
+/// The problem with an input whose extension is neither a mesh's nor a
+/// volume's (a ".zip" or ".gz" is called an archive to unpack), naming both
+/// kinds of formats.
+std::string unknownInputFormatProblem(const std::filesystem::path& file);
+
 /// True if the file name has a mesh extension (.off .obj .stl .ply).
 bool isMeshPath(const std::filesystem::path& path);
 

@@ -81,6 +81,10 @@ TriangleMesh readObj(const std::string& name, const char* data, std::size_t size
                     polygon.push_back(index - 1);
                 }
             }
+            if (polygon.size() < 3)
+                builder.fail("line " + std::to_string(lineNumber) + ": face " +
+                             std::to_string(builder.faceCount()) + " has " +
+                             std::to_string(polygon.size()) + " vertices; a face needs at least 3");
             builder.addFace(polygon,
                             kCheckLater);  // positive indices may point forward: checked at the end
         }

@@ -69,6 +69,19 @@ bool holdsMoreLines(TextTokenizer lines, std::uint64_t count) {
     return true;
 }
 
+/// Length of `keyword` up to the end of its "OFF" (any case) when the rest is
+/// empty or digits (the first count glued to it), 0 when it is no OFF keyword.
+std::size_t offKeywordEnd(std::string_view keyword) {
+    const std::string lower = lowercase(keyword);
+    for (std::size_t end = lower.size(); end >= 3; --end) {
+        if (lower.compare(end - 3, 3, "off") != 0) continue;
+        for (std::size_t i = end; i < lower.size(); ++i)
+            if (lower[i] < '0' || lower[i] > '9') return 0;
+        return end;
+    }
+    return 0;
+}
+
 }  // namespace
 
 TriangleMesh readOff(const std::string& name, const char* data, std::size_t size) {
@@ -79,9 +92,11 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
     if (!lines.nextSignificantLine(line)) builder.fail("empty file");
 
     // Header keyword: [ST][C][N][4][n]OFF, optionally followed by the counts on
-    // the same line. Some writers leave the keyword out and start with counts.
+    // the same line. Some writers leave the keyword out and start with counts,
+    // and some glue the first count to it ("OFF8 6 12": Geomview matches the
+    // keyword's letters and then reads numbers, so it reads that file).
     TextTokenizer headerTokens(line);
-    std::string_view keyword = headerTokens.nextToken();
+    const std::string_view keyword = headerTokens.nextToken();
     std::vector<std::int64_t> counts;
     auto collectCounts = [&](TextTokenizer& tokens, std::string_view first) {
         for (std::string_view token = first; !token.empty(); token = tokens.nextToken()) {
@@ -92,19 +107,39 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
             counts.push_back(value);
         }
     };
-    const std::string lowerKeyword = lowercase(keyword);
-    if (lowerKeyword.size() >= 3 && lowerKeyword.compare(lowerKeyword.size() - 3, 3, "off") == 0) {
+    // 4OFF: each vertex has a fourth, homogeneous coordinate w (the point is
+    // (x, y, z) / w). nOFF: the number of coordinates per vertex comes before
+    // the counts; only 3 (4 with the '4') is a shape in space.
+    bool homogeneous = false;
+    if (const std::size_t keywordEnd = offKeywordEnd(keyword); keywordEnd != 0) {
         // The prefix is case-sensitive: 'N' = normals, 'n' = dimension given.
-        const std::string_view prefix = keyword.substr(0, keyword.size() - 3);
-        if (prefix.find('4') != std::string_view::npos ||
-            prefix.find('n') != std::string_view::npos)
-            builder.fail("OFF files with other than 3 dimensions (" + quote(keyword) +
-                         ") are not supported");
+        const std::string_view prefix = keyword.substr(0, keywordEnd - 3);
         for (char c : prefix)
-            if (c != 'S' && c != 'T' && c != 'C' && c != 'N')
+            if (c != 'S' && c != 'T' && c != 'C' && c != 'N' && c != '4' && c != 'n')
                 builder.fail("not an OFF file (header " + quote(keyword) + ")");
-        std::string_view token = headerTokens.nextToken();
+        homogeneous = prefix.find('4') != std::string_view::npos;
+        std::string_view token = keyword.substr(keywordEnd);
+        if (token.empty()) token = headerTokens.nextToken();
         if (lowercase(token) == "binary") builder.fail("binary OFF files are not supported");
+        if (prefix.find('n') != std::string_view::npos) {
+            if (token.empty()) {
+                if (!lines.nextSignificantLine(line))
+                    builder.fail("file ends before the dimension that " + quote(keyword) +
+                                 " announces");
+                headerTokens = TextTokenizer(line);
+                token = headerTokens.nextToken();
+            }
+            std::int64_t dimension = 0;
+            if (!parseInteger(token, dimension) || dimension < 0)
+                builder.fail("line " + std::to_string(lines.lineNumber()) + ": expected the " +
+                             "vertex dimension that " + quote(keyword) + " announces, found " +
+                             quote(token));
+            if (dimension != 3)
+                builder.fail("line " + std::to_string(lines.lineNumber()) + ": " + quote(keyword) +
+                             " gives vertices " + std::to_string(dimension) +
+                             " coordinates; only 3-dimensional OFF files are supported");
+            token = headerTokens.nextToken();
+        }
         collectCounts(headerTokens, token);
         if (counts.empty()) {
             if (!lines.nextSignificantLine(line))
@@ -142,16 +177,21 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
             builder.fail("file ends after " + std::to_string(v) + " of " +
                          std::to_string(vertexCount) + " vertices");
         TextTokenizer tokens(line);
-        double xyz[3];
-        for (double& coordinate : xyz) {
+        double xyzw[4] = {0, 0, 0, 1};
+        for (std::size_t c = 0; c < (homogeneous ? 4u : 3u); ++c) {
             const std::string_view token = tokens.nextToken();
-            if (!parseReal(token, coordinate))
-                builder.fail("line " + std::to_string(lines.lineNumber()) + ": vertex " +
-                             std::to_string(v) +
-                             (token.empty() ? " has fewer than 3 coordinates"
-                                            : " has a bad coordinate " + quote(token)));
+            if (!parseReal(token, xyzw[c]))
+                builder.fail(
+                    "line " + std::to_string(lines.lineNumber()) + ": vertex " + std::to_string(v) +
+                    (token.empty() ? " has fewer than " + std::string(homogeneous ? "4" : "3") +
+                                         " coordinates"
+                                   : " has a bad coordinate " + quote(token)));
         }
-        builder.addVertex(xyz[0], xyz[1], xyz[2]);
+        if (xyzw[3] == 0)
+            builder.fail("line " + std::to_string(lines.lineNumber()) + ": vertex " +
+                         std::to_string(v) + " has the homogeneous coordinate 0 (a point at " +
+                         "infinity)");
+        builder.addVertex(xyzw[0] / xyzw[3], xyzw[1] / xyzw[3], xyzw[2] / xyzw[3]);
         lastVertexLine = line;
     }
 

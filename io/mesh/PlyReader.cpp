@@ -72,10 +72,12 @@ enum class PlyEncoding { Ascii, BinaryLittleEndian, BinaryBigEndian };
 /// Reads PLY values one at a time from the data section, in either encoding.
 class PlyValueReader {
 public:
+    /// headerLines: the lines before `data`, for the line numbers of ASCII messages.
     PlyValueReader(MeshBuilder& builder, PlyEncoding encoding, const std::uint8_t* data,
-                   std::size_t size)
+                   std::size_t size, std::size_t headerLines)
         : mBuilder(builder),
           mEncoding(encoding),
+          mHeaderLines(headerLines),
           mData(data),
           mSize(size),
           mTokens(reinterpret_cast<const char*>(data), size) {}
@@ -100,8 +102,7 @@ public:
         if (mEncoding == PlyEncoding::Ascii) {
             const std::string_view token = nextToken(what);
             double value = 0;
-            if (!parseReal(token, value))
-                mBuilder.fail("bad " + std::string(what) + " value " + quote(token));
+            if (!parseReal(token, value)) badValue(what, token);
             return value;
         }
         return readBinary(type, what);
@@ -111,11 +112,19 @@ public:
         if (mEncoding == PlyEncoding::Ascii) {
             const std::string_view token = nextToken(what);
             std::int64_t value = 0;
-            if (!parseInteger(token, value))
-                mBuilder.fail("bad " + std::string(what) + " value " + quote(token));
+            if (!parseInteger(token, value)) badValue(what, token);
             return value;
         }
         return std::int64_t(readBinary(type, what));
+    }
+
+    /// Ends an item (one vertex, face, ...). ASCII: the values left on the
+    /// line of its last value are ignored, as the PLY reference reader (ply.c,
+    /// which reads an item per line) does; writers add undeclared values there
+    /// (MeshLab's fuze_ascii.ply in trimesh's models holds 6 more per face).
+    void endItem() noexcept {
+        if (mEncoding == PlyEncoding::Ascii && mValuesInItem) mTokens.skipLine();
+        mValuesInItem = false;
     }
 
     /// Skips one property value of any kind.
@@ -130,11 +139,17 @@ public:
     }
 
 private:
+    [[noreturn]] void badValue(const char* what, std::string_view token) const {
+        mBuilder.fail("line " + std::to_string(mHeaderLines + mTokens.lineNumber()) + ": bad " +
+                      what + " value " + quote(token));
+    }
+
     [[noreturn]] void truncated(const char* what) const {
         mBuilder.fail(std::string("file ends inside the ") + what + " data");
     }
 
     std::string_view nextToken(const char* what) {
+        mValuesInItem = true;
         const std::string_view token = mTokens.nextToken();
         if (token.empty()) truncated(what);
         return token;
@@ -189,10 +204,12 @@ private:
 
     MeshBuilder& mBuilder;
     PlyEncoding mEncoding;
+    std::size_t mHeaderLines;
     const std::uint8_t* mData;
     std::size_t mSize;
     std::size_t mPosition = 0;
     TextTokenizer mTokens;
+    bool mValuesInItem = false;
 };
 
 static_assert(sizeof(float) == 4 && sizeof(double) == 8, "IEEE floats expected");
@@ -257,15 +274,19 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
             property.name = std::string(tokens.nextToken());
             if (property.name.empty()) builder.fail(where + "property without a name");
             elements.back().properties.push_back(std::move(property));
-        } else {
-            builder.fail(where + "unknown header keyword " + quote(keyword));
         }
+        // Other lines are ignored, as the PLY reference reader (ply.c) does:
+        // Blender 2.4x wrote its "Created by Blender3D ..." line without
+        // "comment" (assimp's Wuson.ply). An ignored line cannot go unnoticed
+        // where it matters: a missing x, y, z or face list is refused, and
+        // binary data that no longer matches the properties ends early or
+        // leaves bytes over.
     }
     if (!haveFormat) builder.fail("the header has no 'format' line");
 
     const std::size_t headerLines = lines.lineNumber();
     const std::size_t dataOffset = size - lines.bytesLeft();
-    PlyValueReader reader(builder, encoding, data + dataOffset, size - dataOffset);
+    PlyValueReader reader(builder, encoding, data + dataOffset, size - dataOffset, headerLines);
 
     // Refuse counts the data section cannot hold before allocating anything:
     // each item needs at least its fixed-size part (binary) or one character
@@ -312,6 +333,10 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
             builder.fail("the " + what + " element has no 'vertex_indices' list");
         if (!plyTypeIsInteger(element.properties[std::size_t(indexProperty)].valueType))
             builder.fail(what + " vertex indices are not integers");
+        // Only now: the size check bounds the count of an element with a
+        // list (a count byte per item at least), not of one without
+        // properties, whose reserve took gigabytes (found by FuzzPly).
+        builder.reserve(0, element.count);
         for (std::uint64_t item = 0; item < element.count; ++item) {
             for (std::size_t p = 0; p < element.properties.size(); ++p) {
                 const PlyProperty& property = element.properties[p];
@@ -332,6 +357,7 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
                 for (std::int64_t i = 0; i < count; ++i)
                     polygon.push_back(reader.readInteger(property.valueType, what.c_str()));
             }
+            reader.endItem();
             onItem();
         }
     };
@@ -366,11 +392,11 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
                         reader.skip(property.valueType, "vertex");
                     }
                 }
+                reader.endItem();
                 builder.addVertex(xyz[0], xyz[1], xyz[2]);
             }
         } else if (element.name == "face") {
             haveFaceElement = true;
-            builder.reserve(0, element.count);
             readIndexLists(element, [&] { builder.addFace(polygon, declaredVertices); });
         } else if (element.name == "tristrips") {
             // Triangle strips (the Stanford scanning repository's older
@@ -393,9 +419,12 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
                     builder.addFace(polygon, declaredVertices);
                 }
             });
-        } else {
-            // Any other element (edges, materials, ...): skip it value by value.
-            for (std::uint64_t item = 0; item < element.count; ++item)
+        } else if (!element.properties.empty()) {
+            // Any other element (edges, materials, ...): skip it value by
+            // value. One without properties holds no data, whatever its
+            // count (which the size check cannot bound: a fuzzed header's
+            // 2 billion empty items took over 25 s to "read").
+            for (std::uint64_t item = 0; item < element.count; ++item) {
                 for (const PlyProperty& property : element.properties) {
                     if (!property.isList) {
                         reader.skip(property.valueType, "element");
@@ -408,14 +437,21 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
                     for (std::int64_t i = 0; i < count; ++i)
                         reader.skip(property.valueType, "element");
                 }
+                reader.endItem();
+            }
         }
     }
     if (!haveFaceElement) builder.fail("the file has no face element");
     // Whitespace may follow the last element; anything else means a count in
     // the header is wrong, and reading on would drop part of the mesh.
     if (reader.dataLeft()) {
-        const std::string last = quote(std::string_view(elements.back().name));
-        const std::string declared = std::to_string(elements.back().count);
+        // The extra data follows the last element that has items; an element
+        // declared with 0 items ("element face 0" of a point cloud) read none.
+        const PlyElement* lastRead = &elements.back();
+        for (const PlyElement& element : elements)
+            if (element.count > 0) lastRead = &element;
+        const std::string last = quote(std::string_view(lastRead->name));
+        const std::string declared = std::to_string(lastRead->count);
         if (encoding != PlyEncoding::Ascii)
             builder.fail(std::to_string(reader.bytesLeft()) +
                          " bytes follow the last element the header declares (" + declared +

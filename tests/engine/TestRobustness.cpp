@@ -370,6 +370,12 @@ std::vector<BadCase> meshCases() {
               "line 10: the file holds more faces than its header declares (3)"),
         bytes("off_more_vertices_than_declared", "morevertices.off", "OFF\n3 4 0\n" + kTetraBody,
               "line 6: the file holds more vertices than its header declares (3)"),
+        // Geomview's nOFF gives the vertex dimension; only 3 is a shape in space.
+        bytes("off_dimension_4", "dim4.off", "nOFF\n4\n4 4 0\n",
+              "line 2: 'nOFF' gives vertices 4 coordinates; only 3-dimensional OFF files are "
+              "supported"),
+        bytes("off_homogeneous_zero", "w0.off", "4OFF\n3 1 0\n0 0 0 1\n1 0 0 0\n0 1 0 1\n3 0 1 2\n",
+              "line 4: vertex 1 has the homogeneous coordinate 0 (a point at infinity)"),
         // OBJ
         bytes("obj_empty", "empty.obj", "", "no faces"),
         bytes("obj_vertices_only", "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"),
@@ -468,6 +474,20 @@ std::vector<BadCase> meshCases() {
               "line 17: the file holds more 'face' lines than its header declares (3)"),
         bytes("ply_binary_trailing_bytes", "trailing.ply", plyBinaryTetra + "\x03\x01",
               "2 bytes follow the last element the header declares (4 items of 'face')"),
+        // assimp's issue623.ply: the vertex element declares a list its lines
+        // do not hold, so the next vertex's x is read as the list's length.
+        bytes("ply_vertex_list_not_held", "issue623.ply",
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+              "property float z\nproperty list uchar uint vertex_indices\nend_header\n"
+              "0.50 0.00 0.00\n1.50 0.00 0.00\n0.00 1.00 0.00\n",
+              "line 10: bad vertex value '1.50'"),
+        // trimesh's points_emptyascii.ply: one vertex line more than declared,
+        // then "element face 0"; the line named the empty 'face' element.
+        bytes("ply_extra_vertex_before_empty_face", "extra.ply",
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+              "property float z\nelement face 0\nproperty list uchar int vertex_indices\n"
+              "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n",
+              "line 13: the file holds more 'vertex' lines than its header declares (3)"),
         // Each reader refused these for another reason: "the mesh has no
         // faces" (OBJ), "it starts with '??O?F?F?'" (OFF), "no 'ply' line".
         bytes("off_utf16", "utf16.off", utf16(kTetraOff), kUtf16Problem),
@@ -542,9 +562,16 @@ std::vector<BadCase> fileSystemCases() {
         directory("directory_ply", "dir.ply"),
         fifo("fifo_nrrd", "fifo.nrrd"),
         fifo("fifo_stl", "fifo.stl"),
-        bytes("unknown_extension", "shape.xyz", "NRRD0004\n", "unknown volume format '.xyz'"),
+        bytes("unknown_extension", "shape.xyz", "NRRD0004\n",
+              "unknown input format '.xyz' (skelseg reads .off, .obj, .stl and .ply meshes"),
+        // Test-model collections ship meshes zipped or gzipped; the line
+        // listed the volume formats only, as if meshes were not read.
+        bytes("zip_archive", "model.obj.zip", std::string("PK\x03\x04\x14\0\0\0", 8),
+              "is a compressed file or archive ('.zip'); unpack it first (skelseg reads .off"),
+        bytes("gzip_stl", "model.STL.GZ", std::string("\x1f\x8b\x08\0", 4),
+              "is a compressed file or archive ('.GZ'); unpack it first"),
         bytes("no_extension", "shape", "NRRD0004\n", "no file extension"),
-        bytes("seg_as_input", "labels.seg", "0\n1\n", "unknown volume format"),
+        bytes("seg_as_input", "labels.seg", "0\n1\n", "unknown input format '.seg'"),
     };
     BadCase seg_directory = directory("seg_directory", "dir.seg");
     seg_directory.score = true;

@@ -271,6 +271,94 @@ void expectEachRefused(const std::vector<BadInput>& cases) {
     }
 }
 
+TEST(MeshIO, AsciiPlyIgnoresValuesAfterAnItemOnItsLine) {
+    // The PLY reference reader (ply.c) reads one item per line and ignores
+    // what follows its values; MeshLab wrote trimesh's fuze_ascii.ply with 6
+    // undeclared values after each face's colour. It was refused ("face 1 has
+    // 1 vertices"): the extra values were read as the next faces.
+    const std::string header =
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+        "property uchar red\nend_header\n";
+    const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+    const TriangleMesh plain = fromText(
+        MeshFormat::Ply, header + vertices + "3 0 2 1 9\n3 0 1 3 9\n3 0 3 2 9\n3 1 2 3 9\n");
+    const TriangleMesh extra = fromText(
+        MeshFormat::Ply, header + "0 0 0 0 0 -1\n1 0 0 1 0 0\n0 1 0 0 1 0\n0 0 1 0 0 1\n" +
+                             "3 0 2 1 9 3 1 1 1\n3 0 1 3 9 3 1 1 1\n3 0 3 2 9\n3 1 2 3 9 2 7 7\n");
+    expectSameMesh(extra, plain);
+    EXPECT_EQ(extra.faceCount, 4u);
+    // A header line of no known keyword is ignored, as ply.c does: Blender
+    // 2.4x wrote "Created by ..." without "comment" (assimp's Wuson.ply); it
+    // was refused ("unknown header keyword 'Created'").
+    std::string blender = header;
+    blender.insert(std::string("ply\nformat ascii 1.0\n").size(),
+                   "Created by Blender3D 247 - www.blender.org, source file: \n");
+    expectSameMesh(fromText(MeshFormat::Ply,
+                            blender + vertices + "3 0 2 1 9\n3 0 1 3 9\n3 0 3 2 9\n3 1 2 3 9\n"),
+                   plain);
+    // An item may still go on on the next line when its own line ends early.
+    expectSameMesh(fromText(MeshFormat::Ply, header + "0 0\n0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n9\n" +
+                                                 "3 0 1 3 9\n3 0 3 2 9\n3 1 2 3 9\n"),
+                   plain);
+}
+
+TEST(MeshIO, PlyElementWithoutPropertiesIsSkippedWhateverItsCount) {
+    // Found by FuzzPly: an element of no properties holds no data, so the
+    // size check cannot bound its count; 4 billion empty items were "read"
+    // one by one.
+    const std::string tetra =
+        "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    const TriangleMesh mesh =
+        fromText(MeshFormat::Ply,
+                 "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty "
+                 "float y\nproperty float z\nelement nothing 4000000000\n" +
+                     tetra);
+    EXPECT_EQ(mesh.faceCount, 4u);
+    EXPECT_EQ(mesh.vertices.size(), 4u);
+    // A face element without properties is refused before memory is
+    // reserved for its count (FuzzPly: a 5.7 GB reserve).
+    expectEachRefused({{MeshFormat::Ply,
+                        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+                        "y\nproperty float z\nelement face 2000000000\nelement face 1\nproperty "
+                        "list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                        "the face element has no 'vertex_indices' list"}});
+}
+
+TEST(MeshIO, OffKeywordsOfGeomviewsFullSyntax) {
+    // Valid OFF that was refused: the first count glued to the keyword
+    // (trimesh's whitespace.off, "OFF8 6 12"), homogeneous vertices (4OFF:
+    // x y z w, the point (x, y, z) / w) and the dimension given (nOFF, with 3
+    // coordinates per vertex; 4nOFF adds w).
+    const std::string faces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    const TriangleMesh plain =
+        fromText(MeshFormat::Off, "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n" + faces);
+    const std::vector<std::string> variants = {
+        "\t  OFF4 4 0 # a comment\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n" + faces,
+        "COFF4 4\n0 0 0 1 1 1\n1 0 0 1 1 1\n0 1 0 1 1 1\n0 0 1 1 1 1\n" + faces,
+        "4OFF\n4 4 0\n0 0 0 1\n2 0 0 2\n0 -1 0 -1\n0 0 0.5 0.5\n" + faces,
+        "nOFF\n3\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n" + faces,
+        "nOFF 3 4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n" + faces,
+        "C4nOFF\n3 4 4 0\n0 0 0 1 0 0 0\n3 0 0 3 0 0 0\n0 1 0 1 0 0 0\n0 0 2 2 0 0 0\n" + faces,
+    };
+    for (const std::string& text : variants) {
+        SCOPED_TRACE(text);
+        expectSameMesh(fromText(MeshFormat::Off, text), plain);
+    }
+    expectEachRefused({
+        {MeshFormat::Off, "nOFF\n4\n4 4 0\n", "line 2: 'nOFF' gives vertices 4 coordinates"},
+        {MeshFormat::Off, "4nOFF 2 4 4 0\n", "'4nOFF' gives vertices 2 coordinates"},
+        {MeshFormat::Off, "nOFF\n", "file ends before the dimension that 'nOFF' announces"},
+        {MeshFormat::Off, "4OFF\n3 1 0\n0 0 0 1\n1 0 0 0\n0 1 0 1\n3 0 1 2\n",
+         "line 4: vertex 1 has the homogeneous coordinate 0"},
+        {MeshFormat::Off, "4OFF\n3 1 0\n0 0 0 1\n1 0 0\n0 1 0 1\n3 0 1 2\n",
+         "vertex 1 has fewer than 4 coordinates"},
+        {MeshFormat::Off, "OFFx 3 1 0\n", "not an OFF file (it starts with 'OFFx')"},
+        {MeshFormat::Off, "xOFF 3 1 0\n", "not an OFF file (header 'xOFF')"},
+    });
+}
+
 TEST(MeshIO, MalformedInputThrowsInputErrorNamingTheFile) {
     const std::string v3 = "0 0 0\n1 0 0\n0 1 0\n";
     // Long enough lines that the counts pass the bytes-left check.
@@ -303,12 +391,16 @@ TEST(MeshIO, MalformedInputThrowsInputErrorNamingTheFile) {
         {MeshFormat::Off, "OFF\n3 1 0\n0 0 nan\n1 0 0\n0 1 0\n3 0 1 2\n",
          "vertex 0 has a non-finite coordinate"},
         {MeshFormat::Off, "OFF\n3 1 0\n0 0 1x\n1 0 0\n0 1 0\n3 0 1 2\n", "bad coordinate"},
-        {MeshFormat::Off, "4OFF\n", "dimensions"},
+        {MeshFormat::Off, "4OFF\n", "counts"},
         {MeshFormat::Obj, "", "no faces"},
         {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"},
         {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n",
          "face 0 references vertex 9 but there are 3 vertices"},
         {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nf 1 2\n", "face 0 has 2 vertices"},
+        // trimesh's notenoughindices.obj; the line said "face 0" but not where.
+        {MeshFormat::Obj,
+         "o s\nv 0 0 0\nv 1 0 0\nv 1 1 0\nusemtl m\ns 1\nf 1// 2//\nf 1// 2// 3//\n",
+         "line 7: face 0 has 2 vertices; a face needs at least 3"},
         {MeshFormat::Obj, "v 0 0\n", "fewer than 3 coordinates"},
         {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "bad face vertex"},
         {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -5 -1 -2\n", "only 3 vertices precede it"},
@@ -421,8 +513,24 @@ TEST(MeshIO, DataBeyondTheHeaderCountsIsRefusedNamingWhatIsExtra) {
          "line 17: the file holds more 'face' lines than its header declares (3)"},
         {MeshFormat::Ply, binaryPly + std::string("\x03\0\0\0\0", 5),
          "5 bytes follow the last element the header declares (6 items of 'face')"},
+        // An element of 0 items last (trimesh's points_emptyascii.ply has
+        // "element face 0" after one vertex line too many): the extra line
+        // follows the last element that has items; it was "more 'edge' lines
+        // than its header declares (0)".
+        {MeshFormat::Ply,
+         plyHeader(3).insert(plyHeader(3).size() - 11, "element edge 0\nproperty int vertex1\n") +
+             tetraVertices + tetraFaces,
+         "line 19: the file holds more 'face' lines than its header declares (3)"},
     };
     expectEachRefused(refused);
+    // A vertex element declaring a list its lines do not hold (assimp's
+    // issue623.ply): the next vertex's x is read as the list's length. The
+    // line said "bad vertex value '1.50'" without saying where.
+    expectEachRefused({{MeshFormat::Ply,
+                        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+                        "y\nproperty float z\nproperty list uchar int vertex_indices\nend_header\n"
+                        "0.50 0.00 0.00\n1.50 0.00 0.00\n0.00 1.00 0.00\n",
+                        "line 10: bad vertex value '1.50'"}});
 
     // Whitespace, and in OFF comment lines, may follow the last element.
     EXPECT_EQ(fromText(MeshFormat::Off,
