@@ -771,6 +771,11 @@ INSTANTIATE_TEST_SUITE_P(
             "exhaustive_contradicts_band",
             {"segment", "{input}", "-o", "{out}", "--exhaustive", "--skeleton-search", "band"},
             "--exhaustive contradicts --skeleton-search band"},
+        // The run went ahead without any preview, saying nothing.
+        UsageCase{"level_previews_contradict_no_preview",
+                  {"batch", "{input}", "-o", "{out}", "--tau", "1%,3%", "--level-previews",
+                   "--no-preview"},
+                  "--level-previews contradicts --no-preview"},
         UsageCase{"time_budget_negative",
                   {"segment", "{input}", "-o", "{out}", "--time-budget", "-1"},
                   "not a positive number of seconds"},
