@@ -16,6 +16,7 @@
 #include "engine/SegmentReport.h"
 #include "engine/SegmentSteps.h"
 #include "engine/Stage.h"
+#include "engine/WorkerAllowance.h"
 #include "io/files/OutputDirectory.h"
 #include "io/volume/VdbIO.h"
 #include "io/volume/VolumeReader.h"
@@ -279,6 +280,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
                          cpuStart,
                          previewSkippedForBudget,
                          budgetAsTimeLimit};
+    const WorkerAllowance allowance(threads);
     tbb::task_arena arena(threads);
     try {
         arena.execute([&] { runGraph(run); });

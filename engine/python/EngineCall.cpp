@@ -11,6 +11,8 @@
 #include <thread>
 #include <vector>
 
+#include "engine/WorkerAllowance.h"
+
 namespace py = pybind11;
 
 namespace skelseg {
@@ -72,6 +74,7 @@ void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& i
         std::thread worker([&] {
             try {
                 if (threads > 0) {
+                    const WorkerAllowance allowance(threads);
                     tbb::task_arena arena(threads);
                     arena.execute(work);
                 } else {

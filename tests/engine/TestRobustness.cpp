@@ -1026,6 +1026,28 @@ TEST(UnusualInputCli, ByteOrderMarkBeforeTheFirstObjVertexIsSkipped) {
     EXPECT_EQ(fileBytes(dir / "a" / "segmentation.seg"), fileBytes(dir / "b" / "segmentation.seg"));
 }
 
+TEST(UnusualInputCli, MoreThreadsThanCoresPrintNothing) {
+    // oneTBB's "TBB Warning: The number of workers is currently limited to
+    // ..." took two lines of stderr under --quiet (a Slurm task's
+    // --threads over the cores its cpuset grants).
+    TempDir dir;
+    const std::string threads =
+        std::to_string(std::min(1024u, 2 * std::max(1u, std::thread::hardware_concurrency()) + 1));
+    ASSERT_EQ(runSkelseg({"generate", "capsule", "--size", "24", "-o", (dir / "c.nrrd").string()})
+                  .exitCode,
+              0);
+    const CliResult run =
+        runSegment(dir / "c.nrrd", dir / "out", {"--no-preview", "--threads", threads});
+    ASSERT_EQ(run.exitCode, 0) << run.describe();
+    EXPECT_EQ(run.err, "");
+    writeBytes(dir / "list.txt", "c.nrrd\n");
+    const CliResult batch =
+        runSkelseg({"batch", (dir / "list.txt").string(), "-o", (dir / "batch").string(), "--quiet",
+                    "--no-preview", "--threads", threads});
+    ASSERT_EQ(batch.exitCode, 0) << batch.describe();
+    EXPECT_EQ(batch.err, "");
+}
+
 TEST(UnusualInputCli, BatchInputsNamedLikeTheSummaryOrWithLongNamesAreSegmented) {
     TempDir dir;
     // Each failed (exit 5): summary.json.off's folder was the summary file
