@@ -382,7 +382,8 @@ int runBatchMerge(const fs::path& outroot, std::FILE* stream) {
                  result.missing.size() - result.failed.size(),
                  escapeControlCharacters((outroot / "summary.json").string()).c_str());
     for (const auto& shard : result.missingShards)
-        std::fprintf(stream, "skelseg batch --merge: no summary from shard %s\n", shard.c_str());
+        std::fprintf(stream, "skelseg batch --merge: no summary from shard%s %s\n",
+                     shard.find('-') == std::string::npos ? "" : "s", shard.c_str());
     for (const auto& e : merged.entries) {
         if (e.isDone()) continue;
         std::fprintf(stream, "skelseg batch --merge: %s: %s%s%s\n",

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 #include <tbb/flow_graph.h>
-#include <tbb/info.h>
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
@@ -16,6 +15,7 @@
 #include "engine/SegmentReport.h"
 #include "engine/SegmentSteps.h"
 #include "engine/Stage.h"
+#include "engine/UsableThreads.h"
 #include "io/files/OutputDirectory.h"
 #include "io/volume/VdbIO.h"
 #include "io/volume/VolumeReader.h"
@@ -239,7 +239,7 @@ std::string timeLimitReached(const SegmentCommandOptions& options) {
 void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& progress) {
     const auto wallStart = std::chrono::steady_clock::now();
     const double cpuStart = processCpuSeconds();
-    const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+    const int threads = usableThreads(options.threads);
     SegmentInputOptions inputOptions = segmentInputOptions(options, threads, wallStart);
 
     refuseInputAmongOutputs(options);

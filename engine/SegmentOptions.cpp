@@ -90,6 +90,10 @@ void SegmentOptionTexts::finish() {
     // repeat --skeleton-search exhaustive but not contradict it.
     if (exhaustive && skeletonSearchText == "band")
         throw UsageError("--exhaustive contradicts --skeleton-search band: give one of them");
+    // Both asked for: the run wrote no preview and said nothing of the
+    // levels' previews the user wanted.
+    if (options.writeLevelPreviews && !options.writePreview)
+        throw UsageError("--level-previews contradicts --no-preview: give one of them");
     if (exhaustive || skeletonSearchText == "exhaustive")
         options.parameters.skeletonSearch = SkeletonSearch::Exhaustive;
     else if (skeletonSearchText == "band")

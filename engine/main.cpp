@@ -175,10 +175,15 @@ int main(int argc, char** argv) {
             options.shapesInFlight = shapesInFlight;
             options.display = batchCli.quiet ? skelseg::BatchProgress::Display::Quiet
                                              : skelseg::BatchProgress::Display::Auto;
-            if (!shardText.empty())
+            if (!shardText.empty()) {
                 options.shard = skelseg::ShardSpec::parse(shardText);
-            else if (const auto fromScheduler = skelseg::shardFromEnvironment(
-                         [](const char* name) { return std::getenv(name); }, shards))
+                // --shard won without a word, and the shares of such a job's
+                // pods overlapped or left inputs out.
+                if (shards > 0 && shards != options.shard.count)
+                    throw skelseg::UsageError("--shard " + shardText + " contradicts --shards " +
+                                              std::to_string(shards) + ": give one of them");
+            } else if (const auto fromScheduler = skelseg::shardFromEnvironment(
+                           [](const char* name) { return std::getenv(name); }, shards))
                 options.shard = *fromScheduler;
             else if (shards > 0)
                 throw skelseg::UsageError(

@@ -6,6 +6,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include "kernels/ComponentGrowth.h"
@@ -103,8 +104,15 @@ bool measure(Workspace& ws, const SkeletonCandidate& c, std::uint32_t candidateI
     const RimPieces& pieces = ws.rims.countRims(ws.gamma);
     if (pieces.pieceCount < 2) return false;
 
-    const std::uint64_t noise = std::uint64_t(std::ceil(std::max(1.0, options.noiseArea)));
-    const std::uint64_t tauArea = std::uint64_t(std::ceil(std::max(0.0, options.tau)));
+    // A tau past 2^64 voxels (--tau 1e20) is a valid "never cut"; converting
+    // it to an integer is undefined, so it caps at the largest area.
+    const auto areaCap = [](double area) {
+        constexpr double kBeyondAnyArea = 18446744073709551616.0;  // 2^64
+        return area >= kBeyondAnyArea ? std::numeric_limits<std::uint64_t>::max()
+                                      : std::uint64_t(std::ceil(area));
+    };
+    const std::uint64_t noise = areaCap(std::max(1.0, options.noiseArea));
+    const std::uint64_t tauArea = areaCap(std::max(0.0, options.tau));
     const std::uint64_t cap =
         options.exactRhoC ? ComponentGrower::kExactArea : std::max(noise, tauArea);
     const ComponentAreas& areas = ws.grower.grow(ws.rims, cap);

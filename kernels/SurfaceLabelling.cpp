@@ -181,11 +181,15 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph,
     std::vector<SegmentMeasure> before(count);
     for (std::uint32_t s = 0; s < count; ++s)
         before[s] = {s < core.size() ? core[s] : 0, area[s], area[s] + bandExtra[s], false};
-    // Merge small segments into their largest neighbour, smallest first.
+    // Merge small segments into their largest neighbour, smallest first. A
+    // segment with no neighbour stays, marked rather than given a large
+    // area: a tau past 2^64 voxels (--tau 1e20) has no such area, and the
+    // loop picked the same segment forever.
+    std::vector<std::uint8_t> isolated(count, 0);
     for (;;) {
         std::uint32_t smallest = kNoNode;
         for (std::uint32_t s = 0; s < count; ++s)
-            if (find(s) == s && double(area[s] + bandExtra[s]) < minSegmentArea &&
+            if (find(s) == s && !isolated[s] && double(area[s] + bandExtra[s]) < minSegmentArea &&
                 (smallest == kNoNode || area[s] < area[smallest]))
                 smallest = s;
         if (smallest == kNoNode) break;
@@ -200,8 +204,7 @@ SurfaceSegments labelSurface(const BoundaryGraph& graph,
             }
         }
         if (target == kNoNode) {
-            area[smallest] = std::uint64_t(minSegmentArea) + 1;  // isolated: keep it
-            bandExtra[smallest] = 0;
+            isolated[smallest] = 1;
             continue;
         }
         parent[smallest] = target;

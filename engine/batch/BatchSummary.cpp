@@ -191,11 +191,24 @@ MergeResult mergeBatchSummaries(const fs::path& outroot) {
             if (known.insert(name).second) names.push_back(name);
         for (const auto& entry : summary.entries) byName[entry.name] = entry;
     }
-    for (int i = 0; i < shardCount; ++i)
-        if (!present.count(i)) {
-            result.missingShards.push_back(ShardSpec{i, shardCount}.toString());
-            merged.complete = false;
-        }
+    // Runs of absent shares, one entry each: a split into 10^9 shares (a
+    // Slurm array or --shard of that count over a few inputs) made a billion
+    // lines, and a table of them that ran out of memory.
+    int next = 0;  // the first share not yet accounted for
+    auto addAbsent = [&](int end) {
+        if (next >= end) return;
+        result.missingShards.push_back(end - next == 1
+                                           ? ShardSpec{next, shardCount}.toString()
+                                           : std::to_string(next) + "-" + std::to_string(end - 1) +
+                                                 "/" + std::to_string(shardCount));
+        merged.complete = false;
+    };
+    for (const int index : present) {
+        if (index < next || index >= shardCount) continue;
+        addAbsent(index);
+        next = index + 1;
+    }
+    addAbsent(shardCount);
     merged.manifestNames = names;
     for (const auto& name : names) {
         BatchEntry entry;

@@ -63,7 +63,7 @@ BatchSummary readBatchSummary(const std::filesystem::path& file);
 struct MergeResult {
     BatchSummary merged;                     // shard = 0/1; entries for the whole manifest
     std::vector<std::string> shardFiles;     // the files combined
-    std::vector<std::string> missingShards;  // "I/N" with no summary file
+    std::vector<std::string> missingShards;  // "I/N" or a run "I-J/N" with no summary file
     std::vector<std::string> failed;         // names whose last status is failed
     std::vector<std::string> missing;        // names with no done marker (failed ones included)
 };

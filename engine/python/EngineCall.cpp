@@ -11,6 +11,8 @@
 #include <thread>
 #include <vector>
 
+#include "engine/UsableThreads.h"
+
 namespace py = pybind11;
 
 namespace skelseg {
@@ -72,7 +74,7 @@ void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& i
         std::thread worker([&] {
             try {
                 if (threads > 0) {
-                    tbb::task_arena arena(threads);
+                    tbb::task_arena arena(usableThreads(threads));
                     arena.execute(work);
                 } else {
                     work();

@@ -22,23 +22,36 @@ using namespace skelseg;
 
 namespace {
 
+/// Raises `type` with the engine's message. A file name may hold bytes that
+/// are not UTF-8 (`read_volume(b"caf\xe9.nrrd")`); PyErr_SetString decodes
+/// strictly, and such a message became a ValueError without any text. They
+/// are shown as \xe9, as Python's own messages show undecodable bytes.
+void raise(PyObject* type, const char* what) {
+    const std::string message = withKeywordNames(what);
+    PyObject* text =
+        PyUnicode_DecodeUTF8(message.data(), Py_ssize_t(message.size()), "backslashreplace");
+    if (text == nullptr) return;  // the decoding error is raised instead
+    PyErr_SetObject(type, text);
+    Py_DECREF(text);
+}
+
 void translateEngineErrors(std::exception_ptr error) {
     try {
         if (error) std::rethrow_exception(error);
     } catch (const InterruptedError& e) {
-        PyErr_SetString(e.reason() == InterruptedError::Reason::TimeLimit ? PyExc_TimeoutError
-                                                                          : PyExc_KeyboardInterrupt,
-                        withKeywordNames(e.what()).c_str());
+        raise(e.reason() == InterruptedError::Reason::TimeLimit ? PyExc_TimeoutError
+                                                                : PyExc_KeyboardInterrupt,
+              e.what());
     } catch (const MemoryLimitError& e) {
-        PyErr_SetString(PyExc_MemoryError, withKeywordNames(e.what()).c_str());
+        raise(PyExc_MemoryError, e.what());
     } catch (const InputError& e) {
-        PyErr_SetString(PyExc_ValueError, withKeywordNames(e.what()).c_str());
+        raise(PyExc_ValueError, e.what());
     } catch (const UsageError& e) {
-        PyErr_SetString(PyExc_ValueError, withKeywordNames(e.what()).c_str());
+        raise(PyExc_ValueError, e.what());
     } catch (const OutputError& e) {
-        PyErr_SetString(PyExc_OSError, withKeywordNames(e.what()).c_str());
+        raise(PyExc_OSError, e.what());
     } catch (const Error& e) {
-        PyErr_SetString(PyExc_RuntimeError, withKeywordNames(e.what()).c_str());
+        raise(PyExc_RuntimeError, e.what());
     }
 }
 

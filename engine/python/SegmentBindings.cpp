@@ -1,6 +1,5 @@
 // segment() and segment_mesh(): the engine on numpy arrays, off the GIL.
 #include <pybind11/stl.h>
-#include <tbb/info.h>
 
 #include <algorithm>
 #include <cctype>
@@ -14,6 +13,7 @@
 #include "engine/SegmentReport.h"
 #include "engine/SegmentSteps.h"
 #include "engine/Stage.h"
+#include "engine/UsableThreads.h"
 #include "engine/python/ArrayMask.h"
 #include "engine/python/Bindings.h"
 #include "engine/python/EngineCall.h"
@@ -35,7 +35,7 @@ const std::string kMeshName = "mesh";
 struct CallRecord {
     explicit CallRecord(const CallOptions& callOptions)
         : options(callOptions.command),
-          threads(options.threads > 0 ? options.threads : tbb::info::default_concurrency()),
+          threads(usableThreads(options.threads)),
           inputOptions(segmentInputOptions(options, threads, wallStart)),
           interrupter(options.timeLimitSeconds) {}
 

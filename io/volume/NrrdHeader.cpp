@@ -257,15 +257,37 @@ private:
             mHeader.spaceDirections = parseDirections(value);
         } else if (field == "space origin") {
             mHeader.spaceOrigin = parseVector(field, value);
+        } else if (field == "kinds") {
+            mKinds = splitWhitespace(value);
         } else if (field == "spacings") {
             std::vector<double> spacings;
             for (const auto& token : splitWhitespace(value))
                 spacings.push_back(parseReal(field, token, true));
             mHeader.spacings = spacings;
         }
-        // Every other field (kinds, centers, units, content, min, max,
+        // Every other field (centers, units, content, min, max,
         // thicknesses, labels, measurement frame, ...) does not change which
         // voxels are object or where they are, and is ignored.
+    }
+
+    /// A NRRD of three axes with a kind such as RGB-color, 3-vector or time
+    /// is an image of two dimensions (or a series): its samples along that
+    /// axis are components, not voxels, and were segmented as a slab of
+    /// voxels without a word. Unknown kinds ("???", "none") are taken as
+    /// spatial, as a header without kinds is.
+    void checkKinds(const std::vector<std::string>& kinds) const {
+        if (kinds.size() != 3)
+            fail("kinds lists " + std::to_string(kinds.size()) + " values for a dimension of 3");
+        for (std::size_t axis = 0; axis < 3; ++axis) {
+            std::string kind = kinds[axis];
+            if (kind.size() >= 2 && kind.front() == '"' && kind.back() == '"')
+                kind = kind.substr(1, kind.size() - 2);
+            std::transform(kind.begin(), kind.end(), kind.begin(),
+                           [](unsigned char c) { return char(std::tolower(c)); });
+            if (kind != "domain" && kind != "space" && kind != "???" && kind != "none")
+                fail("axis " + std::to_string(axis) + " is of kind " + quote(kinds[axis]) +
+                     ", not a spatial axis; only 3-D volumes can be segmented");
+        }
     }
 
     std::int64_t parseInteger(const std::string& what, const std::string& text) const {
@@ -361,6 +383,8 @@ private:
                 "header does not end with a blank line before the data, and has no 'data file' "
                 "field");
 
+        if (mKinds) checkKinds(*mKinds);
+
         VolumeGeometry& geometry = mHeader.geometry;
         if (mHeader.spaceDirections) {
             if (mHeader.spaceDirections->size() != 3)
@@ -389,6 +413,7 @@ private:
     std::size_t mSize;
     TextTokenizer mLines;
     std::set<std::string> mSeenFields;
+    std::optional<std::vector<std::string>> mKinds;
     NrrdHeader mHeader;
 };
 

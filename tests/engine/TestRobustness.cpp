@@ -798,6 +798,14 @@ INSTANTIATE_TEST_SUITE_P(
             "exhaustive_contradicts_band",
             {"segment", "{input}", "-o", "{out}", "--exhaustive", "--skeleton-search", "band"},
             "--exhaustive contradicts --skeleton-search band"},
+        // The run went ahead without any preview, saying nothing.
+        UsageCase{"level_previews_contradict_no_preview",
+                  {"batch", "{input}", "-o", "{out}", "--tau", "1%,3%", "--level-previews",
+                   "--no-preview"},
+                  "--level-previews contradicts --no-preview"},
+        UsageCase{"shard_contradicts_shards",
+                  {"batch", "{input}", "-o", "{out}", "--shard", "0/2", "--shards", "3"},
+                  "--shard 0/2 contradicts --shards 3"},
         UsageCase{"time_budget_negative",
                   {"segment", "{input}", "-o", "{out}", "--time-budget", "-1"},
                   "not a positive number of seconds"},
@@ -1043,6 +1051,34 @@ TEST(UnusualInputCli, ByteOrderMarkBeforeTheFirstObjVertexIsSkipped) {
     ASSERT_EQ(bom.exitCode, 0) << bom.describe();
     ASSERT_EQ(runSegment(dir / "plain.obj", dir / "b", {"--resolution", "16"}).exitCode, 0);
     EXPECT_EQ(fileBytes(dir / "a" / "segmentation.seg"), fileBytes(dir / "b" / "segmentation.seg"));
+}
+
+TEST(UnusualInputCli, MoreThreadsThanCoresPrintNothing) {
+    // oneTBB's "TBB Warning: The number of workers is currently limited to
+    // ..." took two lines of stderr under --quiet (a Slurm task's
+    // --threads over the cores its cpuset grants).
+    TempDir dir;
+    const std::string threads =
+        std::to_string(std::min(1024u, 2 * std::max(1u, std::thread::hardware_concurrency()) + 1));
+    ASSERT_EQ(runSkelseg({"generate", "capsule", "--size", "24", "-o", (dir / "c.nrrd").string()})
+                  .exitCode,
+              0);
+    const CliResult run =
+        runSegment(dir / "c.nrrd", dir / "out", {"--no-preview", "--threads", threads});
+    ASSERT_EQ(run.exitCode, 0) << run.describe();
+    EXPECT_EQ(run.err, "");
+    // The run uses the cores it may run on, not the threads asked for (each
+    // thread beyond them would only add its caches' memory).
+    const nlohmann::json report = nlohmann::json::parse(fileBytes(dir / "out" / "report.json"));
+    const int used = report.at("parameters").at("threads").get<int>();
+    EXPECT_GE(used, 1);
+    EXPECT_LE(used, int(std::max(1u, std::thread::hardware_concurrency())));
+    writeBytes(dir / "list.txt", "c.nrrd\n");
+    const CliResult batch =
+        runSkelseg({"batch", (dir / "list.txt").string(), "-o", (dir / "batch").string(), "--quiet",
+                    "--no-preview", "--threads", threads});
+    ASSERT_EQ(batch.exitCode, 0) << batch.describe();
+    EXPECT_EQ(batch.err, "");
 }
 
 TEST(UnusualInputCli, BatchInputsNamedLikeTheSummaryOrWithLongNamesAreSegmented) {

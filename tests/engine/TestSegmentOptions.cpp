@@ -54,6 +54,8 @@ TEST(SegmentOptions, BadValuesGiveTheCommandLineMessages) {
               "--time-budget: '0' is not a positive number of seconds");
     EXPECT_EQ(usageMessage({"--exhaustive", "--skeleton-search", "band"}),
               "--exhaustive contradicts --skeleton-search band: give one of them");
+    EXPECT_EQ(usageMessage({"--tau", "1%,3%", "--level-previews", "--no-preview"}),
+              "--level-previews contradicts --no-preview: give one of them");
     EXPECT_EQ(usageMessage({"--max-memory", "4X"}), "--max-memory '4X': unknown unit 'X'");
     EXPECT_NE(usageMessage({"--no-such-option"}), "no error");
 }

@@ -85,6 +85,18 @@ TEST_F(LabellingOnCapsule, NoCutIsOneSegment) {
     expectWellFormed(s);
 }
 
+TEST_F(LabellingOnCapsule, SmallestAreaPastAnyIntegerKeepsTheLoneSegment) {
+    // --tau 1e20: the segment has no neighbour to merge into and stays. Its
+    // area was raised to the smallest area plus one, which 2^64 cannot hold,
+    // and the merge loop picked it again forever (SIGINT ignored as well).
+    for (const double smallest : {1e20, 1e300}) {
+        const SurfaceSegments s = labelSurface(*graph, {}, smallest);
+        ASSERT_EQ(s.segmentCount, 1u);
+        EXPECT_EQ(s.area[0], graph->nodeCount());
+        expectWellFormed(s);
+    }
+}
+
 TEST_F(LabellingOnCapsule, TwoCutsGiveThreeSegmentsByDecreasingArea) {
     // Cuts at 30% and 85% of the length: middle > left > right.
     const int x1 = at(0.30), x2 = at(0.85);

@@ -1,5 +1,7 @@
 """Bad input: the documented exceptions, the engine's one-line messages,
 and nothing printed to stdout."""
+import os
+
 import numpy as np
 import pytest
 
@@ -97,6 +99,33 @@ def test_unreadable_files_are_value_errors_naming_the_file(capfd, tmp_path):
     check_quiet(capfd)
 
 
+def test_file_names_that_are_not_utf8_are_named_in_the_message(capfd, tmp_path):
+    # The engine's message held the byte 0xe9, which Python's strict decoding
+    # refused: a ValueError with no text at all.
+    folder = bytes(tmp_path)
+    for read, name in ((skelseg.read_volume, b"caf\xe9.nrrd"), (skelseg.read_mesh, b"caf\xe9.off"),
+                       (skelseg.read_seg, b"caf\xe9.seg")):
+        path = folder + b"/" + name
+        expected = os.fsdecode(folder) + "/" + name.decode("utf-8", "backslashreplace")
+        with pytest.raises(ValueError) as raised:
+            read(path)
+        assert str(raised.value) == expected + ": no such file"
+    check_quiet(capfd)
+
+
+def test_a_tau_past_any_voxel_count_gives_one_segment(capfd):
+    # tau 1e20 and more hung in the labelling (the lone segment's area was
+    # set past tau in a 64-bit integer), ignoring Ctrl-C too.
+    mask = np.zeros((16, 16, 20), bool)
+    mask[4:12, 4:12, 2:12] = True
+    mask[7:9, 7:9, 12:19] = True
+    for tau in (1e20, 1e300, [1e20, 1e300]):
+        result = skelseg.segment(mask, tau=tau)
+        assert result.n_segments == 1
+        assert np.array_equal(result.labels != 0, mask)
+    check_quiet(capfd)
+
+
 def test_bad_mesh_arrays_are_value_errors(capfd):
     vertices = np.zeros((3, 3))
     with pytest.raises(ValueError, match=r"^mesh: face 0 uses vertex 7 of 3$"):
@@ -106,6 +135,9 @@ def test_bad_mesh_arrays_are_value_errors(capfd):
                              np.array([[0, 1, 2]]))
     with pytest.raises(ValueError, match=r"faces must have shape \(F, k\) with k >= 3"):
         skelseg.segment_mesh(vertices, np.array([[0, 1]]))
+    # Complex vertices lost their imaginary parts with only a ComplexWarning.
+    with pytest.raises(TypeError, match=r"^mesh: vertices must be real numbers, not complex128$"):
+        skelseg.segment_mesh(vertices + 1j, np.array([[0, 1, 2]]))
     # An unsigned index past int64 was cast to a negative one and named so.
     huge = np.array([[0, 1, 2**63]], dtype=np.uint64)
     with pytest.raises(ValueError, match=r"^mesh: faces: index 9223372036854775808 is out of "

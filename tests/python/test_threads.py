@@ -1,4 +1,5 @@
 """The GIL is released: Python threads segment at once, with the same labels."""
+import os
 import threading
 import time
 
@@ -52,3 +53,13 @@ def test_threads_do_not_change_the_labels(figure_mask):
     np.testing.assert_array_equal(one.labels, two.labels)
     assert one.report["parameters"]["threads"] == 1
     assert two.report["parameters"]["threads"] == 2
+
+
+def test_more_threads_than_cores_print_nothing(capfd, figure_mask):
+    # oneTBB printed "TBB Warning: The number of workers is currently limited
+    # to ..." on stderr; the module prints nothing.
+    threads = min(1024, 2 * (os.cpu_count() or 1) + 1)
+    result = skelseg.segment(figure_mask, threads=threads)
+    # The call runs on the cores it may use, not on the threads asked for.
+    assert 1 <= result.report["parameters"]["threads"] <= len(os.sched_getaffinity(0))
+    assert capfd.readouterr() == ("", "")

@@ -506,11 +506,16 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
     Raises:
         ValueError: bad arrays (shapes, indices out of range, non-finite
             coordinates) or parameters. TypeError: faces or triangle_face
-            that are not integers (a float array, even of whole numbers).
+            that are not integers (a float array, even of whole numbers),
+            complex vertices.
             MemoryError, TimeoutError, KeyboardInterrupt: as segment().
     """
     arguments = _call_arguments(locals(), progress)
-    vertex_array = np.ascontiguousarray(vertices, dtype=np.float64)
+    vertex_array = np.asarray(vertices)
+    # The cast below would drop imaginary parts with only a ComplexWarning.
+    if vertex_array.dtype.kind == "c":
+        raise TypeError(f"mesh: vertices must be real numbers, not {vertex_array.dtype}")
+    vertex_array = np.ascontiguousarray(vertex_array, dtype=np.float64)
     face_array = np.asarray(faces)
     if face_array.ndim != 2 or face_array.shape[1] < 3:
         raise ValueError(f"mesh: faces must have shape (F, k) with k >= 3, "

@@ -110,6 +110,30 @@ TEST(BatchSummary, MergeTakesTheMarkersAsTruthAndListsWhatIsMissing) {
     EXPECT_EQ(again.merged.entries[3].status, "done");
 }
 
+TEST(BatchSummary, MergeListsRunsOfAbsentSharesOnce) {
+    // Two inputs split into 10^9 shares (`--shard I/1000000000`): the merge
+    // listed every absent share, a billion lines, and ran out of memory first.
+    TempDir dir;
+    const int count = 1000000000;
+    writeBatchSummary(dir.path(), "summary.shard-0-of-1000000000",
+                      shardSummary(0, count, {entry("a", "done")}));
+    writeBatchSummary(dir.path(), "summary.shard-5-of-1000000000",
+                      shardSummary(5, count, {entry("b", "done")}));
+    writeBatchSummary(dir.path(), "summary.shard-6-of-1000000000", shardSummary(6, count, {}));
+    markDone(dir.path(), "a");
+    markDone(dir.path(), "b");
+    const MergeResult result = mergeBatchSummaries(dir.path());
+    EXPECT_EQ(result.missingShards,
+              (std::vector<std::string>{"1-4/1000000000", "7-999999999/1000000000"}));
+    EXPECT_EQ(result.missing, (std::vector<std::string>{"c", "d", "e"}));  // in no summary
+    EXPECT_FALSE(result.merged.complete);
+    // One absent share between two present ones is named alone.
+    TempDir three;
+    writeBatchSummary(three.path(), "summary.shard-0-of-3", shardSummary(0, 3, {}));
+    writeBatchSummary(three.path(), "summary.shard-2-of-3", shardSummary(2, 3, {}));
+    EXPECT_EQ(mergeBatchSummaries(three.path()).missingShards, std::vector<std::string>{"1/3"});
+}
+
 TEST(BatchSummary, MergeWithoutSummariesIsAnInputError) {
     TempDir dir;
     EXPECT_THROW(mergeBatchSummaries(dir.path()), InputError);

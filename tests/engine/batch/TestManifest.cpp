@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <random>
@@ -252,6 +253,18 @@ TEST(Shards, SplitIsDeterministicAndUsesOnlyTheSizes) {
     // More shards than inputs: each input alone, none twice.
     const auto wide = assignShards({4, 4, 4}, 5);
     EXPECT_EQ(std::set<int>(wide.begin(), wide.end()).size(), 3u);
+}
+
+TEST(Shards, AShareCountFarBeyondTheInputsCostsNoTablePerShare) {
+    // `--shard 0/1000000000` on two inputs took three minutes and 16 GB (out
+    // of memory, exit 4, under a smaller limit): a load per share. The k-th
+    // largest input still goes to share k, as with a count just over the inputs.
+    const std::vector<std::uint64_t> sizes = {5, 9, 0, 7};
+    const std::vector<int> expected = {2, 0, 3, 1};
+    EXPECT_EQ(assignShards(sizes, 5), expected);
+    EXPECT_EQ(assignShards(sizes, 1000000000), expected);
+    EXPECT_EQ(assignShards(sizes, std::numeric_limits<int>::max()), expected);
+    EXPECT_TRUE(assignShards({}, 1000000000).empty());
 }
 
 TEST(ShardSpec, ParsesIndexOfCount) {

@@ -284,6 +284,11 @@ TEST(NrrdIO, GeometryFromSpaceFieldsAndSpacings) {
     EXPECT_DOUBLE_EQ(spaced.directions[2][2], 4.0);
     EXPECT_DOUBLE_EQ(spaced.directions[0][1], 0.0);
     EXPECT_TRUE(spaced.spaceName.empty());
+
+    // Every kind of a spatial or unknown axis is read, in any case, quoted or not.
+    writeBytes(dir / "kinds.nrrd",
+               nrrd(basicFields("uint8", "2 2 2", "raw", "kinds: space ??? \"Domain\"\n"), data));
+    EXPECT_EQ(readNrrdMask(dir / "kinds.nrrd").dims().x, 2);
 }
 
 TEST(NrrdIO, LabelsOutputReproducesInputGeometry) {
@@ -402,6 +407,12 @@ TEST(NrrdIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
         {"unknown-space", nrrd(ok + "space: upside-down\n", raw24), "unknown space"},
         {"time-space", nrrd(ok + "space: RAST\n", raw24), "only 3D"},
         {"space-dimension", nrrd(ok + "space dimension: 2\n", raw24), "space dimension"},
+        // A colour or vector axis made a two-dimensional image a slab of voxels.
+        {"kinds-colour", nrrd(ok + "kinds: RGB-color domain domain\n", raw24),
+         "axis 0 is of kind 'RGB-color', not a spatial axis"},
+        {"kinds-time", nrrd(ok + "kinds: domain domain time\n", raw24), "axis 2 is of kind"},
+        {"kinds-vector", nrrd(ok + "kinds: domain 3-vector domain\n", raw24), "axis 1"},
+        {"kinds-count", nrrd(ok + "kinds: domain domain\n", raw24), "kinds lists 2 values"},
         {"data-file-list", "NRRD0004\n" + ok + "data file: LIST\na.raw\n", "multiple data files"},
         {"data-file-missing", "NRRD0004\n" + ok + "data file: absent.raw\n", "no such file"},
     };
