@@ -1,8 +1,9 @@
 #include "engine/Segmenter.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "engine/SegmentationStages.h"
@@ -33,9 +34,9 @@ TauSpec TauSpec::parse(const std::string& text) {
 }
 
 std::string TauSpec::toString() const {
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, percent ? "%g%%" : "%g", value);
-    return buffer;
+    // The shortest text that reads back as the same value: "%g" kept six
+    // digits, so the levels of --tau 3%,3.0000001% were both named "3%".
+    return fmt::format(percent ? "{}%" : "{}", value);
 }
 
 const char* skeletonSearchName(SkeletonSearch search) {

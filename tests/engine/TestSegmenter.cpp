@@ -112,6 +112,16 @@ TEST(Segmenter, TauListsAreSortedAndCheckedWhole) {
     p.finerTaus = {taus[0], taus[1]};
     EXPECT_EQ(p.tauListString(), "1%,3%,9%");
     EXPECT_EQ(parseTauList("250").front().toString(), "250");
+    // Levels that differ in the seventh digit keep distinct names, and every
+    // name reads back as its level.
+    const std::vector<TauSpec> close = parseTauList("3%,3.0000001%");
+    ASSERT_EQ(close.size(), 2u);
+    EXPECT_EQ(close[0].toString(), "3%");
+    EXPECT_EQ(close[1].toString(), "3.0000001%");
+    const TauSpec voxels = TauSpec::parse("1234567.5");
+    EXPECT_EQ(voxels.toString(), "1234567.5");
+    for (const TauSpec& tau : {close[0], close[1], voxels})
+        EXPECT_EQ(TauSpec::parse(tau.toString()).value, tau.value);
     SegmentationParameters single;
     EXPECT_EQ(single.tauListString(), single.tau.toString());
     for (const char* bad : {"", ",", "1%,", "1%,,3%", "x", "3%,3.0%", "1%,250", "1%,-2%"})
