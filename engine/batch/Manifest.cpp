@@ -202,7 +202,8 @@ std::vector<int> assignShards(const std::vector<std::uint64_t>& sizes, int shard
     // files) spread too. With more shares than inputs the k-th largest input
     // goes to share k either way, so only as many shares as inputs are
     // weighed: a count of 10^9 (a typo, or a Slurm array of that size) made
-    // two 8 GB tables and a scan of them per input (three minutes, 16 GB).
+    // two tables of a billion entries and a scan of them per input
+    // (docs/robustness.md).
     const std::size_t weighed =
         std::max<std::size_t>(1, std::min(std::size_t(shardCount), sizes.size()));
     std::vector<std::uint64_t> load(weighed, 0);

@@ -422,8 +422,8 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
         } else if (!element.properties.empty()) {
             // Any other element (edges, materials, ...): skip it value by
             // value. One without properties holds no data, whatever its
-            // count (which the size check cannot bound: a fuzzed header's
-            // 2 billion empty items took over 25 s to "read").
+            // count, which the size check cannot bound (a fuzzed header
+            // declared billions of empty items).
             for (std::uint64_t item = 0; item < element.count; ++item) {
                 for (const PlyProperty& property : element.properties) {
                     if (!property.isList) {
