@@ -94,6 +94,23 @@ void SegmentOptionTexts::finish() {
     // levels' previews the user wanted.
     if (options.writeLevelPreviews && !options.writePreview)
         throw UsageError("--level-previews contradicts --no-preview: give one of them");
+    // A run without levels writes no level previews, and a joint threshold
+    // changes nothing without --joints: the user who gave one expected an
+    // output or a cut the run would silently not make. A threshold left at
+    // its default is accepted, so the Python module may pass every keyword.
+    if (options.writeLevelPreviews && options.parameters.finerTaus.empty() &&
+        !options.parameters.joints)
+        throw UsageError("--level-previews needs levels: give a --tau list (1%,3%) or --joints");
+    if (!options.parameters.joints) {
+        const JointOptions defaults;
+        const JointOptions& given = options.parameters.jointOptions;
+        if (given.narrowingRatio != defaults.narrowingRatio)
+            throw UsageError("--joint-ratio needs --joints: without it no joint cuts are made");
+        if (given.bendAngleDegrees != defaults.bendAngleDegrees)
+            throw UsageError("--bend-angle needs --joints: without it no joint cuts are made");
+        if (given.minSegmentTauFraction != defaults.minSegmentTauFraction)
+            throw UsageError("--joint-min-part needs --joints: without it no joint cuts are made");
+    }
     if (exhaustive || skeletonSearchText == "exhaustive")
         options.parameters.skeletonSearch = SkeletonSearch::Exhaustive;
     else if (skeletonSearchText == "band")

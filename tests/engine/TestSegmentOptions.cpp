@@ -60,6 +60,29 @@ TEST(SegmentOptions, BadValuesGiveTheCommandLineMessages) {
     EXPECT_NE(usageMessage({"--no-such-option"}), "no error");
 }
 
+// Without --joints no joint cut is made, and without levels no level
+// preview is written: a threshold or a flag given for them would change
+// nothing, silently.
+TEST(SegmentOptions, JointThresholdsAndLevelPreviewsNeedWhatTheyApplyTo) {
+    EXPECT_EQ(usageMessage({"--bend-angle", "30"}),
+              "--bend-angle needs --joints: without it no joint cuts are made");
+    EXPECT_EQ(usageMessage({"--joint-ratio", "0.7"}),
+              "--joint-ratio needs --joints: without it no joint cuts are made");
+    EXPECT_EQ(usageMessage({"--joint-min-part", "0.5"}),
+              "--joint-min-part needs --joints: without it no joint cuts are made");
+    EXPECT_EQ(usageMessage({"--level-previews"}),
+              "--level-previews needs levels: give a --tau list (1%,3%) or --joints");
+    // With what they apply to, or at their defaults (as the Python module
+    // passes every keyword), they are taken.
+    EXPECT_EQ(usageMessage({"--joints", "--bend-angle", "30", "--joint-ratio", "0.7"}), "no error");
+    EXPECT_EQ(usageMessage({"--joint-ratio", "0.82", "--joint-min-part", "0.25"}), "no error");
+    EXPECT_EQ(usageMessage({"--joints", "--level-previews"}), "no error");
+    EXPECT_EQ(usageMessage({"--tau", "1%,3%", "--level-previews"}), "no error");
+    EXPECT_EQ(parseSegmentOptions({"--joints", "--bend-angle", "30"})
+                  .parameters.jointOptions.bendAngleDegrees,
+              30.0);
+}
+
 TEST(SegmentOptions, DescriptionsNameEveryOptionOnce) {
     const std::vector<SegmentOptionDescription> options = segmentOptionDescriptions();
     const auto find = [&](const std::string& name) {

@@ -77,6 +77,8 @@ def cli_error(*arguments):
     ({"sibling_tolerance": 1.5}, ["--sibling-tolerance", "1.5"]),
     ({"corner_reach": 11}, ["--corner-reach", "11"]),
     ({"bend_angle": -1.0}, ["--bend-angle", "-1.0"]),
+    ({"bend_angle": 30.0}, ["--bend-angle", "30.0"]),
+    ({"joint_min_part": 0.5, "joints": False}, ["--joint-min-part", "0.5"]),
     ({"time_budget": 0}, ["--time-budget", "0"]),
     ({"time_budget": "soon"}, ["--time-budget", "soon"]),
     ({"skeleton_search": "full"}, ["--skeleton-search", "full"]),
