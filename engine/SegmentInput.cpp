@@ -7,6 +7,7 @@
 
 #include "engine/Segmenter.h"
 #include "engine/Stage.h"
+#include "engine/batch/InputMemoryEstimate.h"
 #include "io/files/TextFile.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "io/volume/VolumeReader.h"
@@ -64,6 +65,25 @@ void checkInputFileSize(const fs::path& file, std::uint64_t memoryLimit) {
         throw MemoryLimitError(file.string() + ": reading the file needs at least " +
                                formatBytes(fileSize) + ", over the limit of " +
                                formatBytes(memoryLimit) + " (--max-memory)");
+}
+
+void checkVolumeGridMemory(const fs::path& file, const SegmentInputOptions& options) {
+    const std::optional<Dims> dims = peekVolumeDims(file);
+    if (!dims || dims->x > kMaxAxisExtent || dims->y > kMaxAxisExtent || dims->z > kMaxAxisExtent ||
+        dims->voxelCount() > kMaxVoxels)
+        return;
+    // A time budget may coarsen the volume after reading: only its mask is
+    // then sure to be needed.
+    const std::uint64_t leastBytes =
+        options.timeBudgetSeconds > 0
+            ? dims->voxelCount()
+            : estimateSegmentationMemory(*dims, 0, options.threads, options.levels);
+    if (leastBytes > options.memoryLimit)
+        throw MemoryLimitError(file.string() + ": its grid of " + std::to_string(dims->x) + " x " +
+                               std::to_string(dims->y) + " x " + std::to_string(dims->z) +
+                               " voxels needs at least " + formatBytes(leastBytes) +
+                               ", over the limit of " + formatBytes(options.memoryLimit) +
+                               " (--max-memory)");
 }
 
 SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions& options,

@@ -12,7 +12,8 @@
 // Errors name the input file: InputError for a file that cannot be read,
 // UsageError for a grid that cannot be made, MemoryLimitError for a run that
 // would need more than the limit. checkInputFileSize() refuses a file larger
-// than the limit before anything is read (readers load the whole file).
+// than the limit before anything is read (readers load the whole file), and
+// checkVolumeGridMemory() a volume whose header grid cannot fit.
 #pragma once
 
 #include <chrono>
@@ -94,6 +95,16 @@ std::string formatBytes(std::uint64_t bytes);
 /// @throw MemoryLimitError when `file` is larger than `memoryLimit` (and
 /// small enough for the readers, which refuse larger files themselves).
 void checkInputFileSize(const std::filesystem::path& file, std::uint64_t memoryLimit);
+
+/// For NRRD and binvox volumes, whose header gives the grid size: @throw
+/// MemoryLimitError when even the least the run could need for that grid
+/// (its mask, and without a time budget the segmentation of an empty grid of
+/// that size) is over options.memoryLimit. A compressed or run-length file of
+/// a few megabytes can hold billions of voxels; this refuses it before the
+/// reader allocates them. Grids the readers refuse as bad input (over the
+/// axis or voxel caps) are left to them, so their exit code stays that of bad
+/// input.
+void checkVolumeGridMemory(const std::filesystem::path& file, const SegmentInputOptions& options);
 
 /// Reads a mesh (by extension, isMeshPath()) or a volume; times stage
 /// "read mesh" or "read volume". @throw InputError.

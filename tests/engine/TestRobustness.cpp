@@ -1178,6 +1178,42 @@ TEST(Limits, HugeFileOverMaxMemoryIsRefusedWithoutReadingIt) {
     EXPECT_TRUE(leftNothing(dir / "out"));
 }
 
+// A run-length or gzip volume of a few bytes may claim billions of voxels:
+// the header's grid is checked against --max-memory before the reader
+// allocates it. These files are short of data as well, which the reader
+// would report (exit 2) had it been reached first.
+TEST(Limits, VolumeHeaderGridOverMaxMemoryIsRefusedBeforeReading) {
+    TempDir dir;
+    const fs::path binvox = dir / "huge.binvox";
+    writeBytes(binvox, "#binvox 1\ndim 1600 1600 1600\ntranslate 0 0 0\nscale 1\ndata\n" +
+                           std::string("\1\xff", 2));
+    const fs::path nrrdGzip = dir / "huge.nrrd";
+    writeBytes(nrrdGzip, nrrd("type: uint8\ndimension: 3\nsizes: 1500 1500 1500\nencoding: gzip\n",
+                              std::string(64, '\0')));
+    const std::pair<fs::path, std::string> inputs[] = {{binvox, "needs at least 4.10 GB"},
+                                                       {nrrdGzip, "needs at least 3.38 GB"}};
+    for (const auto& [input, maskBytes] : inputs) {
+        const CliResult result = runSegment(input, dir / "out", {"--max-memory", "1G"});
+        EXPECT_TRUE(failsWithOneLine(result, 4, input.string(), "voxels needs at least"))
+            << result.err;
+        EXPECT_TRUE(leftNothing(dir / "out"));
+        // With a time budget the run could coarsen the grid after reading:
+        // only the mask, a byte per voxel, is sure to be needed.
+        const CliResult budgeted =
+            runSegment(input, dir / "out", {"--max-memory", "1G", "--time-budget", "5"});
+        EXPECT_TRUE(failsWithOneLine(budgeted, 4, input.string(), maskBytes)) << budgeted.err;
+        // Within the limit the reader is reached and finds the data short.
+        const CliResult reached = runSegment(input, dir / "out", {"--max-memory", "100G"});
+        EXPECT_TRUE(failsWithOneLine(reached, 2, input.string(), "short")) << reached.err;
+    }
+    // A grid over the readers' caps stays bad input, whatever the memory.
+    const fs::path overCap = dir / "over-cap.binvox";
+    writeBytes(overCap, "#binvox 1\ndim 8192 8192 8192\ntranslate 0 0 0\nscale 1\ndata\n" +
+                            std::string("\1\xff", 2));
+    const CliResult result = runSegment(overCap, dir / "out", {"--max-memory", "1G"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, overCap.string(), "")) << result.err;
+}
+
 TEST(Limits, FileOverTheInputCapIsBadInputWhateverTheMemory) {
     TempDir dir;
     for (const char* name : {"sparse.nrrd", "sparse.off"}) {
