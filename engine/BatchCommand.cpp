@@ -14,10 +14,12 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "engine/Version.h"
+#include "engine/batch/BatchLock.h"
 #include "engine/batch/BatchSummary.h"
 #include "engine/batch/DoneMarker.h"
 #include "engine/batch/InputMemoryEstimate.h"
@@ -185,10 +187,12 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
     // A batch that fails as a whole (an unwritable summary) leaves no OUTROOT
     // it created; one that ran keeps it, with the summary.
     struct RemoveIfFailed {
-        fs::path created;
+        fs::path created, lockFile;
         ~RemoveIfFailed() {
             std::error_code ignored;
-            if (!created.empty() && std::uncaught_exceptions() > 0) fs::remove(created, ignored);
+            if (created.empty() || std::uncaught_exceptions() == 0) return;
+            if (!lockFile.empty()) fs::remove(lockFile, ignored);
+            fs::remove(created, ignored);
         }
     } removeIfFailed;
     if (!fs::exists(fs::symlink_status(options.outroot, ec)))
@@ -198,6 +202,15 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
         throw OutputError(options.outroot.string() + ": cannot create the output directory" +
                           (ec ? ": " + ec.message() : std::string()));
     const std::string stem = shard.summaryStem();
+    // Before anything of the batch's is touched, leftovers included.
+    std::optional<BatchLock> lock;
+    try {
+        lock.emplace(options.outroot, stem);
+    } catch (const UsageError&) {
+        removeIfFailed.created.clear();  // the other batch's, if both created it
+        throw;
+    }
+    removeIfFailed.lockFile = lock->file();
     for (const auto& item : fs::directory_iterator(options.outroot, ec)) {
         const std::string file = item.path().filename().string();
         if (file.rfind("." + stem + ".", 0) == 0 && isStagingLeftoverName(file))

@@ -288,6 +288,8 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
         if (error.reason() != InterruptedError::Reason::TimeLimit) throw;
         throw InterruptedError(error.reason(),
                                options.input.string() + ": " + timeLimitReached(options));
+    } catch (const OutputError& error) {
+        throw OutputError(out.withFinalPaths(error.what()));
     }
     out.commit();
 }

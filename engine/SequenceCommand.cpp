@@ -81,52 +81,59 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
 void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter& progress) {
     const std::vector<std::string> names = checkFrames(options);
     OutputDirectory out(options.outdir, options.segment.force, sequenceOutputNames());
-    const fs::path staged = out.stagingPath("frames");
-    fs::create_directories(staged);
+    try {
+        const fs::path staged = out.stagingPath("frames");
+        fs::create_directories(staged);
 
-    std::vector<std::vector<std::int64_t>> labels;
-    for (std::size_t f = 0; f < options.frames.size(); ++f) {
-        SegmentCommandOptions frame = options.segment;
-        frame.input = options.frames[f];
-        frame.outdir = staged / names[f];
-        frame.force = false;
-        if (options.announceFrames)
-            progress.message("skelseg sequence: frame " + std::to_string(f + 1) + " of " +
-                             std::to_string(options.frames.size()) + ": " + frame.input.string());
-        ProgressReporter frameProgress(options.display, frame.timeLimitSeconds);
-        runSegmentCommand(frame, frameProgress);
-        labels.push_back(readSeg(frame.outdir / "segmentation.seg"));
+        std::vector<std::vector<std::int64_t>> labels;
+        for (std::size_t f = 0; f < options.frames.size(); ++f) {
+            SegmentCommandOptions frame = options.segment;
+            frame.input = options.frames[f];
+            frame.outdir = staged / names[f];
+            frame.force = false;
+            if (options.announceFrames)
+                progress.message("skelseg sequence: frame " + std::to_string(f + 1) + " of " +
+                                 std::to_string(options.frames.size()) + ": " +
+                                 frame.input.string());
+            ProgressReporter frameProgress(options.display, frame.timeLimitSeconds);
+            runSegmentCommand(frame, frameProgress);
+            labels.push_back(readSeg(frame.outdir / "segmentation.seg"));
+        }
+        const SequenceConsensus consensus = chooseSequenceConsensus(labels);
+
+        const std::vector<std::int64_t>& chosen = labels[consensus.reference];
+        writeSeg(out.stagingPath("segmentation.seg"),
+                 std::vector<std::uint32_t>(chosen.begin(), chosen.end()));
+
+        nlohmann::json document;
+        document["faces"] = chosen.size();
+        document["reference_frame"] = consensus.reference;
+        document["reference_input"] = options.frames[consensus.reference].string();
+        document["modal_parts"] = consensus.modalParts;
+        document["mean_rand_index_error"] = consensus.meanPairError;
+        document["rule"] =
+            "the frame with the least mean Rand Index error to the others, among the frames "
+            "with the part count most frames have";
+        nlohmann::json frames = nlohmann::json::array();
+        for (std::size_t f = 0; f < options.frames.size(); ++f) {
+            nlohmann::json errors = nlohmann::json::array();
+            for (std::size_t g = 0; g < options.frames.size(); ++g)
+                errors.push_back(consensus.pairErrors[f * options.frames.size() + g]);
+            frames.push_back(
+                {{"input", options.frames[f].string()},
+                 {"outputs", "frames/" + names[f]},
+                 {"parts", consensus.parts[f]},
+                 {"mean_rand_index_error_to_others", consensus.meanErrorToOthers[f]},
+                 {"rand_index_error_to_consensus",
+                  consensus.pairErrors[f * options.frames.size() + consensus.reference]},
+                 {"rand_index_errors", std::move(errors)}});
+        }
+        document["frames"] = std::move(frames);
+        writeFileAtomically(out.stagingPath("sequence.json"), document.dump(2) + "\n");
+    } catch (const OutputError& error) {
+        // A frame's run names its files in the frames folder being staged.
+        throw OutputError(out.withFinalPaths(error.what()));
     }
-    const SequenceConsensus consensus = chooseSequenceConsensus(labels);
-
-    const std::vector<std::int64_t>& chosen = labels[consensus.reference];
-    writeSeg(out.stagingPath("segmentation.seg"),
-             std::vector<std::uint32_t>(chosen.begin(), chosen.end()));
-
-    nlohmann::json document;
-    document["faces"] = chosen.size();
-    document["reference_frame"] = consensus.reference;
-    document["reference_input"] = options.frames[consensus.reference].string();
-    document["modal_parts"] = consensus.modalParts;
-    document["mean_rand_index_error"] = consensus.meanPairError;
-    document["rule"] =
-        "the frame with the least mean Rand Index error to the others, among the frames "
-        "with the part count most frames have";
-    nlohmann::json frames = nlohmann::json::array();
-    for (std::size_t f = 0; f < options.frames.size(); ++f) {
-        nlohmann::json errors = nlohmann::json::array();
-        for (std::size_t g = 0; g < options.frames.size(); ++g)
-            errors.push_back(consensus.pairErrors[f * options.frames.size() + g]);
-        frames.push_back({{"input", options.frames[f].string()},
-                          {"outputs", "frames/" + names[f]},
-                          {"parts", consensus.parts[f]},
-                          {"mean_rand_index_error_to_others", consensus.meanErrorToOthers[f]},
-                          {"rand_index_error_to_consensus",
-                           consensus.pairErrors[f * options.frames.size() + consensus.reference]},
-                          {"rand_index_errors", std::move(errors)}});
-    }
-    document["frames"] = std::move(frames);
-    writeFileAtomically(out.stagingPath("sequence.json"), document.dump(2) + "\n");
     out.commit();
 }
 

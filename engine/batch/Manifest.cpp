@@ -64,9 +64,11 @@ std::string cutToBytes(const std::string& text, std::size_t bytes) {
 }
 
 /// The files the batch writes beside the output folders: an input named
-/// like one of them would find a file where its folder goes.
+/// like one of them would find a file where its folder goes (the lock file
+/// of engine/batch/BatchLock.h included).
 bool isBatchFileName(const std::string& name) {
-    static const std::regex summaryName(R"(summary(\.shard-\d+-of-\d+)?\.(json|csv))");
+    static const std::regex summaryName(
+        R"(summary(\.shard-\d+-of-\d+)?\.(json|csv)|\.summary(\.shard-\d+-of-\d+)?\.lock)");
     return std::regex_match(name, summaryName);
 }
 

@@ -1,15 +1,15 @@
 #include "io/files/OutputDirectory.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
-#include <cstdio>
-#include <cstring>
-#include <fstream>
 #include <system_error>
 
+#include "io/files/TextFile.h"
 #include "kernels/base/Error.h"
 
 namespace fs = std::filesystem;
@@ -28,12 +28,14 @@ OutputDirectory::OutputDirectory(const fs::path& outdir, bool force,
     : mDirectory(outdir) {
     std::error_code ec;
     checkOutputDirectoryPath(outdir);
-    if (!force) {
+    auto refuseEarlierResults = [&] {
+        if (force) return;
         for (const auto& name : outputNames)
             if (fs::exists(outdir / name, ec))
                 throw UsageError(outdir.string() + ": holds results of an earlier run (" + name +
                                  "); use --force to replace them");
-    }
+    };
+    refuseEarlierResults();
     // Remember which directories this run creates: a run that fails removes
     // them again (if still empty), so bad input leaves no trace.
     // symlink_status: a link is the user's, wherever it points.
@@ -45,17 +47,48 @@ OutputDirectory::OutputDirectory(const fs::path& outdir, bool force,
     fs::create_directories(outdir, ec);
     if (ec) {
         removeCreatedDirectories();
-        throw OutputError(outdir.string() + ": cannot create directory: " + ec.message());
-    }
-    mStaging = outdir / (".skelseg-staging-" + uniqueSuffix());
-    fs::create_directory(mStaging, ec);
-    if (ec) {
-        const std::string problem = ec.message();
-        mStaging.clear();
-        removeCreatedDirectories();
         throw OutputError(outdir.string() +
-                          ": cannot create a staging directory in it: " + problem);
+                          ": cannot create directory: " + describeErrno(ec.value()));
     }
+    try {
+        if (lockDirectory()) {
+            // A run that committed between the check above and the lock.
+            refuseEarlierResults();
+            // Locked: no live run stages here, so these are a killed run's.
+            std::vector<fs::path> leftovers;
+            for (const auto& item : fs::directory_iterator(outdir, ec))
+                if (item.path().filename().string().rfind(".skelseg-staging-", 0) == 0)
+                    leftovers.push_back(item.path());
+            for (const auto& leftover : leftovers) fs::remove_all(leftover, ec);
+        }
+        mStaging = outdir / (".skelseg-staging-" + uniqueSuffix());
+        fs::create_directory(mStaging, ec);
+        if (ec) {
+            const std::string problem = describeErrno(ec.value());
+            mStaging.clear();
+            throw OutputError(outdir.string() +
+                              ": cannot create a staging directory in it: " + problem);
+        }
+    } catch (...) {
+        if (mLockFd >= 0) ::close(mLockFd);
+        removeCreatedDirectories();
+        throw;
+    }
+}
+
+bool OutputDirectory::lockDirectory() {
+    mLockFd = ::open(mDirectory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (mLockFd < 0) return false;
+    if (::flock(mLockFd, LOCK_EX | LOCK_NB) == 0) return true;
+    const int error = errno;
+    ::close(mLockFd);
+    mLockFd = -1;
+    if (error != EWOULDBLOCK) return false;  // no locks on this file system
+    // The other run may have created OUTDIR a moment ago: it is not ours to remove.
+    mCreated.clear();
+    throw UsageError(mDirectory.string() +
+                     ": another skelseg run is writing to it; wait for it to end or choose "
+                     "another output directory");
 }
 
 void OutputDirectory::removeCreatedDirectories() noexcept {
@@ -67,6 +100,18 @@ void OutputDirectory::removeCreatedDirectories() noexcept {
 
 OutputDirectory::~OutputDirectory() {
     discard();
+    if (mLockFd >= 0) ::close(mLockFd);
+}
+
+std::string OutputDirectory::withFinalPaths(std::string message) const {
+    if (mStaging.empty()) return message;
+    // Messages come escaped (kernels/base/Error.h), and so must the paths.
+    const std::string staging = escapeControlCharacters(mStaging.string() + "/"),
+                      final = escapeControlCharacters(mDirectory.string() + "/");
+    for (std::size_t at = message.find(staging); at != std::string::npos;
+         at = message.find(staging, at + final.size()))
+        message.replace(at, staging.size(), final);
+    return message;
 }
 
 fs::path OutputDirectory::stagingPath(const std::string& name) {
@@ -89,8 +134,9 @@ void OutputDirectory::commit() {
         if (std::find(mStaged.begin(), mStaged.end(), name) == mStaged.end()) {
             fs::remove_all(mDirectory / name, ec);
             if (ec)
-                throw OutputError((mDirectory / name).string() +
-                                  ": cannot remove the earlier run's output: " + ec.message());
+                throw OutputError(
+                    (mDirectory / name).string() +
+                    ": cannot remove the earlier run's output: " + describeErrno(ec.value()));
         }
     for (const auto& name : mStaged) {
         const fs::path from = mStaging / name;
@@ -102,7 +148,7 @@ void OutputDirectory::commit() {
         fs::rename(from, mDirectory / name, ec);
         if (ec)
             throw OutputError((mDirectory / name).string() +
-                              ": cannot move into place: " + ec.message());
+                              ": cannot move into place: " + describeErrno(ec.value()));
     }
     mCommitted = true;
     fs::remove_all(mStaging, ec);
@@ -123,8 +169,11 @@ namespace {
 /// `inner` lies at or below `outer` (both made absolute, symlinks resolved
 /// where they exist).
 bool isWithin(const fs::path& inner, const fs::path& outer) {
-    std::error_code ec;
-    const fs::path a = fs::weakly_canonical(inner, ec), b = fs::weakly_canonical(outer, ec);
+    std::error_code ecInner, ecOuter;
+    const fs::path a = fs::weakly_canonical(inner, ecInner),
+                   b = fs::weakly_canonical(outer, ecOuter);
+    // A path the system cannot resolve (over PATH_MAX) is empty: within everything.
+    if (ecInner || ecOuter) return false;
     auto ia = a.begin(), ib = b.begin();
     for (; ib != b.end(); ++ia, ++ib)
         if (ia == a.end() || *ia != *ib) return false;
@@ -157,22 +206,31 @@ std::string outputReplacing(const fs::path& file, const fs::path& outdir,
 void writeFileAtomically(const fs::path& path, const std::string& bytes) {
     const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
     const fs::path temp = parent / ("." + path.filename().string() + ".tmp-" + uniqueSuffix());
-    {
-        std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-        if (!out) throw OutputError(path.string() + ": cannot write: " + std::strerror(errno));
-        out.write(bytes.data(), std::streamsize(bytes.size()));
-        out.flush();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(temp, ec);
-            throw OutputError(path.string() + ": write failed (disk full?)");
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) throw OutputError(path.string() + ": cannot write: " + describeErrno(errno));
+    // The system's own reason, not a guess: a full disk, a quota, an I/O error.
+    int error = 0;
+    for (std::size_t done = 0; done < bytes.size();) {
+        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) {
+            error = errno;
+            break;
         }
+        done += std::size_t(n);
     }
+    // Network file systems report a failed write only here.
+    if (::close(fd) != 0 && error == 0 && errno != EINTR) error = errno;
     std::error_code ec;
+    if (error != 0) {
+        fs::remove(temp, ec);
+        throw OutputError(path.string() + ": cannot write: " + describeErrno(error));
+    }
     fs::rename(temp, path, ec);
     if (ec) {
+        const std::string problem = describeErrno(ec.value());
         fs::remove(temp, ec);
-        throw OutputError(path.string() + ": cannot move into place: " + ec.message());
+        throw OutputError(path.string() + ": cannot move into place: " + problem);
     }
 }
 

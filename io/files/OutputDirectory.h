@@ -6,7 +6,16 @@
 // removes the staging directory unless commit() succeeded, and OUTDIR itself
 // if the run created it. Each final name is
 // replaced by rename(2), which is atomic on one file system, so a reader never
-// sees a half-written file under a final name.
+// sees a half-written file under a final name. The staging directory lies in
+// OUTDIR, so no rename crosses file systems whatever TMPDIR is.
+//
+// A run holds an flock(2) on OUTDIR from the constructor to the destructor:
+// two runs committing into one OUTDIR file by file would leave a mix of both,
+// so the second is refused. Holding the lock also proves that the
+// .skelseg-staging-* directories already in OUTDIR belong to no live run (a
+// run killed by SIGKILL or a power cut leaves one); the constructor removes
+// them. Where the file system has no locks (some network mounts), runs are
+// not guarded and leftovers stay.
 #pragma once
 
 #include <filesystem>
@@ -18,9 +27,10 @@ namespace skelseg {
 
 class OutputDirectory {
 public:
-    /// Opens (creating if needed) OUTDIR. Throws UsageError if OUTDIR holds
-    /// files from an earlier run (any name in `outputNames` exists) and
-    /// `force` is false, or if OUTDIR is an existing non-directory.
+    /// Opens (creating if needed) OUTDIR and locks it. Throws UsageError if
+    /// OUTDIR holds files from an earlier run (any name in `outputNames`
+    /// exists) and `force` is false, if OUTDIR is an existing non-directory,
+    /// or if another process holds its lock (a run writing to it).
     OutputDirectory(const std::filesystem::path& outdir, bool force,
                     const std::vector<std::string>& outputNames);
     ~OutputDirectory();
@@ -45,6 +55,12 @@ public:
 
     const std::filesystem::path& directory() const noexcept { return mDirectory; }
 
+    /// `message` (an Error's what()) with the staging directory's path replaced
+    /// by OUTDIR's: an
+    /// error while writing names the file the user will look for, not the
+    /// hidden directory that is gone when the message is read.
+    std::string withFinalPaths(std::string message) const;
+
 private:
     std::filesystem::path mDirectory, mStaging;
     std::mutex mStagedMutex;  // guards mStaged
@@ -53,8 +69,12 @@ private:
     std::vector<std::filesystem::path>
         mCreated;  // directories the constructor created, deepest first
     bool mCommitted = false;
+    int mLockFd = -1;  // OUTDIR opened for flock(2); -1 when not locked
 
     void removeCreatedDirectories() noexcept;
+    /// Takes the lock on OUTDIR; false where the file system has no locks.
+    /// @throw UsageError when another process holds it.
+    bool lockDirectory();
 };
 
 /// Throws UsageError when `outdir` exists as something other than a
@@ -71,7 +91,8 @@ std::string outputReplacing(const std::filesystem::path& file, const std::filesy
                             const std::vector<std::string>& outputNames);
 
 /// Writes `bytes` to `path` through a temporary file in the same directory and
-/// rename(2). Throws OutputError naming the path on failure.
+/// rename(2). Throws OutputError naming the path and the system's reason
+/// ("no space left on device") on failure; the temporary file is removed.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
 
 }  // namespace skelseg

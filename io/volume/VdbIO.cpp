@@ -1,23 +1,21 @@
 #include "io/volume/VdbIO.h"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <istream>
 #include <mutex>
 #include <new>
+#include <sstream>
 #include <streambuf>
-#include <system_error>
 
-#include <openvdb/io/File.h>
+#include <openvdb/io/Archive.h>
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/LevelSetUtil.h>
 
+#include "io/files/OutputDirectory.h"
 #include "io/files/TextFile.h"
 #include "kernels/base/Error.h"
 
@@ -190,13 +188,16 @@ openvdb::math::Transform::Ptr transformFor(const VolumeGeometry& geometry) {
     return openvdb::math::Transform::createLinearTransform(matrix);
 }
 
-std::string temporaryNameBeside(const fs::path& file) {
-    static std::atomic<unsigned> counter{0};
-    const fs::path parent = file.has_parent_path() ? file.parent_path() : fs::path(".");
-    return (parent / ("." + file.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                      std::to_string(counter++)))
-        .string();
-}
+/// OpenVDB's file layout (grid offsets, for reading one grid without the
+/// others) written into any seekable stream. openvdb::io::File::write() writes
+/// through a std::ofstream of its own and never checks it: on a full disk it
+/// left an empty labels.vdb and the run exited 0.
+class SeekableArchiveWriter : public openvdb::io::Archive {
+public:
+    void writeTo(std::ostream& stream, const openvdb::GridCPtrVec& grids) const {
+        Archive::write(stream, grids, /*seekable=*/true);
+    }
+};
 
 }  // namespace
 
@@ -287,7 +288,7 @@ void writeVdbLabels(const fs::path& file, const LabelVolume& labels) {
         throw OutputError(file.string() +
                           ": OpenVDB cannot hold this grid (a voxel volume under 3e-15 world "
                           "units cubed, or world positions that are not finite)");
-    const std::string temporary = temporaryNameBeside(file);
+    std::ostringstream bytes(std::ios::binary);
     try {
         openvdb::Int32Grid::Ptr grid = openvdb::Int32Grid::create(0);
         grid->setName("labels");
@@ -299,21 +300,14 @@ void writeVdbLabels(const fs::path& file, const LabelVolume& labels) {
         openvdb::tools::Dense<std::uint16_t, openvdb::tools::LayoutXYZ> dense(
             box, const_cast<std::uint16_t*>(labels.data()));
         openvdb::tools::copyFromDense(dense, *grid, std::int32_t(0));
-        openvdb::io::File out(temporary);
-        out.write(openvdb::GridCPtrVec{grid});
-        out.close();
+        SeekableArchiveWriter().writeTo(bytes, openvdb::GridCPtrVec{grid});
     } catch (const std::exception& error) {
-        std::error_code ignored;
-        fs::remove(temporary, ignored);
         throw OutputError(file.string() + ": cannot write OpenVDB file: " + oneLine(error.what()));
     }
-    std::error_code ec;
-    fs::rename(temporary, file, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(temporary, ignored);
-        throw OutputError(file.string() + ": cannot move into place: " + ec.message());
-    }
+    if (!bytes) throw OutputError(file.string() + ": cannot write OpenVDB file");
+    // Through the checked writer: the system's reason on failure, and no
+    // partial file under any name.
+    writeFileAtomically(file, bytes.str());
 }
 
 }  // namespace skelseg

@@ -115,8 +115,10 @@ TEST(Batch, TwelveGoodAndTwoBadInputsMatchSingleSegmentRuns) {
         if (e.at("status") == "done") EXPECT_GE(e.at("parts").get<int>(), 1) << e.dump();
     EXPECT_NE(fileBytes(out / "summary.csv").find("bad-header,"), std::string::npos);
 
-    // Nothing but the twelve folders and the summary; no folder for a bad input.
+    // Nothing but the twelve folders, the summary and the batch's lock file
+    // (engine/batch/BatchLock.h); no folder for a bad input.
     std::vector<std::string> expected(kShapes.begin(), kShapes.end());
+    expected.push_back(".summary.lock");
     expected.push_back("summary.csv");
     expected.push_back("summary.json");
     std::sort(expected.begin(), expected.end());

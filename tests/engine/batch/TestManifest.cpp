@@ -182,11 +182,14 @@ TEST(OutputNames, TheBatchsOwnFileNamesGetACounter) {
                                           "summary.shard-0-of-2.json.obj",
                                           "summary.off",
                                           "summary.shard-1-of-2.csv.stl",
-                                          "summary.txt.off"};
+                                          "summary.txt.off",
+                                          ".summary.lock.off",
+                                          ".summary.shard-0-of-2.lock.ply"};
     const auto names = uniqueOutputNames(inputs);
     EXPECT_EQ(names, (std::vector<std::string>{"summary.json-2", "summary.csv-2",
                                                "summary.shard-0-of-2.json-2", "summary",
-                                               "summary.shard-1-of-2.csv-2", "summary.txt"}));
+                                               "summary.shard-1-of-2.csv-2", "summary.txt",
+                                               ".summary.lock-2", ".summary.shard-0-of-2.lock-2"}));
 }
 
 TEST(OutputNames, NoNameIsLongerThanAFolderNameCanBe) {

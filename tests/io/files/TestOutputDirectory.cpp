@@ -8,6 +8,8 @@
 #include <thread>
 #include <vector>
 
+#include "kernels/base/Error.h"
+#include "tests/support/SmallTmpfs.h"
 #include "tests/support/TempDir.h"
 
 namespace skelseg {
@@ -115,6 +117,115 @@ TEST(OutputDirectory, ObsoleteOutputsGoOnlyOnCommit) {
         out.commit();
     }
     EXPECT_EQ(entries(outdir), std::set<std::string>{"a.txt"});
+}
+
+std::string textOf(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(WriteFileAtomically, FullDiskGivesTheSystemsReasonAndLeavesNoFile) {
+    test::SmallTmpfs disk(64 * 1024);
+    if (!disk.mounted()) GTEST_SKIP() << disk.skipReason();
+    const fs::path file = disk / "big.bin";
+    try {
+        writeFileAtomically(file, std::string(256 * 1024, 'x'));
+        FAIL() << "a 256 KiB file fitted on a 64 KiB file system";
+    } catch (const OutputError& error) {
+        const std::string message = error.what();
+        EXPECT_NE(message.find(file.string() + ": "), std::string::npos) << message;
+        // It said "write failed (disk full?)", a guess in place of errno.
+        EXPECT_NE(message.find("no space left on device"), std::string::npos) << message;
+    }
+    EXPECT_TRUE(entries(disk.path()).empty());
+}
+
+TEST(OutputDirectory, FullDiskKeepsTheEarlierOutputWithForce) {
+    test::SmallTmpfs disk(64 * 1024);
+    if (!disk.mounted()) GTEST_SKIP() << disk.skipReason();
+    const fs::path outdir = disk / "out";
+    fs::create_directory(outdir);
+    std::ofstream(outdir / "a.txt") << "earlier";
+    {
+        OutputDirectory out(outdir, true, {"a.txt"});
+        EXPECT_THROW(writeFileAtomically(out.stagingPath("a.txt"), std::string(256 * 1024, 'x')),
+                     OutputError);
+    }
+    EXPECT_EQ(textOf(outdir / "a.txt"), "earlier");
+    EXPECT_EQ(entries(outdir), std::set<std::string>{"a.txt"});
+}
+
+TEST(OutputDirectory, ReadOnlyFileSystemIsOneOutputError) {
+    test::SmallTmpfs disk(64 * 1024, /*readOnly=*/true);
+    if (!disk.mounted()) GTEST_SKIP() << disk.skipReason();
+    for (const fs::path& outdir : {disk.path(), disk / "new" / "deeper"}) {
+        try {
+            OutputDirectory out(outdir, false, {"a.txt"});
+            FAIL() << outdir << " was opened on a read-only file system";
+        } catch (const OutputError& error) {
+            EXPECT_NE(std::string(error.what()).find("read-only file system"), std::string::npos)
+                << error.what();
+        }
+    }
+    EXPECT_TRUE(entries(disk.path()).empty());
+}
+
+TEST(OutputDirectory, SecondRunOnTheSameDirectoryIsRefused) {
+    // Two runs committing file by file into one OUTDIR left a mix of both,
+    // each exiting 0; the second did not even need --force.
+    test::TempDir tmp;
+    const fs::path outdir = tmp / "out";
+    {
+        OutputDirectory first(outdir, false, {"a.txt"});
+        try {
+            OutputDirectory second(outdir, true, {"a.txt"});
+            FAIL() << "a second run opened a directory the first is writing to";
+        } catch (const UsageError& error) {
+            EXPECT_NE(std::string(error.what()).find(outdir.string() + ": another skelseg run"),
+                      std::string::npos)
+                << error.what();
+        }
+        std::ofstream(first.stagingPath("a.txt")) << "first";
+        first.commit();
+    }
+    EXPECT_EQ(textOf(outdir / "a.txt"), "first");
+    // The lock ends with the run; the earlier results then need --force.
+    EXPECT_THROW(OutputDirectory(outdir, false, {"a.txt"}), UsageError);
+    EXPECT_NO_THROW(OutputDirectory(outdir, true, {"a.txt"}));
+}
+
+TEST(OutputDirectory, AKilledRunsStagingDirectoryIsRemoved) {
+    // SIGKILL leaves .skelseg-staging-PID-N with half-written files; no later
+    // `segment` removed it.
+    test::TempDir tmp;
+    const fs::path outdir = tmp / "out";
+    fs::create_directories(outdir / ".skelseg-staging-999999-0");
+    std::ofstream(outdir / ".skelseg-staging-999999-0" / "labels.nrrd") << "half";
+    std::ofstream(outdir / ".keep") << "the user's";
+    {
+        OutputDirectory out(outdir, false, {"labels.nrrd"});
+        EXPECT_FALSE(fs::exists(outdir / ".skelseg-staging-999999-0"));
+    }
+    EXPECT_EQ(entries(outdir), std::set<std::string>{".keep"});
+}
+
+TEST(OutputDirectory, MessagesNameTheFinalPath) {
+    test::TempDir tmp;
+    const fs::path outdir = tmp / "out\nline";
+    OutputDirectory out(outdir, false, {"a.txt"});
+    const std::string staged = OutputError(out.stagingPath("a.txt").string() + ": no").what();
+    EXPECT_EQ(out.withFinalPaths(staged), OutputError((outdir / "a.txt").string() + ": no").what());
+    EXPECT_EQ(out.withFinalPaths("no path"), "no path");
+}
+
+TEST(OutputReplacing, PathOverPathMaxIsNoOutput) {
+    // weakly_canonical() fails on it (ENAMETOOLONG) and gave empty paths,
+    // which the comparison took for the output itself: "the input is
+    // labels.nrrd in the output directory".
+    std::string deep;
+    for (int i = 0; i < 20; ++i) deep += std::string(250, 'a') + "/";
+    const fs::path outdir = fs::path("/tmp") / deep;
+    EXPECT_EQ(outputReplacing("/tmp/shape.off", outdir, {"labels.nrrd"}), "");
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "tests/support/FileBytes.h"
 #include "tests/support/InputErrorExpectation.h"
 #include "tests/support/MaskCounts.h"
+#include "tests/support/SmallTmpfs.h"
 #include "tests/support/TempDir.h"
 
 namespace fs = std::filesystem;
@@ -213,6 +214,30 @@ TEST(VdbIO, WriteLabelsUniformAndAffineGeometry) {
     // labels.vdb is an Int32Grid, which is not an input grid type.
     expectInputError([&] { readVdbMask(dir / "labels.vdb"); }, "labels.vdb",
                      "unsupported grid type int32");
+}
+
+TEST(VdbIO, WriteLabelsOnAFullDiskThrowsAndLeavesNoFile) {
+    // openvdb::io::File::write() never checks its stream: labels.vdb came out
+    // empty on a full disk and `segment` exited 0.
+    SmallTmpfs disk(16 * 1024);
+    if (!disk.mounted()) GTEST_SKIP() << disk.skipReason();
+    LabelVolume labels(Dims{64, 64, 64});
+    std::uint32_t state = 1;  // noise, which no compression shrinks below 16 KiB
+    for (std::size_t i = 0; i < labels.size(); ++i) {
+        state = state * 1664525u + 1013904223u;
+        labels.data()[i] = std::uint16_t(state >> 16);
+    }
+    const fs::path file = disk / "labels.vdb";
+    try {
+        writeVdbLabels(file, labels);
+        FAIL() << "wrote " << fs::file_size(file) << " bytes of labels.vdb on a 16 KiB disk";
+    } catch (const OutputError& error) {
+        EXPECT_NE(std::string(error.what()).find(file.string() + ": "), std::string::npos)
+            << error.what();
+        EXPECT_NE(std::string(error.what()).find("no space left on device"), std::string::npos)
+            << error.what();
+    }
+    EXPECT_TRUE(fs::is_empty(disk.path()));
 }
 
 namespace {
