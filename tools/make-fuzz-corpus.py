@@ -75,6 +75,20 @@ write("off", "cube-quads.off",
 write("off", "coff-inline.off", "COFF 4 2 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n"
       "1 1 0 9 9 9 255\n3 0 1 2 1 2 3\n3 1 3 2\n")
 
+# Binary OFF: Geomview's layout (big-endian, a colour count per face) and
+# pmp-library's (little-endian, none).
+tetra_xyz = [0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1]
+tetra_faces = [(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)]
+write("off", "binary-geomview.off", b"OFF BINARY\n" + struct.pack(">3i", 4, 4, 6)
+      + struct.pack(">12f", *tetra_xyz)
+      + b"".join(struct.pack(">5i", 3, *f, 0) for f in tetra_faces[:3])
+      + struct.pack(">5i", 3, *tetra_faces[3], 1) + struct.pack(">f", 0.5))
+write("off", "binary-pmp.off", b"OFF BINARY\n" + struct.pack("<3i", 4, 4, 0)
+      + struct.pack("<12f", *tetra_xyz)
+      + b"".join(struct.pack("<4i", 3, *f) for f in tetra_faces))
+write("nrrd", "byte-skip-end.nrrd",
+      b"NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\nbyte skip: -1\n\nhead" + cube)
+
 # --- OBJ ----------------------------------------------------------------------
 write("obj", "tetra.obj", "# tetrahedron\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
 write("obj", "slashes.obj",

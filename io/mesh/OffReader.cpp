@@ -1,5 +1,6 @@
 #include "io/mesh/OffReader.h"
 
+#include <cstring>
 #include <vector>
 
 #include "io/files/TextFile.h"
@@ -82,6 +83,133 @@ std::size_t offKeywordEnd(std::string_view keyword) {
     return 0;
 }
 
+/// Reads the data of a binary OFF file (Geomview's "OFF BINARY"): 32-bit
+/// counts, float coordinates and integer faces. Geomview writes them
+/// big-endian with a colour count (and colours) after each face's indices;
+/// pmp-library's files leave the colour count out, and its older ones are
+/// little-endian. The layout taken is the one whose faces end exactly at the
+/// file's end, which a wrong guess practically never does.
+class BinaryOffData {
+public:
+    /// `prefix`: the keyword's letters before "OFF" (they say what each
+    /// vertex holds besides x, y, z).
+    BinaryOffData(MeshBuilder& builder, std::string_view prefix, const char* data, std::size_t size)
+        : mBuilder(builder), mData(reinterpret_cast<const unsigned char*>(data)), mSize(size) {
+        mHomogeneous = prefix.find('4') != std::string_view::npos;
+        mHasDimension = prefix.find('n') != std::string_view::npos;
+        mFloatsPerVertex = 3 + (mHomogeneous ? 1u : 0u) +
+                           (prefix.find('N') != std::string_view::npos ? 3u : 0u) +
+                           (prefix.find('C') != std::string_view::npos ? 4u : 0u) +
+                           (prefix.find("ST") != std::string_view::npos ? 2u : 0u);
+    }
+
+    void read() {
+        for (const bool bigEndian : {true, false})
+            for (const bool faceColours : {true, false})
+                if (fits(bigEndian, faceColours)) return build(bigEndian, faceColours);
+        Counts counts;
+        if (!readCounts(true, counts) && !readCounts(false, counts))
+            mBuilder.fail("binary OFF: the header's counts do not fit the " +
+                          std::to_string(mSize) + " bytes that follow it");
+        mBuilder.fail(
+            "binary OFF: its faces end before or after the file's end, with or without "
+            "a colour count per face");
+    }
+
+private:
+    struct Counts {
+        std::uint64_t vertices = 0, faces = 0, dataStart = 0;
+    };
+
+    bool word(std::uint64_t position, bool bigEndian, std::uint32_t& value) const {
+        if (position > mSize || mSize - position < 4) return false;
+        const unsigned char* b = mData + position;
+        value = bigEndian ? std::uint32_t(b[0]) << 24 | std::uint32_t(b[1]) << 16 |
+                                std::uint32_t(b[2]) << 8 | b[3]
+                          : std::uint32_t(b[3]) << 24 | std::uint32_t(b[2]) << 16 |
+                                std::uint32_t(b[1]) << 8 | b[0];
+        return true;
+    }
+
+    /// The counts, when the vertices they announce fit in the data.
+    bool readCounts(bool bigEndian, Counts& counts) const {
+        std::uint64_t position = 0;
+        std::uint32_t dimension = 3, vertices = 0, faces = 0, edges = 0;
+        if (mHasDimension && !word(position, bigEndian, dimension)) return false;
+        if (mHasDimension) position += 4;
+        if (dimension != 3 || !word(position, bigEndian, vertices) ||
+            !word(position + 4, bigEndian, faces) || !word(position + 8, bigEndian, edges))
+            return false;
+        counts = {vertices, faces, position + 12};
+        return vertices <= kMaxElementCount && faces <= kMaxElementCount &&
+               counts.dataStart + counts.vertices * mFloatsPerVertex * 4 <= mSize;
+    }
+
+    /// True when the faces of this layout end exactly at the end of the data.
+    bool fits(bool bigEndian, bool faceColours) const {
+        Counts counts;
+        if (!readCounts(bigEndian, counts) || counts.faces == 0) return false;
+        std::uint64_t position = counts.dataStart + counts.vertices * mFloatsPerVertex * 4;
+        for (std::uint64_t f = 0; f < counts.faces; ++f) {
+            std::uint32_t corners = 0, colours = 0;
+            if (!word(position, bigEndian, corners) || corners > (mSize - position) / 4)
+                return false;
+            position += 4 + std::uint64_t(corners) * 4;
+            if (!faceColours) continue;
+            if (!word(position, bigEndian, colours) || colours > 4) return false;
+            position += 4 + std::uint64_t(colours) * 4;
+        }
+        return position == mSize;
+    }
+
+    void build(bool bigEndian, bool faceColours) {
+        Counts counts;
+        readCounts(bigEndian, counts);
+        mBuilder.reserve(counts.vertices, counts.faces);
+        std::uint64_t position = counts.dataStart;
+        std::uint32_t value = 0;
+        auto nextFloat = [&] {
+            word(position, bigEndian, value);
+            position += 4;
+            float real = 0;
+            std::memcpy(&real, &value, 4);
+            return double(real);
+        };
+        for (std::uint64_t v = 0; v < counts.vertices; ++v) {
+            const std::uint64_t vertexEnd = position + mFloatsPerVertex * 4;
+            const double x = nextFloat(), y = nextFloat(), z = nextFloat();
+            const double w = mHomogeneous ? nextFloat() : 1.0;
+            if (w == 0)
+                mBuilder.fail("binary OFF: vertex " + std::to_string(v) +
+                              " has the homogeneous coordinate 0 (a point at infinity)");
+            mBuilder.addVertex(x / w, y / w, z / w);
+            position = vertexEnd;
+        }
+        std::vector<std::int64_t> polygon;
+        for (std::uint64_t f = 0; f < counts.faces; ++f) {
+            std::uint32_t corners = 0, colours = 0;
+            word(position, bigEndian, corners);
+            position += 4;
+            polygon.clear();
+            for (std::uint32_t c = 0; c < corners; ++c, position += 4) {
+                word(position, bigEndian, value);
+                polygon.push_back(std::int32_t(value));
+            }
+            mBuilder.addFace(polygon, counts.vertices);
+            if (!faceColours) continue;
+            word(position, bigEndian, colours);
+            position += 4 + std::uint64_t(colours) * 4;
+        }
+    }
+
+    MeshBuilder& mBuilder;
+    const unsigned char* mData;
+    std::uint64_t mSize;
+    bool mHomogeneous = false;
+    bool mHasDimension = false;
+    std::uint64_t mFloatsPerVertex = 3;
+};
+
 }  // namespace
 
 TriangleMesh readOff(const std::string& name, const char* data, std::size_t size) {
@@ -120,7 +248,15 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
         homogeneous = prefix.find('4') != std::string_view::npos;
         std::string_view token = keyword.substr(keywordEnd);
         if (token.empty()) token = headerTokens.nextToken();
-        if (lowercase(token) == "binary") builder.fail("binary OFF files are not supported");
+        if (lowercase(token) == "binary") {
+            // The binary data starts after the header line's newline.
+            if (const std::string_view extra = headerTokens.nextToken(); !extra.empty())
+                builder.fail("line " + std::to_string(lines.lineNumber()) + ": " + quote(extra) +
+                             " follows 'BINARY' on the header line");
+            const std::size_t dataSize = lines.bytesLeft();
+            BinaryOffData(builder, prefix, data + (size - dataSize), dataSize).read();
+            return builder.finish();
+        }
         if (prefix.find('n') != std::string_view::npos) {
             if (token.empty()) {
                 if (!lines.nextSignificantLine(line))

@@ -1,7 +1,8 @@
 // skelseg: the OFF reader (internal to io/mesh/; readMesh() in MeshIO.h
 // dispatches to it by extension). Accepts the [ST][C][N]OFF
 // variants with 3 dimensions, counts on the keyword line or the next one, and
-// files that leave the keyword out.
+// files that leave the keyword out; "OFF BINARY" in Geomview's layout and in
+// pmp-library's (no colour count per face, either byte order).
 #pragma once
 
 #include <cstddef>
@@ -12,8 +13,8 @@
 
 namespace skelseg {
 
-/// Reads an ASCII OFF file held in `size` bytes at `data`; `name` is used in
-/// messages. @throw InputError(name, problem).
+/// Reads an OFF file (ASCII, or Geomview's binary OFF) held in `size` bytes at `data`; `name` is
+/// used in messages. @throw InputError(name, problem).
 TriangleMesh readOff(const std::string& name, const char* data, std::size_t size);
 
 }  // namespace skelseg

@@ -233,8 +233,9 @@ private:
             else
                 fail("unknown endian " + quote(value) + " (expected little or big)");
         } else if (field == "byte skip" || field == "byteskip") {
-            if (parseInteger(field, value) != 0)
-                fail("byte skip " + quote(value) + " is not supported (only 0)");
+            mHeader.byteSkip = parseInteger(field, value);
+            if (mHeader.byteSkip < -1)
+                fail("byte skip " + quote(value) + " is invalid (it is -1 or at least 0)");
         } else if (field == "line skip" || field == "lineskip") {
             if (parseInteger(field, value) != 0)
                 fail("line skip " + quote(value) + " is not supported (only 0)");

@@ -49,6 +49,11 @@ struct NrrdHeader {
     std::optional<std::vector<double>> spacings;
     bool endsWithBlankLine = false;
     std::size_t dataOffset = 0;  // where attached data starts
+    /// Bytes before the samples: of the raw data, or of the decompressed
+    /// data for gzip (as teem reads them); -1 (raw only): the samples are the
+    /// data's last bytes, after a header of any length (a detached header
+    /// over another format's file).
+    std::int64_t byteSkip = 0;
     Dims dims;
     VolumeGeometry geometry;
 };

@@ -143,9 +143,26 @@ private:
 /// more data than the file can hold before allocating the volume.
 constexpr std::uint64_t kMaxDeflateRatio = 1032;
 
-template <typename T>
+/// Passes on what follows the first `skip` bytes it receives.
+template <typename Sink>
+class SkipFirstBytes {
+public:
+    SkipFirstBytes(Sink& sink, std::uint64_t skip) : mSink(sink), mLeft(skip) {}
+
+    void append(const std::uint8_t* bytes, std::size_t count) {
+        const std::size_t dropped = std::size_t(std::min<std::uint64_t>(mLeft, count));
+        mLeft -= dropped;
+        mSink.append(bytes + dropped, count - dropped);
+    }
+
+private:
+    Sink& mSink;
+    std::uint64_t mLeft;
+};
+
+template <typename Sink>
 void inflateSamples(const std::string& name, const std::uint8_t* data, std::size_t size,
-                    std::uint64_t expectedBytes, SampleSink<T>& sink) {
+                    std::uint64_t expectedBytes, Sink& sink) {
     z_stream stream{};
     // 15 + 32: accept both gzip and zlib headers.
     if (inflateInit2(&stream, 15 + 32) != Z_OK) throw InputError(name, "cannot initialise zlib");
@@ -249,6 +266,15 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
     const std::uint64_t expectedBytes = header.dims.voxelCount() * sampleBytes(type);
     const bool swapBytes = header.bigEndian.value_or(hostIsBigEndian()) != hostIsBigEndian();
     if (*header.encoding == Encoding::Raw) {
+        const std::uint64_t skip =
+            header.byteSkip == -1 ? std::max<std::uint64_t>(dataSize, expectedBytes) - expectedBytes
+                                  : std::uint64_t(header.byteSkip);
+        if (skip > dataSize)
+            throw InputError(name, "data is too short: byte skip " + std::to_string(skip) +
+                                       " is past the " + std::to_string(dataSize) +
+                                       " bytes of data");
+        data += skip;
+        dataSize -= std::size_t(skip);
         if (dataSize < expectedBytes)
             throw InputError(name, "data is too short: " + std::to_string(dataSize) +
                                        " bytes, header says " + std::to_string(expectedBytes));
@@ -261,13 +287,20 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
         volume.geometry = header.geometry;
         return volume;
     }
-    if (expectedBytes > std::uint64_t(dataSize) * kMaxDeflateRatio + 1024)
+    if (header.byteSkip == -1)
+        throw InputError(name,
+                         "byte skip -1 (the data's last bytes) is supported for raw data "
+                         "only, not gzip");
+    // teem skips the bytes of the decompressed data.
+    const std::uint64_t skip = std::uint64_t(header.byteSkip);
+    if (expectedBytes + skip > std::uint64_t(dataSize) * kMaxDeflateRatio + 1024)
         throw InputError(name, "data is too short: " + std::to_string(dataSize) +
                                    " bytes of gzip data cannot hold the " +
-                                   std::to_string(expectedBytes) + " bytes the header says");
+                                   std::to_string(expectedBytes + skip) + " bytes the header says");
     Volume<T> volume(header.dims);
     SampleSink<T> sink(volume, type, swapBytes, keepValues);
-    inflateSamples(name, data, dataSize, expectedBytes, sink);
+    SkipFirstBytes<SampleSink<T>> skipping(sink, skip);
+    inflateSamples(name, data, dataSize, expectedBytes + skip, skipping);
     volume.geometry = header.geometry;
     return volume;
 }

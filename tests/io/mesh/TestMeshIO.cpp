@@ -359,6 +359,54 @@ TEST(MeshIO, OffKeywordsOfGeomviewsFullSyntax) {
     });
 }
 
+// Binary OFF: the cube with 32-bit counts, float vertices (`extraFloats`
+// more per vertex, e.g. a normal for NOFF) and for each face its corner
+// count and indices, then (Geomview) a colour count and that many floats.
+std::string cubeBinaryOff(const std::string& keyword, bool bigEndian, bool faceColours,
+                          int extraFloats = 0) {
+    std::string out = keyword + " BINARY\n";
+    for (std::uint32_t count : {8u, 6u, 12u}) appendUInt32(out, count, bigEndian);
+    for (const auto& v : kCubeVertices) {
+        for (double c : v) appendFloat(out, float(c), bigEndian);
+        for (int e = 0; e < extraFloats; ++e) appendFloat(out, 0.5f, bigEndian);
+    }
+    for (const auto& q : kCubeQuads) {
+        appendUInt32(out, 4, bigEndian);
+        for (int i : q) appendUInt32(out, std::uint32_t(i), bigEndian);
+        if (!faceColours) continue;
+        appendUInt32(out, 3, bigEndian);
+        for (int c = 0; c < 3; ++c) appendFloat(out, 1.0f, bigEndian);
+    }
+    return out;
+}
+
+TEST(MeshIO, OffBinaryInGeomviewsAndPmpLayouts) {
+    // Valid binary OFF was refused ("binary OFF files are not supported"):
+    // pmp-library's data/off/beetle.off and fairing-cross.off (little-endian,
+    // no colour count per face); Geomview's own layout is big-endian with one.
+    const TriangleMesh ascii = fromText(MeshFormat::Off, kCubeOff);
+    for (const bool bigEndian : {true, false})
+        for (const bool faceColours : {true, false}) {
+            SCOPED_TRACE(std::to_string(bigEndian) + " " + std::to_string(faceColours));
+            expectSameMesh(fromText(MeshFormat::Off, cubeBinaryOff("OFF", bigEndian, faceColours)),
+                           ascii);
+        }
+    expectSameMesh(fromText(MeshFormat::Off, cubeBinaryOff("NOFF", true, true, 3)), ascii);
+    expectSameMesh(fromText(MeshFormat::Off, cubeBinaryOff("STCOFF", false, false, 6)), ascii);
+
+    std::string shortByOne = cubeBinaryOff("OFF", true, true);
+    shortByOne.pop_back();
+    std::string badIndex = cubeBinaryOff("OFF", false, false);
+    badIndex[badIndex.size() - 1] = '\x7f';  // the last face's last index, little-endian, past 2^30
+    expectEachRefused({
+        {MeshFormat::Off, "OFF BINARY\n", "binary OFF: the header's counts do not fit the 0 bytes"},
+        {MeshFormat::Off, shortByOne, "binary OFF: its faces end before or after the file's end"},
+        {MeshFormat::Off, shortByOne + "xy", "binary OFF: its faces end before or after"},
+        {MeshFormat::Off, "OFF BINARY 8\n", "line 1: '8' follows 'BINARY' on the header line"},
+        {MeshFormat::Off, badIndex, "face 5 references vertex"},
+    });
+}
+
 TEST(MeshIO, MalformedInputThrowsInputErrorNamingTheFile) {
     const std::string v3 = "0 0 0\n1 0 0\n0 1 0\n";
     // Long enough lines that the counts pass the bytes-left check.

@@ -257,6 +257,55 @@ TEST(NrrdIO, DetachedHeaderWithRelativeDataFile) {
     EXPECT_EQ(countNonzero(mask), 1u);
 }
 
+TEST(NrrdIO, ByteSkipBeforeRawAndDecompressedData) {
+    // Valid files that were refused ("byte skip '-1' is not supported"):
+    // pynrrd's BallBinary30x30x30_byteskip_minus_one.nhdr, a detached header
+    // whose raw data is the file's last bytes (-1), and skips of N bytes
+    // before raw data and before the decompressed gzip data, as teem reads them.
+    test::TempDir dir;
+    std::string data(4 * 3 * 2, '\0');
+    data[1] = 1;
+    data[23] = 7;
+    const std::string header = "another format's header";
+    writeBytes(dir / "volume.img", header + data);
+    writeBytes(dir / "end.nhdr", "NRRD0004\n" + basicFields("uint8", "4 3 2", "raw") +
+                                     "byte skip: -1\ndata file: volume.img\n");
+    writeBytes(dir / "skip.nhdr", "NRRD0004\n" + basicFields("uint8", "4 3 2", "raw") +
+                                      "byte skip: " + std::to_string(header.size()) +
+                                      "\ndata file: volume.img\n");
+    writeBytes(dir / "attached.nrrd",
+               nrrd(basicFields("uint8", "4 3 2", "raw") + "byteskip: 3\n", "abc" + data));
+    writeBytes(dir / "gzip.nrrd", nrrd(basicFields("uint8", "4 3 2", "gzip") + "byte skip: 3\n",
+                                       compress("abc" + data)));
+    for (const char* name : {"end.nhdr", "skip.nhdr", "attached.nrrd", "gzip.nrrd"}) {
+        const MaskVolume mask = readNrrdMask(dir / name);
+        EXPECT_EQ(mask[1], 1) << name;
+        EXPECT_EQ(mask[23], 1) << name;
+        EXPECT_EQ(countNonzero(mask), 2u) << name;
+    }
+
+    writeBytes(dir / "minus2.nrrd",
+               nrrd(basicFields("uint8", "4 3 2", "raw") + "byte skip: -2\n", data));
+    expectInputError([&] { readNrrdMask(dir / "minus2.nrrd"); }, "minus2.nrrd",
+                     "byte skip '-2' is invalid (it is -1 or at least 0)");
+    writeBytes(dir / "past.nrrd",
+               nrrd(basicFields("uint8", "4 3 2", "raw") + "byte skip: 25\n", data));
+    expectInputError([&] { readNrrdMask(dir / "past.nrrd"); }, "past.nrrd",
+                     "data is too short: byte skip 25 is past the 24 bytes of data");
+    writeBytes(dir / "end-short.nrrd",
+               nrrd(basicFields("uint8", "4 3 2", "raw") + "byte skip: -1\n", data.substr(1)));
+    expectInputError([&] { readNrrdMask(dir / "end-short.nrrd"); }, "end-short.nrrd",
+                     "data is too short: 23 bytes");
+    writeBytes(dir / "gzip-end.nrrd",
+               nrrd(basicFields("uint8", "4 3 2", "gzip") + "byte skip: -1\n", compress(data)));
+    expectInputError([&] { readNrrdMask(dir / "gzip-end.nrrd"); }, "gzip-end.nrrd",
+                     "byte skip -1 (the data's last bytes) is supported for raw data only");
+    writeBytes(dir / "gzip-short.nrrd",
+               nrrd(basicFields("uint8", "4 3 2", "gzip") + "byte skip: 3\n", compress(data)));
+    expectInputError([&] { readNrrdMask(dir / "gzip-short.nrrd"); }, "gzip-short.nrrd",
+                     "data is too short");
+}
+
 TEST(NrrdIO, GeometryFromSpaceFieldsAndSpacings) {
     test::TempDir dir;
     const std::string data(2 * 2 * 2, '\1');
@@ -376,7 +425,7 @@ TEST(NrrdIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
         {"missing-endian", nrrd(basicFields("uint16", "2 3 4", "raw"), raw24 + raw24), "endian"},
         {"bad-endian",
          nrrd(basicFields("uint16", "2 3 4", "raw", "endian: middle\n"), raw24 + raw24), "endian"},
-        {"byte-skip", nrrd(ok + "byte skip: 4\n", raw24), "byte skip"},
+        {"byte-skip", nrrd(ok + "byte skip: -3\n", raw24), "byte skip '-3' is invalid"},
         {"raw-short", nrrd(ok, raw24.substr(0, 23)), "too short"},
         {"raw-long", nrrd(ok, raw24 + "x"), "too long"},
         {"raw-missing", nrrd(ok, ""), "too short"},
