@@ -72,6 +72,18 @@ void checkVolumeGridMemory(const fs::path& file, const SegmentInputOptions& opti
     if (!dims || dims->x > kMaxAxisExtent || dims->y > kMaxAxisExtent || dims->z > kMaxAxisExtent ||
         dims->voxelCount() > kMaxVoxels)
         return;
+    // Files whose bytes cannot hold the grid even at the format's densest
+    // (deflate's 1032 to 1, binvox's 255 voxels in two bytes) are bad input,
+    // which the reader says before it allocates anything.
+    std::uint64_t fileBytes = 0;
+    for (const fs::path& part : volumeInputFiles(file)) {
+        std::error_code ec;
+        const auto size = fs::file_size(part, ec);
+        if (!ec) fileBytes += size;
+    }
+    const double mostVoxels =
+        double(fileBytes) * (volumeFormatFromPath(file) == VolumeFormat::Binvox ? 127.5 : 1032.0);
+    if (double(dims->voxelCount()) > mostVoxels + 1024) return;
     // A time budget may coarsen the volume after reading: only its mask is
     // then sure to be needed.
     const std::uint64_t leastBytes =

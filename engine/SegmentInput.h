@@ -102,8 +102,8 @@ void checkInputFileSize(const std::filesystem::path& file, std::uint64_t memoryL
 /// that size) is over options.memoryLimit. A compressed or run-length file of
 /// a few megabytes can hold billions of voxels; this refuses it before the
 /// reader allocates them. Grids the readers refuse as bad input (over the
-/// axis or voxel caps) are left to them, so their exit code stays that of bad
-/// input.
+/// axis or voxel caps, or more voxels than the file's bytes can encode) are
+/// left to them, so their exit code stays that of bad input.
 void checkVolumeGridMemory(const std::filesystem::path& file, const SegmentInputOptions& options);
 
 /// Reads a mesh (by extension, isMeshPath()) or a volume; times stage

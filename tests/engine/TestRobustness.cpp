@@ -1178,18 +1178,24 @@ TEST(Limits, HugeFileOverMaxMemoryIsRefusedWithoutReadingIt) {
     EXPECT_TRUE(leftNothing(dir / "out"));
 }
 
-// A run-length or gzip volume of a few bytes may claim billions of voxels:
-// the header's grid is checked against --max-memory before the reader
-// allocates it. These files are short of data as well, which the reader
-// would report (exit 2) had it been reached first.
+// A run-length or gzip volume of a few megabytes may claim billions of
+// voxels: the header's grid is checked against --max-memory before the
+// reader allocates it (a byte per voxel). A file too short to encode its
+// grid at all stays bad input, which the reader says at once.
 TEST(Limits, VolumeHeaderGridOverMaxMemoryIsRefusedBeforeReading) {
     TempDir dir;
+    const std::string binvoxHeader =
+        "#binvox 1\ndim 1600 1600 1600\ntranslate 0 0 0\nscale 1\ndata\n";
+    const std::string nrrdHeader =
+        nrrd("type: uint8\ndimension: 3\nsizes: 1500 1500 1500\nencoding: gzip\n", "");
+    // Zeros (sparse files): enough bytes for the grid at binvox's 255 voxels
+    // per two bytes and at deflate's densest; the data is never read.
     const fs::path binvox = dir / "huge.binvox";
-    writeBytes(binvox, "#binvox 1\ndim 1600 1600 1600\ntranslate 0 0 0\nscale 1\ndata\n" +
-                           std::string("\1\xff", 2));
+    writeBytes(binvox, binvoxHeader);
+    fs::resize_file(binvox, 40u << 20);
     const fs::path nrrdGzip = dir / "huge.nrrd";
-    writeBytes(nrrdGzip, nrrd("type: uint8\ndimension: 3\nsizes: 1500 1500 1500\nencoding: gzip\n",
-                              std::string(64, '\0')));
+    writeBytes(nrrdGzip, nrrdHeader);
+    fs::resize_file(nrrdGzip, 4u << 20);
     const std::pair<fs::path, std::string> inputs[] = {{binvox, "needs at least 4.10 GB"},
                                                        {nrrdGzip, "needs at least 3.38 GB"}};
     for (const auto& [input, maskBytes] : inputs) {
@@ -1202,16 +1208,20 @@ TEST(Limits, VolumeHeaderGridOverMaxMemoryIsRefusedBeforeReading) {
         const CliResult budgeted =
             runSegment(input, dir / "out", {"--max-memory", "1G", "--time-budget", "5"});
         EXPECT_TRUE(failsWithOneLine(budgeted, 4, input.string(), maskBytes)) << budgeted.err;
-        // Within the limit the reader is reached and finds the data short.
-        const CliResult reached = runSegment(input, dir / "out", {"--max-memory", "100G"});
-        EXPECT_TRUE(failsWithOneLine(reached, 2, input.string(), "short")) << reached.err;
     }
-    // A grid over the readers' caps stays bad input, whatever the memory.
+    // Two bytes of data cannot encode the grid: bad input, whatever the memory.
+    const fs::path shortBinvox = dir / "short.binvox";
+    writeBytes(shortBinvox, binvoxHeader + std::string("\1\xff", 2));
+    const fs::path shortGzip = dir / "short.nrrd";
+    writeBytes(shortGzip, nrrdHeader + std::string(64, '\0'));
+    // A grid over the readers' caps stays bad input too.
     const fs::path overCap = dir / "over-cap.binvox";
-    writeBytes(overCap, "#binvox 1\ndim 8192 8192 8192\ntranslate 0 0 0\nscale 1\ndata\n" +
-                            std::string("\1\xff", 2));
-    const CliResult result = runSegment(overCap, dir / "out", {"--max-memory", "1G"});
-    EXPECT_TRUE(failsWithOneLine(result, 2, overCap.string(), "")) << result.err;
+    writeBytes(overCap, "#binvox 1\ndim 8192 8192 8192\ntranslate 0 0 0\nscale 1\ndata\n");
+    fs::resize_file(overCap, 40u << 20);
+    for (const fs::path& input : {shortBinvox, shortGzip, overCap}) {
+        const CliResult result = runSegment(input, dir / "out", {"--max-memory", "1G"});
+        EXPECT_TRUE(failsWithOneLine(result, 2, input.string(), "")) << result.err;
+    }
 }
 
 TEST(Limits, FileOverTheInputCapIsBadInputWhateverTheMemory) {
