@@ -22,6 +22,7 @@
 #include "engine/batch/BatchLock.h"
 #include "engine/batch/BatchSummary.h"
 #include "engine/batch/DoneMarker.h"
+#include "engine/batch/FreedMemoryReuse.h"
 #include "engine/batch/InputMemoryEstimate.h"
 #include "engine/batch/MemoryBudget.h"
 #include "engine/batch/StagingCleanup.h"
@@ -175,6 +176,7 @@ void refuseInputsAmongOutputs(const Manifest& manifest, const fs::path& outroot)
 
 BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stream) {
     const auto wallStart = std::chrono::steady_clock::now();
+    keepFreedMemoryForReuse();  // where it fails, the batch is only slower
     const Manifest manifest = readManifest(options.manifest);
     const ShardSpec shard = options.shard;
     std::vector<std::uint64_t> sizes;

@@ -5,8 +5,10 @@
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <queue>
 #include <regex>
 #include <set>
+#include <tuple>
 
 #include "io/files/TextFile.h"
 #include "kernels/base/Error.h"
@@ -201,23 +203,24 @@ std::vector<int> assignShards(const std::vector<std::uint64_t>& sizes, int shard
     std::stable_sort(order.begin(), order.end(),
                      [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
     // Counts break ties between equal loads, so zero-size inputs (missing
-    // files) spread too. With more shares than inputs the k-th largest input
-    // goes to share k either way, so only as many shares as inputs are
-    // weighed: a count of 10^9 (a typo, or a Slurm array of that size) made
-    // two tables of a billion entries and a scan of them per input
-    // (docs/robustness.md).
+    // files) spread too; the lowest index breaks the remaining ties. With
+    // more shares than inputs the k-th largest input goes to share k either
+    // way, so only as many shares as inputs are weighed: a count of 10^9 (a
+    // typo, or a Slurm array of that size) made two tables of a billion
+    // entries (docs/robustness.md). The least loaded share comes from a heap:
+    // a scan of every share per input made the split quadratic for arrays of
+    // as many tasks as inputs, and every task computes it (docs/scale-out.md).
     const std::size_t weighed =
         std::max<std::size_t>(1, std::min(std::size_t(shardCount), sizes.size()));
-    std::vector<std::uint64_t> load(weighed, 0);
-    std::vector<std::size_t> count(weighed, 0);
+    using Share = std::tuple<std::uint64_t, std::size_t, std::size_t>;  // load, count, index
+    std::priority_queue<Share, std::vector<Share>, std::greater<Share>> shares;
+    for (std::size_t s = 0; s < weighed; ++s) shares.emplace(0, 0, s);
     std::vector<int> shard(sizes.size(), 0);
     for (std::size_t i : order) {
-        std::size_t best = 0;
-        for (std::size_t s = 1; s < load.size(); ++s)
-            if (load[s] < load[best] || (load[s] == load[best] && count[s] < count[best])) best = s;
+        auto [load, count, best] = shares.top();
+        shares.pop();
         shard[i] = int(best);
-        load[best] += sizes[i];
-        ++count[best];
+        shares.emplace(load + sizes[i], count + 1, best);
     }
     return shard;
 }

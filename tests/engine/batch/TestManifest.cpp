@@ -270,6 +270,43 @@ TEST(Shards, AShareCountFarBeyondTheInputsCostsNoTablePerShare) {
     EXPECT_TRUE(assignShards({}, 1000000000).empty());
 }
 
+TEST(Shards, SplitEqualsTheScanOfEveryShareOnTies) {
+    // Every task of an array computes the split on its own, possibly with
+    // another build of skelseg after a resubmission: the heap that picks the
+    // least loaded share must pick the one the former scan of all shares
+    // picked (least load, then fewest inputs, then lowest index).
+    auto scanSplit = [](const std::vector<std::uint64_t>& sizes, std::size_t shares) {
+        std::vector<std::size_t> order(sizes.size());
+        std::iota(order.begin(), order.end(), std::size_t(0));
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
+        const std::size_t weighed = std::max<std::size_t>(1, std::min(shares, sizes.size()));
+        std::vector<std::uint64_t> load(weighed, 0);
+        std::vector<std::size_t> count(weighed, 0);
+        std::vector<int> shard(sizes.size(), 0);
+        for (std::size_t i : order) {
+            std::size_t best = 0;
+            for (std::size_t s = 1; s < weighed; ++s)
+                if (load[s] < load[best] || (load[s] == load[best] && count[s] < count[best]))
+                    best = s;
+            shard[i] = int(best);
+            load[best] += sizes[i];
+            ++count[best];
+        }
+        return shard;
+    };
+    std::mt19937 random(11);
+    for (int trial = 0; trial < 40; ++trial) {
+        // Few distinct sizes and zeros (missing files): many equal loads.
+        std::vector<std::uint64_t> sizes(std::size_t(1 + random() % 300));
+        for (auto& s : sizes) s = (random() % 4) * 1000 + (random() % 3 == 0 ? 0 : 7);
+        const int shares = int(1 + random() % 80);
+        SCOPED_TRACE(std::to_string(sizes.size()) + " inputs, " + std::to_string(shares) +
+                     " shares");
+        EXPECT_EQ(assignShards(sizes, shares), scanSplit(sizes, std::size_t(shares)));
+    }
+}
+
 TEST(ShardSpec, ParsesIndexOfCount) {
     const ShardSpec spec = ShardSpec::parse("2/5");
     EXPECT_EQ(spec.index, 2);
