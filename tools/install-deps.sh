@@ -10,7 +10,7 @@ case "${1:-}" in
 esac
 packages=(
   build-essential cmake ninja-build pkg-config
-  libtbb-dev libopenvdb-dev libboost-iostreams-dev zlib1g-dev libeigen3-dev
+  libtbb-dev libopenvdb-dev libboost-iostreams-dev zlib1g-dev libbz2-dev libeigen3-dev
   libgtest-dev libbenchmark-dev libbenchmark-tools
   libcli11-dev nlohmann-json3-dev libfmt-dev libstb-dev libtinygltf-dev libmeshoptimizer-dev
   clang libclang-rt-14-dev clang-format

@@ -8,6 +8,7 @@ re-running it reproduces the committed files exactly.
     tools/make-fuzz-corpus.py [OUTDIR]     (default: tests/fuzz/corpus)
 """
 import argparse
+import bz2
 import gzip
 import os
 import struct
@@ -88,6 +89,27 @@ write("off", "binary-pmp.off", b"OFF BINARY\n" + struct.pack("<3i", 4, 4, 0)
       + b"".join(struct.pack("<4i", 3, *f) for f in tetra_faces))
 write("nrrd", "byte-skip-end.nrrd",
       b"NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\nbyte skip: -1\n\nhead" + cube)
+# The text and bzip2 encodings, line skip, byte skip -1 of decompressed data.
+write("nrrd", "ascii-int16.nrrd",
+      "NRRD0004\ntype: short\ndimension: 3\nsizes: 2 2 2\nencoding: ascii\n\n0 -1, 2\n+3 0\t7.0 1e1 0\n")
+write("nrrd", "text-float.nrrd",
+      "NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 1\nencoding: text\n\n0 -0 1.5e-3 nan\n")
+write("nrrd", "hex-uint16-big.nrrd",
+      "NRRD0004\ntype: uint16\ndimension: 3\nsizes: 2 1 2\nendian: big\nencoding: hex\n\n0000 01Ff\n00 0a ffFF\n")
+write("nrrd", "bzip2-uint8.nrrd",
+      b"NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: bzip2\n\n" + bz2.compress(cube, 9))
+write("nrrd", "bz2-streams-int16.nrrd",
+      b"NRRD0004\ntype: int16\ndimension: 3\nsizes: 2 1 1\nendian: little\nencoding: bz2\n\n"
+      + bz2.compress(struct.pack("<h", 0), 1) + bz2.compress(struct.pack("<h", -2), 1))
+write("nrrd", "line-skip-gzip.nrrd",
+      b"NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: gzip\nline skip: 2\n\nskip\nthese\n"
+      + gz(cube))
+write("nrrd", "gzip-byte-skip-end.nrrd",
+      b"NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: gzip\nbyte skip: -1\n\n"
+      + gz(b"a header" + cube))
+write("nrrd", "bzip2-byte-skip.nrrd",
+      b"NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: bzip2\nbyte skip: 3\n\n"
+      + bz2.compress(b"abc" + cube, 9))
 
 # --- OBJ ----------------------------------------------------------------------
 write("obj", "tetra.obj", "# tetrahedron\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")

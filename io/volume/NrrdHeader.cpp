@@ -59,6 +59,26 @@ const char* sampleTypeName(SampleType type) {
     return "?";
 }
 
+const char* encodingName(Encoding encoding) {
+    switch (encoding) {
+        case Encoding::Raw:
+            return "raw";
+        case Encoding::Ascii:
+            return "ascii";
+        case Encoding::Hex:
+            return "hex";
+        case Encoding::Gzip:
+            return "gzip";
+        case Encoding::Bzip2:
+            return "bzip2";
+    }
+    return "?";
+}
+
+bool encodingHasByteOrder(Encoding encoding) {
+    return encoding != Encoding::Ascii;
+}
+
 namespace {
 
 /// All spellings teem's nrrdType enum accepts, with internal whitespace
@@ -220,10 +240,17 @@ private:
             const std::string encoding = lowercase(value);
             if (encoding == "raw")
                 mHeader.encoding = Encoding::Raw;
+            else if (encoding == "ascii" || encoding == "text" || encoding == "txt")
+                mHeader.encoding = Encoding::Ascii;
+            else if (encoding == "hex")
+                mHeader.encoding = Encoding::Hex;
             else if (encoding == "gzip" || encoding == "gz")
                 mHeader.encoding = Encoding::Gzip;
+            else if (encoding == "bzip2" || encoding == "bz2")
+                mHeader.encoding = Encoding::Bzip2;
             else
-                fail("unsupported encoding " + quote(value) + " (supported: raw, gzip)");
+                fail("unsupported encoding " + quote(value) +
+                     " (supported: raw, ascii, hex, gzip, bzip2)");
         } else if (field == "endian") {
             const std::string endian = lowercase(value);
             if (endian == "little")
@@ -237,8 +264,9 @@ private:
             if (mHeader.byteSkip < -1)
                 fail("byte skip " + quote(value) + " is invalid (it is -1 or at least 0)");
         } else if (field == "line skip" || field == "lineskip") {
-            if (parseInteger(field, value) != 0)
-                fail("line skip " + quote(value) + " is not supported (only 0)");
+            mHeader.lineSkip = parseInteger(field, value);
+            if (mHeader.lineSkip < 0)
+                fail("line skip " + quote(value) + " is invalid (it is at least 0)");
         } else if (field == "data file" || field == "datafile") {
             if (value.empty()) fail("'data file' field is empty");
             if (value.compare(0, 4, "LIST") == 0 || value.find('%') != std::string::npos)
@@ -376,7 +404,8 @@ private:
         if (sizes.size() != 3)
             fail("sizes lists " + std::to_string(sizes.size()) + " values for a dimension of 3");
         mHeader.dims = Dims::checked(sizes[0], sizes[1], sizes[2], mName);
-        if (sampleBytes(*mHeader.type) > 1 && !mHeader.bigEndian)
+        if (sampleBytes(*mHeader.type) > 1 && encodingHasByteOrder(*mHeader.encoding) &&
+            !mHeader.bigEndian)
             fail(std::string("missing field 'endian' (required for type ") +
                  sampleTypeName(*mHeader.type) + ")");
         if (!mHeader.dataFile && !mHeader.endsWithBlankLine)

@@ -18,13 +18,56 @@
 namespace skelseg::nrrd {
 
 enum class SampleType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Float, Double };
-enum class Encoding { Raw, Gzip };
+enum class Encoding { Raw, Ascii, Hex, Gzip, Bzip2 };
 
 /// Bytes per sample of `type` (1 to 8).
 std::size_t sampleBytes(SampleType type);
 
 /// Our name of `type` in messages ("int8", ..., "double").
 const char* sampleTypeName(SampleType type);
+
+/// Calls `visit(Sample())` with Sample the C++ type of `type` (std::int8_t,
+/// ..., double), so that a template serves every sample type.
+template <typename Visit>
+void visitSampleType(SampleType type, Visit&& visit) {
+    switch (type) {
+        case SampleType::Int8:
+            return visit(std::int8_t());
+        case SampleType::UInt8:
+            return visit(std::uint8_t());
+        case SampleType::Int16:
+            return visit(std::int16_t());
+        case SampleType::UInt16:
+            return visit(std::uint16_t());
+        case SampleType::Int32:
+            return visit(std::int32_t());
+        case SampleType::UInt32:
+            return visit(std::uint32_t());
+        case SampleType::Int64:
+            return visit(std::int64_t());
+        case SampleType::UInt64:
+            return visit(std::uint64_t());
+        case SampleType::Float:
+            return visit(float());
+        case SampleType::Double:
+            return visit(double());
+    }
+}
+
+/// The encoding's name in messages ("raw", "ascii", "hex", "gzip", "bzip2").
+const char* encodingName(Encoding encoding);
+
+/// Whether the encoding's samples are bytes in the file's byte order (all
+/// but ascii, whose numbers are text).
+bool encodingHasByteOrder(Encoding encoding);
+
+/// Receives decoded sample bytes in any chunking; the decoders of
+/// NrrdCompressed.h and NrrdText.h write into one.
+class ByteSink {
+public:
+    virtual ~ByteSink() = default;
+    virtual void append(const std::uint8_t* bytes, std::size_t count) = 0;
+};
 
 constexpr bool hostIsBigEndian() {
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
@@ -49,10 +92,13 @@ struct NrrdHeader {
     std::optional<std::vector<double>> spacings;
     bool endsWithBlankLine = false;
     std::size_t dataOffset = 0;  // where attached data starts
-    /// Bytes before the samples: of the raw data, or of the decompressed
-    /// data for gzip (as teem reads them); -1 (raw only): the samples are the
-    /// data's last bytes, after a header of any length (a detached header
-    /// over another format's file).
+    /// Lines of the data (the data file, or what follows the header) skipped
+    /// before the byte skip, as teem does, for every encoding.
+    std::int64_t lineSkip = 0;
+    /// Bytes before the samples: of the data after the line skip, or of the
+    /// decompressed data for gzip and bzip2 (as teem reads them); -1 (raw,
+    /// gzip, bzip2): the samples are the data's last bytes, after a header of
+    /// any length (a detached header over another format's file).
     std::int64_t byteSkip = 0;
     Dims dims;
     VolumeGeometry geometry;
@@ -60,7 +106,8 @@ struct NrrdHeader {
 
 /// Parses and checks the header at the start of `size` bytes; `name` is used
 /// in messages only. On return dimension, type, sizes and encoding are set,
-/// bigEndian is set for multi-byte samples, and dataOffset is where attached
+/// bigEndian is set for multi-byte samples of an encoding with a byte order
+/// (encodingHasByteOrder), and dataOffset is where attached
 /// data starts. @throw InputError(name, problem) for any header problem.
 NrrdHeader parseNrrdHeader(const std::string& name, const std::uint8_t* bytes, std::size_t size);
 

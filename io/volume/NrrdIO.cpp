@@ -1,7 +1,5 @@
 #include "io/volume/NrrdIO.h"
 
-#include <zlib.h>
-
 #include <algorithm>
 #include <cstring>
 #include <fstream>
@@ -9,7 +7,9 @@
 #include <vector>
 
 #include "io/files/TextFile.h"
+#include "io/volume/NrrdCompressed.h"
 #include "io/volume/NrrdHeader.h"
+#include "io/volume/NrrdText.h"
 #include "kernels/base/Error.h"
 
 namespace fs = std::filesystem;
@@ -18,7 +18,9 @@ namespace skelseg {
 
 namespace {
 
+using nrrd::ByteSink;
 using nrrd::Encoding;
+using nrrd::encodingName;
 using nrrd::hostIsBigEndian;
 using nrrd::NrrdHeader;
 using nrrd::parseNrrdHeader;
@@ -44,7 +46,7 @@ Sample loadSample(const std::uint8_t* bytes, bool swapBytes) {
 /// that need not end on a sample boundary) and converts them into the
 /// volume, in file order.
 template <typename T>
-class SampleSink {
+class SampleSink final : public ByteSink {
 public:
     SampleSink(Volume<T>& volume, SampleType type, bool swapBytes, bool keepValues)
         : mOutput(volume.data()),
@@ -54,7 +56,7 @@ public:
           mSwap(swapBytes),
           mKeepValues(keepValues) {}
 
-    void append(const std::uint8_t* bytes, std::size_t count) {
+    void append(const std::uint8_t* bytes, std::size_t count) override {
         if (mPartialCount > 0) {
             // The sizeof bound is implied by mSampleBytes <= 8; spelled out for the compiler.
             const std::size_t take =
@@ -78,38 +80,7 @@ public:
 private:
     void convert(const std::uint8_t* bytes, std::size_t count) {
         if (count > mCapacity - mWritten) throw std::logic_error("NRRD sample sink overflow");
-        switch (mType) {
-            case SampleType::Int8:
-                convertAs<std::int8_t>(bytes, count);
-                break;
-            case SampleType::UInt8:
-                convertAs<std::uint8_t>(bytes, count);
-                break;
-            case SampleType::Int16:
-                convertAs<std::int16_t>(bytes, count);
-                break;
-            case SampleType::UInt16:
-                convertAs<std::uint16_t>(bytes, count);
-                break;
-            case SampleType::Int32:
-                convertAs<std::int32_t>(bytes, count);
-                break;
-            case SampleType::UInt32:
-                convertAs<std::uint32_t>(bytes, count);
-                break;
-            case SampleType::Int64:
-                convertAs<std::int64_t>(bytes, count);
-                break;
-            case SampleType::UInt64:
-                convertAs<std::uint64_t>(bytes, count);
-                break;
-            case SampleType::Float:
-                convertAs<float>(bytes, count);
-                break;
-            case SampleType::Double:
-                convertAs<double>(bytes, count);
-                break;
-        }
+        nrrd::visitSampleType(mType, [&](auto zero) { convertAs<decltype(zero)>(bytes, count); });
         mWritten += count;
     }
 
@@ -138,92 +109,76 @@ private:
     std::size_t mPartialCount = 0;
 };
 
-/// Deflate cannot expand more than 1032:1, so a stream of N bytes never
-/// inflates to more than about 1032*N. Used to reject a header that claims
-/// more data than the file can hold before allocating the volume.
-constexpr std::uint64_t kMaxDeflateRatio = 1032;
-
 /// Passes on what follows the first `skip` bytes it receives.
-template <typename Sink>
-class SkipFirstBytes {
+class SkipFirstBytes final : public ByteSink {
 public:
-    SkipFirstBytes(Sink& sink, std::uint64_t skip) : mSink(sink), mLeft(skip) {}
+    SkipFirstBytes(ByteSink& sink, std::uint64_t skip) : mSink(sink), mLeft(skip) {}
 
-    void append(const std::uint8_t* bytes, std::size_t count) {
+    void append(const std::uint8_t* bytes, std::size_t count) override {
         const std::size_t dropped = std::size_t(std::min<std::uint64_t>(mLeft, count));
         mLeft -= dropped;
         mSink.append(bytes + dropped, count - dropped);
     }
 
 private:
-    Sink& mSink;
+    ByteSink& mSink;
     std::uint64_t mLeft;
 };
 
-template <typename Sink>
-void inflateSamples(const std::string& name, const std::uint8_t* data, std::size_t size,
-                    std::uint64_t expectedBytes, Sink& sink) {
-    z_stream stream{};
-    // 15 + 32: accept both gzip and zlib headers.
-    if (inflateInit2(&stream, 15 + 32) != Z_OK) throw InputError(name, "cannot initialise zlib");
-    struct StreamGuard {
-        z_stream* stream;
-        ~StreamGuard() { inflateEnd(stream); }
-    } guard{&stream};
+/// Keeps what it receives, growing with the data but never past `limit`
+/// bytes of capacity: memory follows what the stream really holds, not
+/// what its header claims.
+class GrowingBuffer final : public ByteSink {
+public:
+    explicit GrowingBuffer(std::uint64_t limit) : mLimit(limit) {}
 
-    std::vector<std::uint8_t> chunk(std::size_t(1) << 18);
-    std::size_t consumed = 0;  // input bytes handed to zlib so far
-    std::uint64_t produced = 0;
-    const auto feed = [&] {
-        if (stream.avail_in == 0 && consumed < size) {
-            const std::size_t piece = std::min<std::size_t>(size - consumed, 1u << 30);
-            stream.next_in = const_cast<Bytef*>(data + consumed);
-            stream.avail_in = uInt(piece);
-            consumed += piece;
-        }
-    };
-    for (;;) {
-        feed();
-        // Never ask for more than one byte beyond the expected count: enough
-        // to detect "too long" without inflating an unbounded stream.
-        const std::uint64_t room = expectedBytes + 1 - produced;
-        stream.next_out = chunk.data();
-        stream.avail_out = uInt(std::min<std::uint64_t>(chunk.size(), room));
-        const uInt inputBefore = stream.avail_in;
-        const int status = inflate(&stream, Z_NO_FLUSH);
-        const std::size_t got = std::size_t(stream.next_out - chunk.data());
-        produced += got;
-        if (produced > expectedBytes)
-            throw InputError(name, "data is too long: gzip data decompresses to more than the " +
-                                       std::to_string(expectedBytes) + " bytes the header says");
-        sink.append(chunk.data(), got);
-
-        if (status == Z_STREAM_END) {
-            const std::size_t remaining = stream.avail_in + (size - consumed);
-            if (remaining == 0) break;
-            if (produced == expectedBytes)
-                throw InputError(name, "data is too long: " + std::to_string(remaining) +
-                                           " bytes after the end of the gzip stream");
-            inflateReset(&stream);  // another gzip member follows
-            continue;
-        }
-        if (status == Z_DATA_ERROR || status == Z_NEED_DICT || status == Z_STREAM_ERROR)
-            throw InputError(name, std::string("corrupt gzip data: ") +
-                                       (stream.msg ? stream.msg : "invalid stream"));
-        if (status == Z_MEM_ERROR)
-            throw InputError(name, "out of memory while decompressing gzip data");
-        const bool noProgress = got == 0 && stream.avail_in == inputBefore;
-        if (noProgress && stream.avail_in == 0 && consumed == size)
-            throw InputError(name, "data is too short: gzip data is truncated after " +
-                                       std::to_string(produced) + " bytes, header says " +
-                                       std::to_string(expectedBytes));
-        if (noProgress && stream.avail_in > 0)  // zlib is stuck: never loop forever on bad input
-            throw InputError(name, "corrupt gzip data: decompression makes no progress");
+    void append(const std::uint8_t* bytes, std::size_t count) override {
+        const std::size_t needed = mBytes.size() + count;
+        if (needed > mBytes.capacity())
+            mBytes.reserve(std::size_t(std::max<std::uint64_t>(
+                needed, std::min<std::uint64_t>(2 * std::uint64_t(mBytes.capacity()), mLimit))));
+        mBytes.insert(mBytes.end(), bytes, bytes + count);
     }
-    if (produced < expectedBytes)
-        throw InputError(name, "data is too short: gzip data decompresses to " +
-                                   std::to_string(produced) + " bytes, header says " +
-                                   std::to_string(expectedBytes));
+
+    const std::vector<std::uint8_t>& bytes() const { return mBytes; }
+
+private:
+    std::uint64_t mLimit;
+    std::vector<std::uint8_t> mBytes;
+};
+
+/// The part before the samples that byte skip -1 allows in compressed data,
+/// which must be decompressed to its end to find its last bytes: as many
+/// bytes as the samples (or 1 MiB), so that a stream of any length is not
+/// decompressed without end.
+std::uint64_t maxTailPrefix(std::uint64_t sampleBytes) {
+    return std::max<std::uint64_t>(sampleBytes, std::uint64_t(1) << 20);
+}
+
+/// Skips `lines` lines ('\n'-terminated) at the start of the data.
+void skipLines(const std::string& name, const std::uint8_t*& data, std::size_t& dataSize,
+               std::int64_t lines) {
+    for (std::int64_t line = 0; line < lines; ++line) {
+        const void* newline = std::memchr(data, '\n', dataSize);
+        if (!newline)
+            throw InputError(name, "data is too short: line skip " + std::to_string(lines) +
+                                       " passes the end of the data after " + std::to_string(line) +
+                                       " lines");
+        const std::size_t length =
+            std::size_t(static_cast<const std::uint8_t*>(newline) - data) + 1;
+        data += length;
+        dataSize -= length;
+    }
+}
+
+/// Skips `skip` bytes of the (raw or text) data.
+void skipBytes(const std::string& name, const std::uint8_t*& data, std::size_t& dataSize,
+               std::uint64_t skip) {
+    if (skip > dataSize)
+        throw InputError(name, "data is too short: byte skip " + std::to_string(skip) +
+                                   " is past the " + std::to_string(dataSize) + " bytes of data");
+    data += skip;
+    dataSize -= std::size_t(skip);
 }
 
 /// A detached header's data file: relative names are relative to the header.
@@ -263,18 +218,25 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
         dataSize = detachedBytes.size();
     }
 
-    const std::uint64_t expectedBytes = header.dims.voxelCount() * sampleBytes(type);
+    // teem skips the lines of the data file, or of what follows an attached
+    // header, for every encoding, and then the byte skip.
+    const std::uint8_t* const fileStart =
+        header.dataFile ? reinterpret_cast<const std::uint8_t*>(detachedBytes.data()) : bytes;
+    skipLines(name, data, dataSize, header.lineSkip);
+
+    const Encoding encoding = *header.encoding;
+    const std::uint64_t samples = header.dims.voxelCount();
+    const std::uint64_t expectedBytes = samples * sampleBytes(type);
     const bool swapBytes = header.bigEndian.value_or(hostIsBigEndian()) != hostIsBigEndian();
-    if (*header.encoding == Encoding::Raw) {
-        const std::uint64_t skip =
-            header.byteSkip == -1 ? std::max<std::uint64_t>(dataSize, expectedBytes) - expectedBytes
-                                  : std::uint64_t(header.byteSkip);
-        if (skip > dataSize)
-            throw InputError(name, "data is too short: byte skip " + std::to_string(skip) +
-                                       " is past the " + std::to_string(dataSize) +
-                                       " bytes of data");
-        data += skip;
-        dataSize -= std::size_t(skip);
+    const auto finish = [&](Volume<T>& volume) {
+        volume.geometry = header.geometry;
+        return std::move(volume);
+    };
+    if (encoding == Encoding::Raw) {
+        skipBytes(name, data, dataSize,
+                  header.byteSkip == -1
+                      ? std::max<std::uint64_t>(dataSize, expectedBytes) - expectedBytes
+                      : std::uint64_t(header.byteSkip));
         if (dataSize < expectedBytes)
             throw InputError(name, "data is too short: " + std::to_string(dataSize) +
                                        " bytes, header says " + std::to_string(expectedBytes));
@@ -284,25 +246,67 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
         Volume<T> volume(header.dims);
         SampleSink<T> sink(volume, type, swapBytes, keepValues);
         sink.append(data, dataSize);
-        volume.geometry = header.geometry;
-        return volume;
+        return finish(volume);
     }
-    if (header.byteSkip == -1)
-        throw InputError(name,
-                         "byte skip -1 (the data's last bytes) is supported for raw data "
-                         "only, not gzip");
-    // teem skips the bytes of the decompressed data.
-    const std::uint64_t skip = std::uint64_t(header.byteSkip);
-    if (expectedBytes + skip > std::uint64_t(dataSize) * kMaxDeflateRatio + 1024)
-        throw InputError(name, "data is too short: " + std::to_string(dataSize) +
-                                   " bytes of gzip data cannot hold the " +
+
+    if (encoding == Encoding::Ascii || encoding == Encoding::Hex) {
+        if (header.byteSkip == -1)
+            throw InputError(name, std::string("byte skip -1 (the data's last bytes) is not "
+                                               "supported for ") +
+                                       encodingName(encoding) + " data (raw, gzip and bzip2 only)");
+        skipBytes(name, data, dataSize, std::uint64_t(header.byteSkip));
+        const std::uint64_t fewest = nrrd::minimumTextBytes(encoding, samples, sampleBytes(type));
+        if (dataSize < fewest)
+            throw InputError(name, "data is too short: " + std::to_string(dataSize) + " bytes of " +
+                                       encodingName(encoding) + " data cannot hold the " +
+                                       std::to_string(samples) + " samples the header says");
+        const nrrd::TextOrigin origin{
+            header.dataFile ? "data file " + quote(*header.dataFile) + ", " : std::string(),
+            std::size_t(1 + std::count(fileStart, data, '\n'))};
+        const char* text = reinterpret_cast<const char*>(data);
+        Volume<T> volume(header.dims);
+        if (encoding == Encoding::Ascii) {
+            // The numbers become samples in the host's byte order.
+            SampleSink<T> sink(volume, type, false, keepValues);
+            nrrd::decodeAscii(name, text, dataSize, type, samples, origin, sink);
+        } else {
+            SampleSink<T> sink(volume, type, swapBytes, keepValues);
+            nrrd::decodeHex(name, text, dataSize, expectedBytes, origin, sink);
+        }
+        return finish(volume);
+    }
+
+    // gzip and bzip2: teem skips bytes of the decompressed data.
+    const bool tail = header.byteSkip == -1;
+    const std::uint64_t skip = tail ? 0 : std::uint64_t(header.byteSkip);
+    const nrrd::DecompressedLength length{
+        expectedBytes + skip,
+        tail ? expectedBytes + maxTailPrefix(expectedBytes) : expectedBytes + skip};
+    if (expectedBytes + skip > nrrd::maxDecompressedBytes(encoding, dataSize))
+        throw InputError(name, "data is too short: " + std::to_string(dataSize) + " bytes of " +
+                                   encodingName(encoding) + " data cannot hold the " +
                                    std::to_string(expectedBytes + skip) + " bytes the header says");
+    if (encoding == Encoding::Gzip && !tail) {
+        // Deflate's bound (1032:1) keeps the volume allocated here in
+        // proportion to the file; the samples stream straight into it.
+        Volume<T> volume(header.dims);
+        SampleSink<T> sink(volume, type, swapBytes, keepValues);
+        SkipFirstBytes skipping(sink, skip);
+        nrrd::decompress(name, encoding, data, dataSize, length, skipping);
+        return finish(volume);
+    }
+    // bzip2 expands up to 2 million to 1, and byte skip -1 needs the data's
+    // end: the samples are decompressed first, into memory that grows with
+    // what the stream really holds, so that a tiny file claiming gigabytes
+    // allocates nothing it cannot fill.
+    GrowingBuffer decompressed(length.atMost);
+    SkipFirstBytes skipping(decompressed, skip);
+    nrrd::decompress(name, encoding, data, dataSize, length, skipping);
+    const std::vector<std::uint8_t>& staged = decompressed.bytes();
     Volume<T> volume(header.dims);
     SampleSink<T> sink(volume, type, swapBytes, keepValues);
-    SkipFirstBytes<SampleSink<T>> skipping(sink, skip);
-    inflateSamples(name, data, dataSize, expectedBytes + skip, skipping);
-    volume.geometry = header.geometry;
-    return volume;
+    sink.append(staged.data() + (staged.size() - expectedBytes), std::size_t(expectedBytes));
+    return finish(volume);
 }
 
 template <typename T>

@@ -2,8 +2,9 @@
 //
 // A strict hand-written reader for 3D NRRD files (NRRD0001..NRRD0005):
 // attached or detached (.nhdr + "data file") headers; int8, uint8, int16,
-// uint16, int32, uint32, int64, uint64, float and double samples in raw or
-// gzip encoding, either endianness. The first axis runs fastest and becomes
+// uint16, int32, uint32, int64, uint64, float and double samples in the raw,
+// ascii, hex, gzip and bzip2 encodings, either endianness, with line and
+// byte skips. The first axis runs fastest and becomes
 // our x; axes are never permuted. "space", "space directions", "space origin"
 // (or "spacings") become the VolumeGeometry, and the writers repeat them, so
 // labels.nrrd overlays the input in any viewer.

@@ -24,6 +24,7 @@
 #include "io/mesh/MeshIO.h"
 #include "io/shapes/SyntheticShapes.h"
 #include "tests/engine/RobustnessHelpers.h"
+#include "tests/support/Bzip2Bytes.h"
 
 namespace fs = std::filesystem;
 using namespace skelseg;
@@ -124,6 +125,7 @@ BadCase seg(std::string name, std::string content, std::string problem) {
 
 std::vector<BadCase> nrrdCases() {
     const std::string gz = gzipBytes(kEightVoxels);
+    const std::string bz2 = bzip2Bytes(kEightVoxels);
     const std::string gzFields = "type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: gzip\n";
     std::vector<BadCase> cases = {
         bytes("nrrd_empty", "empty.nrrd", "", "file is empty"),
@@ -196,11 +198,23 @@ std::vector<BadCase> nrrdCases() {
               nrrd("type: uint8\ndimension: 3\nsizes: 2000 2000 1000\nencoding: gzip\n", gz),
               "cannot hold"),
         bytes("nrrd_encoding_hex", "hex.nrrd",
-              nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: hex\n", "00"),
-              "unsupported encoding"),
+              nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: hex\n",
+                   "00 01 02 03 04 05 060\n"),
+              "hex data ends in the middle of a byte"),
         bytes("nrrd_encoding_bzip2", "bz2.nrrd",
-              nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: bzip2\n", "BZh"),
+              nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: bzip2\n",
+                   bz2.substr(0, 12) + std::string(8, '\xa5') + bz2.substr(20)),
+              "corrupt bzip2 data"),
+        bytes("nrrd_encoding_ascii", "ascii.nrrd",
+              nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: ascii\n",
+                   "0 1 0 1\n1 O 1 0\n"),
+              "ascii data, line 8: 'O' is not a number"),
+        bytes("nrrd_encoding_unknown", "zrl.nrrd",
+              nrrd("type: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: zrl\n", kEightVoxels),
               "unsupported encoding"),
+        bytes("nrrd_line_skip_past_the_data", "lines.nrrd",
+              nrrd(kUint8Fields + "line skip: 2\n", "one line\n" + kEightVoxels),
+              "line skip 2 passes the end of the data"),
         bytes("nrrd_type_block", "block.nrrd",
               nrrd("type: block\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n", kEightVoxels),
               "unsupported type"),

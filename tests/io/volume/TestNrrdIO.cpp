@@ -2,11 +2,13 @@
 // detached headers, geometry, and a table of malformed files.
 #include <zlib.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@
 #include "io/volume/NrrdIO.h"
 #include "io/volume/VolumeReader.h"
 #include "kernels/base/Error.h"
+#include "tests/support/Bzip2Bytes.h"
 #include "tests/support/FileBytes.h"
 #include "tests/support/InputErrorExpectation.h"
 #include "tests/support/MaskCounts.h"
@@ -52,6 +55,22 @@ std::string basicFields(const std::string& type, const std::string& sizes,
                         const std::string& encoding, const std::string& extra = "") {
     return "type: " + type + "\ndimension: 3\nsizes: " + sizes + "\nencoding: " + encoding + "\n" +
            extra;
+}
+
+/// 4 x 3 x 2 uint8 samples: voxels 1 and 23 are object.
+std::string twoObjectVoxels() {
+    std::string data(4 * 3 * 2, '\0');
+    data[1] = 1;
+    data[23] = 7;
+    return data;
+}
+
+/// The file reads as twoObjectVoxels() does.
+void expectTwoObjectVoxels(const fs::path& file) {
+    const MaskVolume mask = readNrrdMask(file);
+    EXPECT_EQ(mask[1], 1) << file;
+    EXPECT_EQ(mask[23], 1) << file;
+    EXPECT_EQ(countNonzero(mask), 2u) << file;
 }
 
 LabelVolume makeLabels() {
@@ -159,9 +178,7 @@ TEST(NrrdIO, BigAndLittleEndianUint16) {
 
 TEST(NrrdIO, GzipZlibAndGzSpellings) {
     test::TempDir dir;
-    std::string data(4 * 3 * 2, '\0');
-    data[1] = 1;
-    data[23] = 7;
+    const std::string data = twoObjectVoxels();
     writeBytes(dir / "gzip.nrrd", nrrd(basicFields("uint8", "4 3 2", "gzip"), compress(data)));
     writeBytes(dir / "gz.nrrd", nrrd(basicFields("uint8", "4 3 2", "gz"), compress(data)));
     writeBytes(dir / "zlib.nrrd",
@@ -171,10 +188,7 @@ TEST(NrrdIO, GzipZlibAndGzSpellings) {
                nrrd(basicFields("uint8", "4 3 2", "gzip"),
                     compress(data.substr(0, 10)) + compress(data.substr(10))));
     for (const char* name : {"gzip.nrrd", "gz.nrrd", "zlib.nrrd", "members.nrrd"}) {
-        const MaskVolume mask = readNrrdMask(dir / name);
-        EXPECT_EQ(mask[1], 1) << name;
-        EXPECT_EQ(mask[23], 1) << name;
-        EXPECT_EQ(countNonzero(mask), 2u) << name;
+        expectTwoObjectVoxels(dir / name);
     }
 }
 
@@ -263,9 +277,7 @@ TEST(NrrdIO, ByteSkipBeforeRawAndDecompressedData) {
     // whose raw data is the file's last bytes (-1), and skips of N bytes
     // before raw data and before the decompressed gzip data, as teem reads them.
     test::TempDir dir;
-    std::string data(4 * 3 * 2, '\0');
-    data[1] = 1;
-    data[23] = 7;
+    const std::string data = twoObjectVoxels();
     const std::string header = "another format's header";
     writeBytes(dir / "volume.img", header + data);
     writeBytes(dir / "end.nhdr", "NRRD0004\n" + basicFields("uint8", "4 3 2", "raw") +
@@ -278,10 +290,7 @@ TEST(NrrdIO, ByteSkipBeforeRawAndDecompressedData) {
     writeBytes(dir / "gzip.nrrd", nrrd(basicFields("uint8", "4 3 2", "gzip") + "byte skip: 3\n",
                                        compress("abc" + data)));
     for (const char* name : {"end.nhdr", "skip.nhdr", "attached.nrrd", "gzip.nrrd"}) {
-        const MaskVolume mask = readNrrdMask(dir / name);
-        EXPECT_EQ(mask[1], 1) << name;
-        EXPECT_EQ(mask[23], 1) << name;
-        EXPECT_EQ(countNonzero(mask), 2u) << name;
+        expectTwoObjectVoxels(dir / name);
     }
 
     writeBytes(dir / "minus2.nrrd",
@@ -296,14 +305,197 @@ TEST(NrrdIO, ByteSkipBeforeRawAndDecompressedData) {
                nrrd(basicFields("uint8", "4 3 2", "raw") + "byte skip: -1\n", data.substr(1)));
     expectInputError([&] { readNrrdMask(dir / "end-short.nrrd"); }, "end-short.nrrd",
                      "data is too short: 23 bytes");
-    writeBytes(dir / "gzip-end.nrrd",
-               nrrd(basicFields("uint8", "4 3 2", "gzip") + "byte skip: -1\n", compress(data)));
-    expectInputError([&] { readNrrdMask(dir / "gzip-end.nrrd"); }, "gzip-end.nrrd",
-                     "byte skip -1 (the data's last bytes) is supported for raw data only");
     writeBytes(dir / "gzip-short.nrrd",
                nrrd(basicFields("uint8", "4 3 2", "gzip") + "byte skip: 3\n", compress(data)));
     expectInputError([&] { readNrrdMask(dir / "gzip-short.nrrd"); }, "gzip-short.nrrd",
                      "data is too short");
+}
+
+/// One volume's samples of one type, in every encoding: the raw bytes
+/// (little endian), ascii numbers and hex digits.
+struct EncodedSamples {
+    std::string type;
+    std::string raw;
+    std::string ascii;
+    std::string hex;
+};
+
+template <typename Sample>
+EncodedSamples encodeSamples(const std::string& type, const std::vector<Sample>& values,
+                             const std::vector<std::string>& asciiValues) {
+    EncodedSamples encoded{type, {}, {}, {}};
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        char bytes[sizeof(Sample)];
+        std::memcpy(bytes, &values[i], sizeof(Sample));
+        encoded.raw.append(bytes, sizeof(Sample));
+        // Line breaks, tabs and teem's commas between the numbers.
+        encoded.ascii += asciiValues[i] + (i % 5 == 4 ? "\n" : i % 3 == 0 ? ",\t" : " ");
+    }
+    static const char kDigits[] = "0123456789abcdefABCDEF";
+    for (std::size_t i = 0; i < encoded.raw.size(); ++i) {
+        const auto byte = std::uint8_t(encoded.raw[i]);
+        // Either case, whitespace between digits and between bytes.
+        const bool upper = i % 2 == 1;
+        const auto digit = [&](int value) {
+            return kDigits[value < 10 || !upper ? value : value + 6];
+        };
+        encoded.hex += digit(byte >> 4);
+        if (i % 7 == 3) encoded.hex += ' ';
+        encoded.hex += digit(byte & 15);
+        encoded.hex += i % 16 == 15 ? "\n" : (i % 4 == 0 ? "  " : "");
+    }
+    return encoded;
+}
+
+TEST(NrrdIO, AsciiHexAndBzip2GiveTheMaskOfRaw) {
+    // Valid files that were refused ("unsupported encoding"): teem, ITK and
+    // pynrrd write every encoding of the format definition.
+    test::TempDir dir;
+    const std::string sizes = "4 3 2";
+    std::vector<std::uint8_t> bytes(24);
+    std::vector<std::uint16_t> shorts(24);
+    std::vector<float> floats(24);
+    std::vector<std::string> byteText, shortText, floatText;
+    for (int i = 0; i < 24; ++i) {
+        bytes[i] = std::uint8_t(i % 3 == 0 ? 0 : 200 + i);
+        shorts[i] = std::uint16_t(i % 4 == 1 ? 0 : 256 * i + 1);  // high bytes set: byte order
+        floats[i] = i % 5 == 0 ? 0.0f : 0.25f * float(i - 12);
+        byteText.push_back(std::to_string(bytes[i]));
+        shortText.push_back(i == 2 ? "+513.0" : std::to_string(shorts[i]));  // pynrrd's %.17g
+        floatText.push_back(std::to_string(floats[i]));
+    }
+    floats[5] = -0.0f;  // not object
+    floatText[5] = "-0";
+    floats[7] = std::numeric_limits<float>::quiet_NaN();  // object
+    floatText[7] = "nan";
+    floats[9] = 1e-3f;
+    floatText[9] = "1e-3";
+    const std::vector<EncodedSamples> cases = {
+        encodeSamples<std::uint8_t>("uint8", bytes, byteText),
+        encodeSamples<std::uint16_t>("uint16", shorts, shortText),
+        encodeSamples<float>("float", floats, floatText),
+    };
+    for (const auto& c : cases) {
+        const std::string endian = c.type == "uint8" ? "" : "endian: little\n";
+        writeBytes(dir / "raw.nrrd", nrrd(basicFields(c.type, sizes, "raw", endian), c.raw));
+        const MaskVolume raw = readNrrdMask(dir / "raw.nrrd");
+        ASSERT_GT(countNonzero(raw), 4u) << c.type;
+        ASSERT_LT(countNonzero(raw), 24u) << c.type;
+        const std::vector<std::pair<std::string, std::string>> files = {
+            // ascii needs no endian field: its numbers have no byte order.
+            {"ascii.nrrd", nrrd(basicFields(c.type, sizes, "ascii"), c.ascii)},
+            {"text.nrrd", nrrd(basicFields(c.type, sizes, "text"), c.ascii)},
+            {"txt.nrrd", nrrd(basicFields(c.type, sizes, "TXT"), c.ascii + "\n\n")},
+            {"hex.nrrd", nrrd(basicFields(c.type, sizes, "hex", endian), c.hex)},
+            {"bzip2.nrrd",
+             nrrd(basicFields(c.type, sizes, "bzip2", endian), test::bzip2Bytes(c.raw))},
+            {"bz2.nrrd", nrrd(basicFields(c.type, sizes, "bz2", endian), test::bzip2Bytes(c.raw))},
+            // pbzip2 writes one stream per block.
+            {"streams.nrrd",
+             nrrd(basicFields(c.type, sizes, "bzip2", endian),
+                  test::bzip2Bytes(c.raw.substr(0, 5)) + test::bzip2Bytes(c.raw.substr(5)))},
+        };
+        for (const auto& [name, content] : files) {
+            writeBytes(dir / name, content);
+            const MaskVolume mask = readNrrdMask(dir / name);
+            EXPECT_EQ(mask.values(), raw.values()) << c.type << " " << name;
+            if (c.type != "float")
+                EXPECT_EQ(readNrrdLabels(dir / name).values(),
+                          readNrrdLabels(dir / "raw.nrrd").values())
+                    << c.type << " " << name;
+        }
+    }
+    // Big-endian hex and bzip2 are swapped like raw.
+    writeBytes(dir / "big.nrrd",
+               nrrd(basicFields("uint16", "2 1 1", "hex", "endian: big\n"), "0102 FFfe"));
+    const LabelVolume big = readNrrdLabels(dir / "big.nrrd");
+    EXPECT_EQ(big[0], 0x0102);
+    EXPECT_EQ(big[1], 0xfffe);
+}
+
+TEST(NrrdIO, LineSkipAndByteSkipInEveryEncoding) {
+    test::TempDir dir;
+    const std::string data = twoObjectVoxels();
+    const std::string ascii = "0 1 0 0 0 0\n0 0 0 0 0 0\n0 0 0 0 0 0\n0 0 0 0 0 7\n";
+    const std::string lines = "this line\nand this line\nand this line should be skipped\n";
+    const std::string fields = "line skip: 3\n";
+    // A NIfTI header's 352 bytes before the samples, in one compressed stream.
+    const std::string nifti(352, '\x5c');
+    writeBytes(dir / "volume.nii.bz2", test::bzip2Bytes(nifti + data));
+    writeBytes(dir / "volume.nii.gz", compress(nifti + data));
+    writeBytes(dir / "volume.txt", "# values\n# of a 4x3x2 volume\nXY" + ascii);
+    const auto detached = [&](const std::string& encoding, const std::string& extra) {
+        return "NRRD0004\n" + basicFields("uint8", "4 3 2", encoding) + extra;
+    };
+    const std::vector<std::pair<std::string, std::string>> files = {
+        // pynrrd's BallBinary30x30x30_gz_lineskip.nrrd: lines after the header.
+        {"gz-lines.nrrd",
+         nrrd(basicFields("uint8", "4 3 2", "gzip") + fields, lines + compress(data))},
+        {"bz2-lines.nrrd",
+         nrrd(basicFields("uint8", "4 3 2", "bzip2") + fields, lines + test::bzip2Bytes(data))},
+        {"raw-lines.nrrd", nrrd(basicFields("uint8", "4 3 2", "raw") + fields + "byte skip: 2\n",
+                                lines + "ab" + data)},
+        {"hex-lines.nrrd", nrrd(basicFields("uint8", "4 3 2", "hex") + "lineskip: 1\n",
+                                "not hex\n0001" + std::string(42, '0') + " 07\n")},
+        // Lines, then bytes of the data file, as teem skips them.
+        {"ascii-lines.nhdr",
+         detached("ascii", "line skip: 2\nbyte skip: 2\ndata file: volume.txt\n")},
+        // pynrrd's BallBinary30x30x30_byteskip_minus_one_nifti.nhdr: the
+        // samples are the last bytes of the decompressed data.
+        {"gz-end.nhdr", detached("gzip", "byte skip: -1\ndata file: volume.nii.gz\n")},
+        {"bz2-end.nhdr", detached("bzip2", "byte skip: -1\ndata file: volume.nii.bz2\n")},
+        {"bz2-skip.nhdr", detached("bz2", "byte skip: 352\ndata file: volume.nii.bz2\n")},
+    };
+    for (const auto& [name, content] : files) {
+        writeBytes(dir / name, content);
+        expectTwoObjectVoxels(dir / name);
+    }
+}
+
+TEST(NrrdIO, BrokenTextNamesTheLine) {
+    test::TempDir dir;
+    // The header's 6 lines and the blank line: the data starts on line 8.
+    const std::string fields = basicFields("uint8", "2 2 2", "ascii") + "kinds: ??? ??? ???\n";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {nrrd(fields, "0 1 2\n3 x4 5\n6 7\n"),
+         "ascii data, line 9: 'x4' is not a number (sample 5, type uint8)"},
+        {nrrd(fields, "0 1 2\n3 4 5\n6 7\n\n 8\n"),
+         "data is too long: ascii data has more than the 8 numbers the header says ('8' on line "
+         "12)"},
+        {nrrd(fields, "0 1 2\n3 4 5\n6 256\n"),
+         "ascii data, line 10: '256' is out of range (sample 8, type uint8)"},
+        {nrrd(fields, "0 1 2\n3 4 -1 6 7\n"),
+         "ascii data, line 9: '-1' is out of range (sample 6, type uint8)"},
+        {nrrd(fields, "0 1 2\n3 4 5 6.5 7\n"),
+         "ascii data, line 9: '6.5' is not an integer (sample 7, type uint8)"},
+        {nrrd(fields, "0 1 2\n3 4 5 6\n\n\n"),
+         "data is too short: ascii data has 7 numbers, header says 8"},
+        {nrrd(basicFields("uint8", "2 2 2", "hex"), "00 01 02 03\n04 05 06 0g\n"),
+         "hex data, line 8: 'g' is not a hex digit"},
+        {nrrd(basicFields("uint8", "2 2 2", "hex"), "0001020304050607 0"),
+         "data is too long: hex data has more than the 8 bytes the header says (line 7)"},
+        {nrrd(basicFields("uint8", "2 2 2", "hex"), "00010203040506 0"),
+         "data is too short: hex data ends in the middle of a byte (15 hex digits, an odd "
+         "number); header says 8 bytes"},
+        {nrrd(basicFields("uint8", "2 2 2", "hex"), "000102030405 0 6"),
+         "data is too short: hex data has 7 bytes, header says 8"},
+    };
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        const fs::path file = dir / ("broken" + std::to_string(i) + ".nrrd");
+        writeBytes(file, cases[i].first);
+        try {
+            readNrrdMask(file);
+            ADD_FAILURE() << file << " was accepted";
+        } catch (const InputError& error) {
+            EXPECT_EQ(std::string(error.what()), file.string() + ": " + cases[i].second);
+        }
+    }
+    // A detached data file's lines are counted in the data file.
+    writeBytes(dir / "values.txt", "# comment\n0 1 2 3\n4 5 six 7\n");
+    writeBytes(dir / "values.nhdr", "NRRD0004\n" + basicFields("uint8", "2 2 2", "ascii") +
+                                        "line skip: 1\ndata file: values.txt\n");
+    expectInputError([&] { readNrrdMask(dir / "values.nhdr"); }, "values.nhdr",
+                     "ascii data, data file 'values.txt', line 3: 'six' is not a number");
 }
 
 TEST(NrrdIO, GeometryFromSpaceFieldsAndSpacings) {
@@ -391,6 +583,12 @@ TEST(NrrdIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
     corrupt[corrupt.size() / 2] = char(corrupt[corrupt.size() / 2] ^ 0x55);
     corrupt[10] = char(0xff);
     const std::string gzipped = compress(raw24);
+    const std::string bzipped = test::bzip2Bytes(raw24);
+    std::string bzipCorrupt = bzipped;
+    for (std::size_t i = 12; i < 20 && i < bzipCorrupt.size(); ++i) bzipCorrupt[i] = '\xa5';
+    const std::string bz = basicFields("uint8", "2 3 4", "bzip2");
+    const std::string ascii = basicFields("uint8", "2 3 4", "ascii");
+    const std::string hex = basicFields("uint8", "2 3 4", "hex");
     struct Case {
         const char* name;
         std::string content;
@@ -420,8 +618,8 @@ TEST(NrrdIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
         {"fractional-size", nrrd(basicFields("uint8", "2 3.5 4", "raw"), raw24), "not an integer"},
         {"text-size", nrrd(basicFields("uint8", "2 three 4", "raw"), raw24), "not an integer"},
         {"unsupported-type", nrrd(basicFields("block", "2 3 4", "raw"), raw24), "unsupported type"},
-        {"unsupported-encoding", nrrd(basicFields("uint8", "2 3 4", "bzip2"), raw24),
-         "unsupported encoding"},
+        {"unsupported-encoding", nrrd(basicFields("uint8", "2 3 4", "zrl"), raw24),
+         "unsupported encoding 'zrl' (supported: raw, ascii, hex, gzip, bzip2)"},
         {"missing-endian", nrrd(basicFields("uint16", "2 3 4", "raw"), raw24 + raw24), "endian"},
         {"bad-endian",
          nrrd(basicFields("uint16", "2 3 4", "raw", "endian: middle\n"), raw24 + raw24), "endian"},
@@ -443,6 +641,48 @@ TEST(NrrdIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
          "corrupt"},
         {"gzip-implausible", nrrd(basicFields("uint8", "4000 4000 200", "gzip"), gzipped),
          "cannot hold"},
+        {"bzip2-corrupt", nrrd(bz, bzipCorrupt), "corrupt bzip2 data"},
+        {"bzip2-not-bzip2", nrrd(bz, "this is not compressed"),
+         "corrupt bzip2 data: no bzip2 signature 'BZh'"},
+        {"bzip2-truncated", nrrd(bz, bzipped.substr(0, bzipped.size() - 6)), "too short"},
+        {"bzip2-short", nrrd(bz, test::bzip2Bytes(raw24.substr(0, 20))),
+         "data is too short: bzip2 data decompresses to 20 bytes, header says 24"},
+        {"bzip2-long", nrrd(bz, test::bzip2Bytes(raw24 + "abc")),
+         "data is too long: bzip2 data decompresses to more than the 24 bytes"},
+        {"bzip2-trailing", nrrd(bz, bzipped + "junk"),
+         "data is too long: 4 bytes after the end of the bzip2 stream"},
+        {"bzip2-implausible", nrrd(basicFields("uint8", "8000 8000 60", "bzip2"), bzipped),
+         "cannot hold"},
+        {"bzip2-empty", nrrd(bz, ""), "data is too short: bzip2 data is truncated after 0"},
+        {"ascii-implausible", nrrd(basicFields("uint8", "4000 4000 200", "ascii"), "1 2 3"),
+         "data is too short: 5 bytes of ascii data cannot hold the 3200000000 samples"},
+        {"ascii-few", nrrd(ascii, "1 2 3 4" + std::string(40, ' ')),
+         "ascii data has 4 numbers, header says 24"},
+        {"ascii-word",
+         nrrd(ascii,
+              [] {
+                  std::string numbers;
+                  for (int i = 0; i < 23; ++i) numbers += "1 ";
+                  return numbers + "one";
+              }()),
+         "'one' is not a number (sample 24, type uint8)"},
+        {"ascii-end-skip", nrrd(ascii + "byte skip: -1\n", std::string(48, '1')),
+         "byte skip -1 (the data's last bytes) is not supported for ascii data"},
+        {"hex-implausible", nrrd(hex, std::string(47, 'a')), "47 bytes of hex data cannot hold"},
+        {"hex-odd", nrrd(hex, std::string(49, 'a')), "too long"},
+        {"hex-sign", nrrd(hex, "-" + std::string(48, 'a')), "'-' is not a hex digit"},
+        {"line-skip-negative", nrrd(ok + "line skip: -1\n", raw24),
+         "line skip '-1' is invalid (it is at least 0)"},
+        {"line-skip-past", nrrd(ok + "line skip: 3\n", "one\ntwo\n" + raw24),
+         "data is too short: line skip 3 passes the end of the data after 2 lines"},
+        {"gzip-end-short",
+         nrrd(basicFields("uint8", "2 3 4", "gzip") + "byte skip: -1\n", compress(raw24.substr(1))),
+         "data is too short: gzip data decompresses to 23 bytes, header says at least 24"},
+        {"gzip-end-long",
+         nrrd(basicFields("uint8", "2 3 4", "gzip") + "byte skip: -1\n",
+              compress(std::string((1 << 20) + 25, 'x'))),
+         "with byte skip -1 the bytes before the samples are at most as many as the samples' "
+         "(or 1 MiB)"},
         {"no-blank-line", "NRRD0004\n" + ok, "blank line"},
         {"duplicate-field", nrrd(ok + "type: uint8\n", raw24), "twice"},
         {"malformed-line", nrrd(ok + "this line has no colon\n", raw24), "malformed"},
