@@ -74,7 +74,12 @@ void checkVolumeGridMemory(const fs::path& file, const SegmentInputOptions& opti
         return;
     // Files whose bytes cannot hold the grid even at the format's densest
     // (deflate's 1032 to 1, binvox's 255 voxels in two bytes) are bad input,
-    // which the reader says before it allocates anything.
+    // which the reader says before it allocates anything. bzip2 can expand
+    // millions of times: any file may hold any grid.
+    const auto encoding = peekHeaderWords(file, "encoding:");
+    const bool bzip2 =
+        encoding && !encoding->empty() &&
+        (lowercase(encoding->front()) == "bzip2" || lowercase(encoding->front()) == "bz2");
     std::uint64_t fileBytes = 0;
     for (const fs::path& part : volumeInputFiles(file)) {
         std::error_code ec;
@@ -83,7 +88,7 @@ void checkVolumeGridMemory(const fs::path& file, const SegmentInputOptions& opti
     }
     const double mostVoxels =
         double(fileBytes) * (volumeFormatFromPath(file) == VolumeFormat::Binvox ? 127.5 : 1032.0);
-    if (double(dims->voxelCount()) > mostVoxels + 1024) return;
+    if (!bzip2 && double(dims->voxelCount()) > mostVoxels + 1024) return;
     // A time budget may coarsen the volume after reading: only its mask is
     // then sure to be needed.
     const std::uint64_t leastBytes =

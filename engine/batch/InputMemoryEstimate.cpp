@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "engine/Segmenter.h"
 #include "io/volume/VolumeReader.h"
@@ -12,7 +13,8 @@ namespace fs = std::filesystem;
 
 namespace skelseg {
 
-std::optional<Dims> peekVolumeDims(const fs::path& file) {
+std::optional<std::vector<std::string>> peekHeaderWords(const fs::path& file,
+                                                        const std::string& keyword) {
     const VolumeFormat format = volumeFormatFromPath(file);
     if (format != VolumeFormat::Nrrd && format != VolumeFormat::Binvox) return std::nullopt;
     std::error_code ec;
@@ -23,17 +25,29 @@ std::optional<Dims> peekVolumeDims(const fs::path& file) {
     in.read(header.data(), std::streamsize(header.size()));
     header.resize(std::size_t(in.gcount()));
     std::istringstream lines(header);
-    const std::string keyword = format == VolumeFormat::Nrrd ? "sizes:" : "dim";
     for (std::string line; std::getline(lines, line);) {
         if (format == VolumeFormat::Nrrd && line.empty()) break;  // end of the header
         std::istringstream words(line);
         std::string first;
-        long long a = 0, b = 0, c = 0;
-        if (!(words >> first) || first != keyword || !(words >> a >> b >> c)) continue;
-        if (a < 1 || b < 1 || c < 1 || a > 65536 || b > 65536 || c > 65536) return std::nullopt;
-        return Dims{int(a), int(b), int(c)};
+        if (!(words >> first) || first != keyword) continue;
+        std::vector<std::string> rest;
+        for (std::string word; words >> word;) rest.push_back(word);
+        return rest;
     }
     return std::nullopt;
+}
+
+std::optional<Dims> peekVolumeDims(const fs::path& file) {
+    const std::string keyword = volumeFormatFromPath(file) == VolumeFormat::Nrrd ? "sizes:" : "dim";
+    const std::optional<std::vector<std::string>> words = peekHeaderWords(file, keyword);
+    if (!words || words->size() < 3) return std::nullopt;
+    long long extent[3] = {0, 0, 0};
+    for (int axis = 0; axis < 3; ++axis) {
+        std::istringstream number((*words)[std::size_t(axis)]);
+        if (!(number >> extent[axis]) || extent[axis] < 1 || extent[axis] > 65536)
+            return std::nullopt;
+    }
+    return Dims{int(extent[0]), int(extent[1]), int(extent[2])};
 }
 
 std::uint64_t estimateInputMemory(const fs::path& input, const SegmentCommandOptions& options,

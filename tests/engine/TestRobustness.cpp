@@ -1210,8 +1210,14 @@ TEST(Limits, VolumeHeaderGridOverMaxMemoryIsRefusedBeforeReading) {
     const fs::path nrrdGzip = dir / "huge.nrrd";
     writeBytes(nrrdGzip, nrrdHeader);
     fs::resize_file(nrrdGzip, 4u << 20);
+    // bzip2 may expand millions of times: a few bytes may hold any grid.
+    const fs::path nrrdBzip2 = dir / "huge-bzip2.nrrd";
+    writeBytes(nrrdBzip2,
+               nrrd("type: uint8\ndimension: 3\nsizes: 1500 1500 1500\nencoding: bzip2\n",
+                    std::string(64, '\0')));
     const std::pair<fs::path, std::string> inputs[] = {{binvox, "needs at least 4.10 GB"},
-                                                       {nrrdGzip, "needs at least 3.38 GB"}};
+                                                       {nrrdGzip, "needs at least 3.38 GB"},
+                                                       {nrrdBzip2, "needs at least 3.38 GB"}};
     for (const auto& [input, maskBytes] : inputs) {
         const CliResult result = runSegment(input, dir / "out", {"--max-memory", "1G"});
         EXPECT_TRUE(failsWithOneLine(result, 4, input.string(), "voxels needs at least"))
