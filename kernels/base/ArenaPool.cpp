@@ -15,6 +15,7 @@ ArenaPool::Lease::~Lease() {
 ArenaPool::Lease ArenaPool::acquire(int concurrency) {
     concurrency = std::max(1, concurrency);
     std::lock_guard<std::mutex> lock(mutex_);
+    ++leases_;
     for (Entry& entry : entries_)
         if (!entry.leased && entry.concurrency == concurrency) {
             entry.leased = true;
@@ -31,6 +32,11 @@ ArenaPool::Lease ArenaPool::acquire(int concurrency) {
 std::size_t ArenaPool::arenaCount() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return entries_.size();
+}
+
+std::size_t ArenaPool::leaseCount() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return leases_;
 }
 
 void ArenaPool::release(tbb::task_arena& arena) {

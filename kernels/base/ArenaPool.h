@@ -49,6 +49,8 @@ public:
     Lease acquire(int concurrency);
     /// Arenas created so far (idle or leased).
     std::size_t arenaCount() const;
+    /// Leases handed out so far.
+    std::size_t leaseCount() const;
 
     /// The pool of the process. It is never destroyed: a task_arena
     /// destroyed at exit, after oneTBB may have shut down, is undefined.
@@ -64,6 +66,7 @@ private:
 
     mutable std::mutex mutex_;
     std::vector<Entry> entries_;
+    std::size_t leases_ = 0;
 };
 
 }  // namespace skelseg

@@ -22,6 +22,7 @@ TEST(ArenaPool, SequentialRunsShareOneArena) {
         EXPECT_EQ(concurrency, 2);
     }
     EXPECT_EQ(pool.arenaCount(), 1u);
+    EXPECT_EQ(pool.leaseCount(), 50u);
 }
 
 TEST(ArenaPool, RunsAtOnceGetTheirOwnArenasAndLeaveThemForLaterRuns) {
