@@ -19,6 +19,7 @@
 #include "io/files/OutputDirectory.h"
 #include "io/volume/VdbIO.h"
 #include "io/volume/VolumeReader.h"
+#include "kernels/base/ArenaPool.h"
 
 namespace fs = std::filesystem;
 
@@ -280,9 +281,11 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
                          cpuStart,
                          previewSkippedForBudget,
                          budgetAsTimeLimit};
-    tbb::task_arena arena(threads);
+    // A pooled arena: one created per run is never freed by oneTBB when the
+    // run starts inside a busy task (kernels/base/ArenaPool.h).
+    const ArenaPool::Lease arena = ArenaPool::process().acquire(threads);
     try {
-        arena.execute([&] { runGraph(run); });
+        arena.arena().execute([&] { runGraph(run); });
         throwIfInterrupted(progress);
     } catch (const InterruptedError& error) {
         if (error.reason() != InterruptedError::Reason::TimeLimit) throw;

@@ -16,6 +16,7 @@
 
 #include "io/mesh/MeshCheck.h"
 #include "io/volume/VdbIO.h"
+#include "kernels/base/ArenaPool.h"
 #include "kernels/base/HugePages.h"
 
 namespace skelseg {
@@ -394,8 +395,10 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
     // OpenVDB's tools have no serial switch; a one-thread arena makes every
     // TBB loop inside (theirs and ours) run on this thread. Threaded, the
     // arena is as wide as the caller's, so a caller's thread limit holds.
-    tbb::task_arena arena(options.threaded ? tbb::this_task_arena::max_concurrency() : 1);
-    arena.execute([&] {
+    // Pooled: oneTBB leaks a wider arena created in a busy task (ArenaPool.h).
+    const ArenaPool::Lease arena = ArenaPool::process().acquire(
+        options.threaded ? tbb::this_task_arena::max_concurrency() : 1);
+    arena.arena().execute([&] {
         std::vector<std::int32_t> ownTriangles;  // the nearest triangles when nobody keeps them
         const std::vector<std::int32_t>* nearestTriangle = &ownTriangles;
         bool hasInside = false;
