@@ -1,8 +1,8 @@
 // skelseg: the allocator policy of a batch process: memory freed by one
 // shape is kept for the next instead of being handed back to the kernel.
 //
-// Every shape allocates its largest buffers afresh: the preview alone is
-// about 80 MB of canvases, depth and line layers (three panels, supersampled),
+// Every shape allocates its largest buffers afresh: the preview alone allocates
+// its canvases, depth and line layers (three panels, supersampled) at a fixed size,
 // whatever the size of the shape. glibc serves blocks of that size with
 // mmap(2), or trims them off the heap when they are freed, so the next shape
 // took every page again through a page fault that zero-fills it. On inputs

@@ -4,19 +4,19 @@
 
 namespace skelseg {
 
-ArenaPool::Lease::Lease(Lease&& other) noexcept : pool_(other.pool_), arena_(other.arena_) {
-    other.pool_ = nullptr;
+ArenaPool::Lease::Lease(Lease&& other) noexcept : mPool(other.mPool), mArena(other.mArena) {
+    other.mPool = nullptr;
 }
 
 ArenaPool::Lease::~Lease() {
-    if (pool_) pool_->release(*arena_);
+    if (mPool) mPool->release(*mArena);
 }
 
 ArenaPool::Lease ArenaPool::acquire(int concurrency) {
     concurrency = std::max(1, concurrency);
-    std::lock_guard<std::mutex> lock(mutex_);
-    ++leases_;
-    for (Entry& entry : entries_)
+    std::lock_guard<std::mutex> lock(mMutex);
+    ++mLeases;
+    for (Entry& entry : mEntries)
         if (!entry.leased && entry.concurrency == concurrency) {
             entry.leased = true;
             return Lease(*this, *entry.arena);
@@ -25,23 +25,23 @@ ArenaPool::Lease ArenaPool::acquire(int concurrency) {
     entry.arena = std::make_unique<tbb::task_arena>(concurrency);
     entry.concurrency = concurrency;
     entry.leased = true;
-    entries_.push_back(std::move(entry));
-    return Lease(*this, *entries_.back().arena);
+    mEntries.push_back(std::move(entry));
+    return Lease(*this, *mEntries.back().arena);
 }
 
 std::size_t ArenaPool::arenaCount() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return entries_.size();
+    std::lock_guard<std::mutex> lock(mMutex);
+    return mEntries.size();
 }
 
 std::size_t ArenaPool::leaseCount() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return leases_;
+    std::lock_guard<std::mutex> lock(mMutex);
+    return mLeases;
 }
 
 void ArenaPool::release(tbb::task_arena& arena) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (Entry& entry : entries_)
+    std::lock_guard<std::mutex> lock(mMutex);
+    for (Entry& entry : mEntries)
         if (entry.arena.get() == &arena) entry.leased = false;
 }
 

@@ -4,9 +4,9 @@
 // oneTBB 2021.8 never frees the internal object of a task arena that asked
 // for a worker the machine could not give it: an arena of two threads
 // created inside a task while the only worker is busy (a batch with several
-// shapes in flight on two cores). Each such arena kept about 7 KB (the arena,
-// its slots and task-stream lanes), so a batch grew by that much per input,
-// without end (docs/scale-out.md, "The memory growth of a long batch"). An
+// shapes in flight on two cores). Each such arena kept its arena object,
+// slots and task-stream lanes, so a batch grew with every input, without
+// end (docs/scale-out.md, "The memory growth of a long batch"). An
 // arena that is reused costs it once. The pool hands an idle arena of the
 // asked concurrency to one caller at a time and creates one only when all
 // of that concurrency are in use, so the count is bounded by the runs in
@@ -32,13 +32,13 @@ public:
         Lease& operator=(const Lease&) = delete;
         Lease& operator=(Lease&&) = delete;
         ~Lease();
-        tbb::task_arena& arena() const { return *arena_; }
+        tbb::task_arena& arena() const { return *mArena; }
 
     private:
         friend class ArenaPool;
-        Lease(ArenaPool& pool, tbb::task_arena& arena) : pool_(&pool), arena_(&arena) {}
-        ArenaPool* pool_;
-        tbb::task_arena* arena_;
+        Lease(ArenaPool& pool, tbb::task_arena& arena) : mPool(&pool), mArena(&arena) {}
+        ArenaPool* mPool;
+        tbb::task_arena* mArena;
     };
 
     ArenaPool() = default;
@@ -64,9 +64,9 @@ private:
     };
     void release(tbb::task_arena& arena);
 
-    mutable std::mutex mutex_;
-    std::vector<Entry> entries_;
-    std::size_t leases_ = 0;
+    mutable std::mutex mMutex;
+    std::vector<Entry> mEntries;
+    std::size_t mLeases = 0;
 };
 
 }  // namespace skelseg

@@ -1,6 +1,6 @@
 // A batch creates a task arena per shape in flight, not per input: oneTBB
 // 2021.8 never freed the arena a shape created inside a busy batch task, and
-// the batch grew by about 7 KB per input (kernels/base/ArenaPool.h).
+// the batch grew with every input (kernels/base/ArenaPool.h).
 #include <gtest/gtest.h>
 
 #include <cstdio>
