@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <memory>
+#include <mutex>
 #include <tuple>
 
 #include "engine/SegmentOutput.h"
@@ -170,13 +172,25 @@ void runGraph(const RunContext& run) {
         graph, flow::serial,
         [&](SegmentingMessage shape) { return completeShape(run, std::move(shape)); });
 
-    // The writers pass the shape on, so the join below hears when each is done.
+    // The writers pass the shape on, so the join below hears when each is
+    // done. A writer that fails passes nothing and keeps its error for after
+    // the graph: a node that throws cancels the graph, and wait_for_all()
+    // then returns while the other writers still run, so the run would
+    // remove its staging directory (and the process could exit) under them.
+    std::mutex writerErrorMutex;
+    std::exception_ptr writerError;
     auto writer = [&](auto write) {
-        return flow::function_node<ShapeMessage, ShapeMessage>(graph, flow::serial,
-                                                               [write](ShapeMessage shape) {
-                                                                   write(*shape);
-                                                                   return shape;
-                                                               });
+        return flow::function_node<ShapeMessage, ShapeMessage>(
+            graph, flow::serial, [write, &writerErrorMutex, &writerError](ShapeMessage shape) {
+                try {
+                    write(*shape);
+                    return shape;
+                } catch (...) {
+                    std::lock_guard<std::mutex> lock(writerErrorMutex);
+                    if (!writerError) writerError = std::current_exception();
+                    return ShapeMessage();
+                }
+            });
     };
     auto writeNrrd = writer([&](const SegmentedShape& shape) {
         writeLabelNrrd(run.out, shape, run.timer, run.progress);
@@ -196,11 +210,13 @@ void runGraph(const RunContext& run) {
     using Written =
         std::tuple<ShapeMessage, ShapeMessage, ShapeMessage, ShapeMessage, ShapeMessage>;
     flow::join_node<Written, flow::queueing> written(graph);
-    flow::function_node<Written, flow::continue_msg> report(graph, flow::serial,
-                                                            [&](const Written& all) {
-                                                                writeReport(run, *std::get<0>(all));
-                                                                return flow::continue_msg();
-                                                            });
+    flow::function_node<Written, flow::continue_msg> report(
+        graph, flow::serial, [&](const Written& all) {
+            const bool everyWriterDone = std::apply(
+                [](const auto&... shapes) { return (static_cast<bool>(shapes) && ...); }, all);
+            if (everyWriterDone) writeReport(run, *std::get<0>(all));
+            return flow::continue_msg();
+        });
 
     flow::make_edge(read, mask);
     flow::make_edge(mask, segment);
@@ -219,6 +235,7 @@ void runGraph(const RunContext& run) {
     flow::make_edge(written, report);
     read.try_put(flow::continue_msg());
     graph.wait_for_all();
+    if (writerError) std::rethrow_exception(writerError);
 }
 
 /// Why a run stopped at its time limit, in words: the budget when it was
