@@ -18,7 +18,9 @@
 // skipped (and report.json says so) when it would take more than a quarter of
 // the budget left after the probe, or when the run reaches it too late.
 // When even the coarsest choice does not fit, the budget becomes the run's
-// time limit: it stops as --time-limit does (exit 3, no output). A run whose
+// time limit: it stops as --time-limit does (exit 3, no output), or, if it
+// ends within the budget after all, gives its output with report.json's
+// `fits` false. A run whose
 // choice fits finishes even if it overruns the prediction (a late answer is
 // worth more than none; report.json gives predicted and actual seconds).
 #pragma once

@@ -96,18 +96,27 @@ void expectFittingChoiceOrStopped(const std::string& mesh, int resolution, doubl
     ASSERT_EQ(code, 0);
     const nlohmann::json r = report(dir / "budget");
     const nlohmann::json& b = r["time_budget"];
-    // A run that finished was given a choice that fits: its prediction with
-    // the safety margin is within the budget (the engine's own figures, no
-    // clock of this test). Wall time against the budget is a benchmark
-    // figure (bench/time_budget.py), not asserted here.
-    EXPECT_TRUE(b["fits"].get<bool>());
+    EXPECT_TRUE(std::filesystem::exists(dir / "budget" / "segmentation.seg"));
+    if (!b["fits"].get<bool>()) {
+        // Nothing was predicted to fit, and the coarsest choice, run with the
+        // budget as its time limit, ended within it (the prediction is
+        // pessimistic on a quiet machine): a whole output, and a verdict the
+        // engine's own figures agree with.
+        EXPECT_GT(b["predicted_seconds"].get<double>() * (1.0 + b["safety_margin"].get<double>()),
+                  b["budget_seconds"].get<double>());
+        EXPECT_LT(b["resolution"].get<int>(), resolution);
+        return;
+    }
+    // A choice that fits: its prediction with the safety margin is within the
+    // budget (the engine's own figures, no clock of this test). Wall time
+    // against the budget is a benchmark figure (bench/time_budget.py), not
+    // asserted here.
     EXPECT_LE(b["predicted_seconds"].get<double>() * (1.0 + b["safety_margin"].get<double>()),
               b["budget_seconds"].get<double>());
     EXPECT_GT(b["actual_seconds"].get<double>(), 0.0);
     EXPECT_LE(b["resolution"].get<int>(), resolution);
     const bool skipped = !b["skipped"].empty();
     EXPECT_EQ(std::filesystem::exists(dir / "budget" / "preview.png"), !skipped);
-    EXPECT_TRUE(std::filesystem::exists(dir / "budget" / "segmentation.seg"));
 }
 
 TEST(SceneTimeBudget, AMeshRunWithASmallBudgetGetsAFittingChoiceOrStops) {
