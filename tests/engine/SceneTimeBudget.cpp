@@ -100,11 +100,11 @@ void expectFittingChoiceOrStopped(const std::string& mesh, int resolution, doubl
     if (!b["fits"].get<bool>()) {
         // Nothing was predicted to fit, and the coarsest choice, run with the
         // budget as its time limit, ended within it (the prediction is
-        // pessimistic on a quiet machine): a whole output, and a verdict the
-        // engine's own figures agree with.
-        EXPECT_GT(b["predicted_seconds"].get<double>() * (1.0 + b["safety_margin"].get<double>()),
-                  b["budget_seconds"].get<double>());
-        EXPECT_LT(b["resolution"].get<int>(), resolution);
+        // pessimistic): a whole output at the coarsest resolution the budget
+        // considers (16, engine/TimeBudget.cpp). The verdict is against the
+        // time left after the probe and the preview, which the report does
+        // not give apart, so the prediction is not compared here.
+        EXPECT_EQ(b["resolution"].get<int>(), 16);
         return;
     }
     // A choice that fits: its prediction with the safety margin is within the
