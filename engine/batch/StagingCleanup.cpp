@@ -2,12 +2,14 @@
 
 #include <vector>
 
+#include "io/files/OutputDirectory.h"
+
 namespace fs = std::filesystem;
 
 namespace skelseg {
 
 bool isStagingLeftoverName(const std::string& fileName) {
-    if (fileName.rfind(".skelseg-staging-", 0) == 0) return true;
+    if (isStagingDirectoryName(fileName)) return true;
     return fileName.size() > 1 && fileName[0] == '.' && fileName.find(".tmp-") != std::string::npos;
 }
 

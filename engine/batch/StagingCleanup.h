@@ -6,7 +6,10 @@
 // them. They never sit under a final name, so they are only clutter; the next
 // batch run over the same input removes them before it starts the input
 // (never while another process could be using them: each input belongs to
-// one shard, and one shard runs in one process at a time).
+// one shard, and one shard runs in one process at a time). OutputDirectory
+// itself removes only staging directories, and only once it holds OUTDIR's
+// lock: a `segment` OUTDIR may be the user's folder, where a hidden
+// ".x.tmp-y" could be the user's file.
 #pragma once
 
 #include <cstddef>

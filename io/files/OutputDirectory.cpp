@@ -17,11 +17,17 @@ namespace fs = std::filesystem;
 namespace skelseg {
 
 namespace {
+constexpr char kStagingPrefix[] = ".skelseg-staging-";
+
 std::string uniqueSuffix() {
     static std::atomic<unsigned> counter{0};
     return std::to_string(::getpid()) + "-" + std::to_string(counter++);
 }
 }  // namespace
+
+bool isStagingDirectoryName(const std::string& fileName) {
+    return fileName.rfind(kStagingPrefix, 0) == 0;
+}
 
 OutputDirectory::OutputDirectory(const fs::path& outdir, bool force,
                                  const std::vector<std::string>& outputNames)
@@ -57,11 +63,11 @@ OutputDirectory::OutputDirectory(const fs::path& outdir, bool force,
             // Locked: no live run stages here, so these are a killed run's.
             std::vector<fs::path> leftovers;
             for (const auto& item : fs::directory_iterator(outdir, ec))
-                if (item.path().filename().string().rfind(".skelseg-staging-", 0) == 0)
+                if (isStagingDirectoryName(item.path().filename().string()))
                     leftovers.push_back(item.path());
             for (const auto& leftover : leftovers) fs::remove_all(leftover, ec);
         }
-        mStaging = outdir / (".skelseg-staging-" + uniqueSuffix());
+        mStaging = outdir / (std::string(kStagingPrefix) + uniqueSuffix());
         fs::create_directory(mStaging, ec);
         if (ec) {
             const std::string problem = describeErrno(ec.value());

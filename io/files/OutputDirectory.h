@@ -90,6 +90,11 @@ void checkOutputDirectoryPath(const std::filesystem::path& outdir);
 std::string outputReplacing(const std::filesystem::path& file, const std::filesystem::path& outdir,
                             const std::vector<std::string>& outputNames);
 
+/// True for the name of a run's staging directory (".skelseg-staging-PID-N"),
+/// the one name pattern OutputDirectory and the batch's cleanup
+/// (engine/batch/StagingCleanup.h) both recognise.
+bool isStagingDirectoryName(const std::string& fileName);
+
 /// Writes `bytes` to `path` through a temporary file in the same directory and
 /// rename(2). Throws OutputError naming the path and the system's reason
 /// ("no space left on device") on failure; the temporary file is removed.
