@@ -262,7 +262,6 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
 
     refuseInputAmongOutputs(options);
     checkInputFileSize(options.input, inputOptions.memoryLimit);
-    checkVolumeGridMemory(options.input, inputOptions);
     // Refuse to clobber earlier results before doing any work.
     OutputDirectory out(options.outdir, options.force, segmentOutputNames());
     // An earlier hierarchy run's levels would contradict this run's outputs.

@@ -7,7 +7,6 @@
 
 #include "engine/Segmenter.h"
 #include "engine/Stage.h"
-#include "engine/batch/InputMemoryEstimate.h"
 #include "io/files/TextFile.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "io/volume/VolumeReader.h"
@@ -42,20 +41,6 @@ std::string unknownInputFormatProblem(const fs::path& file) {
     return "unknown input format " + quote(extension) + " (" + supported + ")";
 }
 
-std::string formatBytes(std::uint64_t bytes) {
-    // A unit that shows the number: "--max-memory 1M" must not read "0.00 GB".
-    char buffer[64];
-    if (bytes >= 1000000000)
-        std::snprintf(buffer, sizeof buffer, "%.2f GB", double(bytes) / 1e9);
-    else if (bytes >= 1000000)
-        std::snprintf(buffer, sizeof buffer, "%.2f MB", double(bytes) / 1e6);
-    else if (bytes >= 1000)
-        std::snprintf(buffer, sizeof buffer, "%.2f KB", double(bytes) / 1e3);
-    else
-        std::snprintf(buffer, sizeof buffer, "%llu bytes", static_cast<unsigned long long>(bytes));
-    return buffer;
-}
-
 void checkInputFileSize(const fs::path& file, std::uint64_t memoryLimit) {
     std::error_code ec;
     const auto fileSize = fs::is_regular_file(file, ec) ? fs::file_size(file, ec) : 0;
@@ -67,37 +52,15 @@ void checkInputFileSize(const fs::path& file, std::uint64_t memoryLimit) {
                                formatBytes(memoryLimit) + " (--max-memory)");
 }
 
-void checkVolumeGridMemory(const fs::path& file, const SegmentInputOptions& options) {
-    const std::optional<Dims> dims = peekVolumeDims(file);
-    if (!dims || dims->x > kMaxAxisExtent || dims->y > kMaxAxisExtent || dims->z > kMaxAxisExtent ||
-        dims->voxelCount() > kMaxVoxels)
-        return;
-    // Files whose bytes cannot hold the grid even at the format's densest
-    // (deflate's 1032 to 1, binvox's 255 voxels in two bytes) are bad input,
-    // which the reader says before it allocates anything. bzip2 can expand
-    // millions of times: any file may hold any grid.
-    const auto encoding = peekHeaderWords(file, "encoding:");
-    const bool bzip2 =
-        encoding && !encoding->empty() &&
-        (lowercase(encoding->front()) == "bzip2" || lowercase(encoding->front()) == "bz2");
-    std::uint64_t fileBytes = 0;
-    for (const fs::path& part : volumeInputFiles(file)) {
-        std::error_code ec;
-        const auto size = fs::file_size(part, ec);
-        if (!ec) fileBytes += size;
-    }
-    const double mostVoxels =
-        double(fileBytes) * (volumeFormatFromPath(file) == VolumeFormat::Binvox ? 127.5 : 1032.0);
-    if (!bzip2 && double(dims->voxelCount()) > mostVoxels + 1024) return;
-    // A time budget may coarsen the volume after reading: only its mask is
-    // then sure to be needed.
+void refuseVolumeGridOverMemory(const fs::path& file, const Dims& dims,
+                                const SegmentInputOptions& options) {
     const std::uint64_t leastBytes =
         options.timeBudgetSeconds > 0
-            ? dims->voxelCount()
-            : estimateSegmentationMemory(*dims, 0, options.threads, options.levels);
+            ? dims.voxelCount()
+            : estimateSegmentationMemory(dims, 0, options.threads, options.levels);
     if (leastBytes > options.memoryLimit)
-        throw MemoryLimitError(file.string() + ": its grid of " + std::to_string(dims->x) + " x " +
-                               std::to_string(dims->y) + " x " + std::to_string(dims->z) +
+        throw MemoryLimitError(file.string() + ": its grid of " + std::to_string(dims.x) + " x " +
+                               std::to_string(dims.y) + " x " + std::to_string(dims.z) +
                                " voxels needs at least " + formatBytes(leastBytes) +
                                ", over the limit of " + formatBytes(options.memoryLimit) +
                                " (--max-memory)");
@@ -123,6 +86,11 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
         }
         VolumeReadOptions readOptions;
         readOptions.gridName = options.gridName;
+        readOptions.guards.checkGrid = [&](const Dims& dims) {
+            refuseVolumeGridOverMemory(file, dims, options);
+        };
+        readOptions.guards.memoryLimit = options.memoryLimit;
+        readOptions.guards.interrupter = &interrupter;
         source.volumeMask = readVolume(file, readOptions);
     }
     return source;

@@ -13,7 +13,8 @@
 // UsageError for a grid that cannot be made, MemoryLimitError for a run that
 // would need more than the limit. checkInputFileSize() refuses a file larger
 // than the limit before anything is read (readers load the whole file), and
-// checkVolumeGridMemory() a volume whose header grid cannot fit.
+// refuseVolumeGridOverMemory(), called by the volume readers before they
+// allocate the mask, a grid that cannot fit.
 #pragma once
 
 #include <chrono>
@@ -89,25 +90,24 @@ struct SegmentInputOptions {
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 };
 
-/// "1.50 GB", "12.00 MB", "512 bytes": a unit that shows the number.
-std::string formatBytes(std::uint64_t bytes);
-
 /// @throw MemoryLimitError when `file` is larger than `memoryLimit` (and
 /// small enough for the readers, which refuse larger files themselves).
 void checkInputFileSize(const std::filesystem::path& file, std::uint64_t memoryLimit);
 
-/// For NRRD and binvox volumes, whose header gives the grid size: @throw
-/// MemoryLimitError when even the least the run could need for that grid
-/// (its mask, and without a time budget the segmentation of an empty grid of
-/// that size) is over options.memoryLimit. A compressed or run-length file of
-/// a few megabytes can hold billions of voxels; this refuses it before the
-/// reader allocates them. Grids the readers refuse as bad input (over the
-/// axis or voxel caps, or more voxels than the file's bytes can encode) are
-/// left to them, so their exit code stays that of bad input.
-void checkVolumeGridMemory(const std::filesystem::path& file, const SegmentInputOptions& options);
+/// @throw MemoryLimitError naming `file` when even the least a run could need
+/// for a volume of `dims` is over options.memoryLimit: its mask, and without
+/// a time budget (which may coarsen the volume after reading) the
+/// segmentation of an empty grid of that size. readSegmentSource() gives it
+/// to the volume readers as their GridCheck (io/volume/GridCheck.h), so a
+/// compressed, run-length or OpenVDB file of a few megabytes that holds
+/// billions of voxels is refused before they are allocated, and a grid the
+/// reader refuses as bad input keeps the exit code of bad input.
+void refuseVolumeGridOverMemory(const std::filesystem::path& file, const Dims& dims,
+                                const SegmentInputOptions& options);
 
 /// Reads a mesh (by extension, isMeshPath()) or a volume; times stage
-/// "read mesh" or "read volume". @throw InputError.
+/// "read mesh" or "read volume". @throw InputError, and MemoryLimitError from
+/// refuseVolumeGridOverMemory().
 SegmentSource readSegmentSource(const std::filesystem::path& file,
                                 const SegmentInputOptions& options, StageTimer& timer,
                                 Interrupter& interrupter);

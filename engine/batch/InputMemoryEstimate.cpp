@@ -13,6 +13,11 @@ namespace fs = std::filesystem;
 
 namespace skelseg {
 
+namespace {
+
+/// The words after `keyword` on the first line it starts, in the text header
+/// (first 4 KiB) of an NRRD or binvox file ("sizes:" -> {"64", "64", "32"});
+/// nullopt as for peekVolumeDims() or when no line starts with it.
 std::optional<std::vector<std::string>> peekHeaderWords(const fs::path& file,
                                                         const std::string& keyword) {
     const VolumeFormat format = volumeFormatFromPath(file);
@@ -36,6 +41,8 @@ std::optional<std::vector<std::string>> peekHeaderWords(const fs::path& file,
     }
     return std::nullopt;
 }
+
+}  // namespace
 
 std::optional<Dims> peekVolumeDims(const fs::path& file) {
     const std::string keyword = volumeFormatFromPath(file) == VolumeFormat::Nrrd ? "sizes:" : "dim";

@@ -31,12 +31,6 @@ namespace skelseg {
 /// not a regular file (a FIFO would block the batch before the input fails).
 std::optional<Dims> peekVolumeDims(const std::filesystem::path& file);
 
-/// The words after `keyword` on the first line it starts, in the text header
-/// (first 4 KiB) of an NRRD or binvox file ("encoding:" -> {"bzip2"});
-/// nullopt as for peekVolumeDims() or when no line starts with it.
-std::optional<std::vector<std::string>> peekHeaderWords(const std::filesystem::path& file,
-                                                        const std::string& keyword);
-
 /// Estimated peak bytes of segmenting `input` with `options` on `threads` threads.
 std::uint64_t estimateInputMemory(const std::filesystem::path& input,
                                   const SegmentCommandOptions& options, int threads);

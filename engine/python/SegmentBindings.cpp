@@ -18,6 +18,7 @@
 #include "engine/python/Bindings.h"
 #include "engine/python/EngineCall.h"
 #include "engine/python/ResultArrays.h"
+#include "io/files/TextFile.h"
 #include "io/mesh/MeshCheck.h"
 
 namespace py = pybind11;

@@ -1,6 +1,7 @@
 #include "io/files/TextFile.h"
 
 #include <cerrno>
+#include <cstdio>
 #include <fstream>
 #include <system_error>
 
@@ -102,6 +103,20 @@ std::size_t textContentStart(const std::string& name, std::string_view text) {
                          "ends its lines with a carriage return alone (classic Mac OS text); "
                          "save it with LF or CRLF line ends");
     return bom;
+}
+
+std::string formatBytes(std::uint64_t bytes) {
+    // A unit that shows the number: "--max-memory 1M" must not read "0.00 GB".
+    char buffer[64];
+    if (bytes >= 1000000000)
+        std::snprintf(buffer, sizeof buffer, "%.2f GB", double(bytes) / 1e9);
+    else if (bytes >= 1000000)
+        std::snprintf(buffer, sizeof buffer, "%.2f MB", double(bytes) / 1e6);
+    else if (bytes >= 1000)
+        std::snprintf(buffer, sizeof buffer, "%.2f KB", double(bytes) / 1e3);
+    else
+        std::snprintf(buffer, sizeof buffer, "%llu bytes", static_cast<unsigned long long>(bytes));
+    return buffer;
 }
 
 }  // namespace skelseg

@@ -38,6 +38,9 @@ std::string describeErrno(int errorNumber);
 /// input can hold anything, and it must not reach the terminal raw).
 std::string quote(std::string_view text);
 
+/// "1.50 GB", "12.00 MB", "512 bytes": a unit that shows the number.
+std::string formatBytes(std::uint64_t bytes);
+
 /// ASCII lower case (file extensions, keywords).
 std::string lowercase(std::string_view text);
 

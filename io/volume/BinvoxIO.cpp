@@ -141,7 +141,7 @@ private:
 }  // namespace
 
 MaskVolume readBinvoxFromMemory(const std::string& name, const std::uint8_t* bytes,
-                                std::size_t size) {
+                                std::size_t size, const VolumeReadGuards& guards) {
     const BinvoxHeader header = BinvoxHeaderParser(name, bytes, size).parse();
     // "dim d0 d1 d2" are the extents of binvox x, z, y; ours are x, y, z.
     const Dims dims = Dims::checked(header.dim[0], header.dim[2], header.dim[1], name);
@@ -160,6 +160,7 @@ MaskVolume readBinvoxFromMemory(const std::string& name, const std::uint8_t* byt
         throw InputError(name, "data is too short: " + std::to_string(dataSize) +
                                    " bytes of runs cannot cover " + std::to_string(voxelCount) +
                                    " voxels");
+    if (guards.checkGrid) guards.checkGrid(dims);
 
     MaskVolume mask(dims);
     BinvoxOrder order(dims);
@@ -194,10 +195,10 @@ MaskVolume readBinvoxFromMemory(const std::string& name, const std::uint8_t* byt
     return mask;
 }
 
-MaskVolume readBinvox(const fs::path& file) {
+MaskVolume readBinvox(const fs::path& file, const VolumeReadGuards& guards) {
     const std::string bytes = readFileBytes(file);
     return readBinvoxFromMemory(file.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()),
-                                bytes.size());
+                                bytes.size(), guards);
 }
 
 void writeBinvox(const fs::path& file, const MaskVolume& mask) {

@@ -19,18 +19,21 @@
 #include <filesystem>
 #include <string>
 
+#include "io/volume/ReadGuards.h"
 #include "kernels/base/Volume.h"
 
 namespace skelseg {
 
 /// Reads a binvox file (version 1, or 2 whose set voxels may hold any nonzero
-/// value) as an object mask: nonzero voxels become 1.
+/// value) as an object mask: nonzero voxels become 1. `guards.checkGrid`
+/// sees the grid once the runs are known to be able to cover it, before it
+/// is allocated (ReadGuards.h).
 /// @throw InputError naming the file and the problem.
-MaskVolume readBinvox(const std::filesystem::path& file);
+MaskVolume readBinvox(const std::filesystem::path& file, const VolumeReadGuards& guards = {});
 
 /// As readBinvox() for a file already in memory; `name` is used in messages.
 MaskVolume readBinvoxFromMemory(const std::string& name, const std::uint8_t* bytes,
-                                std::size_t size);
+                                std::size_t size, const VolumeReadGuards& guards = {});
 
 /// Writes `mask` as a version 1 binvox file (nonzero -> 1), atomically.
 /// binvox has one uniform voxel size and no rotation: the voxel size written

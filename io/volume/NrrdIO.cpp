@@ -193,7 +193,8 @@ fs::path directoryOf(const fs::path& file) {
 
 template <typename T>
 Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std::size_t size,
-                         const fs::path* headerDirectory, bool keepValues) {
+                         const fs::path* headerDirectory, bool keepValues,
+                         const VolumeReadGuards& guards = {}) {
     const NrrdHeader header = parseNrrdHeader(name, bytes, size);
     const SampleType type = *header.type;
     if (keepValues && type != SampleType::UInt8 && type != SampleType::UInt16)
@@ -243,6 +244,7 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
         if (dataSize > expectedBytes)
             throw InputError(name, "data is too long: " + std::to_string(dataSize) +
                                        " bytes, header says " + std::to_string(expectedBytes));
+        if (guards.checkGrid) guards.checkGrid(header.dims);
         Volume<T> volume(header.dims);
         SampleSink<T> sink(volume, type, swapBytes, keepValues);
         sink.append(data, dataSize);
@@ -260,6 +262,7 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
             throw InputError(name, "data is too short: " + std::to_string(dataSize) + " bytes of " +
                                        encodingName(encoding) + " data cannot hold the " +
                                        std::to_string(samples) + " samples the header says");
+        if (guards.checkGrid) guards.checkGrid(header.dims);
         const nrrd::TextOrigin origin{
             header.dataFile ? "data file " + quote(*header.dataFile) + ", " : std::string(),
             std::size_t(1 + std::count(fileStart, data, '\n'))};
@@ -286,6 +289,8 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
         throw InputError(name, "data is too short: " + std::to_string(dataSize) + " bytes of " +
                                    encodingName(encoding) + " data cannot hold the " +
                                    std::to_string(expectedBytes + skip) + " bytes the header says");
+    // Before bzip2's staging buffer too: it grows to the samples' bytes.
+    if (guards.checkGrid) guards.checkGrid(header.dims);
     if (encoding == Encoding::Gzip && !tail) {
         // Deflate's bound (1032:1) keeps the volume allocated here in
         // proportion to the file; the samples stream straight into it.
@@ -310,17 +315,18 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
 }
 
 template <typename T>
-Volume<T> readNrrdVolumeFile(const fs::path& file, bool keepValues) {
+Volume<T> readNrrdVolumeFile(const fs::path& file, bool keepValues,
+                             const VolumeReadGuards& guards = {}) {
     const std::string bytes = readFileBytes(file);
     const fs::path directory = directoryOf(file);
     return readNrrdVolume<T>(file.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()),
-                             bytes.size(), &directory, keepValues);
+                             bytes.size(), &directory, keepValues, guards);
 }
 
 }  // namespace
 
-MaskVolume readNrrdMask(const fs::path& file) {
-    return readNrrdVolumeFile<std::uint8_t>(file, false);
+MaskVolume readNrrdMask(const fs::path& file, const VolumeReadGuards& guards) {
+    return readNrrdVolumeFile<std::uint8_t>(file, false, guards);
 }
 
 MaskVolume readNrrdMaskFromMemory(const std::string& name, const std::uint8_t* bytes,

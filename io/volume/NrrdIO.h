@@ -20,14 +20,17 @@
 #include <optional>
 #include <string>
 
+#include "io/volume/ReadGuards.h"
 #include "kernels/base/Volume.h"
 
 namespace skelseg {
 
 /// Reads a 3D NRRD file of any supported sample type as an object mask:
-/// nonzero samples become 1, zero samples 0.
+/// nonzero samples become 1, zero samples 0. `guards.checkGrid` sees the
+/// grid once the data is known to be able to hold it, before it is allocated
+/// (ReadGuards.h).
 /// @throw InputError naming the file (or the detached data file) and the problem.
-MaskVolume readNrrdMask(const std::filesystem::path& file);
+MaskVolume readNrrdMask(const std::filesystem::path& file, const VolumeReadGuards& guards = {});
 
 /// As readNrrdMask() for a file already in memory; `name` is used in error
 /// messages. A detached header ("data file:") cannot be read this way and

@@ -15,6 +15,7 @@
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/LevelSetUtil.h>
 
+#include "io/files/IsolatedCall.h"
 #include "io/files/OutputDirectory.h"
 #include "io/files/TextFile.h"
 #include "kernels/base/Error.h"
@@ -87,7 +88,8 @@ VolumeGeometry geometryAt(const openvdb::math::Transform& transform,
 /// bounding box; `transform` places it in world space.
 template <typename GridT>
 MaskVolume denseFromActive(const std::string& name, const GridT& grid,
-                           const openvdb::math::Transform& transform) {
+                           const openvdb::math::Transform& transform,
+                           const VolumeReadGuards& guards) {
     const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
     if (box.empty()) {
         MaskVolume empty(Dims{1, 1, 1});
@@ -98,7 +100,9 @@ MaskVolume denseFromActive(const std::string& name, const GridT& grid,
     const auto extent = [&](int axis) {
         return std::int64_t(box.max()[axis]) - std::int64_t(min[axis]) + 1;
     };
-    MaskVolume mask(Dims::checked(extent(0), extent(1), extent(2), name));
+    const Dims dims = Dims::checked(extent(0), extent(1), extent(2), name);
+    if (guards.checkGrid) guards.checkGrid(dims);
+    MaskVolume mask(dims);
     for (auto it = grid.cbeginValueOn(); it; ++it) {
         if (it.isVoxelValue()) {
             const openvdb::Coord c = it.getCoord() - min;
@@ -119,7 +123,8 @@ MaskVolume denseFromActive(const std::string& name, const GridT& grid,
 
 /// Float or double grid: a level set unless its class says fog volume.
 template <typename GridT>
-MaskVolume denseFromReal(const std::string& name, const GridT& grid) {
+MaskVolume denseFromReal(const std::string& name, const GridT& grid,
+                         const VolumeReadGuards& guards) {
     if (grid.getGridClass() == openvdb::GRID_FOG_VOLUME) {
         // Fog: active values above zero are the object.
         openvdb::BoolGrid object(false);
@@ -134,31 +139,33 @@ MaskVolume denseFromReal(const std::string& name, const GridT& grid) {
                 object.fill(tile, true, true);
             }
         }
-        return denseFromActive(name, object, grid.transform());
+        return denseFromActive(name, object, grid.transform(), guards);
     }
     const openvdb::BoolGrid::Ptr interior = openvdb::tools::sdfInteriorMask(grid);
-    return denseFromActive(name, *interior, grid.transform());
+    return denseFromActive(name, *interior, grid.transform(), guards);
 }
 
-MaskVolume maskFromLinearGrid(const std::string& name, const openvdb::GridBase::Ptr& grid) {
+MaskVolume maskFromLinearGrid(const std::string& name, const openvdb::GridBase::Ptr& grid,
+                              const VolumeReadGuards& guards) {
     if (auto boolGrid = openvdb::GridBase::grid<openvdb::BoolGrid>(grid))
-        return denseFromActive(name, *boolGrid, boolGrid->transform());
+        return denseFromActive(name, *boolGrid, boolGrid->transform(), guards);
     if (auto maskGrid = openvdb::GridBase::grid<openvdb::MaskGrid>(grid))
-        return denseFromActive(name, *maskGrid, maskGrid->transform());
+        return denseFromActive(name, *maskGrid, maskGrid->transform(), guards);
     if (auto floatGrid = openvdb::GridBase::grid<openvdb::FloatGrid>(grid))
-        return denseFromReal(name, *floatGrid);
+        return denseFromReal(name, *floatGrid, guards);
     if (auto doubleGrid = openvdb::GridBase::grid<openvdb::DoubleGrid>(grid))
-        return denseFromReal(name, *doubleGrid);
+        return denseFromReal(name, *doubleGrid, guards);
     throw InputError(name, "unsupported grid type " + grid->valueType() + " (grid " +
                                quote(grid->getName()) + "; supported: bool, mask, float, double)");
 }
 
-MaskVolume maskFromGrid(const std::string& name, const openvdb::GridBase::Ptr& grid) {
+MaskVolume maskFromGrid(const std::string& name, const openvdb::GridBase::Ptr& grid,
+                        const VolumeReadGuards& guards) {
     if (!grid->transform().isLinear())
         throw InputError(name, "grid " + quote(grid->getName()) + " has a non-linear (" +
                                    grid->transform().mapType() +
                                    ") transform, which is not supported");
-    MaskVolume mask = maskFromLinearGrid(name, grid);
+    MaskVolume mask = maskFromLinearGrid(name, grid, guards);
     // OpenVDB bounds the voxel size, not how far out the grid lies: the same
     // geometry rule as the NRRD and binvox headers.
     if (const std::string problem = mask.geometry.problemOver(mask.dims()); !problem.empty())
@@ -201,24 +208,106 @@ public:
 
 }  // namespace
 
-MaskVolume readVdbMaskFromMemory(const std::string& name, const std::uint8_t* bytes,
-                                 std::size_t size, const std::string& gridName) {
-    initializeOpenVdb();
+namespace {
+
+void checkVdbMagic(const std::string& name, const std::uint8_t* bytes, std::size_t size) {
     if (size == 0) throw InputError(name, "file is empty");
     // Every VDB file starts with the 64-bit magic number 0x56444220 ("VDB ").
     const std::uint8_t magic[8] = {0x20, 0x42, 0x44, 0x56, 0, 0, 0, 0};
     if (size < 8 || std::memcmp(bytes, magic, 8) != 0)
         throw InputError(name, "not an OpenVDB file: wrong magic number");
+}
 
+/// OpenVDB's registries of grid, metadata and map types are locked while a
+/// file is parsed; a parse forked while another thread held one of those
+/// locks would wait for ever. Every parse of ours holds this mutex, so none
+/// runs in another thread at a fork.
+std::mutex& parseMutex() {
+    static std::mutex mutex;
+    return mutex;
+}
+
+/// The grids of the VDB stream in `bytes`; errors as OpenVDB throws them.
+openvdb::GridPtrVecPtr parseGrids(const std::uint8_t* bytes, std::size_t size) {
+    MemoryStreamBuffer buffer(bytes, size);
+    std::istream in(&buffer);
+    // A short read then throws instead of leaving OpenVDB with garbage.
+    in.exceptions(std::ios::failbit | std::ios::badbit);
+    openvdb::io::Stream stream(in, /*delayLoad=*/false);
+    return stream.getGrids();
+}
+
+/// Rethrows the exception being handled as an InputError naming `name`
+/// (ours pass through).
+[[noreturn]] void rethrowAsInputError(const std::string& name) {
+    try {
+        throw;
+    } catch (const Error&) {
+        throw;
+    } catch (const std::ios_base::failure&) {
+        throw InputError(name, "truncated or corrupt OpenVDB file (read past the end of the data)");
+    } catch (const openvdb::Exception& error) {
+        throw InputError(name, "cannot read OpenVDB data: " + oneLine(error.what()));
+    } catch (const std::bad_alloc&) {
+        throw InputError(name, "corrupt OpenVDB file (implausible allocation while reading)");
+    } catch (const std::exception& error) {
+        throw InputError(name, "cannot read OpenVDB data: " + oneLine(error.what()));
+    } catch (...) {
+        throw InputError(name, "cannot read OpenVDB data");
+    }
+}
+
+/// Parses the file in a child process first: OpenVDB trusts the sizes stored
+/// in a file, and on some damaged files corrupts the heap and aborts, or
+/// allocates far more than the file could hold. Returns when the parse ended
+/// well (or could not be isolated); the caller then parses in this process.
+void parseInChildProcess(const std::string& name, const std::uint8_t* bytes, std::size_t size,
+                         const VolumeReadGuards& guards) {
+    IsolatedCallOptions options;
+    options.memoryLimit = guards.memoryLimit;
+    options.interrupter = guards.interrupter;
+    const IsolatedCallOutcome outcome = runIsolated(
+        [&] {
+            try {
+                (void)parseGrids(bytes, size);
+            } catch (const std::bad_alloc&) {
+                throw;  // the child's memory limit, told apart by runIsolated()
+            } catch (...) {
+                rethrowAsInputError(name);
+            }
+        },
+        options);
+    using Ending = IsolatedCallOutcome::Ending;
+    switch (outcome.ending) {
+        case Ending::Finished:
+        case Ending::NotIsolated:
+            return;
+        case Ending::Threw:
+            throw InputError(
+                name, outcome.message.empty() ? "cannot read OpenVDB data" : outcome.message);
+        case Ending::OutOfMemory:
+            if (guards.memoryLimit > 0)
+                throw MemoryLimitError(name +
+                                       ": reading its OpenVDB grids needs more than the "
+                                       "limit of " +
+                                       formatBytes(guards.memoryLimit) + " (--max-memory)");
+            throw InputError(name, "corrupt OpenVDB file (implausible allocation while reading)");
+        case Ending::Crashed:
+            throw InputError(name, "corrupt OpenVDB file: OpenVDB's reader crashed on it (" +
+                                       signalName(outcome.signal) + ")");
+        case Ending::Interrupted:
+            throwIfInterrupted(*guards.interrupter);
+            throw InterruptedError(InterruptedError::Reason::UserInterrupt, "interrupted");
+    }
+}
+
+MaskVolume readParsedMask(const std::string& name, const std::uint8_t* bytes, std::size_t size,
+                          const std::string& gridName, const VolumeReadGuards& guards) {
     try {
         openvdb::GridPtrVecPtr grids;
         {
-            MemoryStreamBuffer buffer(bytes, size);
-            std::istream in(&buffer);
-            // A short read then throws instead of leaving OpenVDB with garbage.
-            in.exceptions(std::ios::failbit | std::ios::badbit);
-            openvdb::io::Stream stream(in, /*delayLoad=*/false);
-            grids = stream.getGrids();
+            const std::lock_guard<std::mutex> lock(parseMutex());
+            grids = parseGrids(bytes, size);
         }
         if (!grids || grids->empty()) throw InputError(name, "the file holds no grids");
         openvdb::GridBase::Ptr chosen;
@@ -239,24 +328,34 @@ MaskVolume readVdbMaskFromMemory(const std::string& name, const std::uint8_t* by
             }
         }
         if (!chosen) throw InputError(name, "the file holds no grids");
-        return maskFromGrid(name, chosen);
-    } catch (const InputError&) {
-        throw;
-    } catch (const std::ios_base::failure&) {
-        throw InputError(name, "truncated or corrupt OpenVDB file (read past the end of the data)");
-    } catch (const openvdb::Exception& error) {
-        throw InputError(name, "cannot read OpenVDB data: " + oneLine(error.what()));
-    } catch (const std::bad_alloc&) {
-        throw InputError(name, "corrupt OpenVDB file (implausible allocation while reading)");
-    } catch (const std::exception& error) {
-        throw InputError(name, "cannot read OpenVDB data: " + oneLine(error.what()));
+        return maskFromGrid(name, chosen, guards);
+    } catch (...) {
+        rethrowAsInputError(name);
     }
 }
 
-MaskVolume readVdbMask(const fs::path& file, const std::string& gridName) {
+}  // namespace
+
+MaskVolume readVdbMaskFromMemory(const std::string& name, const std::uint8_t* bytes,
+                                 std::size_t size, const std::string& gridName,
+                                 const VolumeReadGuards& guards) {
+    initializeOpenVdb();
+    checkVdbMagic(name, bytes, size);
+    return readParsedMask(name, bytes, size, gridName, guards);
+}
+
+MaskVolume readVdbMask(const fs::path& file, const std::string& gridName,
+                       const VolumeReadGuards& guards) {
     const std::string bytes = readFileBytes(file);
-    return readVdbMaskFromMemory(file.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()),
-                                 bytes.size(), gridName);
+    const std::string name = file.string();
+    const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
+    initializeOpenVdb();
+    checkVdbMagic(name, data, bytes.size());
+    {
+        const std::lock_guard<std::mutex> lock(parseMutex());
+        parseInChildProcess(name, data, bytes.size(), guards);
+    }
+    return readParsedMask(name, data, bytes.size(), gridName, guards);
 }
 
 bool vdbCanHoldVoxelVolume(const Dims& dims, const VolumeGeometry& geometry) {

@@ -18,19 +18,32 @@
 #include <filesystem>
 #include <string>
 
+#include "io/volume/ReadGuards.h"
 #include "kernels/base/Volume.h"
 
 namespace skelseg {
 
 /// Reads grid `gridName` (or the first grid, if empty) of a .vdb file as a mask.
+/// OpenVDB parses the file first in a child process (io/files/IsolatedCall.h),
+/// with `guards.memoryLimit` and `guards.interrupter`: a file on which
+/// OpenVDB's reader crashes is an InputError, not the end of this process.
+/// `guards.checkGrid` sees the dense mask's extents (the object's bounding
+/// box), known once the sparse tree is read, before the mask is allocated
+/// (ReadGuards.h); what it throws passes through.
 /// @throw InputError naming the file: not a VDB file, truncated, no grids,
 ///        no grid of that name (the message lists the grids), unsupported grid
-///        type, non-linear transform, or a bounding box over kMaxVoxels.
-MaskVolume readVdbMask(const std::filesystem::path& file, const std::string& gridName = "");
+///        type, non-linear transform, a bounding box over kMaxVoxels, or a
+///        file OpenVDB's reader crashes on.
+/// @throw MemoryLimitError when the parse needs more than guards.memoryLimit.
+/// @throw InterruptedError when guards.interrupter stops the parse.
+MaskVolume readVdbMask(const std::filesystem::path& file, const std::string& gridName = "",
+                       const VolumeReadGuards& guards = {});
 
 /// As readVdbMask() for a file already in memory; `name` is used in messages.
+/// Parses in this process (the fuzzers' entry; only `guards.checkGrid` applies).
 MaskVolume readVdbMaskFromMemory(const std::string& name, const std::uint8_t* bytes,
-                                 std::size_t size, const std::string& gridName = "");
+                                 std::size_t size, const std::string& gridName = "",
+                                 const VolumeReadGuards& guards = {});
 
 /// The one test of whether OpenVDB can hold a grid of `dims` voxels placed by
 /// `geometry` (writeVdbLabels() checks it, and the mesh voxeliser measures its

@@ -25,11 +25,11 @@ MaskVolume readVolume(const fs::path& file, const VolumeReadOptions& options) {
         throw UsageError(file.string() + ": a grid name applies only to OpenVDB (.vdb) input");
     switch (format) {
         case VolumeFormat::Nrrd:
-            return readNrrdMask(file);
+            return readNrrdMask(file, options.guards);
         case VolumeFormat::Binvox:
-            return readBinvox(file);
+            return readBinvox(file, options.guards);
         case VolumeFormat::Vdb:
-            return readVdbMask(file, options.gridName);
+            return readVdbMask(file, options.gridName, options.guards);
         case VolumeFormat::Unknown:
             break;
     }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "io/files/TextFile.h"  // checkReadableFile, readFileBytes, kMaxInputFileBytes
+#include "io/volume/ReadGuards.h"
 #include "kernels/base/Volume.h"
 
 namespace skelseg {
@@ -24,6 +25,8 @@ enum class VolumeFormat { Nrrd, Binvox, Vdb, Unknown };
 struct VolumeReadOptions {
     /// OpenVDB only: the grid to read; empty = the first grid in the file.
     std::string gridName;
+    /// A say on the grid before it is allocated, and OpenVDB's parse limits.
+    VolumeReadGuards guards;
 };
 
 /// The format implied by the file extension, case-insensitively:

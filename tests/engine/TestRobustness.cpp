@@ -1193,10 +1193,11 @@ TEST(Limits, HugeFileOverMaxMemoryIsRefusedWithoutReadingIt) {
 }
 
 // A run-length or gzip volume of a few megabytes may claim billions of
-// voxels: the header's grid is checked against --max-memory before the
-// reader allocates it (a byte per voxel). A file too short to encode its
-// grid at all stays bad input, which the reader says at once.
-TEST(Limits, VolumeHeaderGridOverMaxMemoryIsRefusedBeforeReading) {
+// voxels: the reader hands the grid to the --max-memory check before it
+// allocates it (a byte per voxel). A file too short to encode its grid at
+// all stays bad input, which the reader says first. (OpenVDB files:
+// TestRobustnessVdb.cpp.)
+TEST(Limits, VolumeHeaderGridOverMaxMemoryIsRefusedBeforeItIsAllocated) {
     TempDir dir;
     const std::string binvoxHeader =
         "#binvox 1\ndim 1600 1600 1600\ntranslate 0 0 0\nscale 1\ndata\n";
@@ -1210,11 +1211,11 @@ TEST(Limits, VolumeHeaderGridOverMaxMemoryIsRefusedBeforeReading) {
     const fs::path nrrdGzip = dir / "huge.nrrd";
     writeBytes(nrrdGzip, nrrdHeader);
     fs::resize_file(nrrdGzip, 4u << 20);
-    // bzip2 may expand millions of times: a few bytes may hold any grid.
+    // bzip2 may expand millions of times: a few kilobytes may hold the grid.
     const fs::path nrrdBzip2 = dir / "huge-bzip2.nrrd";
     writeBytes(nrrdBzip2,
                nrrd("type: uint8\ndimension: 3\nsizes: 1500 1500 1500\nencoding: bzip2\n",
-                    std::string(64, '\0')));
+                    std::string(4096, '\0')));
     const std::pair<fs::path, std::string> inputs[] = {{binvox, "needs at least 4.10 GB"},
                                                        {nrrdGzip, "needs at least 3.38 GB"},
                                                        {nrrdBzip2, "needs at least 3.38 GB"}};

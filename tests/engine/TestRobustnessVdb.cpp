@@ -1,13 +1,27 @@
 // Robustness of the CLI end for OpenVDB input (issue 5): see TestRobustness.cpp.
-// The files are made with OpenVDB here; the mutated-byte cases that OpenVDB
-// itself cannot survive are described in docs/robustness.md.
+// The files are made with OpenVDB here. Damaged files that OpenVDB itself
+// cannot survive are found by damaging a file OpenVDB wrote until a plain
+// OpenVDB parse crashes (docs/robustness.md, "Damaged OpenVDB files").
+#include <fcntl.h>
 #include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetSphere.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <csignal>
+#include <fstream>
 #include <functional>
+#include <optional>
 #include <ostream>
+#include <random>
+#include <sstream>
 
+#include "io/volume/VdbIO.h"
 #include "tests/engine/RobustnessHelpers.h"
+#include "tests/support/SanitizerAllocator.h"
 
 namespace fs = std::filesystem;
 using namespace skelseg;
@@ -110,6 +124,66 @@ std::vector<VdbCase> vdbCases() {
     };
 }
 
+/// The bytes OpenVDB writes for `grids` (the same for one OpenVDB version).
+std::string vdbBytes(const openvdb::GridCPtrVec& grids) {
+    openvdb::initialize();
+    std::ostringstream out;
+    openvdb::io::Stream(out).write(grids);
+    return out.str();
+}
+
+/// How a plain OpenVDB parse of `bytes` ends in a forked child: the tests'
+/// own oracle, independent of skelseg's isolation. The signal that ended it;
+/// 0 when it returned, threw, or ran over 2 s; -1 when it threw
+/// std::bad_alloc under a limit of `memoryLimit` bytes beyond what it
+/// inherited (0: none).
+int plainParseEnding(const std::string& bytes, std::uint64_t memoryLimit) {
+    const pid_t child = ::fork();
+    if (child == 0) {
+        const int devNull = ::open("/dev/null", O_WRONLY);
+        ::dup2(devNull, STDERR_FILENO);
+        ::alarm(2);
+        if (memoryLimit > 0) {
+            std::ifstream status("/proc/self/status");
+            std::uint64_t inherited = 0;
+            for (std::string line; std::getline(status, line);)
+                if (line.rfind("VmData:", 0) == 0) inherited = std::stoull(line.substr(7)) * 1024;
+            const rlimit limit{inherited + memoryLimit, inherited + memoryLimit};
+            ::setrlimit(RLIMIT_DATA, &limit);
+        }
+        try {
+            std::istringstream in(bytes);
+            in.exceptions(std::ios::failbit | std::ios::badbit);
+            openvdb::io::Stream stream(in, false);
+            stream.getGrids();
+        } catch (const std::bad_alloc&) {
+            ::_exit(3);
+        } catch (...) {
+        }
+        ::_exit(0);
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    if (WIFSIGNALED(status)) return WTERMSIG(status) == SIGALRM ? 0 : WTERMSIG(status);
+    return WIFEXITED(status) && WEXITSTATUS(status) == 3 ? -1 : 0;
+}
+
+/// The first of up to `tries` damaged copies of `base` (one to three bytes
+/// after the magic number replaced, from the fixed `seed`) that `wanted`
+/// accepts; nullopt when none does.
+std::optional<std::string> damagedCopy(const std::string& base, unsigned seed, int tries,
+                                       const std::function<bool(const std::string&)>& wanted) {
+    std::mt19937 random(seed);
+    for (int trial = 0; trial < tries; ++trial) {
+        std::string bytes = base;
+        const unsigned changes = 1 + random() % 3;
+        for (unsigned c = 0; c < changes; ++c)
+            bytes[8 + random() % (bytes.size() - 8)] = char(random());
+        if (wanted(bytes)) return bytes;
+    }
+    return std::nullopt;
+}
+
 class BadVdbInput : public ::testing::TestWithParam<VdbCase> {};
 
 TEST_P(BadVdbInput, ExitsTwoWithOneLineNamingTheFileAndWritesNothing) {
@@ -148,6 +222,79 @@ TEST(VdbInputCli, ValidCubeIsSegmented) {
     const CliResult result = runSegment(dir / "cube.vdb", dir / "out", {"--no-preview"});
     ASSERT_EQ(result.exitCode, 0) << result.describe();
     EXPECT_EQ(readNrrdLabels(dir / "out" / "labels.nrrd").dims(), (Dims{10, 10, 10}));
+}
+
+// OpenVDB 10 trusts the sizes stored in a file: on some damaged files its
+// reader corrupts the heap and glibc aborts the process. skelseg parses in a
+// child process first, so the damage is one line and exit code 2.
+TEST(VdbInputCli, DamagedFileOnWhichOpenVdbCrashesIsBadInput) {
+#if SKELSEG_TEST_SANITIZER_ALLOCATOR
+    GTEST_SKIP() << "AddressSanitizer's heap reports the damage instead of glibc's abort";
+#endif
+    auto ball =
+        openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(5.0f, openvdb::Vec3f(0), 1.0f);
+    ball->setName("ball");
+    const std::optional<std::string> crashing =
+        damagedCopy(vdbBytes({ball}), 162, 6000, [](const std::string& bytes) {
+            const int ending = plainParseEnding(bytes, 0);
+            return ending == SIGABRT || ending == SIGSEGV || ending == SIGBUS;
+        });
+    if (!crashing) GTEST_SKIP() << "no damaged copy crashed this OpenVDB's reader";
+    TempDir dir;
+    const fs::path file = dir / "damaged.vdb";
+    writeBytes(file, *crashing);
+    const CliResult result = runSegment(file, dir / "out");
+    EXPECT_TRUE(failsWithOneLine(result, 2, file.string(), "OpenVDB's reader crashed on it"));
+    EXPECT_TRUE(leftNothing(dir / "out"));
+    EXPECT_EQ(fileBytes(file), *crashing);
+    // The library call too: an InputError, and this process lives on.
+    try {
+        readVdbMask(file);
+        ADD_FAILURE() << "no error";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("crashed"), std::string::npos) << error.what();
+    }
+}
+
+// Other damaged files make OpenVDB allocate gigabytes for kilobytes: the parse
+// runs under --max-memory (exit 4) and stops at --time-limit (exit 3).
+TEST(VdbInputCli, DamagedFileThatClaimsGigabytesIsBoundedByTheLimits) {
+#if SKELSEG_TEST_SANITIZER_ALLOCATOR
+    GTEST_SKIP() << "AddressSanitizer's allocator ends the process on a failed allocation";
+#endif
+    const std::optional<std::string> hungry = damagedCopy(
+        vdbBytes({cubeGrid()}), 11, 2000,
+        [](const std::string& bytes) { return plainParseEnding(bytes, 256u << 20) == -1; });
+    if (!hungry) GTEST_SKIP() << "no damaged copy made this OpenVDB's reader allocate 256 MB";
+    TempDir dir;
+    const fs::path file = dir / "hungry.vdb";
+    writeBytes(file, *hungry);
+    const CliResult limited = runSegment(file, dir / "out", {"--max-memory", "300M"});
+    EXPECT_TRUE(
+        failsWithOneLine(limited, 4, file.string(),
+                         "reading its OpenVDB grids needs more than the limit of 300.00 MB"));
+    EXPECT_TRUE(leftNothing(dir / "out"));
+    const CliResult stopped = runSegment(file, dir / "out", {"--time-limit", "0.2"});
+    EXPECT_TRUE(failsWithOneLine(stopped, 3, file.string(), "time limit reached"));
+    EXPECT_TRUE(leftNothing(dir / "out"));
+}
+
+// A .vdb holds its object sparsely: two voxels far apart span a dense grid of
+// billions. The grid is checked against --max-memory before it is allocated.
+TEST(VdbInputCli, DenseGridOverMaxMemoryIsRefusedBeforeItIsAllocated) {
+    TempDir dir;
+    auto grid = openvdb::BoolGrid::create(false);
+    grid->tree().setValueOn(openvdb::Coord(0, 0, 0), true);
+    grid->tree().setValueOn(openvdb::Coord(1499, 1499, 1499), true);
+    writeGrids(dir / "far.vdb", {grid});
+    const CliResult result = runSegment(dir / "far.vdb", dir / "out", {"--max-memory", "1G"});
+    EXPECT_TRUE(failsWithOneLine(result, 4, (dir / "far.vdb").string(),
+                                 "its grid of 1500 x 1500 x 1500 voxels needs at least"));
+    EXPECT_TRUE(leftNothing(dir / "out"));
+    const CliResult budgeted =
+        runSegment(dir / "far.vdb", dir / "out", {"--max-memory", "1G", "--time-budget", "5"});
+    EXPECT_TRUE(
+        failsWithOneLine(budgeted, 4, (dir / "far.vdb").string(), "needs at least 3.38 GB"));
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <vector>
 
+#include "tests/support/SanitizerAllocator.h"
+
 namespace skelseg {
 namespace {
 
@@ -29,16 +31,7 @@ long faultsOfOneRound(std::size_t count, std::size_t bytes) {
     return threadMinorFaults() - before;
 }
 
-// A sanitizer replaces glibc's allocator, and its mallopt() takes no setting.
-#if defined(__SANITIZE_ADDRESS__)
-#define SKELSEG_SANITIZER_ALLOCATOR 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SKELSEG_SANITIZER_ALLOCATOR 1
-#endif
-#endif
-
-#if defined(__GLIBC__) && !defined(SKELSEG_SANITIZER_ALLOCATOR)
+#if defined(__GLIBC__) && !SKELSEG_TEST_SANITIZER_ALLOCATOR
 TEST(FreedMemoryReuse, ASecondShapeOfTheSameSizeTakesNoFreshPages) {
     // Three blocks just under the mmap threshold, as a preview's panels: freed
     // together they are more than glibc's own trim threshold ever reaches

@@ -107,6 +107,40 @@ TEST(VolumeReader, DispatchesByExtension) {
                      "not a NRRD file");
 }
 
+// The readers hand the grid to the caller's check after their own checks of
+// the file and before they allocate it: what the check throws passes through,
+// and a file that cannot hold its grid never reaches it.
+TEST(VolumeReader, GridCheckSeesTheGridBeforeItIsAllocated) {
+    struct Refused {
+        Dims dims;
+    };
+    test::TempDir dir;
+    const MaskVolume mask = sampleMask();
+    writeNrrdMask(dir / "shape.nrrd", mask);
+    writeBinvox(dir / "shape.binvox", mask);
+    VolumeReadOptions refusing;
+    refusing.guards.checkGrid = [](const Dims& dims) { throw Refused{dims}; };
+    for (const char* name : {"shape.nrrd", "shape.binvox"}) {
+        try {
+            readVolume(dir / name, refusing);
+            ADD_FAILURE() << name << ": the check was not called";
+        } catch (const Refused& refused) {
+            EXPECT_EQ(refused.dims, mask.dims()) << name;
+        }
+        int calls = 0;
+        VolumeReadOptions accepting;
+        accepting.guards.checkGrid = [&](const Dims&) { ++calls; };
+        EXPECT_EQ(readVolume(dir / name, accepting).values(), mask.values()) << name;
+        EXPECT_EQ(calls, 1) << name;
+    }
+    // Data too short for the grid: the reader's error, and no call.
+    const std::string header =
+        "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 64 64 64\nencoding: raw\n\n";
+    std::ofstream(dir / "short.nrrd", std::ios::binary) << header << "abc";
+    expectInputError([&] { readVolume(dir / "short.nrrd", refusing); }, "short.nrrd",
+                     "data is too short");
+}
+
 TEST(VolumeReader, FileChecks) {
     test::TempDir dir;
     expectInputError([&] { readVolume(dir / "absent.nrrd"); }, "absent.nrrd", "no such file");
