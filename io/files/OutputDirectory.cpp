@@ -136,25 +136,45 @@ void OutputDirectory::removeOnCommit(const std::string& name) {
 void OutputDirectory::commit() {
     const std::lock_guard<std::mutex> lock(mStagedMutex);
     std::error_code ec;
-    for (const auto& name : mObsolete)
-        if (std::find(mStaged.begin(), mStaged.end(), name) == mStaged.end()) {
-            fs::remove_all(mDirectory / name, ec);
-            if (ec)
-                throw OutputError(
-                    (mDirectory / name).string() +
-                    ": cannot remove the earlier run's output: " + describeErrno(ec.value()));
+    // The earlier run's outputs are moved aside into the staging directory,
+    // not removed, until every new one is in place: a commit that fails half
+    // way moves them back, and OUTDIR holds the earlier run's outputs whole
+    // (rename(2) would drop a replaced file at once, and cannot replace a
+    // non-empty directory such as levels/ at all).
+    const fs::path aside = mStaging / ".replaced";
+    std::vector<std::string> movedAside, movedIn;
+    const auto rollBack = [&]() noexcept {
+        std::error_code ignored;
+        for (auto it = movedIn.rbegin(); it != movedIn.rend(); ++it)
+            fs::remove_all(mDirectory / *it, ignored);
+        for (const auto& name : movedAside) fs::rename(aside / name, mDirectory / name, ignored);
+    };
+    const auto moveAside = [&](const std::string& name, const char* what) {
+        if (!fs::exists(fs::symlink_status(mDirectory / name, ec))) return;
+        if (movedAside.empty()) fs::create_directory(aside, ec);
+        if (!ec) fs::rename(mDirectory / name, aside / name, ec);
+        if (ec) {
+            const std::string problem = describeErrno(ec.value());
+            rollBack();
+            throw OutputError((mDirectory / name).string() + ": cannot " + what + ": " + problem);
         }
+        movedAside.push_back(name);
+    };
+    for (const auto& name : mObsolete)
+        if (std::find(mStaged.begin(), mStaged.end(), name) == mStaged.end())
+            moveAside(name, "remove the earlier run's output");
     for (const auto& name : mStaged) {
         const fs::path from = mStaging / name;
         if (!fs::exists(from, ec)) continue;  // an optional output that was not produced
-        // A staged directory (levels/) replaces the earlier run's whole:
-        // rename(2) does not replace a non-empty directory.
-        if (fs::is_directory(from, ec) && fs::is_directory(mDirectory / name, ec))
-            fs::remove_all(mDirectory / name, ec);
+        moveAside(name, "replace the earlier run's output");
         fs::rename(from, mDirectory / name, ec);
-        if (ec)
+        if (ec) {
+            const std::string problem = describeErrno(ec.value());
+            rollBack();
             throw OutputError((mDirectory / name).string() +
-                              ": cannot move into place: " + describeErrno(ec.value()));
+                              ": cannot move into place: " + problem);
+        }
+        movedIn.push_back(name);
     }
     mCommitted = true;
     fs::remove_all(mStaging, ec);

@@ -47,7 +47,9 @@ public:
     /// without levels replaces an earlier hierarchy run's levels/ by nothing.
     void removeOnCommit(const std::string& name);
     /// Moves every staged file to OUTDIR/name and removes the names marked
-    /// by removeOnCommit(). Throws OutputError on failure.
+    /// by removeOnCommit(). Throws OutputError on failure, after putting back
+    /// the earlier outputs it had moved aside (a crash in between leaves them
+    /// in the staging directory, which the next run on OUTDIR removes).
     void commit();
     /// Drops everything staged (also done by the destructor if not committed),
     /// and removes OUTDIR again if this object created it and it is empty.

@@ -124,6 +124,41 @@ std::string textOf(const fs::path& file) {
     return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+// A commit that fails half way leaves the earlier run's outputs whole, those
+// already replaced and removed included. The failure: the earlier "tmpfs" is
+// a mount point, which rename(2) cannot move (EBUSY).
+TEST(OutputDirectory, AFailedCommitPutsTheEarlierOutputsBack) {
+    test::SmallTmpfs mount(64 * 1024);
+    if (!mount.mounted()) GTEST_SKIP() << mount.skipReason();
+    const fs::path outdir = mount.path().parent_path();
+    fs::create_directories(outdir / "levels" / "5");
+    std::ofstream(outdir / "levels" / "5" / "old.txt") << "earlier";
+    std::ofstream(outdir / "a.txt") << "earlier a";
+    std::ofstream(outdir / "hierarchy.json") << "{}";
+    std::ofstream(mount / "inside.txt") << "earlier tmpfs";
+    const std::vector<std::string> names{"levels", "a.txt", "tmpfs", "hierarchy.json"};
+    {
+        OutputDirectory out(outdir, true, names);
+        out.removeOnCommit("hierarchy.json");
+        fs::create_directories(out.stagingPath("levels") / "0");
+        std::ofstream(out.stagingPath("levels") / "0" / "new.txt") << "new";
+        std::ofstream(out.stagingPath("a.txt")) << "new a";
+        std::ofstream(out.stagingPath("tmpfs")) << "new tmpfs";
+        try {
+            out.commit();
+            ADD_FAILURE() << "the commit did not fail";
+        } catch (const OutputError& error) {
+            EXPECT_NE(std::string(error.what()).find("tmpfs"), std::string::npos) << error.what();
+        }
+    }
+    EXPECT_EQ(entries(outdir), std::set<std::string>(names.begin(), names.end()));
+    EXPECT_EQ(entries(outdir / "levels"), std::set<std::string>{"5"});
+    EXPECT_EQ(textOf(outdir / "levels" / "5" / "old.txt"), "earlier");
+    EXPECT_EQ(textOf(outdir / "a.txt"), "earlier a");
+    EXPECT_EQ(textOf(outdir / "hierarchy.json"), "{}");
+    EXPECT_EQ(textOf(mount / "inside.txt"), "earlier tmpfs");
+}
+
 TEST(WriteFileAtomically, FullDiskGivesTheSystemsReasonAndLeavesNoFile) {
     test::SmallTmpfs disk(64 * 1024);
     if (!disk.mounted()) GTEST_SKIP() << disk.skipReason();
