@@ -3,7 +3,9 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,6 +15,7 @@
 #include <cstring>
 #include <fstream>
 #include <new>
+#include <optional>
 #include <sstream>
 
 #include "kernels/base/Error.h"
@@ -55,7 +58,32 @@ long long cpuTicks(pid_t pid) {
     return utime + stime;
 }
 
-[[noreturn]] void runChild(const std::function<void()>& work, int messageFd,
+/// Writes all of `bytes` to `fd`; false on an error.
+bool writeAll(int fd, const std::string& bytes) {
+    for (std::size_t written = 0; written < bytes.size();) {
+        const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        written += std::size_t(n);
+    }
+    return true;
+}
+
+/// The whole content of the memory file `fd`; nullopt on an error.
+std::optional<std::string> readAll(int fd) {
+    struct stat status {};
+    if (::fstat(fd, &status) != 0 || ::lseek(fd, 0, SEEK_SET) != 0) return std::nullopt;
+    std::string bytes(std::size_t(status.st_size), '\0');
+    for (std::size_t done = 0; done < bytes.size();) {
+        const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return std::nullopt;
+        done += std::size_t(n);
+    }
+    return bytes;
+}
+
+[[noreturn]] void runChild(const std::function<std::string()>& work, int messageFd, int outputFd,
                            std::uint64_t memoryLimit, std::uint64_t inheritedData) {
     const int devNull = ::open("/dev/null", O_WRONLY);
     if (devNull >= 0) ::dup2(devNull, STDERR_FILENO);
@@ -64,15 +92,13 @@ long long cpuTicks(pid_t pid) {
         ::setrlimit(RLIMIT_DATA, &limit);
     }
     const auto report = [&](const std::string& message) {
-        const std::size_t size = std::min(message.size(), kMaxMessageBytes);
-        for (std::size_t written = 0; written < size;) {
-            const ssize_t n = ::write(messageFd, message.data() + written, size - written);
-            if (n <= 0) break;
-            written += std::size_t(n);
-        }
+        writeAll(messageFd, message.substr(0, kMaxMessageBytes));
     };
     try {
-        work();
+        if (!writeAll(outputFd, work())) {
+            report("cannot pass the result back: " + std::string(std::strerror(errno)));
+            ::_exit(kExitThrew);
+        }
     } catch (const std::bad_alloc&) {
         ::_exit(kExitOutOfMemory);
     } catch (const InputError& error) {
@@ -111,22 +137,28 @@ std::string signalName(int signal) {
     }
 }
 
-IsolatedCallOutcome runIsolated(const std::function<void()>& work,
+IsolatedCallOutcome runIsolated(const std::function<std::string()>& work,
                                 const IsolatedCallOptions& options) {
     IsolatedCallOutcome outcome;
     // Read before the fork: the child must not open files it may not need.
     const std::uint64_t inheritedData = options.memoryLimit > 0 ? dataSegmentBytes() : 0;
+    const int outputFd = ::memfd_create("skelseg-isolated-call", MFD_CLOEXEC);
+    if (outputFd < 0) return outcome;
     int pipeFds[2];
-    if (::pipe2(pipeFds, O_CLOEXEC) != 0) return outcome;
+    if (::pipe2(pipeFds, O_CLOEXEC) != 0) {
+        ::close(outputFd);
+        return outcome;
+    }
     const pid_t child = ::fork();
     if (child < 0) {
         ::close(pipeFds[0]);
         ::close(pipeFds[1]);
+        ::close(outputFd);
         return outcome;
     }
     if (child == 0) {
         ::close(pipeFds[0]);
-        runChild(work, pipeFds[1], options.memoryLimit, inheritedData);
+        runChild(work, pipeFds[1], outputFd, options.memoryLimit, inheritedData);
     }
     ::close(pipeFds[1]);
     const int messageFd = pipeFds[0];
@@ -178,7 +210,10 @@ IsolatedCallOutcome runIsolated(const std::function<void()>& work,
         outcome.message.append(buffer, std::size_t(n));
     }
     ::close(messageFd);
-    if (!ended) return outcome;
+    if (!ended) {
+        ::close(outputFd);
+        return outcome;
+    }
     if (killed) {
         outcome.ending = IsolatedCallOutcome::Ending::Interrupted;
     } else if (stalled) {
@@ -187,12 +222,17 @@ IsolatedCallOutcome runIsolated(const std::function<void()>& work,
         outcome.ending = IsolatedCallOutcome::Ending::Crashed;
         outcome.signal = WTERMSIG(status);
     } else if (WIFEXITED(status) && WEXITSTATUS(status) == kExitFinished) {
-        outcome.ending = IsolatedCallOutcome::Ending::Finished;
+        std::optional<std::string> output = readAll(outputFd);
+        if (output) {
+            outcome.ending = IsolatedCallOutcome::Ending::Finished;
+            outcome.output = std::move(*output);
+        }  // else NotIsolated: the work runs here
     } else if (WIFEXITED(status) && WEXITSTATUS(status) == kExitOutOfMemory) {
         outcome.ending = IsolatedCallOutcome::Ending::OutOfMemory;
     } else {
         outcome.ending = IsolatedCallOutcome::Ending::Threw;
     }
+    ::close(outputFd);
     return outcome;
 }
 

@@ -7,7 +7,9 @@
 // happens: C++ catches exceptions, not aborts. runIsolated() runs the work in
 // a forked child and says how it ended, so that the caller can turn a crash
 // into a one-line input error and a runaway allocation into the
-// --max-memory refusal (docs/robustness.md, "Damaged OpenVDB files").
+// --max-memory refusal (docs/robustness.md, "Damaged OpenVDB files"). The
+// bytes the work returns come back through a memory file, so the parent
+// never has to repeat the work on the untrusted input.
 //
 // fork() copies only the calling thread: the work must not wait on a lock
 // that another thread may hold, nor start parallel work (oneTBB's worker
@@ -43,16 +45,19 @@ struct IsolatedCallOutcome {
         OutOfMemory,  ///< the work threw std::bad_alloc under the memory limit
         Crashed,      ///< the child died of signal `signal`
         Interrupted,  ///< the interrupter asked to stop; the child was killed
-        NotIsolated,  ///< no child could be made or it stalled: run the work in-process
+        NotIsolated,  ///< no child could be made, it stalled, or its output could not be
+                      ///< read: the caller runs the work in-process
     };
     Ending ending = Ending::NotIsolated;
     std::string message;
     int signal = 0;
+    /// What the work returned (Finished only).
+    std::string output;
 };
 
-/// Runs `work` in a forked child process and reports how it ended; nothing
-/// the work computes comes back but its error message.
-IsolatedCallOutcome runIsolated(const std::function<void()>& work,
+/// Runs `work` in a forked child process and reports how it ended, with the
+/// bytes it returned.
+IsolatedCallOutcome runIsolated(const std::function<std::string()>& work,
                                 const IsolatedCallOptions& options = {});
 
 /// "SIGSEGV", "SIGABRT", ... or "signal N".

@@ -6,6 +6,7 @@
 #include <istream>
 #include <mutex>
 #include <new>
+#include <optional>
 #include <sstream>
 #include <streambuf>
 
@@ -206,10 +207,6 @@ public:
     }
 };
 
-}  // namespace
-
-namespace {
-
 void checkVdbMagic(const std::string& name, const std::uint8_t* bytes, std::size_t size) {
     if (size == 0) throw InputError(name, "file is empty");
     // Every VDB file starts with the 64-bit magic number 0x56444220 ("VDB ").
@@ -257,19 +254,30 @@ openvdb::GridPtrVecPtr parseGrids(const std::uint8_t* bytes, std::size_t size) {
     }
 }
 
-/// Parses the file in a child process first: OpenVDB trusts the sizes stored
-/// in a file, and on some damaged files corrupts the heap and aborts, or
-/// allocates far more than the file could hold. Returns when the parse ended
-/// well (or could not be isolated); the caller then parses in this process.
-void parseInChildProcess(const std::string& name, const std::uint8_t* bytes, std::size_t size,
-                         const VolumeReadGuards& guards) {
+/// The grids of the file as OpenVDB writes them again after parsing it in a
+/// child process: OpenVDB trusts the sizes stored in a file, and on some
+/// damaged files corrupts the heap and aborts, or allocates far more than the
+/// file could hold. This process then parses only bytes OpenVDB's writer
+/// made. nullopt when the parse could not be isolated (the caller parses the
+/// file itself, as it did before).
+std::optional<std::string> reserializeInChildProcess(const std::string& name,
+                                                     const std::uint8_t* bytes, std::size_t size,
+                                                     const VolumeReadGuards& guards) {
     IsolatedCallOptions options;
     options.memoryLimit = guards.memoryLimit;
     options.interrupter = guards.interrupter;
     const IsolatedCallOutcome outcome = runIsolated(
         [&] {
             try {
-                (void)parseGrids(bytes, size);
+                const openvdb::GridPtrVecPtr grids = parseGrids(bytes, size);
+                std::ostringstream out;
+                openvdb::io::Stream stream(out);
+                // No parallel work in a forked child (the statistics use
+                // oneTBB), and no compression to undo.
+                stream.setGridStatsMetadataEnabled(false);
+                stream.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK);
+                if (grids) stream.write(openvdb::GridCPtrVec(grids->begin(), grids->end()));
+                return out.str();
             } catch (const std::bad_alloc&) {
                 throw;  // the child's memory limit, told apart by runIsolated()
             } catch (...) {
@@ -280,8 +288,9 @@ void parseInChildProcess(const std::string& name, const std::uint8_t* bytes, std
     using Ending = IsolatedCallOutcome::Ending;
     switch (outcome.ending) {
         case Ending::Finished:
+            return outcome.output;
         case Ending::NotIsolated:
-            return;
+            return std::nullopt;
         case Ending::Threw:
             throw InputError(
                 name, outcome.message.empty() ? "cannot read OpenVDB data" : outcome.message);
@@ -299,6 +308,7 @@ void parseInChildProcess(const std::string& name, const std::uint8_t* bytes, std
             throwIfInterrupted(*guards.interrupter);
             throw InterruptedError(InterruptedError::Reason::UserInterrupt, "interrupted");
     }
+    return std::nullopt;
 }
 
 MaskVolume readParsedMask(const std::string& name, const std::uint8_t* bytes, std::size_t size,
@@ -351,11 +361,14 @@ MaskVolume readVdbMask(const fs::path& file, const std::string& gridName,
     const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
     initializeOpenVdb();
     checkVdbMagic(name, data, bytes.size());
+    std::optional<std::string> rewritten;
     {
         const std::lock_guard<std::mutex> lock(parseMutex());
-        parseInChildProcess(name, data, bytes.size(), guards);
+        rewritten = reserializeInChildProcess(name, data, bytes.size(), guards);
     }
-    return readParsedMask(name, data, bytes.size(), gridName, guards);
+    if (!rewritten) return readParsedMask(name, data, bytes.size(), gridName, guards);
+    return readParsedMask(name, reinterpret_cast<const std::uint8_t*>(rewritten->data()),
+                          rewritten->size(), gridName, guards);
 }
 
 bool vdbCanHoldVoxelVolume(const Dims& dims, const VolumeGeometry& geometry) {

@@ -32,30 +32,40 @@ private:
     std::chrono::steady_clock::time_point mDeadline;
 };
 
-TEST(IsolatedCall, WorkThatReturnsFinishesAndChangesNothingHere) {
+TEST(IsolatedCall, WorkThatReturnsGivesItsBytesAndChangesNothingHere) {
     int touched = 0;
-    const IsolatedCallOutcome outcome = runIsolated([&] { touched = 1; });
+    const std::string bytes = std::string("binary\0bytes", 12) + std::string(1 << 20, 'x');
+    const IsolatedCallOutcome outcome = runIsolated([&] {
+        touched = 1;
+        return bytes;
+    });
     EXPECT_EQ(outcome.ending, Ending::Finished);
     EXPECT_TRUE(outcome.message.empty());
-    EXPECT_EQ(touched, 0);  // the child's memory is its own
+    EXPECT_EQ(outcome.output, bytes);  // a megabyte, zero bytes included
+    EXPECT_EQ(touched, 0);             // the child's memory is its own
 }
 
 TEST(IsolatedCall, WorkThatThrowsGivesItsMessage) {
-    const IsolatedCallOutcome input =
-        runIsolated([] { throw InputError("file.vdb", "cannot read OpenVDB data: bad size"); });
+    const IsolatedCallOutcome input = runIsolated([]() -> std::string {
+        throw InputError("file.vdb", "cannot read OpenVDB data: bad size");
+    });
     EXPECT_EQ(input.ending, Ending::Threw);
     EXPECT_EQ(input.message, "cannot read OpenVDB data: bad size");  // the problem, not the name
-    const IsolatedCallOutcome other = runIsolated([] { throw std::runtime_error("boom"); });
+    const IsolatedCallOutcome other =
+        runIsolated([]() -> std::string { throw std::runtime_error("boom"); });
     EXPECT_EQ(other.ending, Ending::Threw);
     EXPECT_EQ(other.message, "boom");
 }
 
 TEST(IsolatedCall, ACrashIsReportedWithItsSignal) {
-    const IsolatedCallOutcome aborted = runIsolated([] { std::abort(); });
+    const IsolatedCallOutcome aborted = runIsolated([]() -> std::string { std::abort(); });
     EXPECT_EQ(aborted.ending, Ending::Crashed);
     EXPECT_EQ(aborted.signal, SIGABRT);
     EXPECT_EQ(signalName(aborted.signal), "SIGABRT");
-    const IsolatedCallOutcome illegal = runIsolated([] { std::raise(SIGILL); });
+    const IsolatedCallOutcome illegal = runIsolated([] {
+        std::raise(SIGILL);
+        return std::string();
+    });
     EXPECT_EQ(illegal.ending, Ending::Crashed);
     EXPECT_EQ(illegal.signal, SIGILL);
     EXPECT_EQ(signalName(64), "signal 64");
@@ -70,6 +80,7 @@ TEST(IsolatedCall, AllocationBeyondTheMemoryLimitIsOutOfMemory) {
     const auto allocate = [] {
         std::vector<char> block(std::size_t(1) << 30);
         std::memset(block.data(), 1, block.size());
+        return std::string(1, block.back());
     };
     EXPECT_EQ(runIsolated(allocate, options).ending, Ending::OutOfMemory);
     options.memoryLimit = std::uint64_t(4) << 30;  // the control: the same work fits
@@ -82,7 +93,7 @@ TEST(IsolatedCall, TheInterrupterStopsWorkThatRunsOn) {
     options.interrupter = &interrupter;
     const auto start = std::chrono::steady_clock::now();
     const IsolatedCallOutcome outcome = runIsolated(
-        [] {
+        []() -> std::string {
             for (volatile unsigned long spin = 0;; spin = spin + 1) {
             }
         },
@@ -94,7 +105,12 @@ TEST(IsolatedCall, TheInterrupterStopsWorkThatRunsOn) {
 TEST(IsolatedCall, AChildThatUsesNoCpuIsTakenForStalledAndTheWorkRunsHere) {
     IsolatedCallOptions options;
     options.stallSeconds = 0.3;
-    const IsolatedCallOutcome outcome = runIsolated([] { ::pause(); }, options);
+    const IsolatedCallOutcome outcome = runIsolated(
+        [] {
+            ::pause();
+            return std::string();
+        },
+        options);
     EXPECT_EQ(outcome.ending, Ending::NotIsolated);
 }
 
@@ -105,7 +121,7 @@ TEST(IsolatedCall, ThreadsOfTheParentAreNotNeeded) {
     std::thread busy([&] {
         while (!stop) std::this_thread::yield();
     });
-    const IsolatedCallOutcome outcome = runIsolated([] { std::vector<int> v(1000, 1); });
+    const IsolatedCallOutcome outcome = runIsolated([] { return std::string(1000, 'v'); });
     stop = true;
     busy.join();
     EXPECT_EQ(outcome.ending, Ending::Finished);
