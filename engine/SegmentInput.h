@@ -98,7 +98,7 @@ void checkInputFileSize(const std::filesystem::path& file, std::uint64_t memoryL
 /// for a volume of `dims` is over options.memoryLimit: its mask, and without
 /// a time budget (which may coarsen the volume after reading) the
 /// segmentation of an empty grid of that size. readSegmentSource() gives it
-/// to the volume readers as their GridCheck (io/volume/GridCheck.h), so a
+/// to the volume readers as VolumeReadGuards::checkGrid (io/volume/ReadGuards.h), so a
 /// compressed, run-length or OpenVDB file of a few megabytes that holds
 /// billions of voxels is refused before they are allocated, and a grid the
 /// reader refuses as bad input keeps the exit code of bad input.

@@ -150,11 +150,13 @@ void OutputDirectory::commit() {
         for (const auto& name : movedAside) fs::rename(aside / name, mDirectory / name, ignored);
     };
     const auto moveAside = [&](const std::string& name, const char* what) {
-        if (!fs::exists(fs::symlink_status(mDirectory / name, ec))) return;
-        if (movedAside.empty()) fs::create_directory(aside, ec);
-        if (!ec) fs::rename(mDirectory / name, aside / name, ec);
-        if (ec) {
-            const std::string problem = describeErrno(ec.value());
+        std::error_code error;
+        if (!fs::exists(fs::symlink_status(mDirectory / name, error))) return;
+        error.clear();
+        if (movedAside.empty()) fs::create_directory(aside, error);
+        if (!error) fs::rename(mDirectory / name, aside / name, error);
+        if (error) {
+            const std::string problem = describeErrno(error.value());
             rollBack();
             throw OutputError((mDirectory / name).string() + ": cannot " + what + ": " + problem);
         }
