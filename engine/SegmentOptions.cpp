@@ -4,20 +4,23 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/NumberText.h"
 #include "kernels/base/Error.h"
 
 namespace skelseg {
 
-namespace {
-
-std::uint64_t parseBytes(const std::string& text) {
+std::uint64_t parseMemoryLimit(const std::string& text) {
+    const auto notASize = [&] {
+        return UsageError("--max-memory '" + text + "' is not a size such as 4G or 512M");
+    };
     std::size_t used = 0;
     double value = 0;
     try {
         value = std::stod(text, &used);
     } catch (const std::exception&) {
-        throw UsageError("--max-memory '" + text + "' is not a size such as 4G or 512M");
+        throw notASize();
     }
+    if (!isDecimalNumberText(text.substr(0, used))) throw notASize();
     std::string unit = text.substr(used);
     double scale = 1;
     if (unit == "K" || unit == "KB")
@@ -36,16 +39,26 @@ std::uint64_t parseBytes(const std::string& text) {
     return std::uint64_t(bytes);
 }
 
+namespace {
+
+constexpr double kMaxSeconds = 1e9;
+
 /// --time-limit, --time-budget: a one-line refusal that says what is wanted.
 CLI::Validator positiveSeconds() {
     return CLI::Validator(
         [](std::string& text) -> std::string {
+            double seconds = 0.0;
             try {
                 std::size_t used = 0;
-                const double seconds = std::stod(text, &used);
-                if (used == text.size() && seconds > 0 && seconds < 1e9) return {};
+                seconds = std::stod(text, &used);
+                if (used != text.size() || !isDecimalNumberText(text)) seconds = 0.0;
             } catch (const std::exception&) {
+                seconds = 0.0;
             }
+            // Past kMaxSeconds a deadline no longer fits the clocks' range.
+            if (seconds >= kMaxSeconds && std::isfinite(seconds))
+                return "'" + text + "' is more than the longest time accepted (1e9 seconds)";
+            if (seconds > 0 && seconds < kMaxSeconds) return {};
             return "'" + text + "' is not a positive number of seconds";
         },
         "SECONDS");
@@ -57,7 +70,8 @@ CLI::Validator numberText() {
     return CLI::Validator(
         [](std::string& text) -> std::string {
             double value = 0.0;
-            if (!CLI::detail::lexical_cast(text, value)) return "'" + text + "' is not a number";
+            if (!isDecimalNumberText(text) || !CLI::detail::lexical_cast(text, value))
+                return "'" + text + "' is not a number";
             if (std::isnan(value)) return "Value " + text + " is not a number";
             return {};
         },
@@ -67,14 +81,13 @@ CLI::Validator numberText() {
 CLI::Validator integerText() {
     return CLI::Validator(
         [](std::string& text) -> std::string {
-            long long value = 0;
-            if (CLI::detail::lexical_cast(text, value)) return {};
-            // Digits too many for 64 bits: the range check says what is wrong.
-            const std::size_t signLength = text.find_first_not_of("+-") == 1 ? 1 : 0;
-            if (text.size() > signLength &&
-                text.find_first_not_of("0123456789", signLength) == std::string::npos)
-                return {};
-            return "'" + text + "' is not an integer";
+            // Decimal only, and without leading zeros, which CLI11 reads as
+            // octal. Digits too many for 64 bits pass: the range check says
+            // what is wrong.
+            const std::optional<std::string> decimal = decimalIntegerText(text);
+            if (!decimal) return "'" + text + "' is not an integer";
+            text = *decimal;
+            return {};
         },
         "");
 }
@@ -115,7 +128,7 @@ void SegmentOptionTexts::finish() {
         options.parameters.skeletonSearch = SkeletonSearch::Exhaustive;
     else if (skeletonSearchText == "band")
         options.parameters.skeletonSearch = SkeletonSearch::Band;
-    if (!maxMemoryText.empty()) options.maxMemoryBytes = parseBytes(maxMemoryText);
+    if (!maxMemoryText.empty()) options.maxMemoryBytes = parseMemoryLimit(maxMemoryText);
     options.calibrateTimeBudget = budgetCalibrationText == "probe";
     // A hierarchy runs the exhaustive search (skeletonSearchToRun): an
     // explicit band with a list is refused before any work.
@@ -227,11 +240,11 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
                      "junction-rule (default) or junctions (the RT07 baseline)")
         ->check(CLI::IsMember({"junction-rule", "junctions"}));
     command->add_option("--threads", seg.threads, "Worker threads (default: all cores)")
-        ->check(integerText())
+        ->transform(integerText())
         ->check(CLI::Range(1, 1024));
     command->add_option("--resolution", seg.resolution, "Meshes: voxels along the longest side")
         ->capture_default_str()
-        ->check(integerText())
+        ->transform(integerText())
         ->check(CLI::Range(8, 2048));
     command
         ->add_option(
@@ -240,7 +253,7 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
             "would add a handle, retry wider, up to this many voxels where that removes a handle "
             "(2: no retry)")
         ->capture_default_str()
-        ->check(integerText())
+        ->transform(integerText())
         ->check(CLI::Range(2, 4));
     command->add_flag("--contact-patch-seams", seg.contactPatchSeams,
                       "Meshes: where a contact's seam is refused, try a seam between the two "

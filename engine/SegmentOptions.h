@@ -35,6 +35,10 @@ struct SegmentOptionTexts {
     void finish();
 };
 
+/// A --max-memory value ("4G", "512M", "300KB", a number of bytes) in bytes;
+/// sizes past 2^64 bytes mean no limit. @throw UsageError naming --max-memory.
+std::uint64_t parseMemoryLimit(const std::string& text);
+
 /// Declares the options on `command`, bound to `texts`.
 void addSegmentOptions(CLI::App* command, SegmentOptionTexts& texts);
 

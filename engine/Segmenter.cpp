@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/NumberText.h"
 #include "engine/SegmentationStages.h"
 #include "engine/Stage.h"
 #include "kernels/ConnectedObjects.h"
@@ -22,7 +23,8 @@ TauSpec TauSpec::parse(const std::string& text) {
     try {
         std::size_t used = 0;
         spec.value = std::stod(number, &used);
-        if (used != number.size()) throw std::invalid_argument("trailing characters");
+        if (used != number.size() || !isDecimalNumberText(number))
+            throw std::invalid_argument("not a decimal number");
     } catch (const std::exception&) {
         throw UsageError("--tau '" + text +
                          "' is not a number of voxels or a percentage such as 3%");

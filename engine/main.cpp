@@ -70,13 +70,13 @@ int main(int argc, char** argv) {
         ->add_option("--shards", shards,
                      "Number of shares when the index comes from JOB_COMPLETION_INDEX "
                      "(Kubernetes Indexed Job)")
-        ->check(skelseg::integerText())
+        ->transform(skelseg::integerText())
         ->check(CLI::Range(1, 1000000));
     batch
         ->add_option("--shapes-in-flight", shapesInFlight,
                      "Most shapes in flight at once (default: threads + 1; --max-memory bounds "
                      "them too)")
-        ->check(skelseg::integerText())
+        ->transform(skelseg::integerText())
         ->check(CLI::Range(1, 1024));
     batch
         ->add_option("--merge", mergeText,
@@ -110,14 +110,14 @@ int main(int argc, char** argv) {
     addRequiredPath(generate, "-o,--output", generateOut, "Output file (.nrrd or .binvox)");
     generate->add_option("--size", size, "Voxels along the longest side")
         ->capture_default_str()
-        ->check(skelseg::integerText())
+        ->transform(skelseg::integerText())
         ->check(CLI::Range(16, 2048));
     generate
         ->add_option("--pose", pose,
                      "figure: pose 0, 1 or 2; capsule-chain, bent-capsule-chain, bent-tube: "
                      "orientation 0, 1 or 2")
         ->capture_default_str()
-        ->check(skelseg::integerText())
+        ->transform(skelseg::integerText())
         ->check(CLI::Range(0, 2));
     generate->add_option("--noise", noise, "Fraction of boundary voxels to flip")
         ->check(skelseg::numberText())

@@ -54,8 +54,13 @@ pybind11::list segmentOptionList();
 std::string withKeywordNames(const std::string& message);
 
 /// Reads a volume file's mask as a bool array, axis 0 = x (Fortran order),
-/// and its voxel spacing. Returns (array, spacing, origin).
-pybind11::tuple readVolumeArray(const std::string& path, const std::string& gridName);
+/// and its voxel spacing. Returns (array, spacing, origin). maxMemory: a
+/// --max-memory text, empty for the CLI's default; the grid's mask must fit
+/// in it, and an OpenVDB parse may take no more. timeLimitSeconds: 0 for
+/// none. The read runs as the engine's calls do (EngineCall.h): Ctrl-C and
+/// the time limit stop an OpenVDB parse; the other readers finish first.
+pybind11::tuple readVolumeArray(const std::string& path, const std::string& gridName,
+                                const std::string& maxMemory, double timeLimitSeconds);
 
 /// Reads a mesh file: (vertices (V, 3) float64, triangles (T, 3) int64,
 /// triangle_face (T,) int64, face_count).

@@ -5,9 +5,12 @@
 
 #include <cmath>
 
+#include "engine/SegmentOptions.h"
 #include "engine/SegmentationScore.h"
 #include "engine/SequenceConsensus.h"
 #include "engine/python/Bindings.h"
+#include "engine/python/CallerPolledInterrupter.h"
+#include "engine/python/EngineCall.h"
 #include "engine/python/ResultArrays.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/SegFile.h"
@@ -78,16 +81,33 @@ py::dict scoreDict(const PartitionScore& score) {
 
 }  // namespace
 
-py::tuple readVolumeArray(const std::string& path, const std::string& gridName) {
+py::tuple readVolumeArray(const std::string& path, const std::string& gridName,
+                          const std::string& maxMemory, double timeLimitSeconds) {
+    if (!(timeLimitSeconds >= 0) || !std::isfinite(timeLimitSeconds))
+        throw UsageError("--time-limit must be a positive number of seconds");
+    const std::uint64_t memoryLimit =
+        maxMemory.empty() ? defaultMemoryLimit() : parseMemoryLimit(maxMemory);
+    CallerPolledInterrupter interrupter(timeLimitSeconds);
     VolumeReadOptions options;
     options.gridName = gridName;
+    // What the mask alone needs: reading is all this call does.
+    options.guards.checkGrid = [&](const Dims& dims) {
+        if (dims.voxelCount() > memoryLimit)
+            throw MemoryLimitError(
+                path + ": its grid of " + std::to_string(dims.x) + " x " + std::to_string(dims.y) +
+                " x " + std::to_string(dims.z) + " voxels needs " + formatBytes(dims.voxelCount()) +
+                ", over the limit of " + formatBytes(memoryLimit) + " (--max-memory)");
+    };
+    options.guards.memoryLimit = memoryLimit;
+    options.guards.interrupter = &interrupter;
     MaskVolume mask;
-    {
-        py::gil_scoped_release release;
-        mask = readVolume(path, options);
-        // numpy's bool must be 0 or 1.
-        for (std::uint8_t& value : mask.values()) value = value != 0;
-    }
+    runEngineCall(
+        [&] {
+            mask = readVolume(path, options);
+            // numpy's bool must be 0 or 1.
+            for (std::uint8_t& value : mask.values()) value = value != 0;
+        },
+        interrupter, 0, py::none());
     const Dims d = mask.dims();
     const VolumeGeometry geometry = mask.geometry;
     py::tuple spacing(3);

@@ -87,7 +87,8 @@ PYBIND11_MODULE(_skelseg, m) {
         py::arg("vertices"), py::arg("faces"), py::arg("triangle_face"), py::arg("arguments"),
         py::arg("progress"));
     m.def("segment_options", &segmentOptionList);
-    m.def("read_volume", &readVolumeArray, py::arg("path"), py::arg("grid"));
+    m.def("read_volume", &readVolumeArray, py::arg("path"), py::arg("grid"), py::arg("max_memory"),
+          py::arg("time_limit"));
     m.def("read_mesh", &readMeshArrays, py::arg("path"));
     m.def("read_seg", &readSegArray, py::arg("path"));
     m.def("face_areas", &faceAreaArray, py::arg("vertices"), py::arg("faces"),

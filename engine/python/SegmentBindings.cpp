@@ -184,6 +184,12 @@ py::dict segmentArray(const py::array& array, const std::array<double, 3>& spaci
     for (double s : spacing)
         if (!(s > 0) || !std::isfinite(s))
             throw UsageError("spacing must be three positive finite numbers");
+    // The rule of the volume files' headers: a voxel volume that underflows
+    // or world positions that overflow are refused, not segmented.
+    VolumeGeometry geometry;
+    geometry.directions = {{{spacing[0], 0, 0}, {0, spacing[1], 0}, {0, 0, spacing[2]}}};
+    if (const std::string problem = geometry.problemOver(dims); !problem.empty())
+        throw UsageError("spacing: " + problem);
 
     std::shared_ptr<SegmentedShape> shape;
     runEngineCall(
@@ -204,8 +210,7 @@ py::dict segmentArray(const py::array& array, const std::array<double, 3>& spaci
             auto source = std::make_shared<SegmentSource>();
             source->file = kMaskName;
             source->volumeMask = maskFromArray(view, kMaskName);
-            source->volumeMask.geometry.directions = {
-                {{spacing[0], 0, 0}, {0, spacing[1], 0}, {0, 0, spacing[2]}}};
+            source->volumeMask.geometry = geometry;
             shape = call.segment(std::move(source));
         },
         call.interrupter, call.options.threads, options.progress);

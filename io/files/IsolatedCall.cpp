@@ -1,14 +1,17 @@
 #include "io/files/IsolatedCall.h"
 
 #include <fcntl.h>
+#include <malloc.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -40,6 +43,66 @@ std::uint64_t dataSegmentBytes() {
             return kilobytes * 1024;
         }
     return 0;
+}
+
+/// What the child tells the parent about its memory through a page mapped
+/// shared (a forked child's writes to it reach the parent), so that a parse
+/// that failed for want of memory is told apart from a damaged file however
+/// it failed: a caught std::bad_alloc may become another error (OpenVDB's
+/// reader turns it into a stream error) and a null from malloc a crash.
+struct ChildMemoryRecord {
+    /// Set by the new-handler when an allocation fails while the heap has
+    /// grown by at least half the limit: the limit, not an absurd size read
+    /// from a damaged file, refused it.
+    std::atomic<int> allocationFailedNearLimit{0};
+    /// The heap in use (mallinfo2) and the peak resident kilobytes as the
+    /// child started: what it inherited.
+    std::atomic<std::uint64_t> heapAtStart{0};
+    std::atomic<long> peakResidentKbAtStart{0};
+    std::uint64_t memoryLimit = 0;
+};
+
+/// A ChildMemoryRecord in an anonymous shared mapping.
+class SharedMemoryRecord {
+public:
+    SharedMemoryRecord() {
+        void* page = ::mmap(nullptr, sizeof(ChildMemoryRecord), PROT_READ | PROT_WRITE,
+                            MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+        if (page != MAP_FAILED) mRecord = new (page) ChildMemoryRecord();
+    }
+    ~SharedMemoryRecord() {
+        if (mRecord) ::munmap(mRecord, sizeof(ChildMemoryRecord));
+    }
+    SharedMemoryRecord(const SharedMemoryRecord&) = delete;
+    SharedMemoryRecord& operator=(const SharedMemoryRecord&) = delete;
+    /// nullptr when the page could not be mapped.
+    ChildMemoryRecord* get() const noexcept { return mRecord; }
+
+private:
+    ChildMemoryRecord* mRecord = nullptr;
+};
+
+ChildMemoryRecord* gChildMemory = nullptr;  // the child's view of the shared record
+
+std::uint64_t heapInUse() {
+    const struct mallinfo2 info = ::mallinfo2();
+    return info.uordblks + info.hblkhd;
+}
+
+long peakResidentKb() {
+    rusage usage{};
+    ::getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_maxrss;
+}
+
+void recordFailedAllocation() {
+    ChildMemoryRecord* record = gChildMemory;
+    if (record && record->memoryLimit > 0) {
+        const std::uint64_t heap = heapInUse(), start = record->heapAtStart.load();
+        if (heap > start && heap - start >= record->memoryLimit / 2)
+            record->allocationFailedNearLimit.store(1);
+    }
+    throw std::bad_alloc();
 }
 
 /// User plus system CPU ticks of process `pid` so far; -1 if unknown.
@@ -85,8 +148,19 @@ std::optional<std::string> readAll(int fd) {
 
 [[noreturn]] void runChild(const std::function<std::string()>& work, int messageFd, int outputFd,
                            std::uint64_t memoryLimit, std::uint64_t inheritedData) {
+    // Libraries report to both streams (c-blosc prints "Error allocating
+    // memory!" to standard output); the caller's streams are its own.
     const int devNull = ::open("/dev/null", O_WRONLY);
-    if (devNull >= 0) ::dup2(devNull, STDERR_FILENO);
+    if (devNull >= 0) {
+        ::dup2(devNull, STDOUT_FILENO);
+        ::dup2(devNull, STDERR_FILENO);
+    }
+    if (gChildMemory) {
+        gChildMemory->heapAtStart.store(heapInUse());
+        gChildMemory->peakResidentKbAtStart.store(peakResidentKb());
+        gChildMemory->memoryLimit = memoryLimit;
+    }
+    std::set_new_handler(recordFailedAllocation);
     if (memoryLimit > 0 && inheritedData > 0) {
         const rlimit limit{inheritedData + memoryLimit, inheritedData + memoryLimit};
         ::setrlimit(RLIMIT_DATA, &limit);
@@ -142,6 +216,8 @@ IsolatedCallOutcome runIsolated(const std::function<std::string()>& work,
     IsolatedCallOutcome outcome;
     // Read before the fork: the child must not open files it may not need.
     const std::uint64_t inheritedData = options.memoryLimit > 0 ? dataSegmentBytes() : 0;
+    SharedMemoryRecord childMemory;
+    if (!childMemory.get()) return outcome;
     const int outputFd = ::memfd_create("skelseg-isolated-call", MFD_CLOEXEC);
     if (outputFd < 0) return outcome;
     int pipeFds[2];
@@ -158,6 +234,7 @@ IsolatedCallOutcome runIsolated(const std::function<std::string()>& work,
     }
     if (child == 0) {
         ::close(pipeFds[0]);
+        gChildMemory = childMemory.get();
         runChild(work, pipeFds[1], outputFd, options.memoryLimit, inheritedData);
     }
     ::close(pipeFds[1]);
@@ -167,6 +244,7 @@ IsolatedCallOutcome runIsolated(const std::function<std::string()>& work,
     long long lastTicks = cpuTicks(child);
     Clock::time_point lastProgress = Clock::now();
     int status = 0;
+    rusage usage{};
     bool ended = false, killed = false, stalled = false;
     while (!ended) {
         // The child writes its message only as it ends, so the pipe's
@@ -179,7 +257,7 @@ IsolatedCallOutcome runIsolated(const std::function<std::string()>& work,
             if (n > 0 && outcome.message.size() < kMaxMessageBytes)
                 outcome.message.append(buffer, std::size_t(n));
         }
-        const pid_t done = ::waitpid(child, &status, WNOHANG);
+        const pid_t done = ::wait4(child, &status, WNOHANG, &usage);
         if (done == child) {
             ended = true;
             break;
@@ -199,7 +277,7 @@ IsolatedCallOutcome runIsolated(const std::function<std::string()>& work,
         }
         if (killed || stalled) {
             ::kill(child, SIGKILL);
-            while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+            while (::wait4(child, &status, 0, &usage) < 0 && errno == EINTR) {
             }
             ended = true;
         }
@@ -214,10 +292,27 @@ IsolatedCallOutcome runIsolated(const std::function<std::string()>& work,
         ::close(outputFd);
         return outcome;
     }
+    // Work that fails for want of memory may end in any way (ChildMemoryRecord).
+    // It reached the limit if an allocation failed near it, or if its
+    // resident memory grew by half the limit (malloc's failures reach no
+    // handler); a damaged file's crash, or an absurd size read from it, comes
+    // long before that.
+    const ChildMemoryRecord& record = *childMemory.get();
+    const long residentGrowthKb = usage.ru_maxrss - record.peakResidentKbAtStart.load();
+    const bool allocationFailedNearLimit = record.allocationFailedNearLimit.load() != 0;
+    outcome.reachedMemoryLimit = options.memoryLimit > 0 &&
+                                 (allocationFailedNearLimit ||
+                                  (residentGrowthKb > 0 && std::uint64_t(residentGrowthKb) * 1024 >=
+                                                               options.memoryLimit / 2));
+    const bool finished = WIFEXITED(status) && WEXITSTATUS(status) == kExitFinished;
     if (killed) {
         outcome.ending = IsolatedCallOutcome::Ending::Interrupted;
     } else if (stalled) {
         outcome.ending = IsolatedCallOutcome::Ending::NotIsolated;
+    } else if (finished ? allocationFailedNearLimit : outcome.reachedMemoryLimit) {
+        // Finished too: code that swallows a bad_alloc (a stream's buffer)
+        // returns what it has, not what the work meant to return.
+        outcome.ending = IsolatedCallOutcome::Ending::OutOfMemory;
     } else if (WIFSIGNALED(status)) {
         outcome.ending = IsolatedCallOutcome::Ending::Crashed;
         outcome.signal = WTERMSIG(status);

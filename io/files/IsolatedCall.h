@@ -42,7 +42,8 @@ struct IsolatedCallOutcome {
     enum class Ending {
         Finished,     ///< the work returned
         Threw,        ///< the work threw; `message` holds what (an InputError's problem)
-        OutOfMemory,  ///< the work threw std::bad_alloc under the memory limit
+        OutOfMemory,  ///< the work threw std::bad_alloc, or failed in any way after it
+                      ///< reached the memory limit (reachedMemoryLimit)
         Crashed,      ///< the child died of signal `signal`
         Interrupted,  ///< the interrupter asked to stop; the child was killed
         NotIsolated,  ///< no child could be made, it stalled, or its output could not be
@@ -51,6 +52,11 @@ struct IsolatedCallOutcome {
     Ending ending = Ending::NotIsolated;
     std::string message;
     int signal = 0;
+    /// The work's memory reached the limit: an allocation failed while it
+    /// had grown by half the limit, or its resident memory grew by half the
+    /// limit. An OutOfMemory ending without it is an allocation of an absurd
+    /// size (a damaged file's), not the limit.
+    bool reachedMemoryLimit = false;
     /// What the work returned (Finished only).
     std::string output;
 };

@@ -277,6 +277,9 @@ std::optional<std::string> reserializeInChildProcess(const std::string& name,
                 stream.setGridStatsMetadataEnabled(false);
                 stream.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK);
                 if (grids) stream.write(openvdb::GridCPtrVec(grids->begin(), grids->end()));
+                // A string stream that cannot grow sets its badbit and keeps
+                // what it has.
+                if (!out) throw std::bad_alloc();
                 return out.str();
             } catch (const std::bad_alloc&) {
                 throw;  // the child's memory limit, told apart by runIsolated()
@@ -295,7 +298,7 @@ std::optional<std::string> reserializeInChildProcess(const std::string& name,
             throw InputError(
                 name, outcome.message.empty() ? "cannot read OpenVDB data" : outcome.message);
         case Ending::OutOfMemory:
-            if (guards.memoryLimit > 0)
+            if (guards.memoryLimit > 0 && outcome.reachedMemoryLimit)
                 throw MemoryLimitError(name +
                                        ": reading its OpenVDB grids needs more than the "
                                        "limit of " +

@@ -60,6 +60,37 @@ TEST(SegmentOptions, BadValuesGiveTheCommandLineMessages) {
     EXPECT_NE(usageMessage({"--no-such-option"}), "no error");
 }
 
+// CLI11 and std::stod read hexadecimal, octal ("0100" was 64) and binary
+// forms; a value typed in one of them by mistake ran another run silently.
+TEST(SegmentOptions, NumbersAreDecimal) {
+    EXPECT_EQ(usageMessage({"--resolution", "0x30"}), "--resolution: '0x30' is not an integer");
+    EXPECT_EQ(usageMessage({"--resolution", "0o60"}), "--resolution: '0o60' is not an integer");
+    EXPECT_EQ(usageMessage({"--threads", "0b10"}), "--threads: '0b10' is not an integer");
+    EXPECT_EQ(usageMessage({"--tau", "0x10"}),
+              "--tau '0x10' is not a number of voxels or a percentage such as 3%");
+    EXPECT_EQ(usageMessage({"--sigma-min", "0x0.8p0"}), "--sigma-min: '0x0.8p0' is not a number");
+    EXPECT_EQ(usageMessage({"--time-limit", "0x10"}),
+              "--time-limit: '0x10' is not a positive number of seconds");
+    EXPECT_EQ(usageMessage({"--max-memory", "0x100M"}),
+              "--max-memory '0x100M' is not a size such as 4G or 512M");
+    // Leading zeros and a plus sign are decimal: 0100 is a hundred.
+    EXPECT_EQ(parseSegmentOptions({"--resolution", "0100"}).resolution, 100);
+    EXPECT_EQ(parseSegmentOptions({"--resolution", "+048"}).resolution, 48);
+    EXPECT_EQ(parseSegmentOptions({"--tau", "1e1%"}).parameters.tau.toString(), "10%");
+    EXPECT_EQ(parseSegmentOptions({"--body-ratio", "5e-1"}).parameters.bodyRatio, 0.5);
+}
+
+// A time past what the clocks hold is refused for that, not called negative.
+TEST(SegmentOptions, TimesPastTheLongestAcceptedSaySo) {
+    EXPECT_EQ(usageMessage({"--time-limit", "1e300"}),
+              "--time-limit: '1e300' is more than the longest time accepted (1e9 seconds)");
+    EXPECT_EQ(usageMessage({"--time-budget", "2e9"}),
+              "--time-budget: '2e9' is more than the longest time accepted (1e9 seconds)");
+    EXPECT_EQ(usageMessage({"--time-limit", "inf"}),
+              "--time-limit: 'inf' is not a positive number of seconds");
+    EXPECT_EQ(parseSegmentOptions({"--time-limit", "9.9e8"}).timeLimitSeconds, 9.9e8);
+}
+
 // Without --joints no joint cut is made, and without levels no level
 // preview is written: a threshold or a flag given for them would change
 // nothing, silently.

@@ -206,3 +206,72 @@ def test_mesh_in_tiny_units_is_segmented(capfd):
     tiny = skelseg.segment_mesh(vertices * 1e-4, faces, resolution=16)
     plain = skelseg.segment_mesh(vertices, faces, resolution=16)
     assert np.array_equal(tiny.face_labels, plain.face_labels)
+
+
+def _binvox_of_zeros(path, side):
+    """A valid binvox of side^3 empty voxels: runs of 255, a few bytes per
+    16 million voxels of the grid it claims."""
+    runs, left = bytearray(), side ** 3
+    while left:
+        count = min(255, left)
+        runs += bytes((0, count))
+        left -= count
+    path.write_bytes(f"#binvox 1\ndim {side} {side} {side}\ndata\n".encode() + bytes(runs))
+
+
+def test_read_volume_refuses_a_grid_over_max_memory_before_allocating_it(capfd, tmp_path):
+    # 400^3 voxels (64 MB of mask) from a file of 1 MB: the CLI's check, on
+    # the mask alone (reading is all the call does).
+    path = tmp_path / "large.binvox"
+    _binvox_of_zeros(path, 400)
+    with pytest.raises(MemoryError, match=rf"^{path}: its grid of 400 x 400 x 400 voxels needs "
+                                          r"64.00 MB, over the limit of 10.00 MB \(max_memory\)$"):
+        skelseg.read_volume(path, max_memory="10M")
+    with pytest.raises(MemoryError, match=r"over the limit of 1.00 MB \(max_memory\)$"):
+        skelseg.read_volume(path, max_memory=10**6)
+    # The control: the same file within the limit (and by default, 75% of
+    # physical memory) is read.
+    assert skelseg.read_volume(path, max_memory="100M").shape == (400, 400, 400)
+    assert not skelseg.read_volume(path).any()
+    check_quiet(capfd)
+
+
+def test_read_volume_keywords_of_the_wrong_kind_are_one_line(capfd, tmp_path):
+    path = tmp_path / "small.binvox"
+    _binvox_of_zeros(path, 4)
+    for keywords, error, message in (
+            ({"grid": 5}, TypeError, r"^grid must be a string or None, not 5$"),
+            ({"with_spacing": "x"}, TypeError, r"^with_spacing must be True or False, not 'x'$"),
+            ({"time_limit": -1}, ValueError,
+             r"^time_limit must be a positive number of seconds, not -1$"),
+            ({"time_limit": "soon"}, ValueError,
+             r"^time_limit must be a positive number of seconds, not 'soon'$"),
+            ({"max_memory": "12Q"}, ValueError, r"^max_memory '12Q': unknown unit 'Q'$"),
+            ({"max_memory": [1]}, TypeError, r"^max_memory must be a number or a string")):
+        with pytest.raises(error, match=message):
+            skelseg.read_volume(path, **keywords)
+    assert skelseg.read_volume(path, time_limit=30, max_memory="1G").shape == (4, 4, 4)
+    check_quiet(capfd)
+
+
+def test_spacing_vertices_and_mask_of_the_wrong_kind_are_refused(capfd):
+    mask = np.zeros((8, 8, 8), dtype=bool)
+    mask[2:6, 2:6, 2:6] = True
+    # A string has three characters that convert: "111" was (1, 1, 1).
+    with pytest.raises(TypeError, match=r"^spacing must be three numbers, not '111'$"):
+        skelseg.segment(mask, spacing="111")
+    with pytest.raises(TypeError, match=r"^spacing must be three numbers"):
+        skelseg.segment(mask, spacing=(1, 1, True))
+    # The volume headers' rule: a voxel volume past the doubles' range.
+    with pytest.raises(ValueError, match=r"^spacing: the voxel volume .* is outside the range"):
+        skelseg.segment(mask, spacing=(1e-300,) * 3)
+    with pytest.raises(TypeError, match=r"^mask must be a 3-D array, not None$"):
+        skelseg.segment(None)
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+    faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    with pytest.raises(TypeError, match=r"^mesh: vertices must be real numbers, not <U"):
+        skelseg.segment_mesh(vertices.astype(str), faces, resolution=16)
+    # The controls: numbers in any sequence are taken.
+    assert skelseg.segment(mask, spacing=np.array([1.0, 2.0, 3.0])).n_segments == 1
+    assert skelseg.segment(mask, spacing=[1, 2, 3]).n_segments == 1
+    check_quiet(capfd)

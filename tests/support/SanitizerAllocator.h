@@ -16,3 +16,9 @@
 #ifndef SKELSEG_TEST_SANITIZER_ALLOCATOR
 #define SKELSEG_TEST_SANITIZER_ALLOCATOR 0
 #endif
+
+/// Skips the test where a failed allocation ends the process instead of
+/// throwing std::bad_alloc.
+#define SKELSEG_SKIP_WHERE_FAILED_ALLOCATIONS_ABORT() \
+    if (SKELSEG_TEST_SANITIZER_ALLOCATOR)             \
+    GTEST_SKIP() << "AddressSanitizer's allocator ends the process on a failed allocation"

@@ -424,9 +424,16 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
     printed.
     """
     arguments = _call_arguments(locals(), progress)
+    if mask is None:
+        raise TypeError("mask must be a 3-D array, not None")
     array = np.asarray(mask)
     if array.dtype.kind == "f" and not array.dtype.isnative:
         array = array.astype(array.dtype.newbyteorder("="))
+    # A string has a length and its characters convert: "111" read as (1, 1, 1).
+    if isinstance(spacing, (str, bytes)) or not all(
+            isinstance(s, numbers.Real) and not isinstance(s, (bool, np.bool_))
+            for s in np.ravel(np.asarray(spacing, dtype=object))):
+        raise TypeError(f"spacing must be three numbers, not {spacing!r}")
     if len(spacing) != 3:
         raise ValueError(f"spacing must have three entries, not {len(spacing)}")
     spacing3 = tuple(float(s) for s in spacing)
@@ -512,8 +519,9 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
     """
     arguments = _call_arguments(locals(), progress)
     vertex_array = np.asarray(vertices)
-    # The cast below would drop imaginary parts with only a ComplexWarning.
-    if vertex_array.dtype.kind == "c":
+    # The cast below would drop imaginary parts with only a ComplexWarning,
+    # and would read text ("1.5") as numbers.
+    if vertex_array.dtype.kind not in "biuf" and vertex_array.size > 0:
         raise TypeError(f"mesh: vertices must be real numbers, not {vertex_array.dtype}")
     vertex_array = np.ascontiguousarray(vertex_array, dtype=np.float64)
     face_array = np.asarray(faces)
@@ -541,17 +549,39 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
 
 
 def read_volume(path: Union[str, os.PathLike], *, grid: Optional[str] = None,
-                with_spacing: bool = False) -> Union[np.ndarray, Tuple[np.ndarray, tuple]]:
+                with_spacing: bool = False, max_memory: Union[None, int, str] = None,
+                time_limit: Optional[float] = None
+                ) -> Union[np.ndarray, Tuple[np.ndarray, tuple]]:
     """Reads a volume file (.nrrd/.nhdr, .binvox, .vdb) as a bool mask.
 
     The array's axis 0 is the file's x (the fastest axis in NRRD): shape
     (nx, ny, nz), Fortran order, the file's voxels without reordering, as
     pynrrd reads them. grid: .vdb only, the grid to read (default: the
     first). with_spacing: also return the voxel spacing per axis.
+    max_memory: bytes or "4G" (None: 75% of physical memory, the CLI's
+    default): a grid whose mask (a byte per voxel) needs more is refused
+    before it is allocated, and an OpenVDB parse may take no more.
+    time_limit: seconds; stops an OpenVDB parse past it (the other formats
+    are read whole: their size is checked before, against max_memory).
 
-    Raises ValueError with the CLI's message ("FILE: no such file", ...).
+    Raises ValueError with the CLI's message ("FILE: no such file", ...),
+    MemoryError over max_memory, TimeoutError past time_limit,
+    KeyboardInterrupt on Ctrl-C during an OpenVDB parse.
     """
-    array, spacing, _origin = _skelseg.read_volume(os.fspath(path), grid or "")
+    if grid is not None and not isinstance(grid, str):
+        raise TypeError(f"grid must be a string or None, not {grid!r}")
+    if not isinstance(with_spacing, (bool, np.bool_)):
+        raise TypeError(f"with_spacing must be True or False, not {with_spacing!r}")
+    memory = "" if max_memory is None else _option_text("max_memory", max_memory)
+    seconds = 0.0
+    if time_limit is not None:
+        try:
+            seconds = float(_option_text("time_limit", time_limit))
+        except ValueError:
+            seconds = math.nan
+        if not (math.isfinite(seconds) and seconds > 0):
+            raise ValueError(f"time_limit must be a positive number of seconds, not {time_limit!r}")
+    array, spacing, _origin = _skelseg.read_volume(os.fspath(path), grid or "", memory, seconds)
     return (array, spacing) if with_spacing else array
 
 

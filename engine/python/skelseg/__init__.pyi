@@ -158,11 +158,21 @@ def segment_mesh(
 ) -> MeshSegmentationResult: ...
 @overload
 def read_volume(
-    path: PathLike, *, grid: Optional[str] = None, with_spacing: Literal[False] = False
+    path: PathLike,
+    *,
+    grid: Optional[str] = None,
+    with_spacing: Literal[False] = False,
+    max_memory: Union[None, int, str] = None,
+    time_limit: Optional[float] = None,
 ) -> npt.NDArray[np.bool_]: ...
 @overload
 def read_volume(
-    path: PathLike, *, grid: Optional[str] = None, with_spacing: Literal[True]
+    path: PathLike,
+    *,
+    grid: Optional[str] = None,
+    with_spacing: Literal[True],
+    max_memory: Union[None, int, str] = None,
+    time_limit: Optional[float] = None,
 ) -> Tuple[npt.NDArray[np.bool_], Tuple[float, float, float]]: ...
 def read_mesh(path: PathLike) -> Mesh: ...
 def read_seg(path: PathLike) -> npt.NDArray[np.int64]: ...

@@ -7,8 +7,10 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -72,9 +74,7 @@ TEST(IsolatedCall, ACrashIsReportedWithItsSignal) {
 }
 
 TEST(IsolatedCall, AllocationBeyondTheMemoryLimitIsOutOfMemory) {
-#if SKELSEG_TEST_SANITIZER_ALLOCATOR
-    GTEST_SKIP() << "AddressSanitizer's allocator ends the process on a failed allocation";
-#endif
+    SKELSEG_SKIP_WHERE_FAILED_ALLOCATIONS_ABORT();
     IsolatedCallOptions options;
     options.memoryLimit = 64u << 20;
     const auto allocate = [] {
@@ -85,6 +85,118 @@ TEST(IsolatedCall, AllocationBeyondTheMemoryLimitIsOutOfMemory) {
     EXPECT_EQ(runIsolated(allocate, options).ending, Ending::OutOfMemory);
     options.memoryLimit = std::uint64_t(4) << 30;  // the control: the same work fits
     EXPECT_EQ(runIsolated(allocate, options).ending, Ending::Finished);
+}
+
+// Work that runs out of memory under the limit may swallow the bad_alloc and
+// fail in another way, or return what it has: either is the limit.
+TEST(IsolatedCall, WorkThatReachedTheLimitIsOutOfMemoryHoweverItEnds) {
+    SKELSEG_SKIP_WHERE_FAILED_ALLOCATIONS_ABORT();
+    IsolatedCallOptions options;
+    options.memoryLimit = 64u << 20;
+    // Grows in blocks of 1 MB, as a parser reading node after node does.
+    const auto growUntilRefused = [] {
+        std::vector<std::unique_ptr<char[]>> blocks;
+        try {
+            for (int i = 0; i < 4096; ++i) {
+                blocks.emplace_back(new char[1u << 20]);
+                std::memset(blocks.back().get(), 1, 1u << 20);
+            }
+        } catch (const std::bad_alloc&) {
+            return blocks.size();
+        }
+        return blocks.size();
+    };
+    const IsolatedCallOutcome swallowed = runIsolated(
+        [&]() -> std::string {
+            growUntilRefused();
+            throw std::runtime_error("read past the end of the data");
+        },
+        options);
+    EXPECT_EQ(swallowed.ending, Ending::OutOfMemory);
+    EXPECT_TRUE(swallowed.reachedMemoryLimit);
+    const IsolatedCallOutcome partial =
+        runIsolated([&] { return std::to_string(growUntilRefused()); }, options);
+    EXPECT_EQ(partial.ending, Ending::OutOfMemory);
+    // malloc's failures reach no new-handler: a null pointer used is a crash.
+    const IsolatedCallOutcome crashed = runIsolated(
+        []() -> std::string {
+            for (int i = 0; i < 4096; ++i) {
+                void* block = std::malloc(1u << 20);
+                if (!block) std::raise(SIGSEGV);
+                std::memset(block, 1, 1u << 20);
+            }
+            return "";
+        },
+        options);
+    EXPECT_EQ(crashed.ending, Ending::OutOfMemory);
+    EXPECT_TRUE(crashed.reachedMemoryLimit);
+    // The control: the same crash with little memory used is a crash.
+    const IsolatedCallOutcome early = runIsolated(
+        []() -> std::string {
+            std::raise(SIGSEGV);
+            return "";
+        },
+        options);
+    EXPECT_EQ(early.ending, Ending::Crashed);
+    EXPECT_FALSE(early.reachedMemoryLimit);
+}
+
+// A damaged file can ask for an absurd size at once: that allocation fails
+// far from the limit, and the caller is told it was not the limit.
+TEST(IsolatedCall, AnAbsurdAllocationIsNotTheLimit) {
+    SKELSEG_SKIP_WHERE_FAILED_ALLOCATIONS_ABORT();
+    IsolatedCallOptions options;
+    options.memoryLimit = std::uint64_t(1) << 30;
+    const IsolatedCallOutcome absurd = runIsolated(
+        [] {
+            std::vector<char> block(std::size_t(1) << 40);
+            return std::string(1, block[0]);
+        },
+        options);
+    EXPECT_EQ(absurd.ending, Ending::OutOfMemory);
+    EXPECT_FALSE(absurd.reachedMemoryLimit);
+    const IsolatedCallOutcome swallowed = runIsolated(
+        []() -> std::string {
+            try {
+                std::vector<char> block(std::size_t(1) << 40);
+            } catch (const std::bad_alloc&) {
+            }
+            throw std::runtime_error("read past the end of the data");
+        },
+        options);
+    EXPECT_EQ(swallowed.ending, Ending::Threw);
+    EXPECT_EQ(swallowed.message, "read past the end of the data");
+}
+
+// Libraries print where they like (c-blosc's "Error allocating memory!" goes
+// to standard output); the caller's streams stay its own.
+TEST(IsolatedCall, TheChildWritesNothingToTheCallersStreams) {
+    int capture[2];
+    ASSERT_EQ(::pipe(capture), 0);
+    std::fflush(stdout);
+    std::fflush(stderr);
+    const int savedOut = ::dup(STDOUT_FILENO), savedErr = ::dup(STDERR_FILENO);
+    ::dup2(capture[1], STDOUT_FILENO);
+    ::dup2(capture[1], STDERR_FILENO);
+    const IsolatedCallOutcome outcome = runIsolated([] {
+        std::printf("to standard output\n");
+        std::fprintf(stderr, "to standard error\n");
+        std::fflush(nullptr);
+        return std::string("done");
+    });
+    ::dup2(savedOut, STDOUT_FILENO);
+    ::dup2(savedErr, STDERR_FILENO);
+    ::close(savedOut);
+    ::close(savedErr);
+    ::close(capture[1]);
+    std::string written;
+    char buffer[256];
+    for (ssize_t n; (n = ::read(capture[0], buffer, sizeof buffer)) > 0;)
+        written.append(buffer, std::size_t(n));
+    ::close(capture[0]);
+    EXPECT_EQ(outcome.ending, Ending::Finished);
+    EXPECT_EQ(outcome.output, "done");
+    EXPECT_EQ(written, "");
 }
 
 TEST(IsolatedCall, TheInterrupterStopsWorkThatRunsOn) {
