@@ -823,6 +823,10 @@ INSTANTIATE_TEST_SUITE_P(
                   {"batch", "{input}", "-o", "{out}", "--tau", "1%,3%", "--level-previews",
                    "--no-preview"},
                   "--level-previews contradicts --no-preview"},
+        // An empty --shard ran the whole manifest, as no --shard does.
+        UsageCase{"shard_empty",
+                  {"batch", "{input}", "-o", "{out}", "--shard", ""},
+                  "--shard: the value is empty; give I/N, e.g. 0/4"},
         UsageCase{"shard_contradicts_shards",
                   {"batch", "{input}", "-o", "{out}", "--shard", "0/2", "--shards", "3"},
                   "--shard 0/2 contradicts --shards 3"},
