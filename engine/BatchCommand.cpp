@@ -25,6 +25,7 @@
 #include "engine/batch/FreedMemoryReuse.h"
 #include "engine/batch/InputMemoryEstimate.h"
 #include "engine/batch/MemoryBudget.h"
+#include "engine/batch/OutputFolderClaim.h"
 #include "engine/batch/StagingCleanup.h"
 #include "io/files/OutputDirectory.h"
 #include "io/volume/VolumeReader.h"
@@ -81,16 +82,25 @@ FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
     char* captured = nullptr;
     std::size_t capturedSize = 0;
     std::FILE* messages = ::open_memstream(&captured, &capturedSize);
+    std::optional<OutputFolderClaim> claim;
     try {
-        // The marker goes first: a run killed from here on leaves the input
-        // not done, whatever outputs it replaced.
-        removeDoneMarker(outdir);
+        DoneMarker& marker = finished.marker;
+        marker.skelsegVersion = versionString();
+        marker.input = job.input.input;
+        std::error_code ec;
+        marker.absoluteInput = fs::absolute(job.input.input, ec).lexically_normal();
+        marker.fingerprint = fingerprintFile(job.input.input);
+        marker.options = optionsText;
+        marker.run = runIdentity();
+        // The pending marker goes in before the done marker goes: a run
+        // killed from here on leaves the input not done, and the folder the
+        // batch's to redo.
+        claim = claimOutputFolder(outdir, marker, options.segment.force);
         removeStagingLeftovers(outdir);
-        const InputFingerprint fingerprint = fingerprintFile(job.input.input);
         SegmentCommandOptions segment = options.segment;
         segment.input = job.input.input;
         segment.outdir = outdir;
-        segment.force = true;  // the folder is the batch's; earlier outputs are redone
+        segment.force = true;  // claimed: the earlier outputs are the batch's, or --force
         {
             ProgressReporter reporter(ProgressReporter::Display::Quiet, segment.timeLimitSeconds,
                                       messages ? messages : stderr);
@@ -98,12 +108,6 @@ FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
         }
         entry.status = "done";
         readReportFigures(outdir, entry);
-        DoneMarker& marker = finished.marker;
-        marker.skelsegVersion = versionString();
-        marker.input = job.input.input;
-        marker.fingerprint = fingerprint;
-        marker.options = optionsText;
-        marker.run = runIdentity();
         marker.parts = entry.parts;
         marker.wallSeconds = entry.wallSeconds;
         marker.cpuSeconds = entry.cpuSeconds;
@@ -122,9 +126,11 @@ FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
         entry.status = "failed";
         entry.error = job.input.input.string() + ": internal error: " + error.what();
     }
-    if (entry.status == "failed")
+    if (entry.status == "failed") {
+        if (claim) releaseOutputFolder(outdir, *claim);
         entry.wallSeconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
     if (messages) {
         std::fclose(messages);
         finished.warnings.assign(captured, capturedSize);
@@ -261,6 +267,9 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
                     entry.peakMemoryBytes = marker->peakMemoryBytes;
                     entry.finishedAt = marker->finishedAt;
                     removeStagingLeftovers(outdir);
+                    // Left by a batch killed between the two markers.
+                    std::error_code ignored;
+                    fs::remove(outdir / kPendingMarkerName, ignored);
                     continue;
                 }
             }
@@ -310,6 +319,7 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
                 finished.marker.finishedAt = utcTimestamp();
                 try {
                     writeDoneMarker(options.outroot / entry.name, finished.marker);
+                    removeDoneMarker(options.outroot / entry.name, kPendingMarkerName);
                 } catch (const Error& error) {
                     entry.status = "failed";
                     entry.error = error.what();

@@ -27,11 +27,29 @@ namespace fs = std::filesystem;
 
 namespace skelseg {
 
+const OutputLayout& segmentOutputLayout() {
+    static const OutputLayout layout = [] {
+        // levels/k/ as engine/SegmentOutput.cpp writes it.
+        auto level = std::make_shared<OutputLayout>(
+            OutputLayout{"labels.nrrd", "cuts.ply", "segmentation.seg", "preview.png"});
+        auto levels = std::make_shared<OutputLayout>();
+        const auto isLevelNumber = [](const std::string& name) {
+            return !name.empty() && name.size() <= 9 &&
+                   name.find_first_not_of("0123456789") == std::string::npos &&
+                   (name == "0" || name[0] != '0');
+        };
+        levels->folders.push_back({"", isLevelNumber, level});
+        OutputLayout top{"labels.nrrd",  "labels.vdb",  "skeleton.ply",  "cuts.ply",
+                         "segments.ply", "preview.png", "report.json",   "segmentation.seg",
+                         "segments.glb", "viewer.html", "hierarchy.json"};
+        top.folders.push_back({"levels", {}, levels});
+        return top;
+    }();
+    return layout;
+}
+
 const std::vector<std::string>& segmentOutputNames() {
-    static const std::vector<std::string> names = {
-        "labels.nrrd",  "labels.vdb",  "skeleton.ply", "cuts.ply",
-        "segments.ply", "preview.png", "report.json",  "segmentation.seg",
-        "segments.glb", "viewer.html", "levels",       "hierarchy.json"};
+    static const std::vector<std::string> names = segmentOutputLayout().names();
     return names;
 }
 
@@ -263,7 +281,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     refuseInputAmongOutputs(options);
     checkInputFileSize(options.input, inputOptions.memoryLimit);
     // Refuse to clobber earlier results before doing any work.
-    OutputDirectory out(options.outdir, options.force, segmentOutputNames());
+    OutputDirectory out(options.outdir, options.force, segmentOutputLayout());
     // An earlier hierarchy run's levels would contradict this run's outputs.
     if (options.parameters.levelCount() < 2) {
         out.removeOnCommit("levels");

@@ -45,6 +45,7 @@
 #include "engine/ProgressReporter.h"
 #include "engine/SegmentInput.h"
 #include "engine/Segmenter.h"
+#include "io/files/OutputLayout.h"
 
 namespace skelseg {
 
@@ -78,6 +79,12 @@ struct SegmentCommandOptions {
 
 /// Every file name a run may write into OUTDIR.
 const std::vector<std::string>& segmentOutputNames();
+
+/// What a run writes into OUTDIR: the files of segmentOutputNames() and the
+/// folder levels/, which holds level folders named 0, 1, ... of labels.nrrd,
+/// cuts.ply, segmentation.seg and preview.png. --force replaces only an OUTDIR
+/// whose outputs hold nothing else (io/files/OutputLayout.h).
+const OutputLayout& segmentOutputLayout();
 
 /// Default memory cap: 75% of physical memory.
 std::uint64_t defaultMemoryLimit();

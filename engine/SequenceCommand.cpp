@@ -1,6 +1,7 @@
 #include "engine/SequenceCommand.h"
 
 #include <algorithm>
+#include <memory>
 #include <set>
 #include <string>
 
@@ -16,8 +17,23 @@ namespace skelseg {
 
 namespace fs = std::filesystem;
 
+const OutputLayout& sequenceOutputLayout() {
+    static const OutputLayout layout = [] {
+        auto frames = std::make_shared<OutputLayout>();
+        const auto isFrameName = [](const std::string& name) {
+            return name.find_first_not_of('.') != std::string::npos;
+        };
+        frames->folders.push_back(
+            {"", isFrameName, std::make_shared<OutputLayout>(segmentOutputLayout())});
+        OutputLayout top{"segmentation.seg", "sequence.json"};
+        top.folders.push_back({"frames", {}, frames});
+        return top;
+    }();
+    return layout;
+}
+
 const std::vector<std::string>& sequenceOutputNames() {
-    static const std::vector<std::string> names = {"frames", "segmentation.seg", "sequence.json"};
+    static const std::vector<std::string> names = sequenceOutputLayout().names();
     return names;
 }
 
@@ -80,7 +96,7 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
 
 void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter& progress) {
     const std::vector<std::string> names = checkFrames(options);
-    OutputDirectory out(options.outdir, options.segment.force, sequenceOutputNames());
+    OutputDirectory out(options.outdir, options.segment.force, sequenceOutputLayout());
     try {
         const fs::path staged = out.stagingPath("frames");
         fs::create_directories(staged);

@@ -37,6 +37,11 @@ struct SequenceCommandOptions {
 /// Every name the command may write into OUTDIR.
 const std::vector<std::string>& sequenceOutputNames();
 
+/// What the command writes into OUTDIR: segmentation.seg, sequence.json and
+/// frames/, whose folders (one per frame, of any name) each hold what
+/// `segment` writes (segmentOutputLayout()).
+const OutputLayout& sequenceOutputLayout();
+
 /// Runs the command; `progress` carries its own lines, each frame gets a
 /// reporter of its own (its time limit counts from the frame's start).
 /// @throw UsageError for fewer than two frames, a frame that is not a mesh,

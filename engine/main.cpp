@@ -63,9 +63,18 @@ int main(int argc, char** argv) {
         ->check(nonEmptyPath);
     batch->add_option("-o,--output", outrootText, "Output root: one folder per input")
         ->check(nonEmptyPath);
-    batch->add_option("--shard", shardText,
-                      "Process share I of N (0 <= I < N), e.g. 0/4; default: from "
-                      "SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX, else all");
+    // An empty --shard ran the whole manifest, as if no option were given: a
+    // job script whose variable was unset ran every input in every task.
+    const CLI::Validator nonEmptyShare(
+        [](std::string& text) -> std::string {
+            return text.empty() ? "the value is empty; give I/N, e.g. 0/4" : "";
+        },
+        "");
+    batch
+        ->add_option("--shard", shardText,
+                     "Process share I of N (0 <= I < N), e.g. 0/4; default: from "
+                     "SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX, else all")
+        ->check(nonEmptyShare);
     batch
         ->add_option("--shards", shards,
                      "Number of shares when the index comes from JOB_COMPLETION_INDEX "

@@ -10,6 +10,7 @@
 
 #include "engine/Version.h"
 #include "engine/batch/DoneMarker.h"
+#include "engine/batch/JsonFields.h"
 #include "io/files/OutputDirectory.h"
 #include "kernels/base/Error.h"
 
@@ -33,18 +34,18 @@ json entryJson(const BatchEntry& e) {
             {"finished_at", e.finishedAt}};
 }
 
-BatchEntry entryFromJson(const json& j) {
+BatchEntry entryFromJson(const JsonFields& j) {
     BatchEntry e;
-    e.name = j.at("name").get<std::string>();
-    e.input = j.at("input").get<std::string>();
-    e.status = j.at("status").get<std::string>();
-    e.parts = j.value("parts", std::uint64_t(0));
-    e.wallSeconds = j.value("wall_seconds", 0.0);
-    e.cpuSeconds = j.value("cpu_seconds", 0.0);
-    e.peakMemoryBytes = j.value("peak_memory_bytes", std::uint64_t(0));
-    e.estimatedMemoryBytes = j.value("estimated_memory_bytes", std::uint64_t(0));
-    e.error = j.value("error", std::string());
-    e.finishedAt = j.value("finished_at", std::string());
+    e.name = j.text("name");
+    e.input = j.text("input");
+    e.status = j.text("status");
+    e.parts = j.count("parts", 0);
+    e.wallSeconds = j.number("wall_seconds", 0.0);
+    e.cpuSeconds = j.number("cpu_seconds", 0.0);
+    e.peakMemoryBytes = j.count("peak_memory_bytes", 0);
+    e.estimatedMemoryBytes = j.count("estimated_memory_bytes", 0);
+    e.error = j.text("error", std::string());
+    e.finishedAt = j.text("finished_at", std::string());
     return e;
 }
 
@@ -62,6 +63,57 @@ std::string formatSeconds(double seconds) {
     char text[32];
     std::snprintf(text, sizeof text, "%.3f", seconds);
     return text;
+}
+
+/// The manifest paths name one file: the same text, or paths to the same
+/// file from here (the tasks of one job may spell it differently).
+bool isSameManifest(const fs::path& a, const fs::path& b) {
+    if (a.lexically_normal() == b.lexically_normal()) return true;
+    std::error_code ec;
+    return fs::equivalent(a, b, ec) && !ec;
+}
+
+/// The first option in which the options texts `a` and `b` (JSON objects)
+/// differ: "tau is \"5%\", not \"3%\"", "grid is missing".
+std::string optionDifference(const std::string& a, const std::string& b) {
+    const json first = json::parse(a), second = json::parse(b);
+    auto show = [](const json& options, const std::string& key) {
+        return options.contains(key) ? options.at(key).dump() : std::string("unset");
+    };
+    std::set<std::string> keys;
+    for (const json* options : {&first, &second})
+        if (options->is_object())
+            for (const auto& item : options->items()) keys.insert(item.key());
+    for (const auto& key : keys)
+        if (show(first, key) != show(second, key))
+            return key + " is " + show(first, key) + ", not " + show(second, key);
+    return "written differently";
+}
+
+/// Throws InputError naming `file` when its summary is of another batch than
+/// `reference`'s (the newest file's): another manifest (path or names), other
+/// options or another skelseg. Combined, one input's record would stand for
+/// another's results, made another way: the second of two manifests sharing
+/// an output name replaced the first's folder, and the merge called it done.
+void refuseAnotherBatch(const fs::path& file, const BatchSummary& summary,
+                        const fs::path& referenceFile, const BatchSummary& reference) {
+    std::string difference;
+    if (!isSameManifest(summary.manifest, reference.manifest))
+        difference =
+            "its manifest is " + summary.manifest.string() + ", not " + reference.manifest.string();
+    else if (summary.manifestNames != reference.manifestNames)
+        difference = "its manifest lists other inputs (manifest_names)";
+    else if (summary.options != reference.options)
+        difference =
+            "its options differ (" + optionDifference(summary.options, reference.options) + ")";
+    else if (summary.skelsegVersion != reference.skelsegVersion)
+        difference = "it was written by skelseg " + summary.skelsegVersion + ", not " +
+                     reference.skelsegVersion;
+    if (difference.empty()) return;
+    throw InputError(file.string(), "is of another batch than " + referenceFile.string() + ": " +
+                                        difference +
+                                        "; merge only the shards of one batch (same manifest, "
+                                        "options and skelseg version)");
 }
 
 }  // namespace
@@ -106,28 +158,27 @@ void writeBatchSummary(const fs::path& outroot, const std::string& stem,
 }
 
 BatchSummary readBatchSummary(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw InputError(file.string(), "cannot be read");
-    try {
-        const json j = json::parse(in);
-        BatchSummary s;
-        s.skelsegVersion = j.at("skelseg_version").get<std::string>();
-        s.manifest = j.at("manifest").get<std::string>();
-        s.shard.index = j.at("shard").at("index").get<int>();
-        s.shard.count = j.at("shard").at("count").get<int>();
-        s.options = j.at("options").dump();
-        s.run = j.value("run", std::string());
-        s.startedAt = j.value("started_at", std::string());
-        s.updatedAt = j.value("updated_at", std::string());
-        s.complete = j.value("complete", false);
-        s.wallSeconds = j.value("wall_seconds", 0.0);
-        s.manifestNames = j.at("manifest_names").get<std::vector<std::string>>();
-        for (const auto& e : j.at("entries")) s.entries.push_back(entryFromJson(e));
-        return s;
-    } catch (const std::exception& error) {
-        throw InputError(file.string(),
-                         std::string("not a skelseg batch summary: ") + error.what());
-    }
+    const std::string prefix = "not a skelseg batch summary: ";
+    const json document = readJsonFile(file, prefix);
+    const JsonFields j(document, file.string(), prefix);
+    BatchSummary s;
+    s.skelsegVersion = j.text("skelseg_version");
+    s.manifest = j.text("manifest");
+    const JsonFields shard = j.object("shard");
+    s.shard.index = shard.integer("index");
+    s.shard.count = shard.integer("count");
+    s.options = j.any("options").dump();
+    s.run = j.text("run", std::string());
+    s.startedAt = j.text("started_at", std::string());
+    s.updatedAt = j.text("updated_at", std::string());
+    s.complete = j.flag("complete", false);
+    s.wallSeconds = j.number("wall_seconds", 0.0);
+    s.manifestNames = j.texts("manifest_names");
+    std::size_t number = 0;
+    for (const auto& e : j.array("entries"))
+        s.entries.push_back(entryFromJson(
+            JsonFields(e, file.string(), prefix, "entry " + std::to_string(++number) + ": ")));
+    return s;
 }
 
 MergeResult mergeBatchSummaries(const fs::path& outroot) {
@@ -167,6 +218,9 @@ MergeResult mergeBatchSummaries(const fs::path& outroot) {
         shards.begin(), shards.end(),
         [](const auto& a, const auto& b) { return a.second.updatedAt < b.second.updatedAt; });
     const int shardCount = newest->second.shard.count;
+    for (const auto& [path, summary] : shards)
+        if (summary.shard.count == shardCount)
+            refuseAnotherBatch(path, summary, newest->first, newest->second);
     std::map<std::string, BatchEntry> byName;
     std::set<int> present;
     std::vector<std::string> names;

@@ -65,14 +65,27 @@ bool DoneMarker::matches(const InputFingerprint& current, const std::string& cur
     return skelsegVersion == versionString() && fingerprint == current && options == currentOptions;
 }
 
-std::optional<DoneMarker> readDoneMarker(const fs::path& directory) {
-    std::ifstream in(directory / kDoneMarkerName, std::ios::binary);
+bool DoneMarker::isOf(const fs::path& path) const {
+    if (input.lexically_normal() == path.lexically_normal()) return true;
+    std::error_code ec;
+    const fs::path absolutePath = fs::absolute(path, ec).lexically_normal();
+    if (!absoluteInput.empty() && !ec && absoluteInput.lexically_normal() == absolutePath)
+        return true;
+    // A relative path of the marker's is read from this working directory,
+    // which may not be the batch's that wrote it: the absolute one first.
+    const fs::path recorded = absoluteInput.empty() ? input : absoluteInput;
+    return fs::equivalent(recorded, path, ec) && !ec;
+}
+
+std::optional<DoneMarker> readDoneMarker(const fs::path& directory, const char* fileName) {
+    std::ifstream in(directory / fileName, std::ios::binary);
     if (!in) return std::nullopt;
     try {
         const json j = json::parse(in);
         DoneMarker marker;
         marker.skelsegVersion = j.at("skelseg_version").get<std::string>();
         marker.input = j.at("input").at("path").get<std::string>();
+        marker.absoluteInput = j.at("input").value("absolute_path", std::string());
         marker.fingerprint.bytes = j.at("input").at("bytes").get<std::uint64_t>();
         marker.fingerprint.crc32 =
             std::uint32_t(std::stoul(j.at("input").at("crc32").get<std::string>(), nullptr, 16));
@@ -89,10 +102,10 @@ std::optional<DoneMarker> readDoneMarker(const fs::path& directory) {
     }
 }
 
-void writeDoneMarker(const fs::path& directory, const DoneMarker& marker) {
+void writeDoneMarker(const fs::path& directory, const DoneMarker& marker, const char* fileName) {
     char crc[16];
     std::snprintf(crc, sizeof crc, "%08x", marker.fingerprint.crc32);
-    const json j = {
+    json j = {
         {"skelseg_version", marker.skelsegVersion},
         {"input",
          {{"path", marker.input.string()}, {"bytes", marker.fingerprint.bytes}, {"crc32", crc}}},
@@ -103,16 +116,15 @@ void writeDoneMarker(const fs::path& directory, const DoneMarker& marker) {
         {"wall_seconds", marker.wallSeconds},
         {"cpu_seconds", marker.cpuSeconds},
         {"peak_memory_bytes", marker.peakMemoryBytes}};
-    writeFileAtomically(directory / kDoneMarkerName,
+    if (!marker.absoluteInput.empty()) j["input"]["absolute_path"] = marker.absoluteInput.string();
+    writeFileAtomically(directory / fileName,
                         j.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
 }
 
-void removeDoneMarker(const fs::path& directory) {
+void removeDoneMarker(const fs::path& directory, const char* fileName) {
     std::error_code ec;
-    fs::remove(directory / kDoneMarkerName, ec);
-    if (ec)
-        throw OutputError((directory / kDoneMarkerName).string() +
-                          ": cannot remove: " + ec.message());
+    fs::remove(directory / fileName, ec);
+    if (ec) throw OutputError((directory / fileName).string() + ": cannot remove: " + ec.message());
 }
 
 std::string utcTimestamp() {

@@ -2,13 +2,19 @@
 //
 // The batch writes it after `segment` has committed the outputs, through a
 // temporary file and rename(2), so a folder holding it holds complete
-// outputs. It records what the outputs were made from: the input's size and
-// CRC-32 (zlib's; a change detector, not a security hash), the skelseg
-// version and the options that change the outputs (not --threads, --quiet,
-// --time-limit or --max-memory: the outputs are the same for any of those). A
-// re-run skips an input whose marker matches all three and redoes it
-// otherwise; before redoing, the marker is removed first, so a run killed
-// while redoing leaves no marker behind.
+// outputs. It records what the outputs were made from: the input's path
+// (as the manifest gave it, and absolute), size and CRC-32 (zlib's; a change
+// detector, not a security hash), the skelseg version and the options that
+// change the outputs (not --threads, --quiet, --time-limit or --max-memory:
+// the outputs are the same for any of those). A re-run skips an input whose
+// marker matches size, CRC, version and options, and redoes it otherwise.
+//
+// The pending marker, OUTROOT/<name>/.pending.json, has the same format and
+// says "the batch is making this folder for this input". The batch writes it
+// before it segments an input and removes done.json after it, so a run
+// killed while (re)doing an input leaves no done.json but a record that the
+// folder's outputs are the batch's (engine/batch/OutputFolderClaim.h);
+// done.json replaces it when the input is done.
 #pragma once
 
 #include <cstdint>
@@ -21,6 +27,7 @@
 namespace skelseg {
 
 inline constexpr const char* kDoneMarkerName = "done.json";
+inline constexpr const char* kPendingMarkerName = ".pending.json";
 
 struct InputFingerprint {
     std::uint64_t bytes = 0;
@@ -42,7 +49,8 @@ std::string outputAffectingOptions(const SegmentCommandOptions& options);
 
 struct DoneMarker {
     std::string skelsegVersion;
-    std::filesystem::path input;
+    std::filesystem::path input;          // as the manifest gave it
+    std::filesystem::path absoluteInput;  // absolute; empty in markers that predate it
     InputFingerprint fingerprint;
     std::string options;     // outputAffectingOptions()
     std::string finishedAt;  // UTC, ISO 8601
@@ -54,17 +62,25 @@ struct DoneMarker {
     /// True if outputs made under this marker are what a run with
     /// `fingerprint`, `options` and this skelseg would make.
     bool matches(const InputFingerprint& current, const std::string& currentOptions) const;
+    /// True if the marker was written for the file `path` names: the same
+    /// path (the manifest's or, from any working directory, the absolute
+    /// one), or a path to the same file.
+    bool isOf(const std::filesystem::path& path) const;
 };
 
-/// The marker in `directory`, or nullopt if there is none or it cannot be
-/// parsed (a marker that cannot be trusted means "not done").
-std::optional<DoneMarker> readDoneMarker(const std::filesystem::path& directory);
+/// The marker `fileName` in `directory`, or nullopt if there is none or it
+/// cannot be parsed (a marker that cannot be trusted means "not done").
+std::optional<DoneMarker> readDoneMarker(const std::filesystem::path& directory,
+                                         const char* fileName = kDoneMarkerName);
 
-/// Writes the marker atomically. @throw OutputError.
-void writeDoneMarker(const std::filesystem::path& directory, const DoneMarker& marker);
+/// Writes the marker `fileName` atomically. @throw OutputError.
+void writeDoneMarker(const std::filesystem::path& directory, const DoneMarker& marker,
+                     const char* fileName = kDoneMarkerName);
 
-/// Removes the marker if present. @throw OutputError if it exists and cannot be removed.
-void removeDoneMarker(const std::filesystem::path& directory);
+/// Removes the marker `fileName` if present. @throw OutputError if it exists
+/// and cannot be removed.
+void removeDoneMarker(const std::filesystem::path& directory,
+                      const char* fileName = kDoneMarkerName);
 
 /// Current UTC time as "2026-11-30T05:41:07Z".
 std::string utcTimestamp();

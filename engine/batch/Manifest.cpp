@@ -278,6 +278,14 @@ std::optional<ShardSpec> shardFromEnvironment(
             throw UsageError("Slurm array task " + std::to_string(*task) +
                              " is outside the array (min " + std::to_string(minimum) + ", count " +
                              std::to_string(*count) + ")");
+        // Between two steps the division took the share of the task below:
+        // two tasks did one share and none did the other.
+        if ((*task - minimum) % step != 0)
+            throw UsageError(
+                "SLURM_ARRAY_TASK_ID=" + std::to_string(*task) +
+                " is not on the array's steps (SLURM_ARRAY_TASK_MIN=" + std::to_string(minimum) +
+                ", SLURM_ARRAY_TASK_STEP=" + std::to_string(step) +
+                "): the ids are MIN + k * STEP; pass --shard I/N");
         return spec;
     }
     if (const auto index = value("JOB_COMPLETION_INDEX")) {

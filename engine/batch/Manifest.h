@@ -83,7 +83,8 @@ struct ShardSpec {
 ///   Kubernetes Indexed Jobs: JOB_COMPLETION_INDEX, with `shardsOption`
 ///   (--shards N) giving the count (the Job's completions).
 /// Returns nullopt when neither is set. @throw UsageError for inconsistent
-/// values (an index outside the count, JOB_COMPLETION_INDEX without --shards).
+/// values (an index outside the count, a Slurm task id not on MIN + k * STEP,
+/// JOB_COMPLETION_INDEX without --shards).
 std::optional<ShardSpec> shardFromEnvironment(
     const std::function<const char*(const char*)>& environment, int shardsOption);
 

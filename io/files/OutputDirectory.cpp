@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cerrno>
 #include <system_error>
+#include <utility>
 
 #include "io/files/TextFile.h"
 #include "kernels/base/Error.h"
@@ -29,18 +30,44 @@ bool isStagingDirectoryName(const std::string& fileName) {
     return fileName.rfind(kStagingPrefix, 0) == 0;
 }
 
-OutputDirectory::OutputDirectory(const fs::path& outdir, bool force,
-                                 const std::vector<std::string>& outputNames)
-    : mDirectory(outdir) {
+namespace {
+
+/// Throws UsageError naming what no run writes, if `outdir / name` holds any.
+void refuseForeignEntry(const fs::path& outdir, const std::string& name,
+                        const OutputLayout& layout) {
+    const auto foreign = foreignEntry(outdir, name, layout);
+    if (!foreign) return;
+    const std::string advice = "; move it away or choose another output directory";
+    if (*foreign == outdir / name) {
+        const bool isFile =
+            std::find(layout.files.begin(), layout.files.end(), name) != layout.files.end();
+        throw UsageError(foreign->string() + ": not written by skelseg (skelseg writes a " +
+                         (isFile ? "file" : "folder") + " of this name), and a run in " +
+                         outdir.string() + " replaces it" + advice);
+    }
+    throw UsageError(foreign->string() + ": not written by skelseg, but inside " + name +
+                     "/, which a run in " + outdir.string() + " replaces" + advice);
+}
+
+}  // namespace
+
+void checkEarlierOutputs(const fs::path& outdir, const OutputLayout& layout, bool force) {
+    const std::vector<std::string> names = layout.names();
+    // What is the user's first, so that no message calls it an earlier result.
+    for (const auto& name : names) refuseForeignEntry(outdir, name, layout);
+    if (force) return;
+    std::error_code ec;
+    for (const auto& name : names)
+        if (fs::exists(fs::symlink_status(outdir / name, ec)))
+            throw UsageError(outdir.string() + ": holds results of an earlier run (" + name +
+                             "); use --force to replace them");
+}
+
+OutputDirectory::OutputDirectory(const fs::path& outdir, bool force, OutputLayout layout)
+    : mDirectory(outdir), mLayout(std::move(layout)) {
     std::error_code ec;
     checkOutputDirectoryPath(outdir);
-    auto refuseEarlierResults = [&] {
-        if (force) return;
-        for (const auto& name : outputNames)
-            if (fs::exists(outdir / name, ec))
-                throw UsageError(outdir.string() + ": holds results of an earlier run (" + name +
-                                 "); use --force to replace them");
-    };
+    auto refuseEarlierResults = [&] { checkEarlierOutputs(outdir, mLayout, force); };
     refuseEarlierResults();
     // Remember which directories this run creates: a run that fails removes
     // them again (if still empty), so bad input leaves no trace.
@@ -162,6 +189,11 @@ void OutputDirectory::commit() {
         }
         movedAside.push_back(name);
     };
+    // Checked again here: a run takes minutes, and a file put into levels/
+    // meanwhile would go with it.
+    for (const auto& name : mObsolete) refuseForeignEntry(mDirectory, name, mLayout);
+    for (const auto& name : mStaged)
+        if (fs::exists(mStaging / name, ec)) refuseForeignEntry(mDirectory, name, mLayout);
     for (const auto& name : mObsolete)
         if (std::find(mStaged.begin(), mStaged.end(), name) == mStaged.end())
             moveAside(name, "remove the earlier run's output");

@@ -16,6 +16,11 @@
 // run killed by SIGKILL or a power cut leaves one); the constructor removes
 // them. Where the file system has no locks (some network mounts), runs are
 // not guarded and leftovers stay.
+//
+// The outputs are those of an OutputLayout (io/files/OutputLayout.h): a run
+// replaces, with --force, only what a run writes. An output holding anything
+// else (a user's folder named levels/, a note inside an earlier levels/) is
+// refused with and without --force, and is never moved or removed.
 #pragma once
 
 #include <filesystem>
@@ -23,16 +28,18 @@
 #include <string>
 #include <vector>
 
+#include "io/files/OutputLayout.h"
+
 namespace skelseg {
 
 class OutputDirectory {
 public:
-    /// Opens (creating if needed) OUTDIR and locks it. Throws UsageError if
-    /// OUTDIR holds files from an earlier run (any name in `outputNames`
-    /// exists) and `force` is false, if OUTDIR is an existing non-directory,
-    /// or if another process holds its lock (a run writing to it).
-    OutputDirectory(const std::filesystem::path& outdir, bool force,
-                    const std::vector<std::string>& outputNames);
+    /// Opens (creating if needed) OUTDIR and locks it. Throws UsageError
+    /// where checkEarlierOutputs() does (an output of `layout` holding what no
+    /// run writes; without `force`, any earlier output), if OUTDIR is an
+    /// existing non-directory, or if another process holds its lock (a run
+    /// writing to it).
+    OutputDirectory(const std::filesystem::path& outdir, bool force, OutputLayout layout);
     ~OutputDirectory();
     OutputDirectory(const OutputDirectory&) = delete;
     OutputDirectory& operator=(const OutputDirectory&) = delete;
@@ -49,7 +56,9 @@ public:
     /// Moves every staged file to OUTDIR/name and removes the names marked
     /// by removeOnCommit(). Throws OutputError on failure, after putting back
     /// the earlier outputs it had moved aside (a crash in between leaves them
-    /// in the staging directory, which the next run on OUTDIR removes).
+    /// in the staging directory, which the next run on OUTDIR removes), and
+    /// UsageError, changing nothing, when an output it would replace or
+    /// remove now holds what no run writes (put there while this run ran).
     void commit();
     /// Drops everything staged (also done by the destructor if not committed),
     /// and removes OUTDIR again if this object created it and it is empty.
@@ -65,6 +74,7 @@ public:
 
 private:
     std::filesystem::path mDirectory, mStaging;
+    OutputLayout mLayout;
     std::mutex mStagedMutex;  // guards mStaged
     std::vector<std::string> mStaged;
     std::vector<std::string> mObsolete;  // removed by commit(); guarded by mStagedMutex
@@ -84,6 +94,14 @@ private:
 /// link to nothing, which no run can create a directory through (and which a
 /// failed run took for a folder of its own, and removed).
 void checkOutputDirectoryPath(const std::filesystem::path& outdir);
+
+/// Throws UsageError when `outdir` holds an output of `layout` that a run may
+/// not replace: one at or in which foreignEntry() finds what no run writes
+/// (with or without `force`: "OUT/levels/notes.txt: not written by skelseg
+/// ..."), or, without `force`, any earlier output ("holds results of an
+/// earlier run (report.json); use --force to replace them"). Changes nothing.
+void checkEarlierOutputs(const std::filesystem::path& outdir, const OutputLayout& layout,
+                         bool force);
 
 /// The output of `outputNames` in `outdir` whose writing would replace or
 /// remove `file` (`file` is that output, or lies inside that output directory,

@@ -823,6 +823,10 @@ INSTANTIATE_TEST_SUITE_P(
                   {"batch", "{input}", "-o", "{out}", "--tau", "1%,3%", "--level-previews",
                    "--no-preview"},
                   "--level-previews contradicts --no-preview"},
+        // An empty --shard ran the whole manifest, as no --shard does.
+        UsageCase{"shard_empty",
+                  {"batch", "{input}", "-o", "{out}", "--shard", ""},
+                  "--shard: the value is empty; give I/N, e.g. 0/4"},
         UsageCase{"shard_contradicts_shards",
                   {"batch", "{input}", "-o", "{out}", "--shard", "0/2", "--shards", "3"},
                   "--shard 0/2 contradicts --shards 3"},
@@ -1417,6 +1421,58 @@ TEST(Outputs, OneEarlierOutputIsEnoughToRefuse) {
     EXPECT_TRUE(failsWithOneLine(refused, 2, (dir / "out").string(), "preview.png"));
     EXPECT_EQ(fileBytes(dir / "out" / "preview.png"), "earlier");
     EXPECT_EQ(directoryEntries(dir / "out"), std::vector<std::string>{"preview.png"});
+}
+
+// A folder of the user's called levels/ was taken for an earlier run's:
+// "holds results of an earlier run (levels)", and --force removed it with
+// everything in it (finding 1 of the robustness hunt).
+TEST(Outputs, AUsersFolderNamedLevelsIsNeverRemovedEvenWithForce) {
+    TempDir dir;
+    const fs::path input = dir / "box.nrrd";
+    writeNrrdMask(input, makeMask(Dims{8, 8, 8}, [](int x, int, int) { return x > 2; }));
+    const fs::path out = dir / "out";
+    fs::create_directories(out / "levels" / "world1");
+    writeBytes(out / "levels" / "world1" / "map.txt", "precious");
+    for (const std::vector<std::string>& extra :
+         {std::vector<std::string>{}, std::vector<std::string>{"--force"}}) {
+        SCOPED_TRACE(extra.empty() ? "without --force" : "with --force");
+        const CliResult result = runSegment(input, out, extra);
+        EXPECT_TRUE(failsWithOneLine(result, 2, (out / "levels" / "world1").string(),
+                                     "not written by skelseg, but inside levels/"));
+        EXPECT_EQ(fileBytes(out / "levels" / "world1" / "map.txt"), "precious");
+        EXPECT_EQ(directoryEntries(out), std::vector<std::string>{"levels"});
+        EXPECT_EQ(directoryEntries(out / "levels"), std::vector<std::string>{"world1"});
+    }
+}
+
+// A note put into an earlier hierarchy run's levels/ stops --force, which
+// would remove it with the levels; without it the levels are replaced.
+TEST(Outputs, AFileOfTheUsersInsideAnEarlierRunsLevelsStopsForce) {
+    TempDir dir;
+    const auto bar = [](int x, int y, int z) {
+        return y > 1 && y < 8 && z > 1 && z < 8 && x > 0 && x < 13;
+    };
+    writeNrrdMask(dir / "bar.nrrd", makeMask(Dims{14, 10, 10}, bar));
+    const fs::path input = dir / "bar.nrrd", out = dir / "out";
+    const CliResult hierarchy = runSegment(input, out, {"--no-preview", "--tau", "1%,3%"});
+    ASSERT_EQ(hierarchy.exitCode, 0) << hierarchy.describe();
+    ASSERT_TRUE(fs::exists(out / "levels" / "0" / "labels.nrrd"));
+    writeBytes(out / "levels" / "0" / "notes.txt", "mine");
+    const auto before = snapshot(out / "levels" / "0");
+    const auto report = fileBytes(out / "report.json");
+
+    const CliResult forced = runSegment(input, out, {"--no-preview", "--force"});
+    EXPECT_TRUE(failsWithOneLine(forced, 2, (out / "levels" / "0" / "notes.txt").string(),
+                                 "not written by skelseg"));
+    EXPECT_EQ(snapshot(out / "levels" / "0"), before);
+    EXPECT_EQ(fileBytes(out / "report.json"), report);
+    EXPECT_FALSE(hasStagingDirectory(out));
+
+    fs::remove(out / "levels" / "0" / "notes.txt");
+    const CliResult replaced = runSegment(input, out, {"--no-preview", "--force"});
+    ASSERT_EQ(replaced.exitCode, 0) << replaced.describe();
+    EXPECT_FALSE(fs::exists(out / "levels"));
+    EXPECT_FALSE(fs::exists(out / "hierarchy.json"));
 }
 
 TEST(Outputs, InputIsNeverModified) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <functional>
 #include <thread>
 
 #include "engine/Version.h"
@@ -12,6 +13,7 @@
 #include "kernels/base/Error.h"
 #include "tests/support/CliRunner.h"
 #include "tests/support/TempDir.h"
+#include "tests/support/ThrownMessage.h"
 
 namespace fs = std::filesystem;
 using namespace skelseg;
@@ -162,6 +164,112 @@ TEST(BatchSummary, MergeRefusesASummaryWhoseShardIsNotTheOneItsNameSays) {
     TempDir single;
     writeBatchSummary(single.path(), "summary", shardSummary(3, 5, {entry("a", "done")}));
     EXPECT_THROW(mergeBatchSummaries(single.path()), InputError);
+}
+
+namespace {
+
+/// The message of the InputError `mergeBatchSummaries(outroot)` throws ("" if none).
+std::string mergeError(const fs::path& outroot) {
+    return thrownMessage<InputError>([&] { mergeBatchSummaries(outroot); });
+}
+
+}  // namespace
+
+// Two manifests run as the shares of one OUTROOT: the second's input of the
+// same output name replaced the first's, and the merge combined both
+// summaries and called the input done (finding 3 of the robustness hunt).
+TEST(BatchSummary, MergeRefusesTheShardsOfAnotherBatch) {
+    const std::string advice =
+        "; merge only the shards of one batch (same manifest, options and skelseg version)";
+    struct Case {
+        const char* what;
+        std::function<void(BatchSummary&)> change;
+        std::string difference;
+    };
+    SegmentCommandOptions otherSigma;
+    otherSigma.parameters.sigmaMin = 0.7;
+    const std::vector<Case> cases = {
+        {"manifest", [](BatchSummary& s) { s.manifest = "/in/other.txt"; },
+         "its manifest is /in/other.txt, not /in/list.txt"},
+        {"names", [](BatchSummary& s) { s.manifestNames.push_back("f"); },
+         "its manifest lists other inputs (manifest_names)"},
+        {"options", [&](BatchSummary& s) { s.options = outputAffectingOptions(otherSigma); },
+         "its options differ (sigma_min is 0.7, not 0.8)"},
+        {"version", [](BatchSummary& s) { s.skelsegVersion = "0.0.1"; },
+         "it was written by skelseg 0.0.1, not " + std::string(versionString())},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.what);
+        TempDir dir;
+        BatchSummary other = shardSummary(0, 2, {entry("a", "done")});
+        c.change(other);
+        writeBatchSummary(dir.path(), "summary.shard-0-of-2", other);
+        // The newest, the reference.
+        writeBatchSummary(dir.path(), "summary.shard-1-of-2",
+                          shardSummary(1, 2, {entry("b", "done")}));
+        markDone(dir.path(), "a");
+        markDone(dir.path(), "b");
+        EXPECT_EQ(mergeError(dir.path()),
+                  (dir / "summary.shard-0-of-2.json").string() + ": is of another batch than " +
+                      (dir / "summary.shard-1-of-2.json").string() + ": " + c.difference + advice);
+        EXPECT_FALSE(fs::exists(dir / "summary.json"));
+    }
+    // One manifest spelled two ways by two tasks is one batch.
+    TempDir dir;
+    BatchSummary first = shardSummary(0, 2, {entry("a", "done")});
+    first.manifest = "/in/./list.txt";
+    writeBatchSummary(dir.path(), "summary.shard-0-of-2", first);
+    writeBatchSummary(dir.path(), "summary.shard-1-of-2", shardSummary(1, 2, {entry("b", "done")}));
+    EXPECT_EQ(mergeError(dir.path()), "");
+}
+
+// A damaged summary was described in nlohmann::json's and libstdc++'s words
+// ("[json.exception.type_error.304] cannot use at() with array",
+// "basic_filebuf::underflow error reading the file: Is a directory").
+TEST(BatchSummary, ADamagedSummaryIsDescribedInPlainWords) {
+    const std::string good = [] {
+        TempDir dir;
+        writeBatchSummary(dir.path(), "summary.shard-0-of-2",
+                          shardSummary(0, 2, {entry("a", "done"), entry("b", "failed")}));
+        return fileBytes(dir / "summary.shard-0-of-2.json");
+    }();
+    const auto replaced = [&](const std::string& from, const std::string& to) {
+        std::string text = good;
+        const auto at = text.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        if (at != std::string::npos) text.replace(at, from.size(), to);
+        return text;
+    };
+    const std::string prefix = "not a skelseg batch summary: ";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"[]", prefix + "it is not a JSON object"},
+        {"{\"skelseg", prefix + "not JSON (it ends in the middle)"},
+        {"{\"a\": x}", prefix + "not JSON (syntax error at byte 7)"},
+        {replaced("\"skelseg_version\"", "\"version\""), prefix + "'skelseg_version' is missing"},
+        {replaced("\"index\": 0", "\"index\": \"0\""), prefix + "'shard.index' is not an integer"},
+        {replaced("\"shard\": {", "\"shard\": [], \"x\": {"),
+         prefix + "'shard' is not a JSON object"},
+        {replaced("\"manifest_names\": [", "\"manifest_names\": [1,"),
+         prefix + "'manifest_names' item 1 is not a string"},
+        {replaced("\"entries\": [", "\"entries\": {\"a\": 1}, \"x\": ["),
+         prefix + "'entries' is not a list"},
+        {replaced("\"status\": \"failed\",\n      \"wall_seconds\": 0.0",
+                  "\"status\": \"failed\",\n      \"wall_seconds\": \"0\""),
+         prefix + "entry 2: 'wall_seconds' is not a number"},
+        {replaced("\"parts\": 4", "\"parts\": -4"),
+         prefix + "entry 1: 'parts' is not a count (a whole number of at least 0)"},
+    };
+    for (const auto& [text, problem] : cases) {
+        SCOPED_TRACE(problem);
+        TempDir dir;
+        writeBytes(dir / "summary.shard-0-of-2.json", text);
+        EXPECT_EQ(mergeError(dir.path()),
+                  (dir / "summary.shard-0-of-2.json").string() + ": " + problem);
+    }
+    TempDir dir;
+    fs::create_directory(dir / "summary.shard-0-of-2.json");
+    EXPECT_EQ(mergeError(dir.path()),
+              (dir / "summary.shard-0-of-2.json").string() + ": is a directory, not a file");
 }
 
 TEST(MemoryBudget, AdmitsWhatFitsAndOneOversizedShapeAlone) {

@@ -122,3 +122,30 @@ TEST(StagingCleanup, RemovesOnlyWhatAKilledRunLeaves) {
               (std::vector<std::string>{".hidden-user-file", "labels.nrrd", "notes.tmp-keep"}));
     EXPECT_EQ(removeStagingLeftovers(dir / "absent"), 0u);
 }
+
+// The same input file by any path, from any working directory; another file
+// is another input.
+TEST(DoneMarker, IsOfTheSameFileByAnyPath) {
+    TempDir dir;
+    fs::create_directories(dir / "d1");
+    fs::create_directories(dir / "d2");
+    writeBytes(dir / "d1" / "a.off", "OFF\n");
+    writeBytes(dir / "d2" / "a.off", "OFF\n");
+    DoneMarker marker;
+    marker.input = "some/relative/path/of/another/working/directory/a.off";
+    marker.absoluteInput = dir / "d1" / "a.off";
+    EXPECT_TRUE(marker.isOf(dir / "d1" / "a.off"));
+    EXPECT_TRUE(marker.isOf(dir / "d2" / ".." / "d1" / "a.off"));
+    EXPECT_TRUE(marker.isOf(marker.input));
+    EXPECT_FALSE(marker.isOf(dir / "d2" / "a.off"));
+    fs::create_symlink(dir / "d1" / "a.off", dir / "link.off");
+    EXPECT_TRUE(marker.isOf(dir / "link.off"));
+    // Written and read back with both paths.
+    marker.skelsegVersion = versionString();
+    marker.options = outputAffectingOptions({});
+    writeDoneMarker(dir.path(), marker);
+    const auto read = readDoneMarker(dir.path());
+    ASSERT_TRUE(read);
+    EXPECT_EQ(read->absoluteInput, dir / "d1" / "a.off");
+    EXPECT_FALSE(read->isOf(dir / "d2" / "a.off"));
+}

@@ -360,3 +360,38 @@ TEST(ShardSpec, ComesFromSlurmOrKubernetes) {
     EXPECT_EQ(spec->count, 3);
     EXPECT_THROW(shardFromEnvironment(lookup, 2), UsageError);
 }
+
+// A task id between two steps of the array (id 3 of --array=0-8:2) took the
+// share of the id below it: ids 2 and 3 did share 1 and a share went undone.
+TEST(ShardSpec, SlurmTaskIdBetweenTheArraysStepsIsRefused) {
+    std::map<std::string, std::string> env = {{"SLURM_ARRAY_TASK_ID", "3"},
+                                              {"SLURM_ARRAY_TASK_MIN", "0"},
+                                              {"SLURM_ARRAY_TASK_MAX", "8"},
+                                              {"SLURM_ARRAY_TASK_STEP", "2"}};
+    auto lookup = [&](const char* name) -> const char* {
+        const auto found = env.find(name);
+        return found == env.end() ? nullptr : found->second.c_str();
+    };
+    try {
+        shardFromEnvironment(lookup, 0);
+        ADD_FAILURE() << "task 3 of 0-8:2 was given a share";
+    } catch (const UsageError& error) {
+        EXPECT_EQ(std::string(error.what()),
+                  "SLURM_ARRAY_TASK_ID=3 is not on the array's steps (SLURM_ARRAY_TASK_MIN=0, "
+                  "SLURM_ARRAY_TASK_STEP=2): the ids are MIN + k * STEP; pass --shard I/N");
+    }
+    // The ids on the steps keep their shares, from a MIN above 0 too.
+    env["SLURM_ARRAY_TASK_ID"] = "8";
+    const auto last = shardFromEnvironment(lookup, 0);
+    ASSERT_TRUE(last);
+    EXPECT_EQ(last->toString(), "4/5");
+    env = {{"SLURM_ARRAY_TASK_ID", "7"},
+           {"SLURM_ARRAY_TASK_MIN", "1"},
+           {"SLURM_ARRAY_TASK_COUNT", "4"},
+           {"SLURM_ARRAY_TASK_STEP", "3"}};
+    const auto third = shardFromEnvironment(lookup, 0);
+    ASSERT_TRUE(third);
+    EXPECT_EQ(third->toString(), "2/4");
+    env["SLURM_ARRAY_TASK_ID"] = "5";
+    EXPECT_THROW(shardFromEnvironment(lookup, 0), UsageError);
+}

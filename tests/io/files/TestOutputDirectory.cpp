@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <memory>
 #include <set>
 #include <string>
 #include <thread>
@@ -21,6 +22,17 @@ std::set<std::string> entries(const fs::path& dir) {
     std::set<std::string> names;
     for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
     return names;
+}
+
+/// `files`, and the folder levels/ of folders of any name holding `levelFiles`.
+OutputLayout layoutWithLevels(std::initializer_list<std::string> files,
+                              std::initializer_list<std::string> levelFiles) {
+    auto levels = std::make_shared<OutputLayout>();
+    levels->folders.push_back(
+        {"", [](const std::string&) { return true; }, std::make_shared<OutputLayout>(levelFiles)});
+    OutputLayout layout(files);
+    layout.folders.push_back({"levels", {}, levels});
+    return layout;
 }
 
 TEST(OutputDirectory, ConcurrentWritersAllGetCommitted) {
@@ -85,7 +97,7 @@ TEST(OutputDirectory, StagedDirectoryReplacesTheEarlierOne) {
     fs::create_directories(outdir / "levels" / "5");
     std::ofstream(outdir / "levels" / "5" / "old.txt") << "earlier";
     {
-        OutputDirectory out(outdir, true, {"levels"});
+        OutputDirectory out(outdir, true, layoutWithLevels({}, {"old.txt", "a.txt"}));
         const fs::path levels = out.stagingPath("levels");
         fs::create_directories(levels / "0");
         std::ofstream(levels / "0" / "a.txt") << "new";
@@ -102,7 +114,7 @@ TEST(OutputDirectory, ObsoleteOutputsGoOnlyOnCommit) {
     fs::create_directories(outdir / "levels" / "0");
     std::ofstream(outdir / "hierarchy.json") << "{}";
     {
-        OutputDirectory out(outdir, true, {"a.txt", "levels", "hierarchy.json"});
+        OutputDirectory out(outdir, true, layoutWithLevels({"a.txt", "hierarchy.json"}, {}));
         out.removeOnCommit("levels");
         out.removeOnCommit("hierarchy.json");
         std::ofstream(out.stagingPath("a.txt")) << "new";
@@ -110,7 +122,7 @@ TEST(OutputDirectory, ObsoleteOutputsGoOnlyOnCommit) {
     }
     EXPECT_TRUE(fs::exists(outdir / "levels" / "0"));
     {
-        OutputDirectory out(outdir, true, {"a.txt", "levels", "hierarchy.json"});
+        OutputDirectory out(outdir, true, layoutWithLevels({"a.txt", "hierarchy.json"}, {}));
         out.removeOnCommit("levels");
         out.removeOnCommit("hierarchy.json");
         std::ofstream(out.stagingPath("a.txt")) << "new";
@@ -122,6 +134,49 @@ TEST(OutputDirectory, ObsoleteOutputsGoOnlyOnCommit) {
 std::string textOf(const fs::path& file) {
     std::ifstream in(file, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// --force replaced any earlier output by its name: a user's folder named
+// levels/ went with everything in it (finding 1 of the robustness hunt).
+TEST(OutputDirectory, WhatNoRunWritesIsRefusedWithAndWithoutForce) {
+    test::TempDir tmp;
+    const fs::path outdir = tmp / "out";
+    fs::create_directories(outdir / "levels" / "world1");
+    std::ofstream(outdir / "levels" / "world1" / "map.txt") << "precious";
+    const OutputLayout layout = layoutWithLevels({"a.txt"}, {"a.txt"});
+    for (const bool force : {false, true}) {
+        try {
+            OutputDirectory out(outdir, force, layout);
+            ADD_FAILURE() << "opened with force " << force;
+        } catch (const UsageError& error) {
+            EXPECT_EQ(std::string(error.what()),
+                      (outdir / "levels" / "world1" / "map.txt").string() +
+                          ": not written by skelseg, but inside levels/, which a run in " +
+                          outdir.string() +
+                          " replaces; move it away or choose another output directory");
+        }
+    }
+    EXPECT_EQ(textOf(outdir / "levels" / "world1" / "map.txt"), "precious");
+    EXPECT_EQ(entries(outdir), std::set<std::string>{"levels"});
+}
+
+// A run takes minutes: a file put into levels/ meanwhile stops the commit,
+// which changes nothing.
+TEST(OutputDirectory, ACommitRefusesWhatWasPutIntoAnOutputMeanwhile) {
+    test::TempDir tmp;
+    const fs::path outdir = tmp / "out";
+    fs::create_directories(outdir / "levels" / "0");
+    std::ofstream(outdir / "a.txt") << "earlier";
+    {
+        OutputDirectory out(outdir, true, layoutWithLevels({"a.txt"}, {}));
+        out.removeOnCommit("levels");
+        std::ofstream(out.stagingPath("a.txt")) << "new";
+        std::ofstream(outdir / "levels" / "0" / "notes.txt") << "mine";
+        EXPECT_THROW(out.commit(), UsageError);
+    }
+    EXPECT_EQ(textOf(outdir / "a.txt"), "earlier");
+    EXPECT_EQ(textOf(outdir / "levels" / "0" / "notes.txt"), "mine");
+    EXPECT_EQ(entries(outdir), (std::set<std::string>{"a.txt", "levels"}));
 }
 
 // A commit that fails half way leaves the earlier run's outputs whole, those
@@ -137,8 +192,11 @@ TEST(OutputDirectory, AFailedCommitPutsTheEarlierOutputsBack) {
     std::ofstream(outdir / "hierarchy.json") << "{}";
     std::ofstream(mount / "inside.txt") << "earlier tmpfs";
     const std::vector<std::string> names{"levels", "a.txt", "tmpfs", "hierarchy.json"};
+    OutputLayout layout = layoutWithLevels({"a.txt", "hierarchy.json"}, {"old.txt", "new.txt"});
+    layout.folders.push_back(
+        {"tmpfs", {}, std::make_shared<OutputLayout>(OutputLayout{"inside.txt"})});
     {
-        OutputDirectory out(outdir, true, names);
+        OutputDirectory out(outdir, true, layout);
         out.removeOnCommit("hierarchy.json");
         fs::create_directories(out.stagingPath("levels") / "0");
         std::ofstream(out.stagingPath("levels") / "0" / "new.txt") << "new";

@@ -1,0 +1,58 @@
+#include "engine/batch/OutputFolderClaim.h"
+
+#include "engine/SegmentCommand.h"
+#include "io/files/OutputDirectory.h"
+#include "kernels/base/Error.h"
+
+namespace fs = std::filesystem;
+
+namespace skelseg {
+
+namespace {
+
+/// Throws UsageError if a marker in `outdir` records another input than `input`.
+void refuseAnotherInputsFolder(const fs::path& outdir, const fs::path& input) {
+    for (const char* name : {kDoneMarkerName, kPendingMarkerName}) {
+        // A marker that cannot be read is still the batch's own file: the
+        // folder is the batch's, for whichever input.
+        const auto marker = readDoneMarker(outdir, name);
+        if (marker && !marker->isOf(input))
+            throw UsageError(outdir.string() + ": holds the results of another input (" +
+                             marker->input.string() + ", " + name +
+                             "); use --force to replace them");
+    }
+}
+
+}  // namespace
+
+OutputFolderClaim claimOutputFolder(const fs::path& outdir, const DoneMarker& pending, bool force) {
+    std::error_code ec;
+    checkOutputDirectoryPath(outdir);
+    OutputFolderClaim claim;
+    claim.hadRecord = fs::exists(fs::symlink_status(outdir / kDoneMarkerName, ec)) ||
+                      fs::exists(fs::symlink_status(outdir / kPendingMarkerName, ec));
+    if (claim.hadRecord && !force) refuseAnotherInputsFolder(outdir, pending.input);
+    // The batch's own earlier outputs are replaced without --force; anything
+    // else only with it, and what no run writes never.
+    checkEarlierOutputs(outdir, segmentOutputLayout(), force || claim.hadRecord);
+    claim.createdFolder = !fs::exists(fs::symlink_status(outdir, ec));
+    fs::create_directories(outdir, ec);
+    if (ec) throw OutputError(outdir.string() + ": cannot create directory: " + ec.message());
+    try {
+        writeDoneMarker(outdir, pending, kPendingMarkerName);
+        removeDoneMarker(outdir);
+    } catch (...) {
+        releaseOutputFolder(outdir, claim);
+        throw;
+    }
+    return claim;
+}
+
+void releaseOutputFolder(const fs::path& outdir, const OutputFolderClaim& claim) noexcept {
+    std::error_code ec;
+    if (!claim.hadRecord) fs::remove(outdir / kPendingMarkerName, ec);
+    // fs::remove() removes only an empty folder.
+    if (claim.createdFolder) fs::remove(outdir, ec);
+}
+
+}  // namespace skelseg

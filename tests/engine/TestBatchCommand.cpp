@@ -1,0 +1,144 @@
+// `skelseg batch` replaces only what a batch made for the same input
+// (engine/BatchCommand.h, engine/batch/OutputFolderClaim.h), run as a child
+// process as a user runs it. Findings 2 and 3 of the robustness hunt: a
+// batch replaced a folder `skelseg segment` had written, a user's file in its
+// levels/ with it, and the folder another manifest's input of the same name
+// had written, all without --force and without a word.
+#include <gtest/gtest.h>
+
+#include "engine/batch/DoneMarker.h"
+#include "tests/engine/RobustnessHelpers.h"
+
+namespace fs = std::filesystem;
+using namespace skelseg;
+using namespace skelseg::test;
+
+namespace {
+
+/// `skelseg batch MANIFEST -o OUTROOT` with quick options and `extra`.
+CliResult runBatch(const fs::path& manifest, const fs::path& outroot,
+                   const std::vector<std::string>& extra = {}) {
+    std::vector<std::string> arguments = {
+        "batch",   manifest.string(), "-o",        outroot.string(),
+        "--quiet", "--no-preview",    "--threads", "1"};
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    return runSkelseg(arguments);
+}
+
+/// A bar `length` voxels long, with a two-voxel margin.
+void writeBar(const fs::path& file, int length) {
+    fs::create_directories(file.parent_path());
+    writeNrrdMask(file, makeMask(Dims{length + 4, 10, 10}, [length](int x, int y, int z) {
+                      return x > 1 && x < length + 2 && y > 1 && y < 8 && z > 1 && z < 8;
+                  }));
+}
+
+bool mentions(const CliResult& result, const std::string& text) {
+    return result.err.find(text) != std::string::npos;
+}
+
+}  // namespace
+
+TEST(BatchCommand, EarlierResultsOfSegmentAreRefusedWithoutForce) {
+    TempDir dir;
+    writeBar(dir / "in" / "bar.nrrd", 10);
+    writeBytes(dir / "list.txt", "in/bar.nrrd\n");
+    const fs::path out = dir / "out";
+    const CliResult segment = runSegment(dir / "in" / "bar.nrrd", out / "bar", {"--no-preview"});
+    ASSERT_EQ(segment.exitCode, 0) << segment.describe();
+    const auto before = snapshot(out / "bar");
+
+    const CliResult refused = runBatch(dir / "list.txt", out);
+    EXPECT_EQ(refused.exitCode, 5) << refused.describe();
+    EXPECT_TRUE(mentions(refused, "bar: " + (out / "bar").string() +
+                                      ": holds results of an earlier run (labels.nrrd); use "
+                                      "--force to replace them"))
+        << refused.err;
+    EXPECT_EQ(snapshot(out / "bar"), before) << "the earlier results changed without --force";
+
+    const CliResult forced = runBatch(dir / "list.txt", out, {"--force"});
+    ASSERT_EQ(forced.exitCode, 0) << forced.describe();
+    EXPECT_TRUE(fs::exists(out / "bar" / kDoneMarkerName));
+    EXPECT_FALSE(fs::exists(out / "bar" / kPendingMarkerName));
+}
+
+TEST(BatchCommand, AUsersFileInLevelsIsNeverRemovedEvenWithForce) {
+    TempDir dir;
+    writeBar(dir / "in" / "bar.nrrd", 10);
+    writeBytes(dir / "list.txt", "in/bar.nrrd\n");
+    const fs::path out = dir / "out";
+    const CliResult first = runBatch(dir / "list.txt", out, {"--tau", "1%,3%"});
+    ASSERT_EQ(first.exitCode, 0) << first.describe();
+    writeBytes(out / "bar" / "levels" / "my-notes.txt", "precious");
+    const auto levels = snapshot(out / "bar" / "levels");
+    const auto report = fileBytes(out / "bar" / "report.json");
+
+    // Other options: the batch's own folder is redone, --force or not.
+    for (const std::vector<std::string>& extra :
+         {std::vector<std::string>{"--tau", "5%"},
+          std::vector<std::string>{"--tau", "5%", "--force"}}) {
+        SCOPED_TRACE(extra.size() == 3 ? "with --force" : "without --force");
+        const CliResult result = runBatch(dir / "list.txt", out, extra);
+        EXPECT_EQ(result.exitCode, 5) << result.describe();
+        EXPECT_TRUE(mentions(result, (out / "bar" / "levels" / "my-notes.txt").string() +
+                                         ": not written by skelseg, but inside levels/"))
+            << result.err;
+        EXPECT_EQ(snapshot(out / "bar" / "levels"), levels);
+        EXPECT_EQ(fileBytes(out / "bar" / "report.json"), report);
+    }
+}
+
+TEST(BatchCommand, AFolderAnotherInputsBatchWroteIsRefusedWithoutForce) {
+    TempDir dir;
+    writeBar(dir / "d1" / "a.nrrd", 10);
+    writeBar(dir / "d2" / "a.nrrd", 12);
+    writeBytes(dir / "first.txt", "d1/a.nrrd\n");
+    writeBytes(dir / "second.txt", "d2/a.nrrd\n");
+    const fs::path out = dir / "out";
+    const CliResult first = runBatch(dir / "first.txt", out);
+    ASSERT_EQ(first.exitCode, 0) << first.describe();
+    const auto before = snapshot(out / "a");
+
+    const CliResult refused = runBatch(dir / "second.txt", out);
+    EXPECT_EQ(refused.exitCode, 5) << refused.describe();
+    EXPECT_TRUE(mentions(refused, "a: " + (out / "a").string() +
+                                      ": holds the results of another input (" +
+                                      (dir / "d1" / "a.nrrd").string() +
+                                      ", done.json); use --force to replace them"))
+        << refused.err;
+    EXPECT_EQ(snapshot(out / "a"), before);
+
+    const CliResult forced = runBatch(dir / "second.txt", out, {"--force"});
+    ASSERT_EQ(forced.exitCode, 0) << forced.describe();
+    const auto marker = readDoneMarker(out / "a");
+    ASSERT_TRUE(marker);
+    EXPECT_EQ(marker->input, dir / "d2" / "a.nrrd");
+}
+
+// A redo that fails keeps the earlier outputs (segment's commit is all or
+// nothing) and the record that they are the batch's: the next run redoes
+// them without --force.
+TEST(BatchCommand, AFailedRedoLeavesTheFolderTheBatchsToRedo) {
+    TempDir dir;
+    writeBar(dir / "in" / "bar.nrrd", 10);
+    writeBytes(dir / "list.txt", "in/bar.nrrd\n");
+    const fs::path out = dir / "out";
+    ASSERT_EQ(runBatch(dir / "list.txt", out).exitCode, 0);
+    const std::string labels = fileBytes(out / "bar" / "labels.nrrd");
+
+    writeBytes(dir / "in" / "bar.nrrd", "not a volume any more\n");
+    const CliResult failed = runBatch(dir / "list.txt", out);
+    EXPECT_EQ(failed.exitCode, 5) << failed.describe();
+    EXPECT_EQ(fileBytes(out / "bar" / "labels.nrrd"), labels);
+    EXPECT_FALSE(fs::exists(out / "bar" / kDoneMarkerName));
+    const auto pending = readDoneMarker(out / "bar", kPendingMarkerName);
+    ASSERT_TRUE(pending) << "no record that the folder is the batch's";
+    EXPECT_EQ(pending->input, dir / "in" / "bar.nrrd");
+
+    writeBar(dir / "in" / "bar.nrrd", 12);
+    const CliResult redone = runBatch(dir / "list.txt", out);
+    ASSERT_EQ(redone.exitCode, 0) << redone.describe();
+    EXPECT_NE(fileBytes(out / "bar" / "labels.nrrd"), labels);
+    EXPECT_TRUE(fs::exists(out / "bar" / kDoneMarkerName));
+    EXPECT_FALSE(fs::exists(out / "bar" / kPendingMarkerName));
+}
