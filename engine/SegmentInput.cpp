@@ -7,6 +7,7 @@
 
 #include "engine/Segmenter.h"
 #include "engine/Stage.h"
+#include "io/files/CompressedContent.h"
 #include "io/files/TextFile.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "io/volume/VolumeReader.h"
@@ -36,8 +37,7 @@ std::string unknownInputFormatProblem(const fs::path& file) {
     if (extension.empty()) return "has no file extension to tell the format (" + supported + ")";
     for (const char* archive : kArchives)
         if (lower == archive)
-            return "is a compressed file or archive (" + quote(extension) + "); unpack it first (" +
-                   supported + ")";
+            return compressedFileProblem(quote(extension)) + " (" + supported + ")";
     return "unknown input format " + quote(extension) + " (" + supported + ")";
 }
 

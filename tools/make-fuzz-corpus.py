@@ -75,6 +75,12 @@ write("off", "cube-quads.off",
       "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n")
 write("off", "coff-inline.off", "COFF 4 2 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n"
       "1 1 0 9 9 9 255\n3 0 1 2 1 2 3\n3 1 3 2\n")
+# A colour after a face's indices (integers, reals, a colour-map index, after
+# indices wrapped onto the next line), and the header's counts one per line.
+write("off", "face-colours.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1 255 0 0\n"
+      "3 0 1 3 1.0 0.0 0.0 1.0\n3 0 3\n2 7\n3 1 2 3 0 128 255 255\n")
+write("off", "counts-per-line.off", "OFF\n\n# the counts\n4\n4\n\n6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+      "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")
 
 # Binary OFF: Geomview's layout (big-endian, a colour count per face) and
 # pmp-library's (little-endian, none).

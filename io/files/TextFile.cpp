@@ -5,6 +5,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "io/files/CompressedContent.h"
 #include "kernels/base/Error.h"
 
 namespace fs = std::filesystem;
@@ -87,6 +88,8 @@ std::vector<std::string> splitWhitespace(std::string_view text) {
 }
 
 std::size_t textContentStart(const std::string& name, std::string_view text) {
+    // A compressed file holds any byte, a lone carriage return among them.
+    refuseCompressedContent(name, text);
     if (text.size() >= 2 &&
         ((text[0] == '\xFF' && text[1] == '\xFE') || (text[0] == '\xFE' && text[1] == '\xFF')))
         throw InputError(name,

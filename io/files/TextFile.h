@@ -62,8 +62,9 @@ constexpr std::size_t utf8BomLength(std::string_view text) noexcept {
 }
 
 /// Where the content of the text file `name` starts: after a UTF-8 byte order
-/// mark (utf8BomLength()). @throw InputError(name, ...) when it starts with a
-/// UTF-16 one (FF FE or FE FF): Windows PowerShell's `>` and Notepad's
+/// mark (utf8BomLength()). @throw InputError(name, ...) when it is compressed
+/// data or an archive (refuseCompressedContent()); when it starts with a
+/// UTF-16 byte order mark (FF FE or FE FF): Windows PowerShell's `>` and Notepad's
 /// "Unicode" write such files, whose every other byte is NUL, and each reader
 /// refused them for a different wrong reason ("the mesh has no faces"); and
 /// when its first line ends in a carriage return alone (classic Mac OS text),

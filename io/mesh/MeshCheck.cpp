@@ -39,18 +39,27 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
     const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
 
     // Degenerate faces: zero area relative to the mesh size (absolute zero
-    // would miss faces that are zero up to rounding).
+    // would miss faces that are zero up to rounding). The size is the box of
+    // the vertices faces use, as the voxel grid's: a vertex no face uses, far
+    // away, made every face of a cube "zero area".
+    std::vector<char> isReferenced(mesh.vertices.size(), 0);
+    for (const auto& triangle : mesh.triangles)
+        for (std::uint32_t v : triangle) isReferenced[v] = 1;
     std::array<double, 3> low{HUGE_VAL, HUGE_VAL, HUGE_VAL}, high{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (const auto& p : mesh.vertices)
-        for (int c = 0; c < 3; ++c) {
-            low[std::size_t(c)] = std::min(low[std::size_t(c)], p[std::size_t(c)]);
-            high[std::size_t(c)] = std::max(high[std::size_t(c)], p[std::size_t(c)]);
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+        if (!isReferenced[v]) {
+            ++diagnostics.unusedVertices;
+            continue;
         }
+        for (std::size_t c = 0; c < 3; ++c) {
+            low[c] = std::min(low[c], mesh.vertices[v][c]);
+            high[c] = std::max(high[c], mesh.vertices[v][c]);
+        }
+    }
     double diagonalSquared = 0.0;
-    if (!mesh.vertices.empty())
-        for (int c = 0; c < 3; ++c)
-            diagonalSquared += (high[std::size_t(c)] - low[std::size_t(c)]) *
-                               (high[std::size_t(c)] - low[std::size_t(c)]);
+    if (diagnostics.unusedVertices < mesh.vertices.size())
+        for (std::size_t c = 0; c < 3; ++c)
+            diagonalSquared += (high[c] - low[c]) * (high[c] - low[c]);
     const double areaTolerance = 1e-14 * diagonalSquared;
     std::vector<double> areas(mesh.faceCount, 0.0);
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
@@ -109,6 +118,11 @@ std::vector<std::string> meshWarnings(const MeshDiagnostics& diagnostics, const 
         warnings.push_back(
             file + ": " + std::to_string(diagnostics.degenerateFaces) +
             " faces have zero area; they take the label of the voxels or faces around them");
+    if (diagnostics.unusedVertices == 1)
+        warnings.push_back(file + ": 1 vertex is used by no face; it is ignored");
+    if (diagnostics.unusedVertices > 1)
+        warnings.push_back(file + ": " + std::to_string(diagnostics.unusedVertices) +
+                           " vertices are used by no face; they are ignored");
     return warnings;
 }
 

@@ -27,6 +27,9 @@ struct MeshDiagnostics {
     std::size_t nonManifoldEdges = 0;
     /// Connected pieces (triangles joined through shared vertices).
     std::size_t pieces = 0;
+    /// Vertices no face uses (they take no part in the shape, its size or
+    /// its voxel grid).
+    std::size_t unusedVertices = 0;
     /// True when every edge is used by an even number (>= 2) of triangles:
     /// the surface encloses a volume and inside/outside is well defined.
     bool closed = false;

@@ -306,7 +306,9 @@ VoxelGrid voxelGridFor(const TriangleMesh& mesh, const VoxelizeOptions& options)
             }
     const double longest = std::max({high[0] - low[0], high[1] - low[1], high[2] - low[2]});
     if (longest == 0.0)
-        throw UsageError("cannot voxelise the mesh: all its vertices lie at one point");
+        throw UsageError(
+            "cannot voxelise the mesh: the vertices its faces use all lie at one point (no face "
+            "has an area)");
     // Squared lengths and areas (mesh checks, contacts, face labels) must
     // neither overflow nor underflow a double: 1e-100..1e100 keeps them
     // far inside, in any unit of length anyone uses.

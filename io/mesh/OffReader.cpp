@@ -1,5 +1,6 @@
 #include "io/mesh/OffReader.h"
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -12,11 +13,12 @@ namespace skelseg {
 
 namespace {
 
-/// Parses one face ("count i0 i1 ...", extra values after the indices on the
-/// line where the last index stands are ignored) and adds the polygon to
-/// `builder`. `line` is the face's first line; when it ends before the count's
-/// indices do, the indices go on on the next significant lines of `lines`, as
-/// OFF is free-format in its tokens (Geomview reads it so, and writers that
+/// Parses one face ("count i0 i1 ..." and an optional colour) and adds the
+/// polygon to `builder`. The colour is the rest of the line where the last
+/// index stands, ignored: OFF allows one per face (an integer colour-map
+/// index, or 3 or 4 integers 0..255 or reals 0..1, "3 0 2 1 255 0 0"). `line` is the face's first
+/// line; when it ends before the count's indices do, the indices go on on the next significant
+/// lines of `lines`, as OFF is free-format in its tokens (Geomview reads it so, and writers that
 /// wrap long lines, e.g. libigl's quad-mesh test data, rely on it). Only the
 /// file's end stops a short face.
 void addFace(MeshBuilder& builder, TextTokenizer& lines, std::string_view line, std::uint64_t face,
@@ -277,18 +279,35 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
             token = headerTokens.nextToken();
         }
         collectCounts(headerTokens, token);
-        if (counts.empty()) {
-            if (!lines.nextSignificantLine(line))
-                builder.fail("file ends before the vertex and face counts");
-            TextTokenizer countTokens(line);
-            collectCounts(countTokens, countTokens.nextToken());
-        }
     } else if (std::int64_t value = 0; parseInteger(keyword, value)) {
         collectCounts(headerTokens, keyword);
     } else {
         builder.fail("not an OFF file (it starts with " + quote(keyword) + ")");
     }
-    if (counts.size() < 2 || counts.size() > 3)
+    // The counts may stand on the keyword's line, on the next, or one per
+    // line with blank and comment lines between (Geomview reads the header
+    // as tokens). Lines are taken whole until the vertex and face counts are
+    // read; the edge count is optional (many writers leave it out), so a line
+    // after them is taken as the edge count only when it holds one number: a
+    // vertex line holds at least three.
+    while (counts.size() < 2) {
+        if (!lines.nextSignificantLine(line))
+            builder.fail(counts.empty()
+                             ? "file ends before the vertex and face counts"
+                             : "file ends after the vertex count, before the face count");
+        TextTokenizer countTokens(line);
+        collectCounts(countTokens, countTokens.nextToken());
+    }
+    if (counts.size() == 2) {
+        TextTokenizer afterCounts = lines;
+        std::string_view edgeLine;
+        if (afterCounts.nextSignificantLine(edgeLine) && realTokenCount(edgeLine) == 1) {
+            lines = afterCounts;
+            TextTokenizer countTokens(edgeLine);
+            collectCounts(countTokens, countTokens.nextToken());
+        }
+    }
+    if (counts.size() > 3)
         builder.fail("line " + std::to_string(lines.lineNumber()) +
                      ": expected vertex, face and edge counts, found " +
                      std::to_string(counts.size()) + " numbers");
@@ -296,16 +315,17 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
     const std::uint64_t vertexCount = std::uint64_t(counts[0]);
     const std::uint64_t faceCount = std::uint64_t(counts[1]);
     // The shortest vertex line is "0 0 0\n" (6 bytes), the shortest face line
-    // "3 0 0 0\n" (8 bytes): refuse counts the rest of the file cannot hold
-    // before reserving memory for them.
+    // a bare count, "1\n" (2 bytes; such a face is refused when it is read,
+    // with its own problem): refuse counts the rest of the file cannot hold.
+    // Memory is reserved only for faces of at least "3 0 0 0\n" (8 bytes).
     const std::uint64_t bytesLeft = lines.bytesLeft() + 1;
     if (vertexCount > kMaxElementCount || faceCount > kMaxElementCount ||
-        vertexCount * 6 + faceCount * 8 > bytesLeft)
+        vertexCount * 6 + faceCount * 2 > bytesLeft)
         builder.fail("header says " + std::to_string(vertexCount) + " vertices and " +
                      std::to_string(faceCount) + " faces but only " +
                      std::to_string(lines.bytesLeft()) + " bytes follow");
     if (faceCount == 0) builder.fail("the mesh has no faces");
-    builder.reserve(vertexCount, faceCount);
+    builder.reserve(vertexCount, std::min(faceCount, (bytesLeft - vertexCount * 6) / 8));
 
     std::string_view lastVertexLine;
     for (std::uint64_t v = 0; v < vertexCount; ++v) {

@@ -1,8 +1,9 @@
 // skelseg: the OFF reader (internal to io/mesh/; readMesh() in MeshIO.h
 // dispatches to it by extension). Accepts the [ST][C][N]OFF
-// variants with 3 dimensions, counts on the keyword line or the next one, and
-// files that leave the keyword out; "OFF BINARY" in Geomview's layout and in
-// pmp-library's (no colour count per face, either byte order).
+// variants with 3 dimensions, counts on the keyword line, the next one or one
+// per line, files that leave the keyword out, and a colour after a face's
+// indices (ignored); "OFF BINARY" in Geomview's layout and in pmp-library's
+// (no colour count per face, either byte order).
 #pragma once
 
 #include <cstddef>

@@ -440,7 +440,13 @@ PreparedScene prepareScene(const PreviewScene& scene, bool threaded) {
         if (point(p).allFinite()) prepared.framingPoints.push_back(point(p));
     };
     prepared.framingPoints.reserve(scene.vertices.size() + scene.skeletonPoints.size());
-    for (const auto& p : scene.vertices) addPoint(p);
+    // Only vertices a triangle uses: a stray vertex of a mesh file, far away,
+    // would shrink the shape to a dot.
+    std::vector<char> isUsed(scene.vertices.size(), 0);
+    for (const auto& triangle : scene.triangles)
+        for (std::uint32_t corner : triangle) isUsed[corner] = 1;
+    for (std::size_t v = 0; v < scene.vertices.size(); ++v)
+        if (isUsed[v]) addPoint(scene.vertices[v]);
     for (const auto& p : scene.skeletonPoints) addPoint(p);
     for (const auto& loop : scene.cutLoops)
         for (const auto& p : loop) addPoint(p);

@@ -32,7 +32,7 @@ struct PreparedScene {
     const PreviewScene* scene = nullptr;
     std::vector<std::array<float, 3>> faceNormals;    // unit, from the winding; zero if degenerate
     std::vector<std::array<float, 3>> vertexNormals;  // unit, area-weighted face normals
-    std::vector<Eigen::Vector3d> framingPoints;       // every finite point of the scene
+    std::vector<Eigen::Vector3d> framingPoints;       // every finite point the scene shows
     Eigen::Vector3d centre{0.0, 0.0, 0.0};
     Eigen::Vector3d extent{0.0, 0.0, 0.0};  // bounding box size
     double diagonal = 1.0;

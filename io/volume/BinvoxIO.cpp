@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "io/files/CompressedContent.h"
 #include "io/files/OutputDirectory.h"
 #include "io/files/TextFile.h"
 #include "io/files/TextTokenizer.h"
@@ -32,10 +33,14 @@ struct BinvoxHeader {
 class BinvoxHeaderParser {
 public:
     BinvoxHeaderParser(const std::string& name, const std::uint8_t* bytes, std::size_t size)
-        : mName(name), mSize(size), mLines(reinterpret_cast<const char*>(bytes), size) {}
+        : mName(name),
+          mBytes(reinterpret_cast<const char*>(bytes), size),
+          mSize(size),
+          mLines(reinterpret_cast<const char*>(bytes), size) {}
 
     BinvoxHeader parse() {
         if (mSize == 0) fail("file is empty");
+        refuseCompressedContent(mName, mBytes);  // before "wrong magic"
         const auto magic = splitWhitespace(nextLine());
         if (magic.empty() || magic[0] != "#binvox")
             fail("not a binvox file: wrong magic " + quote(magic.empty() ? "" : magic[0]) +
@@ -104,6 +109,7 @@ private:
     }
 
     const std::string& mName;
+    std::string_view mBytes;
     std::size_t mSize;
     TextTokenizer mLines;
     BinvoxHeader mHeader;

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <set>
 
+#include "io/files/CompressedContent.h"
 #include "io/files/TextFile.h"
 #include "io/files/TextTokenizer.h"
 #include "kernels/base/Error.h"
@@ -169,10 +170,15 @@ int spaceDimension(const std::string& space) {
 class HeaderParser {
 public:
     HeaderParser(const std::string& name, const std::uint8_t* bytes, std::size_t size)
-        : mName(name), mSize(size), mLines(reinterpret_cast<const char*>(bytes), size) {}
+        : mName(name),
+          mBytes(reinterpret_cast<const char*>(bytes), size),
+          mSize(size),
+          mLines(reinterpret_cast<const char*>(bytes), size) {}
 
     NrrdHeader parse() {
         if (mSize == 0) fail("file is empty");
+        // A gzipped .nrrd is no NRRD with gzip encoding: say so, not "wrong magic".
+        refuseCompressedContent(mName, mBytes);
         parseMagic(nextLine());
         while (mLines.bytesLeft() > 0) {
             const std::string line = nextLine();
@@ -440,6 +446,7 @@ private:
     }
 
     const std::string& mName;
+    std::string_view mBytes;
     std::size_t mSize;
     TextTokenizer mLines;
     std::set<std::string> mSeenFields;

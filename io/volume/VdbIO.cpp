@@ -16,6 +16,7 @@
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/LevelSetUtil.h>
 
+#include "io/files/CompressedContent.h"
 #include "io/files/IsolatedCall.h"
 #include "io/files/OutputDirectory.h"
 #include "io/files/TextFile.h"
@@ -211,8 +212,10 @@ void checkVdbMagic(const std::string& name, const std::uint8_t* bytes, std::size
     if (size == 0) throw InputError(name, "file is empty");
     // Every VDB file starts with the 64-bit magic number 0x56444220 ("VDB ").
     const std::uint8_t magic[8] = {0x20, 0x42, 0x44, 0x56, 0, 0, 0, 0};
-    if (size < 8 || std::memcmp(bytes, magic, 8) != 0)
+    if (size < 8 || std::memcmp(bytes, magic, 8) != 0) {
+        refuseCompressedContent(name, std::string_view(reinterpret_cast<const char*>(bytes), size));
         throw InputError(name, "not an OpenVDB file: wrong magic number");
+    }
 }
 
 /// OpenVDB's registries of grid, metadata and map types are locked while a

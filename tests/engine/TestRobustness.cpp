@@ -110,6 +110,11 @@ std::string utf16(const std::string& ascii, bool bigEndian = false) {
 const std::string kUtf16Problem =
     "is UTF-16 text (it starts with a UTF-16 byte order mark); save it as UTF-8";
 
+/// The first bytes of `gzip -c tetra.off`: the header (no name, OS 3), then
+/// deflate data that holds a lone carriage return before any line feed.
+const std::string kGzipBytes("\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03\x2b\r\x73\x8b", 14);
+const std::string kCompressedContentProblem = "is a compressed file or archive (its bytes are ";
+
 /// `text` with every '\n' a carriage return, as classic Mac OS wrote text.
 std::string crLineEnds(std::string text) {
     std::replace(text.begin(), text.end(), '\n', '\r');
@@ -362,7 +367,9 @@ std::vector<BadCase> meshCases() {
         bytes("off_truncated_vertices", "cutv.off",
               "OFF\n4 4 0\n0 0 0\n1 0 0\n3 0 1 2\n3 0 1 2\n3 0 1 2\n", ""),
         bytes("off_truncated_faces", "cutf.off", kTetraOff.substr(0, kTetraOff.size() - 16),
-              "only 40 bytes follow"),
+              "file ends after 2 of 4 faces"),
+        bytes("off_counts_over_the_file", "over.off", "OFF\n4 40 0\n" + kTetraBody,
+              "header says 4 vertices and 40 faces but only 56 bytes follow"),
         bytes("off_bad_coordinate", "coord.off", "OFF\n3 1 0\n0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n",
               "bad coordinate"),
         bytes("off_nan_coordinate", "nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n",
@@ -584,6 +591,28 @@ std::vector<BadCase> fileSystemCases() {
               "is a compressed file or archive ('.zip'); unpack it first (skelseg reads .off"),
         bytes("gzip_stl", "model.STL.GZ", std::string("\x1f\x8b\x08\0", 4),
               "is a compressed file or archive ('.GZ'); unpack it first"),
+        // The same content under the name of what it holds ("gzip -c cube.off >
+        // cube.off"): the text readers said "ends its lines with a carriage
+        // return alone (classic Mac OS text)" (a gzip header often holds a
+        // lone CR), STL "not an STL file", NRRD and binvox "wrong magic".
+        bytes("gzip_content_off", "gz.off", kGzipBytes, kCompressedContentProblem + "gzip data"),
+        bytes("gzip_content_obj", "gz.obj", gzipBytes("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+              kCompressedContentProblem + "gzip data"),
+        bytes("gzip_content_ply", "gz.ply", kGzipBytes, kCompressedContentProblem + "gzip data"),
+        bytes("gzip_content_stl", "gz.stl", kGzipBytes, kCompressedContentProblem + "gzip data"),
+        bytes("bzip2_content_off", "bz2.off", "BZh91AY&SY\r\x01",
+              kCompressedContentProblem + "bzip2 data"),
+        bytes("xz_content_obj", "xz.obj", std::string("\xfd\x37\x7a\x58\x5a\x00\r", 7),
+              kCompressedContentProblem + "xz data"),
+        bytes("zstd_content_ply", "zst.ply", std::string("\x28\xb5\x2f\xfd\r", 5),
+              kCompressedContentProblem + "zstd data"),
+        bytes("zip_content_stl", "zip.stl", std::string("PK\x03\x04\x14\0\r", 7),
+              kCompressedContentProblem + "a zip archive"),
+        bytes("gzip_content_nrrd", "gz.nrrd", gzipBytes(nrrd(kUint8Fields, std::string(8, '\1'))),
+              kCompressedContentProblem + "gzip data"),
+        bytes("gzip_content_binvox", "gz.binvox", kGzipBytes,
+              kCompressedContentProblem + "gzip data"),
+        bytes("gzip_content_vdb", "gz.vdb", kGzipBytes, kCompressedContentProblem + "gzip data"),
         bytes("no_extension", "shape", "NRRD0004\n", "no file extension"),
         bytes("seg_as_input", "labels.seg", "0\n1\n", "unknown input format '.seg'"),
     };
@@ -1147,6 +1176,30 @@ TEST(UnusualInputCli, MeshInTinyUnitsIsSegmentedWithoutLabelsVdb) {
     EXPECT_TRUE(fs::exists(dir / "out" / "labels.nrrd"));
     EXPECT_TRUE(fs::exists(dir / "out" / "segmentation.seg"));
     EXPECT_FALSE(fs::exists(dir / "out" / "labels.vdb"));
+}
+
+TEST(UnusualInputCli, VertexNoFaceUsesFarAwayIsIgnoredWithAWarning) {
+    // The tetrahedron plus a vertex no face uses, 1e7 away: "all 4 faces have
+    // zero area" (exit 2), as the zero-area check's scale took every vertex.
+    // It segments as the tetrahedron does, with one warning.
+    TempDir dir;
+    const fs::path tetra = dir / "tetra.off", stray = dir / "stray.off";
+    writeBytes(tetra, kTetraOff);
+    writeBytes(stray,
+               "OFF\n5 4 0\n" + kTetraBody.substr(0, 24) + "1e7 0 0\n" + kTetraBody.substr(24));
+    const std::vector<std::string> options = {"--resolution", "32", "--no-preview"};
+    const CliResult plain = runSegment(tetra, dir / "plain", options);
+    ASSERT_EQ(plain.exitCode, 0) << plain.describe();
+    const CliResult result = runSegment(stray, dir / "out", options);
+    ASSERT_EQ(result.exitCode, 0) << result.describe();
+    EXPECT_EQ(result.errLines(),
+              std::vector<std::string>{"skelseg: warning: " + stray.string() +
+                                       ": 1 vertex is used by no face; it is ignored"});
+    for (const char* output : {"labels.nrrd", "segmentation.seg", "cuts.ply", "skeleton.ply"})
+        EXPECT_EQ(fileBytes(dir / "out" / output), fileBytes(dir / "plain" / output)) << output;
+    const std::string report = fileBytes(dir / "out" / "report.json");
+    EXPECT_NE(report.find("\"mesh_degenerate_faces\": 0"), std::string::npos);
+    EXPECT_NE(report.find("\"vertices\": 5"), std::string::npos);
 }
 
 TEST(UnusualInputCli, FileNameThatIsNotUtf8GivesAValidReport) {

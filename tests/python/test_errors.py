@@ -198,6 +198,36 @@ def test_meshes_without_area_or_out_of_scale_are_value_errors(capfd):
     check_quiet(capfd)
 
 
+CUBE_VERTICES = np.array([[0., 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+                          [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]])
+CUBE_FACES = np.array([[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+                       [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]])
+
+
+def test_faces_collapsed_to_one_vertex_are_named_as_such(capfd):
+    """The cube's 8 distinct vertices with every face (0, 0, 0): the message
+    said "all its vertices lie at one point", which they do not."""
+    with pytest.raises(ValueError, match=r"^mesh: cannot voxelise the mesh: the vertices its "
+                                         r"faces use all lie at one point \(no face has an "
+                                         r"area\)$"):
+        skelseg.segment_mesh(CUBE_VERTICES, np.array([[0, 0, 0]] * 12), resolution=16)
+    check_quiet(capfd)
+
+
+def test_a_far_vertex_no_face_uses_changes_nothing_but_a_warning(capfd):
+    """A vertex no face uses, 1e7 away, made every face of the cube "zero
+    area" (ValueError)."""
+    plain = skelseg.segment_mesh(CUBE_VERTICES, CUBE_FACES, resolution=16)
+    with pytest.warns(skelseg.SkelsegWarning,
+                      match=r"^mesh: 1 vertex is used by no face; it is ignored$"):
+        stray = skelseg.segment_mesh(np.vstack([CUBE_VERTICES, [[1e7, 0, 0]]]), CUBE_FACES,
+                                     resolution=16)
+    assert np.array_equal(stray.face_labels, plain.face_labels)
+    assert stray.report["warnings"] == [
+        "mesh: 1 vertex is used by no face; it is ignored"]
+    check_quiet(capfd)
+
+
 def test_mesh_in_tiny_units_is_segmented(capfd):
     """A 0.1 mm tetrahedron in metres: OpenVDB refuses such voxel sizes; the
     voxeliser measures in voxels instead."""

@@ -194,6 +194,57 @@ TEST(MeshCheck, OpenNonManifoldAndSeveralPiecesAgreeWithTheHashedCount) {
     expectSameAsHashed(mesh, "open");
 }
 
+/// The unit cube as 12 triangles, outward orientation.
+TriangleMesh unitCube() {
+    return meshOf(
+        {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}},
+        {{0, 2, 1},
+         {0, 3, 2},
+         {4, 5, 6},
+         {4, 6, 7},
+         {0, 1, 5},
+         {0, 5, 4},
+         {1, 2, 6},
+         {1, 6, 5},
+         {2, 3, 7},
+         {2, 7, 6},
+         {3, 0, 4},
+         {3, 4, 7}});
+}
+
+TEST(MeshCheck, VertexNoFaceUsesDoesNotScaleTheZeroAreaCheck) {
+    // The unit cube plus a vertex no face uses: from 1e7 away on, the area
+    // tolerance (which grew with the box of every vertex) called all 12
+    // faces of area 0.5 zero, and the CLI refused the cube.
+    for (const double far : {1e6, 1e7, 1e11, 1e20, -1e300}) {
+        TriangleMesh mesh = unitCube();
+        mesh.vertices.push_back({far, 0, 0});
+        const MeshDiagnostics d = checkMesh(mesh);
+        EXPECT_EQ(d.degenerateFaces, 0u) << far;
+        EXPECT_TRUE(d.closed) << far;
+        EXPECT_EQ(d.pieces, 1u) << far;
+    }
+    // Faces that have no area still count, next to a vertex no face uses.
+    TriangleMesh flat = meshOf({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1e7, 0}}, {{0, 1, 2}});
+    EXPECT_EQ(checkMesh(flat).degenerateFaces, 1u);
+}
+
+TEST(MeshCheck, VerticesNoFaceUsesAreCountedAndNamedInAWarning) {
+    EXPECT_EQ(checkMesh(unitCube()).unusedVertices, 0u);
+    EXPECT_TRUE(meshWarnings(checkMesh(unitCube()), "cube.off").empty());
+    TriangleMesh mesh = unitCube();
+    mesh.vertices.push_back({1e7, 0, 0});
+    mesh.vertices.push_back(mesh.vertices[0]);  // at a used vertex's place, itself unused
+    const MeshDiagnostics d = checkMesh(mesh);
+    EXPECT_EQ(d.unusedVertices, 2u);
+    EXPECT_EQ(
+        meshWarnings(d, "stray.off"),
+        std::vector<std::string>{"stray.off: 2 vertices are used by no face; they are ignored"});
+    mesh.vertices.pop_back();
+    EXPECT_EQ(meshWarnings(checkMesh(mesh), "stray.off"),
+              std::vector<std::string>{"stray.off: 1 vertex is used by no face; it is ignored"});
+}
+
 TEST(MeshCheck, EverySharedMeshAgreesWithTheHashedCount) {
     if (!test::hasSharedData()) GTEST_SKIP() << "no shared data at " << test::sharedDataDir();
     std::size_t meshes = 0;

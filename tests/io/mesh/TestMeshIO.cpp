@@ -433,8 +433,7 @@ TEST(MeshIO, MalformedInputThrowsInputErrorNamingTheFile) {
          "expected vertex, face and edge counts"},
         {MeshFormat::Off, "OFF\n3 0 0\n" + v3, "no faces"},
         {MeshFormat::Off, "OFF\n3 1 0\n" + v3Long + "2 0 1\n", "face 0 has 2 vertices"},
-        {MeshFormat::Off, "OFF\n4 4 0\n" + v3 + "0 0 1\n3 0 1 2\n",
-         "header says 4 vertices and 4 faces but only 32 bytes follow"},
+        {MeshFormat::Off, "OFF\n4 4 0\n" + v3 + "0 0 1\n3 0 1 2\n", "file ends after 1 of 4 faces"},
         {MeshFormat::Off, "OFF\n3 1 0\n" + v3 + "4 0 1 2\n", "lists 3 of its 4 vertex indices"},
         {MeshFormat::Off, "OFF\n3 1 0\n0 0 nan\n1 0 0\n0 1 0\n3 0 1 2\n",
          "vertex 0 has a non-finite coordinate"},
@@ -522,6 +521,107 @@ TEST(MeshIO, OffFaceIndicesMayContinueOnTheNextLines) {
     // The file's end still stops a short face, naming the line it starts on.
     expectEachRefused({{MeshFormat::Off, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0\n1 2\n",
                         "line 6: face 0 lists 3 of its 4 vertex indices"}});
+}
+
+TEST(MeshIO, OffFaceColoursAfterTheIndicesAreIgnored) {
+    // Geomview's OFF allows a colour after a face's indices: a colour-map
+    // index, or 3 or 4 integers 0..255 or reals 0..1. Where the indices are
+    // wrapped, the colour is the rest of the line the last index stands on.
+    const TriangleMesh cube = fromText(MeshFormat::Off, kCubeOff);
+    const std::string header =
+        "OFF\n8 6 12\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2\n0 2 2\n";
+    for (const std::string colour :
+         {" 255 0 0", " 255 0 0 255", " 1.0 0.0 0.0 1.0", " 0.5 0.5 0.5", " 7", "\t0 128 255 "}) {
+        std::string text = header;
+        for (const auto& q : kCubeQuads)
+            text += "4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " +
+                    std::to_string(q[2]) + " " + std::to_string(q[3]) + colour + "\n";
+        SCOPED_TRACE(colour);
+        expectSameMesh(fromText(MeshFormat::Off, text), cube);
+        // COFF's colours per vertex do not change what a face's colour is.
+        std::string coff = "C" + text;
+        for (const char* corner :
+             {"0 0 0", "2 0 0", "2 2 0", "0 2 0", "0 0 2", "2 0 2", "2 2 2", "0 2 2"}) {
+            const std::string line = std::string(corner) + "\n";
+            coff.replace(coff.find(line), line.size(), std::string(corner) + " 1 1 1 1\n");
+        }
+        expectSameMesh(fromText(MeshFormat::Off, coff), cube);
+    }
+    const std::string wrapped = header +
+                                "4 0 3\n2 1 255 0 0\n4 4 5 6\n7 0.1 0.2 0.3 1\n4 0 1 5 4 9\n"
+                                "4\n1 2 6 5 1 1 1\n4 2 3 7 6\n4 3 0\n4 7 255 255 255 255\n";
+    expectSameMesh(fromText(MeshFormat::Off, wrapped), cube);
+}
+
+TEST(MeshIO, OffHeaderCountsMayStandOnLinesOfTheirOwn) {
+    // Geomview reads the header as tokens; "OFF\n\n\n# hi\n8\n12\n0\n" was
+    // refused ("line 5: expected vertex, face and edge counts, found 1
+    // numbers"). The edge count stays optional.
+    const TriangleMesh cube = fromText(MeshFormat::Off, kCubeOff);
+    const std::string vertices = "0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2\n0 2 2\n";
+    const std::string faces = "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+    for (const std::string header :
+         {"OFF\n\n\n# hi\n8\n6\n12\n", "OFF\n8\n# the faces\n\n6 # six\n0\n", "OFF\n8\n6\n",
+          "OFF 8\n6 12\n", "OFF\n8 6\n12\n", "OFF\r\n8\r\n6\r\n0\r\n", "8\n6\n12\n",
+          "nOFF\n3\n8\n6\n12\n", "nOFF 3\n8\n6\n"}) {
+        SCOPED_TRACE(header);
+        expectSameMesh(fromText(MeshFormat::Off, header + vertices + faces), cube);
+    }
+    expectEachRefused({
+        {MeshFormat::Off, "OFF\n8\n", "file ends after the vertex count, before the face count"},
+        {MeshFormat::Off, "OFF\n8\n# no more\n", "file ends after the vertex count"},
+        {MeshFormat::Off, "OFF\n8\n6 12 0\n" + vertices + faces,
+         "line 3: expected vertex, face and edge counts, found 4 numbers"},
+        {MeshFormat::Off, "OFF\n8\nsix\n",
+         "line 3: expected vertex, face and edge counts, found 'six'"},
+        // A line of one number after the counts is the edge count, never a
+        // vertex: the vertices then start one line later.
+        {MeshFormat::Off, "OFF\n8 6\n0\n" + vertices.substr(6) + faces,
+         "file ends after 5 of 6 faces"},
+    });
+}
+
+TEST(MeshIO, OffFaceOfOneOrTwoVerticesIsNamed) {
+    // A face of one vertex, "1 3", made a file whose other lines are as short
+    // as they can be look truncated: "header says 4 vertices and 5 faces but
+    // only 60 bytes follow" (the bound counted 8 bytes per face).
+    const std::string tetra =
+        "OFF\n4 5 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    expectEachRefused({
+        {MeshFormat::Off, tetra + "1 3\n",
+         "bad.off: face 4 has 1 vertices; a face needs at least 3"},
+        {MeshFormat::Off, tetra + "1 3", "face 4 has 1 vertices; a face needs at least 3"},
+        {MeshFormat::Off, tetra + "2 0 1\n", "face 4 has 2 vertices; a face needs at least 3"},
+        {MeshFormat::Off, tetra + "0\n", "face 4 has 0 vertices; a face needs at least 3"},
+        {MeshFormat::Off, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n1 0\n", "face 0 has 1 vertices"},
+        // Counts no file of that size can hold are still refused before
+        // anything is reserved for them.
+        {MeshFormat::Off, "OFF\n4 40 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n",
+         "header says 4 vertices and 40 faces but only 32 bytes follow"},
+    });
+}
+
+TEST(MeshIO, CompressedContentUnderAMeshExtensionSaysUnpackIt) {
+    // "gzip -c cube.off > cube.off": every reader refused it for another,
+    // wrong reason ("ends its lines with a carriage return alone", "not an
+    // STL file"). Each signature is followed by a lone carriage return, as
+    // a gzip header often holds one.
+    const std::string tail("\x03\r\x7f\x01\x02", 5);
+    const std::vector<std::pair<std::string, std::string>> contents = {
+        {"gzip data", std::string("\x1f\x8b\x08\x08\x00\x00\x00\x00\x00\x03", 10) + tail},
+        {"bzip2 data", "BZh91AY&SY" + tail},
+        {"xz data", std::string("\xfd\x37\x7a\x58\x5a\x00", 6) + tail},
+        {"zstd data", std::string("\x28\xb5\x2f\xfd", 4) + tail},
+        {"a zip archive", std::string("PK\x03\x04\x14\x00", 6) + tail},
+    };
+    std::vector<BadInput> cases;
+    for (const MeshFormat format :
+         {MeshFormat::Off, MeshFormat::Obj, MeshFormat::Stl, MeshFormat::Ply})
+        for (const auto& [what, bytes] : contents)
+            cases.push_back(
+                {format, bytes,
+                 "is a compressed file or archive (its bytes are " + what + "); unpack it first"});
+    expectEachRefused(cases);
 }
 
 TEST(MeshIO, PlyTriangleStripsGiveOneFacePerTriangle) {

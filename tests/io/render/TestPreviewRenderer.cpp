@@ -179,6 +179,15 @@ TEST(PreviewRenderer, SerialAndParallelGiveTheSameBytes) {
     EXPECT_EQ(encodePng(a), encodePng(b));
 }
 
+TEST(PreviewRenderer, VertexNoTriangleUsesDoesNotFrameTheViews) {
+    // A mesh file's stray vertex a million units away shrank the shape to a
+    // dot in every view: the framing took every vertex of the scene.
+    const PreviewScene scene = twoSpheresScene();
+    PreviewScene stray = scene;
+    stray.vertices.push_back({1e6, 0.0, 0.0});
+    EXPECT_EQ(renderPreview(stray).rgb, renderPreview(scene).rgb);
+}
+
 TEST(PreviewRenderer, EmptySceneRendersTitleOnly) {
     PreviewScene scene;
     scene.title = "empty.nrrd  parts: 0";
