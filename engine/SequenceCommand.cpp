@@ -9,6 +9,7 @@
 
 #include "engine/SequenceConsensus.h"
 #include "io/files/OutputDirectory.h"
+#include "io/files/TextFile.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/SegFile.h"
 #include "kernels/base/Error.h"
@@ -99,7 +100,13 @@ void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter&
     OutputDirectory out(options.outdir, options.segment.force, sequenceOutputLayout());
     try {
         const fs::path staged = out.stagingPath("frames");
-        fs::create_directories(staged);
+        // Named by where the folder ends up: the staging folder is gone when
+        // the error is read.
+        std::error_code ec;
+        fs::create_directories(staged, ec);
+        if (ec)
+            throw OutputError((options.outdir / "frames").string() +
+                              ": cannot create directory: " + describeErrno(ec.value()));
 
         std::vector<std::vector<std::int64_t>> labels;
         for (std::size_t f = 0; f < options.frames.size(); ++f) {

@@ -11,7 +11,11 @@
 // missing. Errors are one line on stderr.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <string>
 
@@ -27,7 +31,9 @@
 #include "io/volume/NrrdIO.h"
 #include "kernels/base/Error.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int runCommandLine(int argc, char** argv) {
     CLI::App app{"skelseg: part-type segmentation of 3D shapes with the junction rule"};
     app.set_version_flag("--version", std::string("skelseg ") + skelseg::versionString());
     app.require_subcommand(1);
@@ -256,4 +262,27 @@ int main(int argc, char** argv) {
         return 1;
     }
     return 0;
+}
+
+/// `code`, unless the command's result on standard output (`score`, --help,
+/// --version) was not all written: a full disk or a closed stream then
+/// exited 0 with the result lost.
+int checkStandardOutput(int code) {
+    std::cout.flush();
+    const bool written = std::cout.good() && std::fflush(stdout) == 0 && !std::ferror(stdout);
+    // A reader that stopped reading (`| head -1`) took what it wanted.
+    if (written || code != 0 || errno == EPIPE) return code;
+    std::cerr << "skelseg: error: cannot write to standard output: " << std::strerror(errno)
+              << "\n";
+    return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    // A reader that closes the pipe skelseg's messages go to (`2>&1 | head -1`)
+    // killed the run with SIGPIPE, leaving its staging folder; ignored, the
+    // write fails and the run goes on.
+    std::signal(SIGPIPE, SIG_IGN);
+    return checkStandardOutput(runCommandLine(argc, argv));
 }

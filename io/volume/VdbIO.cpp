@@ -1,6 +1,7 @@
 #include "io/volume/VdbIO.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <istream>
@@ -207,6 +208,42 @@ public:
         Archive::write(stream, grids, /*seekable=*/true);
     }
 };
+
+/// Replaces the random file ID OpenVDB's writer puts in the header (a UUID
+/// as 36 characters, after the magic number, the three version numbers and
+/// the grid-offsets flag) with one derived from the rest of the file, so that
+/// the same labels give the same bytes (every other output is byte-identical
+/// between runs and thread counts). Leaves the bytes alone when the header
+/// is not laid out that way (another OpenVDB).
+void makeFileIdDeterministic(std::string& bytes) {
+    constexpr std::size_t kIdOffset = 8 + 4 + 4 + 4 + 1, kIdLength = 36;
+    if (bytes.size() < kIdOffset + kIdLength) return;
+    for (std::size_t i = 0; i < kIdLength; ++i) {
+        const char c = bytes[kIdOffset + i];
+        const bool dash = i == 8 || i == 13 || i == 18 || i == 23;
+        if (dash ? c != '-' : !std::isxdigit(static_cast<unsigned char>(c))) return;
+    }
+    // Two FNV-1a hashes of everything but the ID: 128 bits.
+    std::uint64_t halves[2] = {0xcbf29ce484222325ull, 0x84222325cbf29ce4ull};
+    for (std::size_t i = 0; i < bytes.size(); ++i) {
+        if (i >= kIdOffset && i < kIdOffset + kIdLength) continue;
+        for (std::uint64_t& h : halves)
+            h = (h ^ static_cast<unsigned char>(bytes[i])) * 0x100000001b3ull;
+        halves[1] = (halves[1] << 1) | (halves[1] >> 63);
+    }
+    unsigned char id[16];
+    for (int i = 0; i < 16; ++i) id[i] = static_cast<unsigned char>(halves[i / 8] >> (8 * (i % 8)));
+    id[6] = static_cast<unsigned char>((id[6] & 0x0f) | 0x80);  // RFC 9562 version 8: custom
+    id[8] = static_cast<unsigned char>((id[8] & 0x3f) | 0x80);  // RFC 4122 variant
+    static const char* const kHex = "0123456789abcdef";
+    std::string text;
+    for (int i = 0; i < 16; ++i) {
+        if (i == 4 || i == 6 || i == 8 || i == 10) text += '-';
+        text += kHex[id[i] >> 4];
+        text += kHex[id[i] & 15];
+    }
+    bytes.replace(kIdOffset, kIdLength, text);
+}
 
 void checkVdbMagic(const std::string& name, const std::uint8_t* bytes, std::size_t size) {
     if (size == 0) throw InputError(name, "file is empty");
@@ -423,9 +460,11 @@ void writeVdbLabels(const fs::path& file, const LabelVolume& labels) {
         throw OutputError(file.string() + ": cannot write OpenVDB file: " + oneLine(error.what()));
     }
     if (!bytes) throw OutputError(file.string() + ": cannot write OpenVDB file");
+    std::string content = bytes.str();
+    makeFileIdDeterministic(content);
     // Through the checked writer: the system's reason on failure, and no
     // partial file under any name.
-    writeFileAtomically(file, bytes.str());
+    writeFileAtomically(file, content);
 }
 
 }  // namespace skelseg

@@ -46,6 +46,25 @@ TEST(MachineFailures, FullDiskNamesTheFinalFileAndKeepsTheEarlierOutput) {
     EXPECT_EQ(fileBytes(outdir / "labels.nrrd"), "earlier");
 }
 
+// `sequence` creates OUTDIR/frames/ in its staging folder first: out of
+// inodes, that was an "internal error" naming the staging folder, gone when
+// the line was read.
+TEST(MachineFailures, SequenceOutOfInodesNamesTheFinalFolder) {
+    TempDir dir;
+    writeBytes(dir / "a.off", kTetraOff);
+    writeBytes(dir / "b.off", kTetraOff);
+    SmallTmpfs disk(1024 * 1024, false, 3);
+    if (!disk.mounted()) GTEST_SKIP() << disk.skipReason();
+    const fs::path outdir = disk / "out";
+    const CliResult result =
+        runSkelseg({"sequence", (dir / "a.off").string(), (dir / "b.off").string(), "-o",
+                    outdir.string(), "--resolution", "48", "-q"});
+    EXPECT_TRUE(failsWithOneLine(result, 1, (outdir / "frames").string(),
+                                 "cannot create directory: no space left on device"));
+    EXPECT_EQ(result.err.find(".skelseg-staging"), std::string::npos) << result.err;
+    EXPECT_TRUE(directoryEntries(disk.path()).empty());
+}
+
 TEST(MachineFailures, SecondSegmentOnTheSameOutdirIsRefused) {
     TempDir dir;
     const fs::path input = dir / "tetra.off";

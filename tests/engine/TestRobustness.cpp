@@ -6,11 +6,13 @@
 // OpenVDB inputs: TestRobustnessVdb.cpp. Degenerate shapes: SlowRobustness.cpp.
 #include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -889,6 +891,47 @@ TEST(ExitCodes, HelpAndVersionExitZero) {
     const CliResult version = runSkelseg({"--version"});
     EXPECT_EQ(version.exitCode, 0) << version.describe();
     EXPECT_NE(version.out.find("skelseg"), std::string::npos);
+}
+
+/// Runs `script` with /bin/sh, skelseg's path in $SKELSEG; the exit status.
+int shellStatus(const std::string& script) {
+    const std::string command = "SKELSEG='" + skelsegBinary() + "'; export SKELSEG; " + script;
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// `score`'s result, --help and --version go to standard output: a result that
+// could not be written there exited 0 and was lost.
+TEST(ExitCodes, AResultStandardOutputCannotTakeIsExitOne) {
+    TempDir dir;
+    const fs::path err = dir / "err.txt";
+    EXPECT_EQ(shellStatus("\"$SKELSEG\" --version >/dev/full 2>'" + err.string() + "'"), 1);
+    EXPECT_EQ(fileBytes(err),
+              "skelseg: error: cannot write to standard output: No space left on device\n");
+    EXPECT_EQ(shellStatus("\"$SKELSEG\" --help >&- 2>'" + err.string() + "'"), 1);
+    EXPECT_NE(fileBytes(err).find("cannot write to standard output"), std::string::npos);
+    // The controls: written, and a reader that stops early took what it wanted.
+    EXPECT_EQ(shellStatus("\"$SKELSEG\" --version >/dev/null"), 0);
+}
+
+// A reader that closes skelseg's message pipe early (`2>&1 | head -c 1`)
+// killed the run with SIGPIPE (exit 141), leaving its staging folder.
+TEST(ExitCodes, AClosedMessagePipeDoesNotStopTheRun) {
+    TempDir dir;
+    const fs::path input = dir / "box.nrrd";
+    writeNrrdMask(input, makeMask(Dims{24, 24, 24}, [](int x, int y, int z) {
+                      return x > 2 && x < 21 && y > 2 && y < 21 && z > 2 && z < 21;
+                  }));
+    const fs::path status = dir / "status.txt";
+    const int shell = shellStatus(
+        "exec bash -c '\"$SKELSEG\" segment \"$0\" -o \"$1\" --no-preview 2>&1 | head -c 1 "
+        ">/dev/null; echo ${PIPESTATUS[0]} > \"$2\"' '" +
+        input.string() + "' '" + (dir / "out").string() + "' '" + status.string() + "'");
+    ASSERT_EQ(shell, 0);
+    EXPECT_EQ(fileBytes(status), "0\n");
+    EXPECT_TRUE(fs::exists(dir / "out" / "report.json"));
+    for (const std::string& name : directoryEntries(dir / "out"))
+        EXPECT_EQ(name.rfind(".skelseg-staging", 0), std::string::npos) << name;
 }
 
 TEST(ExitCodes, UnwritableOutputIsExitOne) {

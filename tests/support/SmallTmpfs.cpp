@@ -8,13 +8,15 @@
 
 namespace skelseg::test {
 
-SmallTmpfs::SmallTmpfs(std::size_t bytes, bool readOnly) : mPoint(mDir / "tmpfs") {
+SmallTmpfs::SmallTmpfs(std::size_t bytes, bool readOnly, std::size_t inodes)
+    : mPoint(mDir / "tmpfs") {
     std::filesystem::create_directory(mPoint);
     if (::geteuid() != 0) {
         mSkipReason = "mounting a tmpfs needs root";
         return;
     }
-    const std::string options = "size=" + std::to_string(bytes);
+    std::string options = "size=" + std::to_string(bytes);
+    if (inodes > 0) options += ",nr_inodes=" + std::to_string(inodes);
     if (::mount("tmpfs", mPoint.c_str(), "tmpfs", readOnly ? MS_RDONLY : 0, options.c_str()) != 0) {
         mSkipReason = std::string("cannot mount a tmpfs here: ") + std::strerror(errno);
         return;

@@ -16,8 +16,10 @@ namespace skelseg::test {
 
 class SmallTmpfs {
 public:
-    /// Mounts a tmpfs of `bytes` (rounded up to pages by the kernel).
-    explicit SmallTmpfs(std::size_t bytes, bool readOnly = false);
+    /// Mounts a tmpfs of `bytes` (rounded up to pages by the kernel) and, if
+    /// `inodes` is not 0, room for that many files and folders (its root
+    /// counts as one).
+    explicit SmallTmpfs(std::size_t bytes, bool readOnly = false, std::size_t inodes = 0);
     ~SmallTmpfs();
     SmallTmpfs(const SmallTmpfs&) = delete;
     SmallTmpfs& operator=(const SmallTmpfs&) = delete;

@@ -216,6 +216,30 @@ TEST(VdbIO, WriteLabelsUniformAndAffineGeometry) {
                      "unsupported grid type int32");
 }
 
+// OpenVDB's writer puts a random file ID in every file: labels.vdb differed
+// between two runs of the same input, the one output that did.
+TEST(VdbIO, WriteLabelsGivesTheSameBytesForTheSameLabels) {
+    test::TempDir dir;
+    LabelVolume labels(Dims{6, 5, 4});
+    for (int z = 0; z < 4; ++z)
+        for (int y = 0; y < 5; ++y)
+            for (int x = 0; x < 6; ++x) labels(x, y, z) = std::uint16_t((x + y * z) % 3);
+    labels.geometry = VolumeGeometry::uniform(0.25, {1.0, -2.0, 0.5});
+    writeVdbLabels(dir / "a.vdb", labels);
+    writeVdbLabels(dir / "b.vdb", labels);
+    const std::string a = fileBytes(dir / "a.vdb");
+    EXPECT_EQ(a, fileBytes(dir / "b.vdb"));
+    // The ID is still a UUID OpenVDB reads, and other labels get another.
+    openvdb::io::File in((dir / "a.vdb").string());
+    in.open();
+    const std::string id = in.getUniqueTag();
+    in.close();
+    EXPECT_EQ(id, a.substr(21, 36));
+    labels(0, 0, 0) = 7;
+    writeVdbLabels(dir / "c.vdb", labels);
+    EXPECT_NE(fileBytes(dir / "c.vdb").substr(21, 36), id);
+}
+
 TEST(VdbIO, WriteLabelsOnAFullDiskThrowsAndLeavesNoFile) {
     // openvdb::io::File::write() never checks its stream: labels.vdb came out
     // empty on a full disk and `segment` exited 0.
