@@ -28,6 +28,7 @@
 #include "engine/batch/OutputFolderClaim.h"
 #include "engine/batch/StagingCleanup.h"
 #include "io/files/OutputDirectory.h"
+#include "io/files/ReplacedOutputs.h"
 #include "io/volume/VolumeReader.h"
 #include "kernels/base/Error.h"
 
@@ -143,15 +144,20 @@ FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
 /// of another: OUTROOT/a/labels.nrrd listed beside a.off. `segment` refuses an
 /// input among its own outputs; here the writer is another input, so the file
 /// changed under the batch (the other input read the old or the new one,
-/// depending on the order) and its done marker never matched again. Only
-/// inputs under OUTROOT are looked at, each against the one folder it lies in.
+/// depending on the order) and its done marker never matched again. An input
+/// whose path lies under OUTROOT is named by the one folder it lies in; any
+/// other name of an output (a hard link, OUTROOT through a bind mount) is
+/// found by file identity. A shape's own outputs are left to its segment run.
 /// @throw InputError naming the manifest, before anything is written.
 void refuseInputsAmongOutputs(const Manifest& manifest, const fs::path& outroot) {
     std::error_code ec;
     const fs::path root = fs::weakly_canonical(outroot, ec);
-    if (ec) return;
+    const bool rootResolved = !ec;
     std::map<std::string, const ManifestEntry*> byName;
     for (const auto& entry : manifest.entries) byName.emplace(entry.name, &entry);
+    ReplacedOutputs replaced;
+    for (const auto& [name, entry] : byName)
+        replaced.add(outroot / name, segmentOutputNames(), name);
     for (const auto& entry : manifest.entries) {
         if (!entry.exists) continue;  // a FIFO's header is not peeked at
         std::vector<fs::path> files;
@@ -161,13 +167,22 @@ void refuseInputsAmongOutputs(const Manifest& manifest, const fs::path& outroot)
             continue;  // a bad header: the input fails on its own
         }
         for (const fs::path& file : files) {
+            std::string output;
+            auto writer = byName.end();
             const fs::path relative = fs::weakly_canonical(file, ec).lexically_relative(root);
-            if (ec || relative.empty() || *relative.begin() == "..") continue;
-            const auto writer = byName.find(relative.begin()->string());
+            if (rootResolved && !ec && !relative.empty() && *relative.begin() != "..") {
+                writer = byName.find(relative.begin()->string());
+                if (writer != byName.end())
+                    output = outputReplacing(file, outroot / writer->first, segmentOutputNames());
+            }
+            if (output.empty()) {
+                const ReplacedOutputs::Entry* other = replaced.find(file);
+                if (other == nullptr) continue;
+                writer = byName.find(other->owner);
+                output = other->output;
+            }
             if (writer == byName.end() || writer->second == &entry) continue;
             const fs::path outdir = outroot / writer->first;
-            const std::string output = outputReplacing(file, outdir, segmentOutputNames());
-            if (output.empty()) continue;
             const std::string where =
                 entry.line > 0 ? "line " + std::to_string(entry.line) + ": " : std::string();
             throw InputError(manifest.source.string(),

@@ -19,6 +19,7 @@
 #include "engine/Stage.h"
 #include "engine/UsableThreads.h"
 #include "io/files/OutputDirectory.h"
+#include "io/files/ReplacedOutputs.h"
 #include "io/volume/VdbIO.h"
 #include "io/volume/VolumeReader.h"
 #include "kernels/base/ArenaPool.h"
@@ -69,10 +70,16 @@ using ShapeMessage = std::shared_ptr<const SegmentedShape>;
 
 /// Never replace the input: with --force, an input stored in OUTDIR under an
 /// output name (a labels.nrrd fed back in, a level's labels, a detached
-/// header's data file) would be overwritten or removed.
+/// header's data file) would be overwritten or removed. The path comparison
+/// names the plain cases; the identity comparison also catches the other
+/// names of an output (a hard link, OUTDIR through a bind mount).
 void refuseInputAmongOutputs(const SegmentCommandOptions& options) {
+    ReplacedOutputs replaced;
+    replaced.add(options.outdir, segmentOutputNames());
     for (const fs::path& file : volumeInputFiles(options.input)) {
-        const std::string output = outputReplacing(file, options.outdir, segmentOutputNames());
+        std::string output = outputReplacing(file, options.outdir, segmentOutputNames());
+        if (const ReplacedOutputs::Entry* entry = output.empty() ? replaced.find(file) : nullptr)
+            output = entry->output;
         if (output.empty()) continue;
         const std::string what =
             file == options.input ? "the input" : "its data file " + file.string();

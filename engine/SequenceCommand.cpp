@@ -9,6 +9,7 @@
 
 #include "engine/SequenceConsensus.h"
 #include "io/files/OutputDirectory.h"
+#include "io/files/ReplacedOutputs.h"
 #include "io/files/TextFile.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/SegFile.h"
@@ -49,6 +50,8 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
                          std::to_string(options.frames.size()) + ")");
     std::vector<std::string> names;
     std::set<std::string> seen;
+    ReplacedOutputs replaced;
+    replaced.add(options.outdir, sequenceOutputNames());
     for (const fs::path& frame : options.frames) {
         try {
             meshFormatFromPath(frame);
@@ -69,7 +72,10 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
         if (!seen.insert(name).second)
             throw UsageError(frame.string() + ": two frames are named '" + name +
                              "'; their outputs would share frames/" + name);
-        const std::string output = outputReplacing(frame, options.outdir, sequenceOutputNames());
+        std::string output = outputReplacing(frame, options.outdir, sequenceOutputNames());
+        // Another name of an output (a hard link, OUTDIR through a bind mount).
+        if (const ReplacedOutputs::Entry* entry = output.empty() ? replaced.find(frame) : nullptr)
+            output = entry->output;
         if (!output.empty())
             throw UsageError(frame.string() + ": the frame lies in the output directory's " +
                              output + " and would be replaced; choose another output directory");

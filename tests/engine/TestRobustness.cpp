@@ -4,7 +4,9 @@
 // docs/robustness.md. The parsers themselves are unit-tested in tests/io and
 // fuzzed in tests/fuzz; here the built `skelseg` runs as a child process.
 // OpenVDB inputs: TestRobustnessVdb.cpp. Degenerate shapes: SlowRobustness.cpp.
+#include <sched.h>
 #include <signal.h>
+#include <sys/mount.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -1640,6 +1642,139 @@ TEST(Outputs, DetachedDataFileAmongOutputsIsNotRemovedEvenWithForce) {
     EXPECT_TRUE(failsWithOneLine(result, 2, header.string(), data.string()));
     EXPECT_EQ(fileBytes(data), voxels);
     EXPECT_EQ(directoryEntries(out), std::vector<std::string>{"levels"});
+}
+
+// Another name of a file in an output folder: a path comparison cannot see
+// it, but the file is the same (st_dev, st_ino), and a run without levels
+// would remove it with levels/.
+struct AliasedLevels {
+    TempDir dir;
+    fs::path out = dir / "out";
+    fs::path levelLabels = out / "levels" / "0" / "labels.nrrd";
+
+    AliasedLevels() {
+        fs::create_directories(levelLabels.parent_path());
+        writeNrrdMask(levelLabels, makeMask(Dims{8, 8, 8}, [](int x, int, int) { return x > 2; }));
+    }
+};
+
+TEST(Outputs, InputHardLinkedIntoAnOutputDirectoryIsNotRemovedEvenWithForce) {
+    AliasedLevels setup;
+    const fs::path alias = setup.dir / "alias.nrrd";
+    fs::create_hard_link(setup.levelLabels, alias);
+    const std::string before = fileBytes(alias);
+    const CliResult result = runSegment(alias, setup.out, {"--force"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, alias.string(),
+                                 "the input is levels/0/labels.nrrd in the output directory and "
+                                 "would be replaced"));
+    EXPECT_EQ(fileBytes(setup.levelLabels), before);
+    EXPECT_EQ(directoryEntries(setup.out), std::vector<std::string>{"levels"});
+}
+
+TEST(Outputs, InputThroughASymlinkedFolderIsNotRemovedEvenWithForce) {
+    AliasedLevels setup;
+    fs::create_directory_symlink(setup.out, setup.dir / "alias");
+    const fs::path input = setup.dir / "alias" / "levels" / "0" / "labels.nrrd";
+    const std::string before = fileBytes(input);
+    const CliResult result = runSegment(input, setup.out, {"--force"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, input.string(), "is levels in the output directory"));
+    EXPECT_EQ(fileBytes(setup.levelLabels), before);
+    EXPECT_EQ(directoryEntries(setup.out), std::vector<std::string>{"levels"});
+}
+
+TEST(Outputs, DetachedDataFileHardLinkedIntoAnOutputDirectoryIsNotRemovedEvenWithForce) {
+    AliasedLevels setup;
+    const fs::path data = setup.out / "levels" / "box.raw";
+    std::string voxels(8 * 8 * 8, '\0');
+    for (std::size_t i = 0; i < voxels.size(); ++i) voxels[i] = (i % 8) > 2 ? 1 : 0;
+    writeBytes(data, voxels);
+    fs::create_hard_link(data, setup.dir / "box.raw");
+    const fs::path header = setup.dir / "box.nhdr";
+    writeBytes(header,
+               "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 8 8 8\nencoding: raw\n"
+               "data file: box.raw\n");
+    const CliResult result = runSegment(header, setup.out, {"--force"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, header.string(),
+                                 "its data file " + (setup.dir / "box.raw").string() +
+                                     " is levels/box.raw in the output directory"));
+    EXPECT_EQ(fileBytes(data), voxels);
+    EXPECT_EQ(directoryEntries(setup.out), std::vector<std::string>{"levels"});
+}
+
+TEST(Outputs, BatchRefusesAnInputHardLinkedIntoAnotherInputsOutputs) {
+    TempDir dir;
+    writeBytes(dir / "a.off", kTetraOff);
+    const fs::path levelLabels = dir / "out" / "a" / "levels" / "0" / "labels.nrrd";
+    fs::create_directories(levelLabels.parent_path());
+    writeNrrdMask(levelLabels, makeMask(Dims{8, 8, 8}, [](int x, int, int) { return x > 2; }));
+    const std::string before = fileBytes(levelLabels);
+    fs::create_hard_link(levelLabels, dir / "linked.nrrd");
+    writeBytes(dir / "list.txt", "a.off\nlinked.nrrd\n");
+    const CliResult result =
+        runSkelseg({"batch", (dir / "list.txt").string(), "-o", (dir / "out").string(), "--quiet",
+                    "--force", "--resolution", "16", "--no-preview"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "list.txt").string(),
+                                 "line 2: " + (dir / "linked.nrrd").string() +
+                                     " is levels/0/labels.nrrd in " + (dir / "out" / "a").string() +
+                                     ", which the batch rewrites for " + (dir / "a.off").string() +
+                                     "; choose another OUTROOT"));
+    EXPECT_EQ(fileBytes(levelLabels), before);
+    EXPECT_FALSE(fs::exists(dir / "out" / "summary.json"));
+}
+
+TEST(Outputs, SequenceRefusesAFrameHardLinkedIntoItsFrames) {
+    TempDir dir;
+    writeBytes(dir / "a.off", kTetraOff);
+    const fs::path kept = dir / "out" / "frames" / "b" / "b.off";
+    fs::create_directories(kept.parent_path());
+    writeBytes(kept, kTetraOff);
+    fs::create_hard_link(kept, dir / "b.off");
+    const CliResult result =
+        runSkelseg({"sequence", (dir / "a.off").string(), (dir / "b.off").string(), "-o",
+                    (dir / "out").string(), "--quiet", "--force"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "b.off").string(),
+                                 "the frame lies in the output directory's frames/b/b.off and "
+                                 "would be replaced"));
+    EXPECT_EQ(fileBytes(kept), kTetraOff);
+}
+
+/// OUTDIR bind-mounted at another path, in a mount namespace of this test
+/// process's own (so nothing leaks to the host); unmounted when done.
+class BindMount {
+public:
+    /// Mounts `source` at `target` (an empty folder); isMounted() is false
+    /// where the system does not permit it (not root, no CAP_SYS_ADMIN).
+    BindMount(const fs::path& source, const fs::path& target) : mTarget(target) {
+        if (::unshare(CLONE_NEWNS) != 0) return;
+        if (::mount("none", "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0) return;
+        mMounted = ::mount(source.c_str(), target.c_str(), nullptr, MS_BIND, nullptr) == 0;
+    }
+    ~BindMount() {
+        if (mMounted) ::umount2(mTarget.c_str(), MNT_DETACH);
+    }
+    BindMount(const BindMount&) = delete;
+    BindMount& operator=(const BindMount&) = delete;
+
+    bool isMounted() const { return mMounted; }
+
+private:
+    fs::path mTarget;
+    bool mMounted = false;
+};
+
+TEST(Outputs, InputThroughABindMountOfTheOutputDirectoryIsNotRemovedEvenWithForce) {
+    AliasedLevels setup;
+    const fs::path bind = setup.dir / "bind";
+    fs::create_directory(bind);
+    const BindMount mount(setup.out, bind);
+    if (!mount.isMounted()) GTEST_SKIP() << "mount --bind is not permitted here";
+    const fs::path input = bind / "levels" / "0" / "labels.nrrd";
+    const std::string before = fileBytes(input);
+    const CliResult result = runSegment(input, setup.out, {"--force"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, input.string(),
+                                 "the input is levels/0/labels.nrrd in the output directory"));
+    EXPECT_EQ(fileBytes(setup.levelLabels), before);
+    EXPECT_EQ(directoryEntries(setup.out), std::vector<std::string>{"levels"});
 }
 
 }  // namespace
