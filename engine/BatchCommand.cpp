@@ -27,6 +27,7 @@
 #include "engine/batch/MemoryBudget.h"
 #include "engine/batch/OutputFolderClaim.h"
 #include "engine/batch/StagingCleanup.h"
+#include "io/files/DirectoryLock.h"
 #include "io/files/OutputDirectory.h"
 #include "io/files/ReplacedOutputs.h"
 #include "io/volume/VolumeReader.h"
@@ -49,7 +50,11 @@ struct BatchJob {
 struct FinishedJob {
     BatchJob job;
     BatchEntry entry;
-    DoneMarker marker;     // valid when entry.status == "done"
+    DoneMarker marker;  // valid when entry.status == "done"
+    /// The output folder's lock, held until done.json is written: another
+    /// run taking the folder between the commit and the marker would be
+    /// marked done with outputs it did not make.
+    std::shared_ptr<const DirectoryLock> folderLock;
     std::string warnings;  // what the segment command printed, lines
     bool userInterrupt = false;
 };
@@ -97,10 +102,11 @@ FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
         // killed from here on leaves the input not done, and the folder the
         // batch's to redo.
         claim = claimOutputFolder(outdir, marker, options.segment.force);
-        removeStagingLeftovers(outdir);
+        finished.folderLock = claim->lock;
         SegmentCommandOptions segment = options.segment;
         segment.input = job.input.input;
         segment.outdir = outdir;
+        segment.outdirLock = claim->lock;
         segment.force = true;  // claimed: the earlier outputs are the batch's, or --force
         {
             ProgressReporter reporter(ProgressReporter::Display::Quiet, segment.timeLimitSeconds,
@@ -193,11 +199,55 @@ void refuseInputsAmongOutputs(const Manifest& manifest, const fs::path& outroot)
     }
 }
 
+/// True for the name of a summary that a batch or its merge writes:
+/// summary.json, summary.csv, summary.shard-I-of-N.json or .csv.
+bool isSummaryFileName(const std::string& fileName) {
+    const std::size_t dot = fileName.rfind('.');
+    if (dot == std::string::npos) return false;
+    const std::string stem = fileName.substr(0, dot), extension = fileName.substr(dot);
+    if (extension != ".json" && extension != ".csv") return false;
+    if (stem == "summary") return true;
+    const std::string shardPrefix = "summary.shard-";
+    if (stem.rfind(shardPrefix, 0) != 0) return false;
+    const std::string share = stem.substr(shardPrefix.size());
+    const std::size_t of = share.find("-of-");
+    const auto isNumber = [](const std::string& text) {
+        return !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+    };
+    return of != std::string::npos && isNumber(share.substr(0, of)) &&
+           isNumber(share.substr(of + 4));
+}
+
+/// Refuses a manifest that is one of the summaries the batch (or its shards,
+/// or their merge) writes in OUTROOT: `batch OUT/summary.csv -o OUT` replaced
+/// the user's manifest by its own summary without a word, and a rerun then
+/// read the summary as a manifest. Compared as the same file (device and
+/// inode: a hard link, a symlink to it) and as the same path (a summary's
+/// name in OUTROOT, through whatever path reaches that folder).
+/// @throw UsageError naming the manifest, before anything is read or written.
+void refuseManifestAmongOutputs(const fs::path& manifest, const fs::path& outroot,
+                                const std::string& stem) {
+    const auto refuse = [&](const fs::path& summary) {
+        throw UsageError(manifest.string() + ": the manifest is the batch's summary " +
+                         summary.string() +
+                         ", which the batch rewrites; copy it out of OUTROOT or choose another "
+                         "OUTROOT");
+    };
+    std::error_code ec;
+    for (const std::string& name :
+         {stem + ".json", stem + ".csv", std::string("summary.json"), std::string("summary.csv")})
+        if (fs::equivalent(manifest, outroot / name, ec)) refuse(outroot / name);
+    const fs::path folder = manifest.has_parent_path() ? manifest.parent_path() : fs::path(".");
+    const std::string name = manifest.filename().string();
+    if (isSummaryFileName(name) && fs::equivalent(folder, outroot, ec)) refuse(outroot / name);
+}
+
 }  // namespace
 
 BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stream) {
     const auto wallStart = std::chrono::steady_clock::now();
     keepFreedMemoryForReuse();  // where it fails, the batch is only slower
+    refuseManifestAmongOutputs(options.manifest, options.outroot, options.shard.summaryStem());
     const Manifest manifest = readManifest(options.manifest);
     const ShardSpec shard = options.shard;
     std::vector<std::uint64_t> sizes;
@@ -273,6 +323,18 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
                 } catch (const InputError&) {
                     // Unreadable now: the run reports it.
                 }
+                // Tidied only under the folder's lock; a folder another run
+                // is writing to is that run's, and this input fails.
+                std::optional<DirectoryLock> folderLock;
+                if (matches) {
+                    try {
+                        folderLock.emplace(outdir);
+                    } catch (const UsageError& error) {
+                        summary.entries[slot].status = "failed";
+                        summary.entries[slot].error = error.what();
+                        continue;
+                    }
+                }
                 if (matches) {
                     BatchEntry& entry = summary.entries[slot];
                     entry.status = "skipped";
@@ -281,10 +343,12 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
                     entry.cpuSeconds = marker->cpuSeconds;
                     entry.peakMemoryBytes = marker->peakMemoryBytes;
                     entry.finishedAt = marker->finishedAt;
-                    removeStagingLeftovers(outdir);
-                    // Left by a batch killed between the two markers.
-                    std::error_code ignored;
-                    fs::remove(outdir / kPendingMarkerName, ignored);
+                    if (folderLock->isHeld()) {
+                        removeStagingLeftovers(outdir);
+                        // Left by a batch killed between the two markers.
+                        std::error_code ignored;
+                        fs::remove(outdir / kPendingMarkerName, ignored);
+                    }
                     continue;
                 }
             }
@@ -340,6 +404,7 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
                     entry.error = error.what();
                 }
             }
+            finished.folderLock.reset();
             entry.finishedAt = utcTimestamp();
             std::istringstream lines(finished.warnings);
             for (std::string line; std::getline(lines, line);)

@@ -288,7 +288,7 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     refuseInputAmongOutputs(options);
     checkInputFileSize(options.input, inputOptions.memoryLimit);
     // Refuse to clobber earlier results before doing any work.
-    OutputDirectory out(options.outdir, options.force, segmentOutputLayout());
+    OutputDirectory out(options.outdir, options.force, segmentOutputLayout(), options.outdirLock);
     // An earlier hierarchy run's levels would contradict this run's outputs.
     if (options.parameters.levelCount() < 2) {
         out.removeOnCommit("levels");

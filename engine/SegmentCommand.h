@@ -39,12 +39,14 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "engine/ProgressReporter.h"
 #include "engine/SegmentInput.h"
 #include "engine/Segmenter.h"
+#include "io/files/DirectoryLock.h"
 #include "io/files/OutputLayout.h"
 
 namespace skelseg {
@@ -75,6 +77,10 @@ struct SegmentCommandOptions {
     /// a preview, so off by default).
     bool writeLevelPreviews = false;
     bool writeVdb = true;
+    /// This process's lock on the existing OUTDIR, when the caller took it
+    /// (a batch, before it writes its markers there); null: the run locks
+    /// OUTDIR itself.
+    std::shared_ptr<const DirectoryLock> outdirLock;
 };
 
 /// Every file name a run may write into OUTDIR.

@@ -13,15 +13,22 @@
 // (checkEarlierOutputs(), io/files/OutputDirectory.h): --force replaces
 // skelseg's outputs, never a user's files.
 //
-// Claiming writes the pending marker before anything else changes and then
+// Claiming first takes the folder's lock (io/files/DirectoryLock.h), the one
+// a `segment` run or another batch's share holds while it writes there: a
+// folder locked by another run is refused and left exactly as it was, its
+// markers and staging directories included. The claim keeps the lock, hands
+// it to the segment run, and holds it until the batch has written done.json.
+// Then it writes the pending marker before anything else changes and then
 // removes done.json, so at every moment the folder records that its outputs
 // are the batch's: a batch killed while (re)doing an input, even between
 // `segment`'s commit and the new done marker, can still redo it.
 #pragma once
 
 #include <filesystem>
+#include <memory>
 
 #include "engine/batch/DoneMarker.h"
+#include "io/files/DirectoryLock.h"
 
 namespace skelseg {
 
@@ -29,12 +36,18 @@ namespace skelseg {
 struct OutputFolderClaim {
     bool hadRecord = false;      // the folder held a done or pending marker before
     bool createdFolder = false;  // the claim created the folder
+    /// The folder's lock, taken before anything in it changed; shared with
+    /// the segment run (SegmentCommandOptions::outdirLock).
+    std::shared_ptr<const DirectoryLock> lock;
 };
 
-/// Checks that the batch may write `outdir` for the input `pending.input`
-/// (see above), then creates the folder if needed, writes `pending` as its
+/// Creates the folder if needed and locks it, checks that the batch may
+/// write `outdir` for the input `pending.input` (see above), then removes
+/// the staging leftovers of killed runs there, writes `pending` as its
 /// pending marker and removes its done marker.
-/// @throw UsageError when the folder is not the batch's to replace (one line
+/// @throw UsageError when another run holds the folder's lock ("another
+///        skelseg run is writing to it", nothing changed), or the folder
+///        is not the batch's to replace (one line
 ///        naming the folder and what it holds; "use --force" where that
 ///        helps); OutputError when the folder or the markers cannot be
 ///        written. A folder it created is removed again when it throws.

@@ -1,12 +1,15 @@
 #include "io/files/OutputDirectory.h"
 
 #include <fcntl.h>
-#include <sys/file.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cerrno>
+#include <climits>
+#include <fstream>
 #include <system_error>
 #include <utility>
 
@@ -24,11 +27,75 @@ std::string uniqueSuffix() {
     static std::atomic<unsigned> counter{0};
     return std::to_string(::getpid()) + "-" + std::to_string(counter++);
 }
+
+void writeOwnerRecord(const fs::path& staging, std::error_code& ec);
+}  // namespace
+
+namespace {
+
+/// The PID of a staging directory's name ".skelseg-staging-PID-N", or -1
+/// when the name is not of that form.
+long stagingNamePid(const std::string& fileName) {
+    if (fileName.rfind(kStagingPrefix, 0) != 0) return -1;
+    const std::string rest = fileName.substr(sizeof(kStagingPrefix) - 1);
+    const std::size_t dash = rest.find('-');
+    const auto isNumber = [](const std::string& text) {
+        return !text.empty() && text.size() <= 9 &&
+               std::all_of(text.begin(), text.end(),
+                           [](unsigned char c) { return std::isdigit(c) != 0; });
+    };
+    if (dash == std::string::npos || !isNumber(rest.substr(0, dash)) ||
+        !isNumber(rest.substr(dash + 1)))
+        return -1;
+    return std::stol(rest.substr(0, dash));
+}
+
+std::string hostName() {
+    char name[HOST_NAME_MAX + 1] = {};
+    if (::gethostname(name, sizeof(name) - 1) != 0) return "unknown";
+    return name;
+}
+
 }  // namespace
 
 bool isStagingDirectoryName(const std::string& fileName) {
-    return fileName.rfind(kStagingPrefix, 0) == 0;
+    return stagingNamePid(fileName) >= 0;
 }
+
+std::string stagingOwnerRecord(long pid) {
+    return hostName() + " " + std::to_string(pid) + "\n";
+}
+
+bool isLiveProcess(long pid) {
+    if (pid <= 0) return false;
+    // EPERM: it exists, but belongs to another user.
+    return ::kill(pid_t(pid), 0) == 0 || errno == EPERM;
+}
+
+bool isLeftoverStagingDirectory(const fs::path& path) {
+    const long namePid = stagingNamePid(path.filename().string());
+    std::error_code ec;
+    if (namePid < 0 || !fs::is_directory(fs::symlink_status(path, ec))) return false;
+    if (fs::is_empty(path, ec) && !ec) return !isLiveProcess(namePid);
+    std::ifstream record(path / kStagingOwnerFileName);
+    std::string host;
+    long pid = -1;
+    if (!(record >> host >> pid) || pid <= 0) return false;  // not ours: a user's folder
+    return host != hostName() || !isLiveProcess(pid);
+}
+
+namespace {
+
+void writeOwnerRecord(const fs::path& staging, std::error_code& ec) {
+    const std::string record = stagingOwnerRecord(long(::getpid()));
+    const int fd = ::open((staging / kStagingOwnerFileName).c_str(),
+                          O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 || ::write(fd, record.data(), record.size()) != ssize_t(record.size()))
+        ec.assign(errno != 0 ? errno : EIO, std::generic_category());
+    if (fd >= 0) ::close(fd);
+}
+
+}  // namespace
 
 namespace {
 
@@ -63,8 +130,9 @@ void checkEarlierOutputs(const fs::path& outdir, const OutputLayout& layout, boo
                              "); use --force to replace them");
 }
 
-OutputDirectory::OutputDirectory(const fs::path& outdir, bool force, OutputLayout layout)
-    : mDirectory(outdir), mLayout(std::move(layout)) {
+OutputDirectory::OutputDirectory(const fs::path& outdir, bool force, OutputLayout layout,
+                                 std::shared_ptr<const DirectoryLock> heldLock)
+    : mDirectory(outdir), mLayout(std::move(layout)), mLock(std::move(heldLock)) {
     std::error_code ec;
     checkOutputDirectoryPath(outdir);
     auto refuseEarlierResults = [&] { checkEarlierOutputs(outdir, mLayout, force); };
@@ -84,44 +152,42 @@ OutputDirectory::OutputDirectory(const fs::path& outdir, bool force, OutputLayou
                           ": cannot create directory: " + describeErrno(ec.value()));
     }
     try {
-        if (lockDirectory()) {
+        if (!mLock) {
+            try {
+                mLock = std::make_shared<const DirectoryLock>(outdir);
+            } catch (const UsageError&) {
+                // The other run may have created OUTDIR a moment ago: it is
+                // not ours to remove.
+                mCreated.clear();
+                throw;
+            }
+        }
+        if (mLock->isHeld()) {
             // A run that committed between the check above and the lock.
             refuseEarlierResults();
             // Locked: no live run stages here, so these are a killed run's.
             std::vector<fs::path> leftovers;
             for (const auto& item : fs::directory_iterator(outdir, ec))
-                if (isStagingDirectoryName(item.path().filename().string()))
-                    leftovers.push_back(item.path());
+                if (isLeftoverStagingDirectory(item.path())) leftovers.push_back(item.path());
             for (const auto& leftover : leftovers) fs::remove_all(leftover, ec);
         }
         mStaging = outdir / (std::string(kStagingPrefix) + uniqueSuffix());
         fs::create_directory(mStaging, ec);
+        // The record is what lets a later run tell this directory, once a
+        // killed run's, from a user's folder of the same name.
+        if (!ec) writeOwnerRecord(mStaging, ec);
         if (ec) {
             const std::string problem = describeErrno(ec.value());
+            fs::remove_all(mStaging, ec);
             mStaging.clear();
             throw OutputError(outdir.string() +
                               ": cannot create a staging directory in it: " + problem);
         }
     } catch (...) {
-        if (mLockFd >= 0) ::close(mLockFd);
+        mLock.reset();
         removeCreatedDirectories();
         throw;
     }
-}
-
-bool OutputDirectory::lockDirectory() {
-    mLockFd = ::open(mDirectory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (mLockFd < 0) return false;
-    if (::flock(mLockFd, LOCK_EX | LOCK_NB) == 0) return true;
-    const int error = errno;
-    ::close(mLockFd);
-    mLockFd = -1;
-    if (error != EWOULDBLOCK) return false;  // no locks on this file system
-    // The other run may have created OUTDIR a moment ago: it is not ours to remove.
-    mCreated.clear();
-    throw UsageError(mDirectory.string() +
-                     ": another skelseg run is writing to it; wait for it to end or choose "
-                     "another output directory");
 }
 
 void OutputDirectory::removeCreatedDirectories() noexcept {
@@ -133,7 +199,6 @@ void OutputDirectory::removeCreatedDirectories() noexcept {
 
 OutputDirectory::~OutputDirectory() {
     discard();
-    if (mLockFd >= 0) ::close(mLockFd);
 }
 
 std::string OutputDirectory::withFinalPaths(std::string message) const {

@@ -9,13 +9,15 @@
 // sees a half-written file under a final name. The staging directory lies in
 // OUTDIR, so no rename crosses file systems whatever TMPDIR is.
 //
-// A run holds an flock(2) on OUTDIR from the constructor to the destructor:
-// two runs committing into one OUTDIR file by file would leave a mix of both,
-// so the second is refused. Holding the lock also proves that the
-// .skelseg-staging-* directories already in OUTDIR belong to no live run (a
-// run killed by SIGKILL or a power cut leaves one); the constructor removes
-// them. Where the file system has no locks (some network mounts), runs are
-// not guarded and leftovers stay.
+// A run holds an flock(2) on OUTDIR (io/files/DirectoryLock.h) from the
+// constructor to the destructor, or is handed the lock by a batch that took
+// it before touching the folder: two runs committing into one OUTDIR file by
+// file would leave a mix of both, so the second is refused. Holding the lock
+// also proves that no live run on a file system with locks stages in OUTDIR,
+// so the constructor then removes the staging directories a killed run left
+// (SIGKILL, a power cut): see isLeftoverStagingDirectory() for what proves a
+// directory is one. Where the file system has no locks (some network
+// mounts), runs are not guarded and leftovers stay.
 //
 // The outputs are those of an OutputLayout (io/files/OutputLayout.h): a run
 // replaces, with --force, only what a run writes. An output holding anything
@@ -24,10 +26,12 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
+#include "io/files/DirectoryLock.h"
 #include "io/files/OutputLayout.h"
 
 namespace skelseg {
@@ -38,8 +42,11 @@ public:
     /// where checkEarlierOutputs() does (an output of `layout` holding what no
     /// run writes; without `force`, any earlier output), if OUTDIR is an
     /// existing non-directory, or if another process holds its lock (a run
-    /// writing to it).
-    OutputDirectory(const std::filesystem::path& outdir, bool force, OutputLayout layout);
+    /// writing to it). `heldLock`, when given, is this process's lock on the
+    /// existing OUTDIR (a batch takes it before it writes its markers there)
+    /// and is used instead of locking OUTDIR again, which would be refused.
+    OutputDirectory(const std::filesystem::path& outdir, bool force, OutputLayout layout,
+                    std::shared_ptr<const DirectoryLock> heldLock = nullptr);
     ~OutputDirectory();
     OutputDirectory(const OutputDirectory&) = delete;
     OutputDirectory& operator=(const OutputDirectory&) = delete;
@@ -81,12 +88,9 @@ private:
     std::vector<std::filesystem::path>
         mCreated;  // directories the constructor created, deepest first
     bool mCommitted = false;
-    int mLockFd = -1;  // OUTDIR opened for flock(2); -1 when not locked
+    std::shared_ptr<const DirectoryLock> mLock;  // OUTDIR's, held until the destructor
 
     void removeCreatedDirectories() noexcept;
-    /// Takes the lock on OUTDIR; false where the file system has no locks.
-    /// @throw UsageError when another process holds it.
-    bool lockDirectory();
 };
 
 /// Throws UsageError when `outdir` exists as something other than a
@@ -110,10 +114,33 @@ void checkEarlierOutputs(const std::filesystem::path& outdir, const OutputLayout
 std::string outputReplacing(const std::filesystem::path& file, const std::filesystem::path& outdir,
                             const std::vector<std::string>& outputNames);
 
-/// True for the name of a run's staging directory (".skelseg-staging-PID-N"),
-/// the one name pattern OutputDirectory and the batch's cleanup
-/// (engine/batch/StagingCleanup.h) both recognise.
+/// True for the name of a run's staging directory (".skelseg-staging-PID-N",
+/// PID and N decimal), the one name pattern OutputDirectory and the batch's
+/// cleanup (engine/batch/StagingCleanup.h) both recognise.
 bool isStagingDirectoryName(const std::string& fileName);
+
+/// The file OutputDirectory writes into its staging directory as soon as it
+/// creates it: "HOST PID\n", the run that stages there.
+inline constexpr const char* kStagingOwnerFileName = ".skelseg-run";
+
+/// The content of kStagingOwnerFileName for process `pid` on this host.
+std::string stagingOwnerRecord(long pid);
+
+/// True when the process `pid` runs on this host (kill(pid, 0) finds it,
+/// whoever owns it).
+bool isLiveProcess(long pid);
+
+/// True when `path` is a staging directory that a run which is no longer
+/// alive left, and so may be removed by a run that holds its folder's lock.
+/// The name alone proves nothing (a user may name a folder anything), so it
+/// takes all of: a name isStagingDirectoryName() accepts; a directory, not
+/// a symbolic link; kStagingOwnerFileName in it, or nothing at all in it (a
+/// run killed between creating it and writing the record); and the run it
+/// names (the PID of the name, for an empty one) not alive on this host. A
+/// run on another host sharing the folder is not alive when the lock is
+/// free. A directory that fails any of these is kept: clutter at worst,
+/// never a user's files lost.
+bool isLeftoverStagingDirectory(const std::filesystem::path& path);
 
 /// Writes `bytes` to `path` through a temporary file in the same directory and
 /// rename(2). Throws OutputError naming the path and the system's reason

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/batch/DoneMarker.h"
+#include "io/files/OutputDirectory.h"
 #include "tests/engine/RobustnessHelpers.h"
 
 namespace fs = std::filesystem;
@@ -141,4 +142,89 @@ TEST(BatchCommand, AFailedRedoLeavesTheFolderTheBatchsToRedo) {
     EXPECT_NE(fileBytes(out / "bar" / "labels.nrrd"), labels);
     EXPECT_TRUE(fs::exists(out / "bar" / kDoneMarkerName));
     EXPECT_FALSE(fs::exists(out / "bar" / kPendingMarkerName));
+}
+
+// Hunt 2, finding 1: a second batch (another share, --force, or a batch while
+// `skelseg segment` runs) deleted the running run's staging directory and
+// done.json, and only then found the folder's lock taken; the running run
+// then failed a valid input. The folder is now locked before anything in it
+// is touched, and a locked folder is refused and left exactly as it was.
+TEST(BatchCommand, AFolderAnotherRunIsWritingIsLeftAlone) {
+    TempDir dir;
+    writeBar(dir / "in" / "bar.nrrd", 10);
+    writeBytes(dir / "list.txt", "in/bar.nrrd\n");
+    const fs::path out = dir / "out";
+    const CliResult first = runBatch(dir / "list.txt", out);
+    ASSERT_EQ(first.exitCode, 0) << first.describe();
+    const std::string doneMarker = fileBytes(out / "bar" / kDoneMarkerName);
+
+    // A `segment --force` on out/bar, as it runs: it holds the folder's lock
+    // and has staged a file.
+    OutputDirectory running(out / "bar", true, segmentOutputLayout());
+    const fs::path staged = running.stagingPath("labels.nrrd");
+    writeBytes(staged, "being written");
+    const auto before = snapshot(out / "bar");
+
+    // Done and matching (skipped), redone with other options, forced, and
+    // another share of another count: each is refused on the lock.
+    for (const std::vector<std::string>& extra :
+         {std::vector<std::string>{}, std::vector<std::string>{"--tau", "5%"},
+          std::vector<std::string>{"--force"}, std::vector<std::string>{"--shard", "0/2"}}) {
+        std::string options;
+        for (const auto& word : extra) options += " " + word;
+        SCOPED_TRACE("batch" + options);
+        const CliResult refused = runBatch(dir / "list.txt", out, extra);
+        EXPECT_EQ(refused.exitCode, 5) << refused.describe();
+        EXPECT_TRUE(mentions(
+            refused, "bar: " + (out / "bar").string() + ": another skelseg run is writing to it"))
+            << refused.err;
+        EXPECT_EQ(fileBytes(staged), "being written") << "the running run's staged file";
+        EXPECT_EQ(fileBytes(out / "bar" / kDoneMarkerName), doneMarker);
+        EXPECT_FALSE(fs::exists(out / "bar" / kPendingMarkerName));
+        EXPECT_EQ(snapshot(out / "bar"), before);
+    }
+    running.commit();
+    EXPECT_EQ(fileBytes(out / "bar" / "labels.nrrd"), "being written");
+}
+
+// Hunt 2, finding 2: `batch OUT/summary.csv -o OUT` replaced the manifest by
+// its own summary without a word (rc 0), and a rerun read the summary as a
+// manifest. It is refused now, before anything is read or written.
+TEST(BatchCommand, AManifestThatIsOneOfItsSummariesIsRefused) {
+    TempDir dir;
+    writeBar(dir / "in" / "bar.nrrd", 10);
+    const fs::path out = dir / "out";
+    const std::string list = (dir / "in" / "bar.nrrd").string() + "\n";
+    struct Case {
+        std::string manifest;
+        std::vector<std::string> extra;
+    };
+    for (const Case& c : {Case{"summary.csv", {}}, Case{"summary.json", {}},
+                          Case{"summary.shard-0-of-2.csv", {"--shard", "0/2"}},
+                          Case{"summary.shard-1-of-2.json", {"--shard", "0/2"}},
+                          Case{"summary.csv", {"--shard", "1/2"}}}) {
+        SCOPED_TRACE(c.manifest);
+        fs::remove_all(out);
+        fs::create_directories(out);
+        writeBytes(out / c.manifest, list);
+        const CliResult refused = runBatch(out / c.manifest, out, c.extra);
+        EXPECT_TRUE(
+            failsWithOneLine(refused, 2, (out / c.manifest).string(), "which the batch rewrites"));
+        EXPECT_EQ(fileBytes(out / c.manifest), list);
+        EXPECT_EQ(directoryEntries(out), std::vector<std::string>{c.manifest});
+    }
+    // The same file by another name: a hard link to OUT/summary.csv.
+    fs::remove_all(out);
+    fs::create_directories(out);
+    writeBytes(out / "summary.csv", list);
+    fs::create_hard_link(out / "summary.csv", dir / "list.txt");
+    const CliResult linked = runBatch(dir / "list.txt", out);
+    EXPECT_TRUE(failsWithOneLine(linked, 2, (dir / "list.txt").string(), "summary.csv"));
+    EXPECT_EQ(fileBytes(out / "summary.csv"), list);
+    // A manifest beside the summaries under another name is the user's file.
+    fs::remove(dir / "list.txt");
+    fs::rename(out / "summary.csv", out / "inputs.csv");
+    const CliResult ran = runBatch(out / "inputs.csv", out);
+    EXPECT_EQ(ran.exitCode, 0) << ran.describe();
+    EXPECT_EQ(fileBytes(out / "inputs.csv"), list);
 }

@@ -2,10 +2,12 @@
 // engine/batch/StagingCleanup.h).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "engine/Version.h"
 #include "engine/batch/DoneMarker.h"
 #include "engine/batch/StagingCleanup.h"
+#include "io/files/OutputDirectory.h"
 #include "kernels/base/Error.h"
 #include "tests/support/CliRunner.h"
 #include "tests/support/TempDir.h"
@@ -111,15 +113,24 @@ TEST(DoneMarker, CorruptMarkerMeansNotDone) {
 
 TEST(StagingCleanup, RemovesOnlyWhatAKilledRunLeaves) {
     TempDir dir;
-    fs::create_directories(dir / ".skelseg-staging-123-0");
-    writeBytes(dir / ".skelseg-staging-123-0" / "labels.nrrd", "partial");
-    writeBytes(dir / ".report.json.tmp-123-4", "partial");
+    // Killed runs' (PIDs no process has), proved skelseg's by the owner record.
+    fs::create_directories(dir / ".skelseg-staging-999999-0");
+    writeBytes(dir / ".skelseg-staging-999999-0" / kStagingOwnerFileName,
+               stagingOwnerRecord(999999));
+    writeBytes(dir / ".skelseg-staging-999999-0" / "labels.nrrd", "partial");
+    writeBytes(dir / ".report.json.tmp-999999-4", "partial");
+    // A live process's (this one's) and a user's folder of that name stay.
+    const std::string live = ".done.json.tmp-" + std::to_string(::getpid()) + "-0";
+    writeBytes(dir / live, "being written");
+    fs::create_directories(dir / ".skelseg-staging-1-0");
+    writeBytes(dir / ".skelseg-staging-1-0" / "mine.txt", "user file");
     writeBytes(dir / "labels.nrrd", "final");
     writeBytes(dir / "notes.tmp-keep", "user file");
     writeBytes(dir / ".hidden-user-file", "user file");
     EXPECT_EQ(removeStagingLeftovers(dir.path()), 2u);
     EXPECT_EQ(directoryEntries(dir.path()),
-              (std::vector<std::string>{".hidden-user-file", "labels.nrrd", "notes.tmp-keep"}));
+              (std::vector<std::string>{live, ".hidden-user-file", ".skelseg-staging-1-0",
+                                        "labels.nrrd", "notes.tmp-keep"}));
     EXPECT_EQ(removeStagingLeftovers(dir / "absent"), 0u);
 }
 

@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/SegmentCommand.h"
 #include "engine/Version.h"
+#include "io/files/OutputDirectory.h"
 #include "kernels/base/Error.h"
 #include "tests/support/CliRunner.h"
 #include "tests/support/TempDir.h"
@@ -27,6 +29,15 @@ DoneMarker markerOf(const fs::path& input) {
 /// The message of the UsageError claiming `outdir` throws ("" if none).
 std::string claimRefusal(const fs::path& outdir, const DoneMarker& pending, bool force) {
     return thrownMessage<UsageError>([&] { claimOutputFolder(outdir, pending, force); });
+}
+
+/// DIR/a, done for DIR/a.off by an earlier batch.
+fs::path doneFolder(const TempDir& dir) {
+    const fs::path outdir = dir / "a";
+    fs::create_directories(outdir);
+    writeBytes(outdir / "report.json", "{}");
+    writeDoneMarker(outdir, markerOf(dir / "a.off"));
+    return outdir;
 }
 
 }  // namespace
@@ -106,16 +117,41 @@ TEST(OutputFolderClaim, AFolderOfAnotherInputNeedsForce) {
 // next run redoes it still.
 TEST(OutputFolderClaim, ItsOwnInputsFolderIsRedoneAndStaysPendingAfterAFailure) {
     TempDir dir;
-    const fs::path outdir = dir / "a";
-    fs::create_directories(outdir);
-    writeBytes(outdir / "report.json", "{}");
-    writeDoneMarker(outdir, markerOf(dir / "a.off"));
-    const OutputFolderClaim claim = claimOutputFolder(outdir, markerOf(dir / "a.off"), false);
-    EXPECT_TRUE(claim.hadRecord);
-    EXPECT_FALSE(fs::exists(outdir / kDoneMarkerName));
-    releaseOutputFolder(outdir, claim);
-    EXPECT_EQ(directoryEntries(outdir),
-              (std::vector<std::string>{kPendingMarkerName, "report.json"}));
+    const fs::path outdir = doneFolder(dir);
+    {
+        const OutputFolderClaim claim = claimOutputFolder(outdir, markerOf(dir / "a.off"), false);
+        EXPECT_TRUE(claim.hadRecord);
+        EXPECT_FALSE(fs::exists(outdir / kDoneMarkerName));
+        // Claimed, the folder is locked until the claim ends.
+        EXPECT_NE(claimRefusal(outdir, markerOf(dir / "a.off"), false)
+                      .find("another skelseg run is writing to it"),
+                  std::string::npos);
+        releaseOutputFolder(outdir, claim);
+        EXPECT_EQ(directoryEntries(outdir),
+                  (std::vector<std::string>{kPendingMarkerName, "report.json"}));
+    }
     // The same file by another path.
     EXPECT_EQ(claimRefusal(outdir, markerOf(dir / "." / "a.off"), false), "");
+}
+
+// Hunt 2, finding 1: the claim removed done.json and the staging directory of
+// a run writing to the folder before that run's lock refused the batch. A
+// folder another run has locked is now refused with nothing in it changed.
+TEST(OutputFolderClaim, AFolderAnotherRunHasLockedIsRefusedAndLeftAlone) {
+    TempDir dir;
+    const fs::path outdir = doneFolder(dir);
+    const std::string doneMarker = fileBytes(outdir / kDoneMarkerName);
+    // A `segment --force` writing to the folder, as it runs.
+    OutputDirectory running(outdir, true, segmentOutputLayout());
+    writeBytes(running.stagingPath("labels.nrrd"), "being written");
+    const auto before = directoryEntries(outdir);
+    for (const bool force : {false, true}) {
+        EXPECT_EQ(claimRefusal(outdir, markerOf(dir / "a.off"), force),
+                  outdir.string() +
+                      ": another skelseg run is writing to it; wait for it to end "
+                      "or choose another output directory");
+        EXPECT_EQ(directoryEntries(outdir), before);
+        EXPECT_EQ(fileBytes(outdir / kDoneMarkerName), doneMarker);
+        EXPECT_EQ(fileBytes(running.stagingPath("labels.nrrd")), "being written");
+    }
 }

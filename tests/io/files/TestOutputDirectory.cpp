@@ -1,6 +1,7 @@
 #include "io/files/OutputDirectory.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <memory>
@@ -293,6 +294,8 @@ TEST(OutputDirectory, AKilledRunsStagingDirectoryIsRemoved) {
     test::TempDir tmp;
     const fs::path outdir = tmp / "out";
     fs::create_directories(outdir / ".skelseg-staging-999999-0");
+    std::ofstream(outdir / ".skelseg-staging-999999-0" / kStagingOwnerFileName)
+        << stagingOwnerRecord(999999);
     std::ofstream(outdir / ".skelseg-staging-999999-0" / "labels.nrrd") << "half";
     std::ofstream(outdir / ".keep") << "the user's";
     {
@@ -300,6 +303,33 @@ TEST(OutputDirectory, AKilledRunsStagingDirectoryIsRemoved) {
         EXPECT_FALSE(fs::exists(outdir / ".skelseg-staging-999999-0"));
     }
     EXPECT_EQ(entries(outdir), std::set<std::string>{".keep"});
+}
+
+// Hunt 2, finding 11: a user's folder OUTDIR/.skelseg-staging-1-0 was removed
+// with its files although PID 1 is alive; the name alone was taken as proof.
+// Now a staging directory goes only when its owner record (or its emptiness)
+// shows it skelseg's, and the run that made it is not alive.
+TEST(OutputDirectory, OnlyADeadRunsStagingDirectoryIsRemoved) {
+    test::TempDir tmp;
+    const fs::path outdir = tmp / "out";
+    const auto makeFolder = [&](const std::string& name, const std::string& record) {
+        fs::create_directories(outdir / name);
+        if (!record.empty()) std::ofstream(outdir / name / kStagingOwnerFileName) << record;
+        std::ofstream(outdir / name / "mine.txt") << "the user's";
+    };
+    makeFolder(".skelseg-staging-1-0", "");       // the finding: no record, PID 1 alive
+    makeFolder(".skelseg-staging-999999-1", "");  // no record: not proved skelseg's
+    makeFolder(".skelseg-staging-x", stagingOwnerRecord(999999));  // not the name pattern
+    const std::string live = ".skelseg-staging-" + std::to_string(::getpid()) + "-9999";
+    makeFolder(live, stagingOwnerRecord(::getpid()));                     // a live run's
+    makeFolder(".skelseg-staging-999999-2", stagingOwnerRecord(999999));  // a dead run's
+    fs::create_directories(outdir / ".skelseg-staging-999999-3");  // killed before the record
+    fs::create_directories(outdir / ".skelseg-staging-1-4");       // empty, but PID 1 is alive
+    { OutputDirectory out(outdir, false, {"labels.nrrd"}); }
+    EXPECT_EQ(entries(outdir),
+              (std::set<std::string>{".skelseg-staging-1-0", ".skelseg-staging-1-4",
+                                     ".skelseg-staging-999999-1", ".skelseg-staging-x", live}));
+    EXPECT_EQ(textOf(outdir / ".skelseg-staging-1-0" / "mine.txt"), "the user's");
 }
 
 TEST(OutputDirectory, MessagesNameTheFinalPath) {
