@@ -53,7 +53,7 @@ TEST(MachineFailures, SequenceOutOfInodesNamesTheFinalFolder) {
     TempDir dir;
     writeBytes(dir / "a.off", kTetraOff);
     writeBytes(dir / "b.off", kTetraOff);
-    SmallTmpfs disk(1024 * 1024, false, 3);
+    SmallTmpfs disk(1024 * 1024, false, 4);
     if (!disk.mounted()) GTEST_SKIP() << disk.skipReason();
     const fs::path outdir = disk / "out";
     const CliResult result =
