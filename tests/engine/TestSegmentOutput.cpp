@@ -1,7 +1,9 @@
-// segments.ply as the segment command writes it: its `segment` property and
-// colours use the labels of labels.nrrd (1..K), for volumes and for meshes
-// (face label + 1), as docs/outputs.md says. It held label - 1 before, so the
-// largest segment read as "unlabelled" (0) and was drawn grey.
+// The surfaces and the preview as the segment command writes them.
+// segments.ply: its `segment` property and colours use the labels of
+// labels.nrrd (1..K), for volumes and for meshes (face label + 1), as
+// docs/outputs.md says. It held label - 1 before, so the largest segment read
+// as "unlabelled" (0) and was drawn grey. A run leaves no earlier run's
+// preview.png or segmentation.seg that it does not write itself.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,12 +25,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-void segment(const fs::path& input, const fs::path& outdir, int resolution = 0) {
+void segment(const fs::path& input, const fs::path& outdir, int resolution = 0,
+             bool writePreview = false) {
     SegmentCommandOptions options;
     options.input = input;
     options.outdir = outdir;
     options.threads = 2;
-    options.writePreview = false;
+    options.writePreview = writePreview;
+    options.force = true;
     if (resolution > 0) options.resolution = resolution;
     ProgressReporter progress(ProgressReporter::Display::Quiet);
     runSegmentCommand(options, progress);
@@ -86,4 +90,34 @@ TEST(SegmentOutput, MeshSegmentsPlyHoldsFaceLabelPlusOne) {
     ASSERT_EQ(plyLabels.size(), faceLabels.size());  // a triangle mesh: one face each
     for (std::size_t f = 0; f < faceLabels.size(); ++f)
         ASSERT_EQ(plyLabels[f], faceLabels[f] + 1) << "face " << f;
+}
+
+TEST(SegmentOutput, ARunWithoutPreviewRemovesAnEarlierRunsPreview) {
+    const test::TempDir dir;
+    const fs::path input = dir / "y-arms.nrrd";
+    writeNrrdMask(input, rasterise(makeShape("y-arms"), {48, 2}));
+    segment(input, dir / "out", 0, /*writePreview=*/true);
+    ASSERT_TRUE(fs::exists(dir / "out" / "preview.png"));
+    segment(input, dir / "out", 0, /*writePreview=*/false);  // --force --no-preview
+    EXPECT_TRUE(fs::exists(dir / "out" / "labels.nrrd"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "preview.png"));
+}
+
+TEST(SegmentOutput, AVolumeRunRemovesAnEarlierMeshRunsSegmentation) {
+    const test::TempDir dir;
+    TriangleMesh cube;
+    cube.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                     {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    cube.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                      {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+    cube.triangleFace = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+    cube.faceCount = 12;
+    writeOff(dir / "cube.off", cube);
+    segment(dir / "cube.off", dir / "out", 16);
+    ASSERT_TRUE(fs::exists(dir / "out" / "segmentation.seg"));
+    const fs::path volume = dir / "y-arms.nrrd";
+    writeNrrdMask(volume, rasterise(makeShape("y-arms"), {48, 2}));
+    segment(volume, dir / "out");  // --force, a volume
+    EXPECT_TRUE(fs::exists(dir / "out" / "labels.nrrd"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "segmentation.seg"));
 }
