@@ -114,17 +114,18 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
     PreviewScene scene;
     if (source.isMesh()) {
         const TriangleMesh& mesh = *source.mesh;
+        // Face labels are 0-based (segmentation.seg); segments.ply, like the
+        // preview and segments.glb, shows face label i as segment label i + 1
+        // (label 0 would read as unlabelled and be drawn grey).
         std::vector<std::uint32_t> triangleLabels(mesh.triangles.size());
         for (std::size_t i = 0; i < triangleLabels.size(); ++i)
-            triangleLabels[i] = shape.faceLabels[mesh.triangleFace[i]];
+            triangleLabels[i] = shape.faceLabels[mesh.triangleFace[i]] + 1;
         writeColouredMeshPly(out.stagingPath("segments.ply"), mesh.vertices, mesh.triangles,
                              triangleLabels);
         writeSeg(out.stagingPath("segmentation.seg"), shape.faceLabels);
         scene.vertices = mesh.vertices;
         scene.triangles = mesh.triangles;
-        scene.triangleLabels.resize(triangleLabels.size());
-        for (std::size_t i = 0; i < triangleLabels.size(); ++i)
-            scene.triangleLabels[i] = triangleLabels[i] + 1;
+        scene.triangleLabels = std::move(triangleLabels);
     } else {
         // A few smoothing passes take the voxel terraces off the picture
         // and the meshes; the surfaces stay within a voxel of the labels.
@@ -132,11 +133,13 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
         surfaceOptions.smoothingIterations = 10;
         LabelledSurface surface =
             extractSegmentSurfaces(result.labels, surfaceOptions, interrupter);
-        std::vector<std::uint32_t> zeroBased(surface.triangleLabels.size());
-        for (std::size_t i = 0; i < zeroBased.size(); ++i)
-            zeroBased[i] = surface.triangleLabels[i] - 1;
+        // The surfaces carry the labels of labels.nrrd (1..K), which is what
+        // segments.ply's `segment` holds.
+        // A volume has no faces: an earlier mesh run's segmentation.seg
+        // (replaced with --force) would label faces of another shape.
+        out.removeOnCommit("segmentation.seg");
         writeColouredMeshPly(out.stagingPath("segments.ply"), surface.vertices, surface.triangles,
-                             zeroBased);
+                             surface.triangleLabels);
         scene.vertices = std::move(surface.vertices);
         scene.triangles = std::move(surface.triangles);
         scene.triangleLabels = std::move(surface.triangleLabels);
@@ -176,7 +179,12 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
         }
         writeSegmentViews(out, inputs);
     }
-    if (!writePreview) return;
+    if (!writePreview) {
+        // An earlier run's preview.png (replaced with --force) would show
+        // other segments than this run's files.
+        out.removeOnCommit("preview.png");
+        return;
+    }
     for (const auto& p : shape.world.skeletonPoints) scene.skeletonPoints.push_back(p.position);
     scene.skeletonEdges = shape.world.skeletonEdges;
     scene.cutLoops = shape.world.cutLoops;

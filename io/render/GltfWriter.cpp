@@ -173,6 +173,13 @@ std::string segmentsGlb(const GltfScene& scene) {
         throw OutputError("segments.glb: " + std::to_string(model.buffers[0].data.size()) +
                           " bytes of data, more than a .glb file can hold");
     if (model.buffers[0].data.empty()) model.buffers.clear();  // a buffer may not be empty
+    // A scene without nodes is written by tinygltf as `null`, which no
+    // glTF schema accepts (an empty volume has no segments, skeleton or
+    // cuts): no scene at all is valid.
+    if (model.nodes.empty()) {
+        model.scenes.clear();
+        model.defaultScene = -1;
+    }
 
     std::ostringstream bytes;
     tinygltf::TinyGLTF writer;

@@ -190,6 +190,13 @@ TEST(GltfWriter, EmptySceneIsAValidFileWithoutBinChunk) {
     EXPECT_TRUE(parts.bin.empty());
     EXPECT_EQ(parts.document["asset"]["version"], "2.0");
     EXPECT_FALSE(parts.document.contains("meshes"));
+    // Every scene is an object (tinygltf wrote a scene without nodes as
+    // null), and the default scene is one of them.
+    for (const auto& scene : parts.document.value("scenes", json::array()))
+        EXPECT_TRUE(scene.is_object()) << parts.document.dump();
+    if (parts.document.contains("scene"))
+        EXPECT_LT(parts.document["scene"].get<std::size_t>(),
+                  parts.document.value("scenes", json::array()).size());
 }
 
 TEST(GltfWriter, BadSkeletonIndexIsRefused) {
