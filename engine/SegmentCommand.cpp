@@ -221,13 +221,21 @@ void runGraph(const RunContext& run) {
         writeLabelNrrd(run.out, shape, run.timer, run.progress);
     });
     auto writeVdb = writer([&](const SegmentedShape& shape) {
-        if (run.options.writeVdb) writeLabelVdb(run.out, shape, run.timer, run.progress);
+        if (run.options.writeVdb)
+            writeLabelVdb(run.out, shape, run.timer, run.progress);
+        else
+            run.out.removeOnCommit("labels.vdb");
     });
     auto writeSkeleton = writer([&](const SegmentedShape& shape) {
         writeSkeletonAndCuts(run.out, shape, run.timer, run.progress);
     });
     auto writeSurfaces = writer([&](const SegmentedShape& shape) {
         const bool preview = run.options.writePreview && previewFitsBudget(run, shape);
+        // What this run does not write must not stay from an earlier run in
+        // OUTDIR (--force, a batch redoing an input): another run's picture,
+        // a mesh run's face labels beside a volume's results.
+        if (!preview) run.out.removeOnCommit("preview.png");
+        if (!shape.input->source->isMesh()) run.out.removeOnCommit("segmentation.seg");
         writeSurfacesAndPreview(run.out, shape, run.options, preview, run.timer, run.progress);
     });
     auto writeLevelFiles = writer(
