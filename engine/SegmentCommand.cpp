@@ -153,8 +153,7 @@ bool previewFitsBudget(const RunContext& run, const SegmentedShape& shape) {
         elapsed + budget->previewSeconds * (1.0 + budget->safetyMargin) <= budget->budgetSeconds;
     if (!fits) {
         run.previewSkippedForBudget.store(true);
-        run.warn("preview.png skipped to fit --time-budget " +
-                 std::to_string(budget->budgetSeconds).substr(0, 5) + " s");
+        run.warn(previewSkippedWarning(budget->budgetSeconds));
     }
     return fits;
 }

@@ -2,6 +2,7 @@
 // report.json, errors from inside the graph, and concurrent calls (as
 // `skelseg batch` makes them) writing what one call alone writes.
 #include "engine/SegmentCommand.h"
+#include "engine/SegmentReport.h"
 
 #include <gtest/gtest.h>
 
@@ -187,4 +188,23 @@ TEST(SegmentCommand, MoreSegmentsThanALabelVolumeHoldsIsABadInputNamingIt) {
             << error.what();
     }
     EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(SegmentCommand, APreviewSkippedForTheBudgetIsAmongTheReportsWarnings) {
+    // 2 s: the y-arms at 48 fit easily, but the preview (about 1 s with the
+    // margin) is over a quarter of what is left, so it is skipped. The
+    // warning went to stderr only (hunt3b F4).
+    const test::TempDir dir;
+    SegmentCommandOptions options = optionsFor(writeShape(dir), dir / "out", 1);
+    options.writePreview = true;
+    options.timeBudgetSeconds = 2.0;
+    segment(options);
+    const auto report = nlohmann::json::parse(fileBytes(dir / "out" / "report.json"));
+    ASSERT_EQ(report["time_budget"]["skipped"], nlohmann::json::array({"preview.png"}));
+    EXPECT_FALSE(fs::exists(dir / "out" / "preview.png"));
+    const std::string expected = previewSkippedWarning(2.0);
+    EXPECT_EQ(expected, "preview.png skipped to fit --time-budget 2.000 s");
+    bool listed = false;
+    for (const auto& warning : report["warnings"]) listed = listed || warning == expected;
+    EXPECT_TRUE(listed) << report["warnings"].dump();
 }
