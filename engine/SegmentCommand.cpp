@@ -153,8 +153,7 @@ bool previewFitsBudget(const RunContext& run, const SegmentedShape& shape) {
         elapsed + budget->previewSeconds * (1.0 + budget->safetyMargin) <= budget->budgetSeconds;
     if (!fits) {
         run.previewSkippedForBudget.store(true);
-        run.warn("preview.png skipped to fit --time-budget " +
-                 std::to_string(budget->budgetSeconds).substr(0, 5) + " s");
+        run.warn(previewSkippedWarning(budget->budgetSeconds));
     }
     return fits;
 }
@@ -221,13 +220,21 @@ void runGraph(const RunContext& run) {
         writeLabelNrrd(run.out, shape, run.timer, run.progress);
     });
     auto writeVdb = writer([&](const SegmentedShape& shape) {
-        if (run.options.writeVdb) writeLabelVdb(run.out, shape, run.timer, run.progress);
+        if (run.options.writeVdb)
+            writeLabelVdb(run.out, shape, run.timer, run.progress);
+        else
+            run.out.removeOnCommit("labels.vdb");
     });
     auto writeSkeleton = writer([&](const SegmentedShape& shape) {
         writeSkeletonAndCuts(run.out, shape, run.timer, run.progress);
     });
     auto writeSurfaces = writer([&](const SegmentedShape& shape) {
         const bool preview = run.options.writePreview && previewFitsBudget(run, shape);
+        // What this run does not write must not stay from an earlier run in
+        // OUTDIR (--force, a batch redoing an input): another run's picture,
+        // a mesh run's face labels beside a volume's results.
+        if (!preview) run.out.removeOnCommit("preview.png");
+        if (!shape.input->source->isMesh()) run.out.removeOnCommit("segmentation.seg");
         writeSurfacesAndPreview(run.out, shape, run.options, preview, run.timer, run.progress);
     });
     auto writeLevelFiles = writer(

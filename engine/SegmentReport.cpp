@@ -27,6 +27,11 @@ json budgetCalibrationJson(const BudgetChoice& budget) {
 
 }  // namespace
 
+std::string previewSkippedWarning(double budgetSeconds) {
+    return "preview.png skipped to fit --time-budget " +
+           std::to_string(budgetSeconds).substr(0, 5) + " s";
+}
+
 json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& shape,
                    const std::vector<StageTiming>& timings, const SegmentRunFigures& figures) {
     const SegmentSource& source = *shape.input->source;
@@ -75,6 +80,9 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
     context.memoryLimitBytes = figures.memoryLimit;
     context.warnings = shape.input->warnings;
     context.warnings.insert(context.warnings.end(), result.warnings.begin(), result.warnings.end());
+    // Printed by the surfaces writer; the report lists every warning of the run.
+    if (figures.previewSkippedForBudget && shape.input->budget)
+        context.warnings.push_back(previewSkippedWarning(shape.input->budget->budgetSeconds));
     json report = resultReport(result, context);
     // With the mesh's face nesting counts, which only the command has.
     report["levels"] = reportLevelsJson(result, shape.levels.nestedFaces);

@@ -28,6 +28,10 @@ struct SegmentRunFigures {
     bool previewSkippedForBudget = false;  // --time-budget left no time for preview.png
 };
 
+/// The warning of a run whose preview.png --time-budget skipped (stderr and
+/// report.json "warnings").
+std::string previewSkippedWarning(double budgetSeconds);
+
 /// report.json's content; "input" describes options.input. The Python
 /// module's result holds it too, with its own "input" (ResultReport.h).
 nlohmann::json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& shape,

@@ -33,7 +33,14 @@ std::shared_ptr<SegmentedShape> segmentMaskStep(
     StageTimer& timer, Interrupter& interrupter,
     const std::function<void(const std::string&)>& warn) {
     auto shape = std::make_shared<SegmentedShape>();
-    shape->result = segmentVolume(input->mask, parameters, interrupter, &timer);
+    try {
+        shape->result = segmentVolume(input->mask, parameters, interrupter, &timer);
+    } catch (const InputError& error) {
+        // A problem of the input found while segmenting it (more segments
+        // than a label volume holds): named here, where the input is known.
+        if (!error.file().empty()) throw;
+        throw InputError(input->source->file.string(), error.problem());
+    }
     for (const auto& w : shape->result.warnings) warn(w);
     shape->input = std::move(input);
     return shape;

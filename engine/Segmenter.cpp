@@ -146,9 +146,11 @@ std::vector<std::vector<std::uint16_t>> assembleLevelLabels(
     for (std::size_t o = 0; o < objectLabels.size(); ++o)
         for (std::size_t s = 0; s < objectLabels[o].area.size(); ++s)
             localSegments.push_back({std::uint32_t(o), std::uint32_t(s), objectLabels[o].area[s]});
+    // The input's doing: bad input (exit 2). The file is unknown here:
+    // segmentMaskStep() names it (an InputError with an empty file).
     if (localSegments.size() > 65535)
-        throw Error("the volume has " + std::to_string(localSegments.size()) +
-                    " segments, more than a 16-bit label volume can hold");
+        throw InputError("", "the volume has " + std::to_string(localSegments.size()) +
+                                 " segments, more than a 16-bit label volume can hold");
     std::vector<std::size_t> order(localSegments.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {

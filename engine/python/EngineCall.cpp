@@ -26,6 +26,28 @@ py::object fractionObject(double fraction) {
     return fraction >= 0 ? py::object(py::float_(fraction)) : py::object(py::none());
 }
 
+bool interpreterFinalizing() {
+#if PY_VERSION_HEX >= 0x030D0000
+    return Py_IsFinalizing() != 0;
+#else
+    return _Py_IsFinalizing() != 0;
+#endif
+}
+
+/// The calling thread of a call in a daemon thread once the interpreter
+/// shuts down: it may never take the GIL again (CPython before 3.14 ends a
+/// thread that asks for it with pthread_exit, whose unwinding would destroy
+/// the running worker's std::thread and abort the process). So the engine
+/// is stopped and waited for, and the thread is parked, as CPython 3.14
+/// parks its own daemon threads; the process is exiting.
+[[noreturn]] void parkForShutdown(CallerPolledInterrupter& interrupter, std::thread& worker,
+                                  py::gil_scoped_release& release) {
+    interrupter.cancel();
+    if (worker.joinable()) worker.join();
+    release.disarm();
+    for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
+}
+
 }  // namespace
 
 void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& interrupter,
@@ -86,6 +108,20 @@ void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& i
             done = true;
             finished.notify_all();
         });
+        // Unwinding past the worker (pthread_exit's forced unwind when the
+        // interpreter ends this thread) stops it first: a joinable
+        // std::thread's destructor would abort the process.
+        struct StopAtUnwind {
+            CallerPolledInterrupter& interrupter;
+            std::thread& worker;
+            py::gil_scoped_release& release;
+            ~StopAtUnwind() {
+                if (!worker.joinable()) return;
+                interrupter.cancel();
+                worker.join();
+                if (interpreterFinalizing()) release.disarm();
+            }
+        } stopAtUnwind{interrupter, worker, release};
 
         for (;;) {
             {
@@ -93,6 +129,9 @@ void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& i
                 if (finished.wait_for(lock, kPollInterval, [&] { return done; })) break;
             }
             if (pythonError) continue;  // cancelled: wait for the worker to stop
+            // (A shutdown that starts between this check and the GIL is rare;
+            // stopAtUnwind below keeps even that from aborting.)
+            if (interpreterFinalizing()) parkForShutdown(interrupter, worker, release);
             py::gil_scoped_acquire acquire;
             if (PyErr_CheckSignals() != 0) {
                 pythonError.emplace();

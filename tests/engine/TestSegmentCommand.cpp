@@ -2,6 +2,7 @@
 // report.json, errors from inside the graph, and concurrent calls (as
 // `skelseg batch` makes them) writing what one call alone writes.
 #include "engine/SegmentCommand.h"
+#include "engine/SegmentReport.h"
 
 #include <gtest/gtest.h>
 
@@ -12,8 +13,10 @@
 #include <string>
 #include <thread>
 
+#include "io/mesh/MeshIO.h"
 #include "io/shapes/SyntheticShapes.h"
 #include "io/volume/NrrdIO.h"
+#include "tests/support/BoxMeshes.h"
 #include "tests/support/FileBytes.h"
 #include "tests/support/TempDir.h"
 
@@ -139,4 +142,69 @@ TEST(SegmentCommand, ConcurrentCallsWriteWhatOneCallWrites) {
         EXPECT_EQ(fileBytes(dir / "first" / name), alone) << name;
         EXPECT_EQ(fileBytes(dir / "second" / name), alone) << name;
     }
+}
+
+TEST(SegmentCommand, ForceLeavesNoOutputOfTheEarlierRunThatThisRunDoesNotWrite) {
+    // A mesh run with its preview, then a volume run without one into the
+    // same OUTDIR: the mesh's face labels and picture would sit beside the
+    // volume's results (hunt3b F9).
+    const test::TempDir dir;
+    TriangleMesh box;
+    addBox(box, {1.0, 0.5, 0.25}, rotation({0, 0, 1}, 0));
+    const fs::path mesh = dir / "box.off";
+    writeOff(mesh, box);
+    SegmentCommandOptions first = optionsFor(mesh, dir / "out", 1);
+    first.writePreview = true;
+    first.resolution = 24;
+    segment(first);
+    ASSERT_TRUE(fs::exists(dir / "out" / "preview.png"));
+    ASSERT_TRUE(fs::exists(dir / "out" / "segmentation.seg"));
+
+    SegmentCommandOptions second = optionsFor(writeShape(dir), dir / "out", 1);
+    second.force = true;  // and writePreview false
+    segment(second);
+    EXPECT_TRUE(fs::exists(dir / "out" / "labels.nrrd"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "preview.png"));
+    EXPECT_FALSE(fs::exists(dir / "out" / "segmentation.seg"));
+}
+
+TEST(SegmentCommand, MoreSegmentsThanALabelVolumeHoldsIsABadInputNamingIt) {
+    // 41^3 separate voxels: one segment each, more than uint16 labels hold.
+    // Was a plain Error (exit 1, "internal error") naming no file.
+    const test::TempDir dir;
+    MaskVolume dots(Dims{82, 82, 82});
+    for (int z = 0; z < 82; z += 2)
+        for (int y = 0; y < 82; y += 2)
+            for (int x = 0; x < 82; x += 2) dots(x, y, z) = 1;
+    const fs::path input = dir / "dots.nrrd";
+    writeNrrdMask(input, dots);
+    try {
+        segment(optionsFor(input, dir / "out", 1));
+        FAIL() << "no error";
+    } catch (const InputError& error) {
+        EXPECT_EQ(error.file(), input.string());
+        EXPECT_EQ(error.exitCode(), 2);
+        EXPECT_NE(std::string(error.what()).find("68921 segments"), std::string::npos)
+            << error.what();
+    }
+    EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(SegmentCommand, APreviewSkippedForTheBudgetIsAmongTheReportsWarnings) {
+    // 2 s: the y-arms at 48 fit easily, but the preview (about 1 s with the
+    // margin) is over a quarter of what is left, so it is skipped. The
+    // warning went to stderr only (hunt3b F4).
+    const test::TempDir dir;
+    SegmentCommandOptions options = optionsFor(writeShape(dir), dir / "out", 1);
+    options.writePreview = true;
+    options.timeBudgetSeconds = 2.0;
+    segment(options);
+    const auto report = nlohmann::json::parse(fileBytes(dir / "out" / "report.json"));
+    ASSERT_EQ(report["time_budget"]["skipped"], nlohmann::json::array({"preview.png"}));
+    EXPECT_FALSE(fs::exists(dir / "out" / "preview.png"));
+    const std::string expected = previewSkippedWarning(2.0);
+    EXPECT_EQ(expected, "preview.png skipped to fit --time-budget 2.000 s");
+    bool listed = false;
+    for (const auto& warning : report["warnings"]) listed = listed || warning == expected;
+    EXPECT_TRUE(listed) << report["warnings"].dump();
 }

@@ -305,3 +305,12 @@ def test_spacing_vertices_and_mask_of_the_wrong_kind_are_refused(capfd):
     assert skelseg.segment(mask, spacing=np.array([1.0, 2.0, 3.0])).n_segments == 1
     assert skelseg.segment(mask, spacing=[1, 2, 3]).n_segments == 1
     check_quiet(capfd)
+
+
+def test_more_segments_than_uint16_labels_hold_is_a_value_error():
+    # 41^3 separate voxels, one segment each: the CLI's exit 2 naming the
+    # input (was RuntimeError, the CLI's exit 1 "internal error").
+    mask = np.zeros((82, 82, 82), dtype=bool)
+    mask[::2, ::2, ::2] = True
+    with pytest.raises(ValueError, match=r"^mask: the volume has 68921 segments, more than"):
+        skelseg.segment(mask, threads=1)

@@ -197,3 +197,12 @@ def test_joints_cut_a_capsule_chain_as_the_cli_does(shapes):
     assert result.labels.tobytes(order="F") == data
     with pytest.raises(TypeError, match="joints"):
         skelseg.segment(mask, joints="yes")
+
+
+def test_a_level_prints_on_one_line(figure_mask):
+    # The dataclass repr printed the level's whole label volume and cuts.
+    result = skelseg.segment(figure_mask, tau=["1%", "3%"], threads=1)
+    text = repr(result.levels[0])
+    assert "\n" not in text and len(text) < 200, text
+    assert text.startswith("Level(tau='1%', joints=False, n_segments=")
+    assert f"labels=uint16{list(figure_mask.shape)}" in text

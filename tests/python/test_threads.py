@@ -63,3 +63,36 @@ def test_more_threads_than_cores_print_nothing(capfd, figure_mask):
     # The call runs on the cores it may use, not on the threads asked for.
     assert 1 <= result.report["parameters"]["threads"] <= len(os.sched_getaffinity(0))
     assert capfd.readouterr() == ("", "")
+
+
+# A daemon thread inside the engine when the program ends: the thread that
+# waits for the engine must not take the GIL during the shutdown (CPython
+# ends it with pthread_exit, whose unwinding destroyed the running worker's
+# std::thread: "terminate called without an active exception", SIGABRT).
+DAEMON_AT_EXIT = """
+import sys, threading
+import skelseg
+mask = skelseg.read_volume(sys.argv[1])
+in_engine = threading.Event()
+
+def work():
+    while True:  # always inside a call when the main thread ends
+        skelseg.segment(mask, threads=1, progress=lambda stage, fraction: in_engine.set())
+
+threading.Thread(target=work, daemon=True).start()
+in_engine.wait()
+if sys.argv[2] == "exit":
+    sys.exit(0)
+"""
+
+
+def test_the_program_ends_cleanly_while_a_daemon_thread_segments(shapes):
+    import subprocess
+    import sys
+
+    path = shapes.nrrd("figure", 128, 1)
+    for how in ("end", "exit", "end"):
+        done = subprocess.run([sys.executable, "-c", DAEMON_AT_EXIT, str(path), how],
+                              capture_output=True, text=True, timeout=120)
+        assert done.returncode == 0, f"{how}: exit {done.returncode}: {done.stderr[-500:]}"
+        assert "terminate" not in done.stderr

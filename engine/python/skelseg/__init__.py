@@ -156,6 +156,15 @@ class Level:
     face_labels: Optional[np.ndarray] = None
     joints: bool = False
 
+    def __repr__(self) -> str:
+        # One line, as SegmentationResult's: the dataclass repr printed every
+        # label and cut point.
+        faces = ("" if self.face_labels is None else
+                 f", face_labels={self.face_labels.dtype}{list(self.face_labels.shape)}")
+        return (f"{type(self).__name__}(tau={self.tau!r}, joints={self.joints}, "
+                f"n_segments={self.n_segments}, labels={self.labels.dtype}"
+                f"{list(self.labels.shape)}, cuts={len(self.cuts)}{faces})")
+
 
 @dataclasses.dataclass(frozen=True, eq=False, repr=False)
 class MeshSegmentationResult(SegmentationResult):
