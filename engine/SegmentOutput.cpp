@@ -135,9 +135,6 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
             extractSegmentSurfaces(result.labels, surfaceOptions, interrupter);
         // The surfaces carry the labels of labels.nrrd (1..K), which is what
         // segments.ply's `segment` holds.
-        // A volume has no faces: an earlier mesh run's segmentation.seg
-        // (replaced with --force) would label faces of another shape.
-        out.removeOnCommit("segmentation.seg");
         writeColouredMeshPly(out.stagingPath("segments.ply"), surface.vertices, surface.triangles,
                              surface.triangleLabels);
         scene.vertices = std::move(surface.vertices);
@@ -179,12 +176,7 @@ void writeSurfacesAndPreview(OutputDirectory& out, const SegmentedShape& shape,
         }
         writeSegmentViews(out, inputs);
     }
-    if (!writePreview) {
-        // An earlier run's preview.png (replaced with --force) would show
-        // other segments than this run's files.
-        out.removeOnCommit("preview.png");
-        return;
-    }
+    if (!writePreview) return;
     for (const auto& p : shape.world.skeletonPoints) scene.skeletonPoints.push_back(p.position);
     scene.skeletonEdges = shape.world.skeletonEdges;
     scene.cutLoops = shape.world.cutLoops;
