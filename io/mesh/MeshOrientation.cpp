@@ -18,6 +18,10 @@ std::vector<std::int8_t> triangleOrientation(
         const auto& c = triangles[t];
         auto& [consistent, volume] =
             pieceOrientation.try_emplace(piece[t], true, 0.0).first->second;
+        // A triangle with a repeated corner has no area and bounds nothing:
+        // one on an existing edge (`f 1 1 2`) would use that edge a second
+        // time and take the whole piece's side away.
+        if (c[0] == c[1] || c[1] == c[2] || c[2] == c[0]) continue;
         for (std::size_t k = 0; k < 3; ++k)
             if (++directedUses[(std::uint64_t(c[k]) << 32) | c[(k + 1) % 3]] > 1)
                 consistent = false;

@@ -2,7 +2,8 @@
 // the voxeliser's local inside tests (ContactSeparation.h, ThinPartFill.h).
 //
 // A piece (triangles joined through shared canonical vertices) is
-// consistently oriented when no directed edge is used twice; its normals
+// consistently oriented when no directed edge is used twice (triangles with a
+// repeated corner, which have no area, are not counted); its normals
 // (right-hand rule) then point out of the solid when the signed volume it
 // encloses is positive, into it when negative. Pieces that are not
 // consistently oriented, or enclose no volume, give 0: callers skip the

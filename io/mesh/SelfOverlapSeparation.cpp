@@ -6,6 +6,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "kernels/SeveredObjects.h"
 #include "kernels/VoxelGenus.h"
@@ -59,13 +60,32 @@ void dilateBoxAlongAxes(std::vector<std::uint8_t>& marks, const std::array<int, 
 
 /// The sign each piece's crossings count with: +1 or -1 for a closed,
 /// consistently oriented piece (outward or inward), 0 for a piece without a
-/// winding number.
+/// winding number. Topology is that of the canonical vertices
+/// (canonicalVertices): a mesh written with its vertices duplicated (a
+/// triangle soup, seams) is the same surface as the welded one. A triangle
+/// with a repeated canonical corner has no area and bounds nothing: it joins
+/// no pieces and takes no part in the closedness test (one such face on an
+/// edge would otherwise make the whole piece look open), and sits in a last
+/// piece of its own, of orientation 0, that has no crossings.
 struct MeshPieces {
+    std::vector<std::uint32_t> canonical;  // per vertex (canonicalVertices)
     std::vector<std::uint32_t> pieceOfTriangle;
     std::vector<int> orientation;  // per piece
 };
 
 MeshPieces pieceOrientations(const TriangleMesh& mesh) {
+    MeshPieces pieces;
+    pieces.canonical = canonicalVertices(mesh);
+    const std::vector<std::uint32_t>& canonical = pieces.canonical;
+    std::vector<std::array<std::uint32_t, 3>> corners;
+    std::vector<bool> degenerate;
+    corners.reserve(mesh.triangles.size());
+    degenerate.reserve(mesh.triangles.size());
+    for (const auto& t : mesh.triangles) {
+        const std::array<std::uint32_t, 3> c{canonical[t[0]], canonical[t[1]], canonical[t[2]]};
+        corners.push_back(c);
+        degenerate.push_back(c[0] == c[1] || c[1] == c[2] || c[2] == c[0]);
+    }
     const std::size_t vertexCount = mesh.vertices.size();
     std::vector<std::uint32_t> parent(vertexCount);
     std::iota(parent.begin(), parent.end(), 0u);
@@ -73,40 +93,50 @@ MeshPieces pieceOrientations(const TriangleMesh& mesh) {
         while (parent[v] != v) v = parent[v] = parent[parent[v]];
         return v;
     };
-    for (const auto& t : mesh.triangles) {
-        const std::uint32_t a = find(t[0]);
-        for (int c = 1; c < 3; ++c) {
-            const std::uint32_t b = find(t[std::size_t(c)]);
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+        if (degenerate[i]) continue;
+        const std::uint32_t a = find(corners[i][0]);
+        for (std::size_t c = 1; c < 3; ++c) {
+            const std::uint32_t b = find(corners[i][c]);
             if (a != b) parent[std::max(a, b)] = std::min(a, b);
         }
     }
-    MeshPieces pieces;
     std::unordered_map<std::uint32_t, std::uint32_t> pieceOfRoot;
     pieces.pieceOfTriangle.reserve(mesh.triangles.size());
-    for (const auto& t : mesh.triangles) {
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+        if (degenerate[i]) {
+            pieces.pieceOfTriangle.push_back(0);  // set below, to the last piece
+            continue;
+        }
         const auto inserted =
-            pieceOfRoot.try_emplace(find(t[0]), std::uint32_t(pieceOfRoot.size()));
+            pieceOfRoot.try_emplace(find(corners[i][0]), std::uint32_t(pieceOfRoot.size()));
         pieces.pieceOfTriangle.push_back(inserted.first->second);
     }
+    const std::uint32_t degeneratePiece = std::uint32_t(pieceOfRoot.size());
     // Closed and consistently oriented: every directed edge used once, and
     // its reverse once.
     std::unordered_map<std::uint64_t, std::uint32_t> directedUses;
     directedUses.reserve(3 * mesh.triangles.size());
     auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
-    for (const auto& t : mesh.triangles)
-        for (int c = 0; c < 3; ++c)
-            ++directedUses[key(t[std::size_t(c)], t[std::size_t((c + 1) % 3)])];
-    std::vector<bool> valid(pieceOfRoot.size(), true);
-    std::vector<double> volume(pieceOfRoot.size(), 0.0);
-    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-        const auto& t = mesh.triangles[i];
+    for (std::size_t i = 0; i < corners.size(); ++i)
+        if (!degenerate[i])
+            for (std::size_t c = 0; c < 3; ++c)
+                ++directedUses[key(corners[i][c], corners[i][(c + 1) % 3])];
+    std::vector<bool> valid(pieceOfRoot.size() + 1, true);
+    std::vector<double> volume(pieceOfRoot.size() + 1, 0.0);
+    valid[degeneratePiece] = false;
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+        if (degenerate[i]) {
+            pieces.pieceOfTriangle[i] = degeneratePiece;
+            continue;
+        }
+        const auto& t = corners[i];
         const std::uint32_t piece = pieces.pieceOfTriangle[i];
-        for (int c = 0; c < 3; ++c) {
-            const std::uint32_t a = t[std::size_t(c)], b = t[std::size_t((c + 1) % 3)];
+        for (std::size_t c = 0; c < 3; ++c) {
+            const std::uint32_t a = t[c], b = t[(c + 1) % 3];
             const auto forward = directedUses.find(key(a, b));
             const auto backward = directedUses.find(key(b, a));
-            if (a == b || forward->second != 1 || backward == directedUses.end() ||
-                backward->second != 1)
+            if (forward->second != 1 || backward == directedUses.end() || backward->second != 1)
                 valid[piece] = false;
         }
         const auto& p = mesh.vertices[t[0]];
@@ -115,7 +145,7 @@ MeshPieces pieceOrientations(const TriangleMesh& mesh) {
         volume[piece] += p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) +
                          p[2] * (q[0] * r[1] - q[1] * r[0]);
     }
-    pieces.orientation.resize(pieceOfRoot.size(), 0);
+    pieces.orientation.resize(valid.size(), 0);
     for (std::size_t piece = 0; piece < valid.size(); ++piece)
         if (valid[piece] && volume[piece] != 0.0)
             pieces.orientation[piece] = volume[piece] > 0 ? 1 : -1;
@@ -137,8 +167,9 @@ struct RowCrossing {
 };
 
 /// Edge function of the ray point (y, z) against the edge a -> b, computed on
-/// the edge with its endpoints in a fixed order (lower vertex index first),
-/// so that the two triangles sharing an edge get exactly opposite values.
+/// the edge with its endpoints in a fixed order (lower canonical vertex index
+/// first), so that the two triangles sharing an edge get exactly opposite
+/// values, also where they name its ends by different vertices.
 double edgeSide(std::uint32_t ia, std::uint32_t ib, const std::array<double, 3>& a,
                 const std::array<double, 3>& b, double y, double z) {
     if (ia > ib) return -edgeSide(ib, ia, b, a, y, z);
@@ -163,7 +194,10 @@ std::vector<RowCrossing> rowCrossings(const TriangleMesh& mesh, const MeshPieces
                     const std::uint32_t piece = pieces.pieceOfTriangle[t];
                     const int orientation = pieces.orientation[piece];
                     if (orientation == 0) continue;
-                    const auto& tri = mesh.triangles[t];
+                    const auto& raw = mesh.triangles[t];
+                    const std::array<std::uint32_t, 3> tri{pieces.canonical[raw[0]],
+                                                           pieces.canonical[raw[1]],
+                                                           pieces.canonical[raw[2]]};
                     const auto &p0 = index[tri[0]], &p1 = index[tri[1]], &p2 = index[tri[2]];
                     // Twice the signed area of the triangle seen along x.
                     const double area =

@@ -15,7 +15,10 @@
 // leaves through the crossing), so sorting each row's crossings gives every
 // voxel's winding number in one sweep. Pieces (triangles joined by shared
 // vertices) count separately: separate pieces that overlap are meant to be
-// voxelised as their union (MeshVoxelizer.h) and are left alone.
+// voxelised as their union (MeshVoxelizer.h) and are left alone. Vertices at
+// one position count as one (canonicalVertices, MeshCheck.h), so a triangle
+// soup is the welded surface; a triangle with a repeated corner has no area
+// and is left out of the pieces and of the closedness test.
 //
 // Each 26-connected group of doubly enclosed voxels is cleared together with
 // its neighbours up to `clearance` voxels away: the buried part of the limb

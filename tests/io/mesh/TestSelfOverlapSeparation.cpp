@@ -244,6 +244,80 @@ TEST(SelfOverlap, SeparatePiecesOpenPiecesAndCleanMeshesAreLeftAlone) {
     EXPECT_TRUE(selfOverlapVoxels(open, openGrid.dims, openGrid.geometry).empty());
 }
 
+// `mesh` written as a triangle soup: three own vertices per triangle, at the
+// same positions as the shared ones (an unwelded OBJ/OFF/PLY export).
+TriangleMesh soupOf(const TriangleMesh& mesh) {
+    TriangleMesh soup;
+    soup.triangleFace = mesh.triangleFace;
+    soup.faceCount = mesh.faceCount;
+    for (const auto& t : mesh.triangles) {
+        const auto first = std::uint32_t(soup.vertices.size());
+        for (std::uint32_t v : t) soup.vertices.push_back(mesh.vertices[v]);
+        soup.triangles.push_back({first, first + 1, first + 2});
+    }
+    return soup;
+}
+
+TEST(SelfOverlap, ATriangleSoupIsTheWeldedSurface) {
+    // Vertices at one position count as one: the soup has the welded mesh's
+    // pieces and winding numbers (before: every triangle an open piece of its
+    // own, and no overlap found).
+    const TriangleMesh mesh = test::CurledTube{}.mesh();
+    const TriangleMesh soup = soupOf(mesh);
+    const VoxelGrid grid = voxelGridFor(mesh, atResolution(96));
+    const auto welded = selfOverlapVoxels(mesh, grid.dims, grid.geometry);
+    ASSERT_FALSE(welded.empty());
+    EXPECT_EQ(selfOverlapVoxels(soup, grid.dims, grid.geometry), welded);
+    const MaskVolume before = voxelizeMesh(mesh, atResolution(96, false));
+    MaskVolume weldedMask = before, soupMask = before;
+    const SelfOverlapSeparation fromWelded = separateSelfOverlaps(mesh, weldedMask);
+    const SelfOverlapSeparation fromSoup = separateSelfOverlaps(soup, soupMask);
+    EXPECT_EQ(fromSoup.overlapVoxels, fromWelded.overlapVoxels);
+    EXPECT_EQ(fromSoup.overlaps, fromWelded.overlaps);
+    EXPECT_EQ(fromSoup.voxelsCleared, fromWelded.voxelsCleared);
+    EXPECT_TRUE(soupMask.values() == weldedMask.values());
+}
+
+TEST(SelfOverlap, AFaceWithARepeatedVertexChangesNothing) {
+    // A zero-area face on an existing edge (`f 1 1 2`), and one on a single
+    // vertex, bound nothing: the piece keeps its winding number (before: a
+    // repeated vertex and an edge used twice one way made the whole piece
+    // "without winding number"). Also in a soup, where the repeat is by
+    // position only.
+    const TriangleMesh mesh = test::CurledTube{}.mesh();
+    const VoxelGrid grid = voxelGridFor(mesh, atResolution(96));
+    const auto clean = selfOverlapVoxels(mesh, grid.dims, grid.geometry);
+    ASSERT_FALSE(clean.empty());
+    const MaskVolume before = voxelizeMesh(mesh, atResolution(96, false));
+    MaskVolume cleanMask = before;
+    const SelfOverlapSeparation fromClean = separateSelfOverlaps(mesh, cleanMask);
+    const MeshVoxelization cleanModel = voxelizeMeshWithContacts(mesh, atResolution(96));
+    auto withDegenerateFaces = [](TriangleMesh m) {
+        const auto t = m.triangles.front();
+        for (const std::array<std::uint32_t, 3> face :
+             {std::array<std::uint32_t, 3>{t[0], t[0], t[1]},
+              std::array<std::uint32_t, 3>{t[2], t[2], t[2]}}) {
+            m.triangles.push_back(face);
+            m.triangleFace.push_back(std::uint32_t(m.faceCount++));
+        }
+        return m;
+    };
+    for (const TriangleMesh& degenerate :
+         {withDegenerateFaces(mesh), soupOf(withDegenerateFaces(mesh))}) {
+        EXPECT_EQ(selfOverlapVoxels(degenerate, grid.dims, grid.geometry), clean);
+        MaskVolume mask = before;
+        const SelfOverlapSeparation separation = separateSelfOverlaps(degenerate, mask);
+        EXPECT_EQ(separation.overlapVoxels, fromClean.overlapVoxels);
+        EXPECT_EQ(separation.overlaps, fromClean.overlaps);
+        EXPECT_EQ(separation.voxelsCleared, fromClean.voxelsCleared);
+        EXPECT_TRUE(mask.values() == cleanMask.values());
+        // The whole voxel model too: the contact separation and the
+        // thin-part fill read the sides of triangles (MeshOrientation.h).
+        EXPECT_TRUE(voxelizeMeshWithContacts(degenerate, atResolution(96)).mask.values() ==
+                    cleanModel.mask.values());
+    }
+}
+
 TEST(SelfOverlap, InwardOrientationGivesTheSameVoxels) {
     TriangleMesh mesh = test::CurledTube{}.mesh();
     const VoxelGrid grid = voxelGridFor(mesh, atResolution(64));
