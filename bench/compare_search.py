@@ -59,7 +59,6 @@ def read_run(out, wall):
         "coarse_candidates": report["work"].get("coarse_candidates", 0),
         "coarse_measured": report["work"].get("coarse_candidates_measured", 0),
         "thin_wall_seeds": report["work"].get("thin_wall_seeds", 0),
-        "pinch_seeds": report["work"].get("pinch_seeds", 0),
     }
 
 
@@ -96,9 +95,9 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     rows = []
     print("| input | resolution | skeleton.ply | cuts.ply | labels | RI error | parts (band / exhaustive) | "
-          "C_tau points (band / exhaustive) | candidates | measured (band) | thin-wall seeds | pinch seeds | coarse candidates measured / all | nodes settled (band / exhaustive) | "
+          "C_tau points (band / exhaustive) | candidates | measured (band) | thin-wall seeds | coarse candidates measured / all | nodes settled (band / exhaustive) | "
           "path-set CPU s (band / exhaustive) | CPU s (band / exhaustive) |")
-    print("| --- | ---: | --- | --- | --- | ---: | --- | --- | ---: | ---: | ---: | ---: | --- | --- | --- | --- |")
+    print("| --- | ---: | --- | --- | --- | ---: | --- | --- | ---: | ---: | ---: | --- | --- | --- | --- |")
     for inp in map(Path, args.inputs):
         name = inp.stem
         runs = {}
@@ -120,7 +119,7 @@ def main():
         print(f"| {inp.name} | {args.resolution} | {word('skeleton.ply')} | {word('cuts.ply')} | "
               f"{word('labels.nrrd')} | {ri:.4f} | {b['parts']} / {e['parts']} | "
               f"{b['skeleton_points']} / {e['skeleton_points']} | {b['candidates']} | {b['measured']} "
-              f"({100.0 * b['measured'] / max(b['candidates'], 1):.0f}%) | {b['thin_wall_seeds']} | {b['pinch_seeds']} | "
+              f"({100.0 * b['measured'] / max(b['candidates'], 1):.0f}%) | {b['thin_wall_seeds']} | "
               f"{b['coarse_measured']} / {b['coarse_candidates']} | "
               f"{b['nodes_settled']} / {e['nodes_settled']} | {b['stage_cpu']:.2f} / {e['stage_cpu']:.2f} | "
               f"{b['cpu']:.2f} / {e['cpu']:.2f} |", flush=True)

@@ -122,8 +122,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                  {"repeated_feature_sets", 0},
                  {"coarse_candidates", 0},
                  {"coarse_candidates_measured", 0},
-                 {"thin_wall_seeds", 0},
-                 {"pinch_seeds", 0}};
+                 {"thin_wall_seeds", 0}};
     json objects = json::array(), junctions = json::array(), critical = json::array();
     json cuts = json::array(), jointCandidates = json::array();
     std::uint64_t jointCuts = 0;
@@ -144,7 +143,6 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
         addCount(work, "coarse_candidates", obj.bandStats.coarseCandidates);
         addCount(work, "coarse_candidates_measured", obj.bandStats.coarseMeasured);
         addCount(work, "thin_wall_seeds", obj.bandStats.thinWallSeeds);
-        addCount(work, "pinch_seeds", obj.bandStats.pinchSeeds);
         addCount(work, "dijkstra_searches", search.searches);
         addCount(work, "heap_pops", search.heapPops + sigmaSearch.heapPops);
         addCount(work, "nodes_settled", search.nodesSettled + sigmaSearch.nodesSettled);

@@ -24,38 +24,6 @@ void addMeasureStats(SkeletonMeasureStats& total, const SkeletonMeasureStats& pa
     total.skeletonPoints += part.skeletonPoints;
 }
 
-bool isPinchCandidate(const SkeletonCandidate& candidate, const BoundaryGraph& graph,
-                      const Volume<std::uint32_t>& featureTransform, double pinchDepth,
-                      double pinchCosine) {
-    if (pinchDepth <= 0) return false;
-    const std::uint32_t feature = featureTransform[candidate.voxel];
-    if (feature == kNoFeature) return false;
-    const Dims& dims = featureTransform.dims();
-    if (double(squaredDistance(dims, candidate.voxel, feature)) > pinchDepth * pinchDepth)
-        return false;
-    const std::uint32_t nx = std::uint32_t(dims.x), ny = std::uint32_t(dims.y);
-    const int x = int(candidate.voxel % nx), y = int((candidate.voxel / nx) % ny),
-              z = int(candidate.voxel / (nx * ny));
-    // A neck has feature points on opposite sides of the candidate; next to
-    // the surface of a thick part (a flat patch, a crease, an edge) they lie
-    // on one side.
-    for (int a = 0; a < candidate.featureCount; ++a) {
-        const Coord fa = graph.coord[candidate.feature[a]];
-        const double ax = fa.x - x, ay = fa.y - y, az = fa.z - z;
-        const double la2 = ax * ax + ay * ay + az * az;
-        for (int b = a + 1; b < candidate.featureCount; ++b) {
-            const Coord fb = graph.coord[candidate.feature[b]];
-            const double bx = fb.x - x, by = fb.y - y, bz = fb.z - z;
-            const double dot = ax * bx + ay * by + az * bz;
-            // cos < pinchCosine (<= 0) <=> dot < 0 and dot^2 > cos^2 |a|^2 |b|^2
-            if (dot < 0 &&
-                dot * dot > pinchCosine * pinchCosine * la2 * (bx * bx + by * by + bz * bz))
-                return true;
-        }
-    }
-    return false;
-}
-
 namespace {
 
 /// Measures candidates[batch[i]] and appends the points found to `found`
@@ -251,9 +219,6 @@ std::vector<SkeletonPoint> bandSearch(
         }
         return double(own) < thinDepth2;
     };
-    auto inPinch = [&](const SkeletonCandidate& c) {
-        return isPinchCandidate(c, graph, featureTransform, band.pinchDepth, band.pinchCosine);
-    };
     const int unseen = band.unresolvedRadius;
     // Where the coarse search examined no candidate near a fine candidate it
     // could not have seen a skeleton there (thin walls and plates), so the
@@ -270,7 +235,7 @@ std::vector<SkeletonPoint> bandSearch(
         return true;
     };
     std::vector<std::uint8_t> measured(candidates.size(), 0);
-    std::vector<std::uint8_t> thin(candidates.size(), 0);  // 1: thin wall, 2: pinch
+    std::vector<std::uint8_t> thin(candidates.size(), 0);
     parallelFor(
         candidates.size(),
         [&](std::size_t begin, std::size_t end) {
@@ -285,10 +250,6 @@ std::vector<SkeletonPoint> bandSearch(
                 }
                 if ((haveCoarse && inThinWall(x, y, z)) || unresolved(x, y, z)) {
                     measured[i] = thin[i] = 1;
-                    continue;
-                }
-                if (inPinch(candidates[i])) {
-                    measured[i] = 1, thin[i] = 2;
                     continue;
                 }
                 if (!band.ridgeSeeds) continue;
@@ -309,22 +270,17 @@ std::vector<SkeletonPoint> bandSearch(
         options.threaded, 1024);
     (void)cd;
     std::vector<std::uint32_t> batch;
-    std::uint64_t thinSeeds = 0, pinchSeeds = 0;
+    std::uint64_t thinSeeds = 0;
     for (std::uint32_t i = 0; i < candidates.size(); ++i) {
         if (measured[i]) batch.push_back(i);
-        thinSeeds += thin[i] == 1;
-        pinchSeeds += thin[i] == 2;
+        thinSeeds += thin[i];
     }
     for (const auto& c : coarse.skeleton)
         markBox(candidates, dims, {2 * c[0] - 1, 2 * c[1] - 1, 2 * c[2] - 1},
                 {2 * c[0], 2 * c[1], 2 * c[2]}, band.coarseBandRadius, measured, batch);
     std::sort(batch.begin(), batch.end());
     std::uint64_t measuredHere = 0;
-    if (level == 0) {
-        bandStats.seeds = batch.size();
-        bandStats.thinWallSeeds = thinSeeds;
-        bandStats.pinchSeeds = pinchSeeds;
-    }
+    if (level == 0) bandStats.seeds = batch.size(), bandStats.thinWallSeeds = thinSeeds;
     std::vector<SkeletonPoint> found, newInTau;
     const int r = level == 0 ? band.closureRadius : band.coarseClosureRadius;
     SkeletonMeasureWorkspaces workspaces;  // one graph and options for every round
@@ -359,10 +315,10 @@ std::vector<SkeletonPoint> measureSkeletonInBand(
     const SkeletonMeasureOptions& options, const SkeletonBandOptions& band,
     SkeletonBandStats* bandStats, SkeletonMeasureStats* measureStats, Interrupter& interrupter) {
     if (band.seedSpacing < 0 || band.closureRadius < 1 || band.coarseClosureRadius < 1 ||
-        band.coarseBandRadius < 0 || !(band.pinchDepth >= 0) || !(band.pinchCosine <= 0))
+        band.coarseBandRadius < 0)
         throw UsageError(
-            "the skeleton band needs closure radii of at least 1, no negative spacing, band "
-            "radius or pinch depth, and a pinch cosine of at most 0");
+            "the skeleton band needs closure radii of at least 1 and no negative spacing or "
+            "band radius");
     SkeletonBandStats localBand;
     SkeletonMeasureStats stats;
     std::vector<SkeletonPoint> found = bandSearch(graph, candidates, mask, featureTransform,

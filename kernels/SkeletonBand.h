@@ -21,15 +21,7 @@
 //      candidates of thick parts lie near the surface, where the medial
 //      surface reaches every edge and bump, yet climb deeper within a few
 //      steps;
-//   3. pinch seeds: where two thick parts are joined by a neck a few voxels
-//      wide (a contact the voxeliser did not fully part leaves such necks),
-//      the loop around the neck splits the boundary into two large sides, so
-//      the neck's candidates are points of C_tau; half the resolution does
-//      not resolve the neck, and the thin-wall ascent climbs out of it into
-//      the parts on either side. Every candidate within pinchDepth of the
-//      boundary that has two feature points on opposite sides of it is a
-//      seed;
-//   4. closure: around every point of C_tau found so far at full resolution,
+//   3. closure: around every point of C_tau found so far at full resolution,
 //      every candidate within `closureRadius` (Chebyshev) is measured too,
 //      repeated until no new point of C_tau appears (on the coarser levels
 //      within `coarseClosureRadius`: their points only seed the level above).
@@ -86,13 +78,6 @@ struct SkeletonBandOptions {
     /// voxel (-1: none).
     double thinWallDepth = 5.0;
     int unresolvedRadius = 1;
-    /// Pinch seeds: every candidate at most pinchDepth voxels from the
-    /// boundary (its feature transform distance) with two feature points
-    /// whose directions from it are more than 120 degrees apart (cosine
-    /// below pinchCosine) is a seed (pinchDepth 0: none). A candidate that
-    /// near the surface of a thick part has its feature points on one side.
-    double pinchDepth = 1.4142135623730951;  // sqrt(2): necks up to 3 voxels wide
-    double pinchCosine = -0.5;
     /// The search at half the resolution is itself a band search while it
     /// has more candidates than this (recursively); below, it measures all.
     std::size_t exhaustiveBelow = 30000;
@@ -118,7 +103,6 @@ struct SkeletonBandStats {
     std::uint32_t levels = 0;              // coarser levels searched
     std::uint64_t seeds = 0;               // full-resolution candidates measured as seeds
     std::uint64_t thinWallSeeds = 0;       // of which seeded for a thin wall
-    std::uint64_t pinchSeeds = 0;          // of which seeded for a pinch (and no thin wall)
     std::uint64_t candidatesMeasured = 0;  // full resolution: seeds + closure
     std::uint32_t closureRounds = 0;       // full resolution
 };
@@ -136,15 +120,6 @@ std::vector<SkeletonPoint> measureSkeletonInBand(
     const SkeletonMeasureOptions& options, const SkeletonBandOptions& band = {},
     SkeletonBandStats* bandStats = nullptr, SkeletonMeasureStats* measureStats = nullptr,
     Interrupter& interrupter = nullInterrupter());
-
-/// Whether `candidate` is a pinch seed (SkeletonBandOptions::pinchDepth):
-/// at most pinchDepth voxels from the boundary (featureTransform: the
-/// crop's, as SkeletonCandidates.h) with two feature points whose
-/// directions from it have a cosine below pinchCosine. False when
-/// pinchDepth is 0.
-bool isPinchCandidate(const SkeletonCandidate& candidate, const BoundaryGraph& graph,
-                      const Volume<std::uint32_t>& featureTransform, double pinchDepth,
-                      double pinchCosine);
 
 /// Sums the counters of two measure runs (the band measures in rounds).
 void addMeasureStats(SkeletonMeasureStats& total, const SkeletonMeasureStats& part);

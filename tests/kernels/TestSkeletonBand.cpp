@@ -2,8 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <cstdlib>
 #include <limits>
 #include <map>
 #include <memory>
@@ -68,7 +66,7 @@ void expectSamePoints(const std::vector<SkeletonPoint>& a, const std::vector<Ske
 
 class SkeletonBandShapes : public ::testing::TestWithParam<std::string> {};
 
-/// The band without its thin-wall and pinch seeds: at the small sizes of these tests
+/// The band without its thin-wall seeds: at the small sizes of these tests
 /// nearly every part is thinner than the thin-wall threshold, which would
 /// measure everything in the first round and leave coarse seeds and closure
 /// untested.
@@ -76,7 +74,6 @@ SkeletonBandOptions coarseSeedsOnly() {
     SkeletonBandOptions band;
     band.thinWallDepth = 0;
     band.unresolvedRadius = -1;
-    band.pinchDepth = 0;
     return band;
 }
 
@@ -120,7 +117,6 @@ TEST(SkeletonBand, SerialAndParallelGiveIdenticalPoints) {
         expectSamePoints(parallel, serial);
         EXPECT_EQ(parallelStats.seeds, serialStats.seeds);
         EXPECT_EQ(parallelStats.thinWallSeeds, serialStats.thinWallSeeds);
-        EXPECT_EQ(parallelStats.pinchSeeds, serialStats.pinchSeeds);
         EXPECT_EQ(parallelStats.candidatesMeasured, serialStats.candidatesMeasured);
         EXPECT_EQ(parallelStats.coarseMeasured, serialStats.coarseMeasured);
         EXPECT_EQ(parallelStats.levels, serialStats.levels);
@@ -172,14 +168,6 @@ TEST(SkeletonBand, RefusesANegativeSpacingOrARadiusBelowOne) {
     bad.coarseClosureRadius = 0;
     EXPECT_THROW(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), bad),
                  UsageError);
-    bad.coarseClosureRadius = 1;
-    bad.pinchDepth = -1.0;
-    EXPECT_THROW(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), bad),
-                 UsageError);
-    bad.pinchDepth = 1.0;
-    bad.pinchCosine = 0.5;
-    EXPECT_THROW(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), bad),
-                 UsageError);
 }
 
 TEST(SkeletonBand, ClosureAloneRecoversTheSkeletonFromOneSeedPiece) {
@@ -221,73 +209,6 @@ TEST(SkeletonBand, ThinWallSeedsFindTheSkeletonOfAThinPlate) {
         inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, {}, &stats), o.tau);
     expectSamePoints(band, exhaustive);
     EXPECT_GT(stats.thinWallSeeds, 0u);
-}
-
-/// Two balls of radius `radius` whose surfaces are `gap` voxels apart,
-/// joined by a neck that is 3 voxels wide in the middle and widens towards
-/// both balls: the shape a contact leaves where the voxeliser parted two
-/// touching surfaces everywhere but in a small patch.
-MaskVolume ballsJoinedByANeck(int radius, int gap, double flare) {
-    const int side = 2 * radius + 7, length = 4 * radius + gap + 7;
-    MaskVolume mask(Dims{length, side, side}, 0);
-    const int c = side / 2, a = radius + 3, b = a + 2 * radius + gap;
-    const double middle = 0.5 * (a + b);
-    for (int z = 0; z < side; ++z)
-        for (int y = 0; y < side; ++y)
-            for (int x = 0; x < length; ++x) {
-                const int ya = y - c, za = z - c;
-                const bool inA = (x - a) * (x - a) + ya * ya + za * za <= radius * radius;
-                const bool inB = (x - b) * (x - b) + ya * ya + za * za <= radius * radius;
-                const double neck = 1.5 + flare * std::abs(x - middle);
-                const bool inNeck = x > a && x < b && ya * ya + za * za <= neck * neck;
-                if (inA || inB || inNeck) mask(x, y, z) = 1;
-            }
-    return mask;
-}
-
-TEST(SkeletonBand, EveryCandidateInTheMiddleOfANeckIsAPinch) {
-    const int radius = 14, gap = 3;
-    const Prepared p(ballsJoinedByANeck(radius, gap, 0.0));
-    const SkeletonBandOptions defaults;
-    const Dims d = p.mask.dims();
-    const int c = d.y / 2, middle = (2 * (radius + 3) + 2 * radius + gap) / 2;
-    std::size_t neckCandidates = 0, neckPinches = 0;
-    for (const SkeletonCandidate& candidate : p.candidates) {
-        const int x = int(candidate.voxel % std::uint32_t(d.x));
-        const int y = int((candidate.voxel / std::uint32_t(d.x)) % std::uint32_t(d.y));
-        const int z = int(candidate.voxel / std::uint32_t(d.x * d.y));
-        if (std::abs(x - middle) > 1 || std::abs(y - c) > 1 || std::abs(z - c) > 1) continue;
-        ++neckCandidates;
-        neckPinches +=
-            isPinchCandidate(candidate, p.graph, p.ft, defaults.pinchDepth, defaults.pinchCosine);
-        EXPECT_FALSE(isPinchCandidate(candidate, p.graph, p.ft, 0.0, defaults.pinchCosine))
-            << "pinch depth 0 turns the seeds off";
-    }
-    ASSERT_GT(neckCandidates, 0u);
-    EXPECT_EQ(neckPinches, neckCandidates) << "every candidate in the middle of the neck";
-}
-
-TEST(SkeletonBand, PinchSeedsKeepTheExhaustiveSkeletonAndSerialEqualsParallel) {
-    const Prepared p(ballsJoinedByANeck(14, 3, 0.8));
-    const SkeletonMeasureOptions o = p.options(false);
-    const auto exhaustive = inTau(measureSkeleton(p.graph, p.candidates, o), o.tau);
-    ASSERT_FALSE(exhaustive.empty()) << "the loop around the neck parts the two balls";
-    SkeletonBandStats stats, parallelStats;
-    const auto band =
-        inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, {}, &stats), o.tau);
-    expectSamePoints(band, exhaustive);
-    EXPECT_GT(stats.pinchSeeds, 0u);
-    EXPECT_LT(stats.pinchSeeds, p.candidates.size() / 4) << "a ball's surface is mostly no pinch";
-    const auto parallel = inTau(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft,
-                                                      p.options(true), {}, &parallelStats),
-                                o.tau);
-    expectSamePoints(parallel, band);
-    EXPECT_EQ(parallelStats.pinchSeeds, stats.pinchSeeds);
-    SkeletonBandOptions none;
-    none.pinchDepth = 0;
-    SkeletonBandStats noneStats;
-    measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, o, none, &noneStats);
-    EXPECT_EQ(noneStats.pinchSeeds, 0u);
 }
 
 TEST(SkeletonBand, RecursiveCoarseLevelsFindTheSameSkeleton) {
