@@ -47,9 +47,21 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
     throwIfInterrupted(interrupter);
     const Dims d = mask.dims();
     const std::int32_t triangleCount = std::int32_t(mesh.triangles.size());
-    auto triangleAt = [&](std::size_t i) {
-        const std::int32_t t = nearestTriangle[i];
-        return t >= 0 && t < triangleCount ? t : -1;
+    // The nearest triangle of each object voxel of slice z as the mesh's
+    // geometry names it, not its face order (SurfaceGraph::nearestOfTied);
+    // -1 where unknown or outside.
+    const std::size_t sliceSize = std::size_t(d.x) * std::size_t(d.y);
+    auto nearestInSlice = [&](int z, std::vector<std::int32_t>& slice) {
+        slice.assign(sliceSize, -1);
+        if (z >= d.z) return;
+        for (int y = 0; y < d.y; ++y)
+            for (int x = 0; x < d.x; ++x) {
+                const std::size_t i = mask.index(x, y, z);
+                const std::int32_t t = nearestTriangle[i];
+                if (!mask.data()[i] || t < 0 || t >= triangleCount) continue;
+                slice[i - sliceSize * std::size_t(z)] =
+                    graph.nearestOfTied(t, Vec3{double(x), double(y), double(z)});
+            }
     };
     auto surfacePoint = [&](std::int32_t t, const Vec3& p) {
         const auto& c = graph.triangles[std::size_t(t)];
@@ -91,11 +103,19 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
     parallelFor(
         d.z,
         [&](int zBegin, int zEnd) {
+            // The forward neighbours lie in this slice and the next.
+            std::vector<std::int32_t> slice, nextSlice;
+            nearestInSlice(zBegin, slice);
             for (int z = zBegin; z < zEnd; ++z) {
                 if (stopped || interrupter.wasInterrupted()) {
                     stopped = true;
                     return;
                 }
+                nearestInSlice(z + 1, nextSlice);
+                auto triangleAt = [&](std::size_t i) {
+                    const std::size_t base = sliceSize * std::size_t(z);
+                    return i < base + sliceSize ? slice[i - base] : nextSlice[i - base - sliceSize];
+                };
                 auto& out = perSlab[std::size_t(z)];
                 for (int y = 0; y < d.y; ++y)
                     for (int x = 0; x < d.x; ++x) {
@@ -147,6 +167,7 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
                             out.push_back(pair);
                         }
                     }
+                slice.swap(nextSlice);
             }
         },
         options.threaded);

@@ -5,7 +5,11 @@
 //
 // Input: the solid mask and, for the voxels near the surface, the mesh
 // triangle nearest to each voxel centre (OpenVDB's closest-primitive index,
-// see MeshVoxelizer.cpp). Two 26-neighbouring object voxels a and b with
+// see MeshVoxelizer.cpp). Where several triangles are as near (the nearest
+// point is a vertex or an edge they share), OpenVDB returns the first in face
+// order; the one used is chosen by geometry instead
+// (SurfaceGraph::nearestOfTied), so the same mesh with its faces in another
+// order gives the same voxel model. Two 26-neighbouring object voxels a and b with
 // nearest triangles ta, tb are a contact when
 //  1. each lies beyond the other's surface: with pa the point of ta nearest
 //     to a, (b - pa) . (a - pa) < 0, and the same with a and b swapped. Inside

@@ -1,6 +1,8 @@
 #include "io/mesh/ContactSurfaceGraph.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <functional>
 #include <numeric>
 #include <queue>
@@ -55,6 +57,73 @@ bool SurfaceGraph::nearOnMesh(std::int32_t ta, const Vec3& pa, std::int32_t tb, 
     return false;
 }
 
+std::int32_t SurfaceGraph::nearestOfTied(std::int32_t t, const Vec3& p) const {
+    // Distances are in voxels: ties within this are ties (the same point
+    // reached through two triangles differs by rounding only).
+    constexpr double kTied = 1e-7;
+    const auto& c = triangles[std::size_t(t)];
+    const Vec3 q = vec3::closestPointOnTriangle(p, points[c[0]], points[c[1]], points[c[2]]);
+    const double d = distance(p, q);
+    if (d < kTied) return t;
+    // The corners of t at q: one (a vertex) or two (an edge); none: inside.
+    std::array<std::uint32_t, 2> at{};
+    int corners = 0;
+    for (std::size_t k = 0; k < 3 && corners == 0; ++k)
+        if (distance(q, points[c[k]]) < kTied) at[corners++] = c[k];
+    for (std::size_t k = 0; k < 3 && corners == 0; ++k) {
+        const Vec3& a = points[c[k]];
+        const Vec3& b = points[c[(k + 1) % 3]];
+        const Vec3 ab = vec3::sub(b, a);
+        const double length2 = vec3::dot(ab, ab);
+        if (!(length2 > 0)) continue;
+        const double s = std::clamp(vec3::dot(vec3::sub(q, a), ab) / length2, 0.0, 1.0);
+        if (distance(q, vec3::along(a, ab, s)) < kTied) {
+            at[corners++] = c[k];
+            at[corners++] = c[(k + 1) % 3];
+        }
+    }
+    if (corners == 0) return t;
+    auto sortedCorners = [&](std::uint32_t u) {
+        std::array<Vec3, 3> corner{points[triangles[u][0]], points[triangles[u][1]],
+                                   points[triangles[u][2]]};
+        std::sort(corner.begin(), corner.end());
+        return corner;
+    };
+    std::int32_t best = t;
+    double bestCos = -1, bestDistance = d;
+    std::array<Vec3, 3> bestCorners{};
+    bool bestKnown = false;
+    for (std::uint32_t k = firstTriangle[at[0]]; k < firstTriangle[at[0] + 1]; ++k) {
+        const std::uint32_t u = vertexTriangles[k];
+        const auto& cu = triangles[u];
+        if (corners == 2 && cu[0] != at[1] && cu[1] != at[1] && cu[2] != at[1]) continue;
+        const Vec3 qu =
+            vec3::closestPointOnTriangle(p, points[cu[0]], points[cu[1]], points[cu[2]]);
+        const Vec3 away = vec3::sub(p, qu);
+        const double du = std::sqrt(vec3::dot(away, away));
+        if (du > bestDistance + kTied) continue;
+        const Vec3 normal = vec3::cross(vec3::sub(points[cu[1]], points[cu[0]]),
+                                        vec3::sub(points[cu[2]], points[cu[0]]));
+        const double normalLength = std::sqrt(vec3::dot(normal, normal));
+        const double cosine =
+            normalLength > 0 ? std::abs(vec3::dot(normal, away)) / (normalLength * du) : 0.0;
+        const bool nearer = du < bestDistance - kTied;
+        if (!nearer && bestKnown) {
+            if (cosine < bestCos - 1e-12) continue;
+            if (cosine <= bestCos + 1e-12) {
+                const auto corner = sortedCorners(u);
+                if (!(corner < bestCorners)) continue;
+            }
+        }
+        best = std::int32_t(u);
+        bestCos = cosine;
+        bestDistance = std::min(bestDistance, du);
+        bestCorners = sortedCorners(u);
+        bestKnown = true;
+    }
+    return best;
+}
+
 SurfaceGraph buildSurfaceGraph(const TriangleMesh& mesh, const VolumeGeometry& geometry) {
     SurfaceGraph graph;
     const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
@@ -73,7 +142,14 @@ SurfaceGraph buildSurfaceGraph(const TriangleMesh& mesh, const VolumeGeometry& g
     edges.reserve(mesh.triangles.size() * 6);
     graph.triangles.reserve(mesh.triangles.size());
     for (const auto& t : mesh.triangles) {
-        const std::array<std::uint32_t, 3> c{canonical[t[0]], canonical[t[1]], canonical[t[2]]};
+        // From the corner with the smallest position, winding kept: the
+        // nearest points computed on it then round the same whichever corner
+        // the file starts the triangle at.
+        std::size_t first = 0;
+        for (std::size_t k = 1; k < 3; ++k)
+            if (mesh.vertices[t[k]] < mesh.vertices[t[first]]) first = k;
+        const std::array<std::uint32_t, 3> c{canonical[t[first]], canonical[t[(first + 1) % 3]],
+                                             canonical[t[(first + 2) % 3]]};
         graph.triangles.push_back(c);
         for (std::size_t k = 0; k < 3; ++k) {
             const std::uint32_t u = c[k], v = c[(k + 1) % 3];
@@ -92,6 +168,23 @@ SurfaceGraph buildSurfaceGraph(const TriangleMesh& mesh, const VolumeGeometry& g
                      graph.firstNeighbour.begin());
     graph.neighbours.reserve(edges.size());
     for (const auto& e : edges) graph.neighbours.push_back(e.second);
+    graph.firstTriangle.assign(mesh.vertices.size() + 1, 0);
+    for (const auto& c : graph.triangles)
+        for (std::size_t k = 0; k < 3; ++k)
+            if (k == 0 || (c[k] != c[0] && (k == 1 || c[k] != c[1])))
+                ++graph.firstTriangle[c[k] + 1];
+    std::partial_sum(graph.firstTriangle.begin(), graph.firstTriangle.end(),
+                     graph.firstTriangle.begin());
+    graph.vertexTriangles.resize(graph.firstTriangle.back());
+    {
+        std::vector<std::uint32_t> next(graph.firstTriangle.begin(), graph.firstTriangle.end() - 1);
+        for (std::uint32_t t = 0; t < graph.triangles.size(); ++t) {
+            const auto& c = graph.triangles[t];
+            for (std::size_t k = 0; k < 3; ++k)
+                if (k == 0 || (c[k] != c[0] && (k == 1 || c[k] != c[1])))
+                    graph.vertexTriangles[next[c[k]]++] = t;
+        }
+    }
     graph.piece.reserve(graph.triangles.size());
     for (const auto& c : graph.triangles) graph.piece.push_back(find(c[0]));
 

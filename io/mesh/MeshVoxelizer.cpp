@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,25 +32,65 @@ constexpr double kSurfaceLayer = 0.501;
 
 /// OpenVDB's MeshDataAdapter over a TriangleMesh: index-space points computed
 /// in double precision (OpenVDB's own adapters take float world points).
+///
+/// OpenVDB's answer depends on the order of the triangles it is given: where
+/// a voxel centre is as near to two triangles, its nearest-triangle index is
+/// the lower one, and the sign of a voxel on or halfway between surfaces is
+/// taken from that triangle; a triangle's distances are rounded differently
+/// when it starts at another corner. So the adapter hands the triangles over
+/// in an order of their geometry alone, each from its corner with the
+/// smallest position (x, then y, then z) with its winding kept, and sorted by
+/// those corners: the same surface in another face order, or with its faces
+/// started at other corners, is then the same input to OpenVDB
+/// (docs/meshes.md, "The same mesh in another face order").
 class MeshAdapter {
 public:
     MeshAdapter(const TriangleMesh& mesh, const VolumeGeometry& geometry)
-        : mMesh(mesh), mOrigin(geometry.origin), mInverseVoxelSize(1.0 / geometry.voxelSize()) {}
+        : mMesh(mesh),
+          mOrigin(geometry.origin),
+          mInverseVoxelSize(1.0 / geometry.voxelSize()),
+          mFirstCorner(mesh.triangles.size()),
+          mTriangle(mesh.triangles.size()) {
+        const auto& v = mesh.vertices;
+        for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+            const auto& c = mesh.triangles[t];
+            std::uint8_t first = 0;
+            for (std::uint8_t k = 1; k < 3; ++k)
+                if (v[c[k]] < v[c[first]]) first = k;
+            mFirstCorner[t] = first;
+        }
+        std::iota(mTriangle.begin(), mTriangle.end(), 0u);
+        auto corner = [&](std::uint32_t t, std::size_t k) -> const std::array<double, 3>& {
+            return v[mesh.triangles[t][(k + mFirstCorner[t]) % 3]];
+        };
+        // Stable: triangles with the same corners in the same winding are
+        // the same input to OpenVDB whichever comes first.
+        std::stable_sort(mTriangle.begin(), mTriangle.end(), [&](std::uint32_t a, std::uint32_t b) {
+            for (std::size_t k = 0; k < 3; ++k)
+                if (corner(a, k) != corner(b, k)) return corner(a, k) < corner(b, k);
+            return false;
+        });
+    }
     std::size_t polygonCount() const { return mMesh.triangles.size(); }
     std::size_t pointCount() const { return mMesh.vertices.size(); }
     std::size_t vertexCount(std::size_t) const { return 3; }
     void getIndexSpacePoint(std::size_t polygon, std::size_t corner,
                             openvdb::Vec3d& position) const {
-        const auto& p = mMesh.vertices[mMesh.triangles[polygon][corner]];
+        const std::uint32_t t = mTriangle[polygon];
+        const auto& p = mMesh.vertices[mMesh.triangles[t][(corner + mFirstCorner[t]) % 3]];
         position = openvdb::Vec3d((p[0] - mOrigin[0]) * mInverseVoxelSize,
                                   (p[1] - mOrigin[1]) * mInverseVoxelSize,
                                   (p[2] - mOrigin[2]) * mInverseVoxelSize);
     }
+    /// The mesh's index of the triangle handed over as `polygon`.
+    std::uint32_t triangleOf(std::size_t polygon) const { return mTriangle[polygon]; }
 
 private:
     const TriangleMesh& mMesh;
     std::array<double, 3> mOrigin;
     double mInverseVoxelSize;
+    std::vector<std::uint8_t> mFirstCorner;  // per triangle of the mesh
+    std::vector<std::uint32_t> mTriangle;    // per polygon handed over
 };
 
 /// Forwards OpenVDB's interrupter calls to ours (stage names are ours).
@@ -153,7 +194,7 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, d
                                  out[std::size_t(x) +
                                      std::size_t(dims.x) *
                                          (std::size_t(y) + std::size_t(dims.y) * std::size_t(z))] =
-                                     value;
+                                     std::int32_t(adapter.triangleOf(std::size_t(value)));
                          });
         throwIfInterrupted(interrupter);
     }

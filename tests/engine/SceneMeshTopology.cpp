@@ -1,11 +1,14 @@
 // Scene: a figure whose hand rests on its hip with a gap of a third of a
 // voxel, written as a mesh, keeps the mesh's topology in the voxel model and
-// segments like the same figure with the hand held away.
+// segments like the same figure with the hand held away, and like itself
+// with its faces in another order.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "engine/Segmenter.h"
+#include "io/mesh/FaceLabels.h"
 #include "io/mesh/MeshGenus.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "kernels/VoxelGenus.h"
@@ -58,6 +61,26 @@ TEST(SceneMeshTopology, HandOnHipKeepsGenusAndParts) {
     EXPECT_EQ(test::degreeSequence(touchingAdjacency, count),
               test::degreeSequence(awayAdjacency, count));
     EXPECT_GE(count, 6);  // body, head, two arms, two legs at least
+}
+
+TEST(SceneMeshTopology, TheFaceOrderGivesTheSameFaceLabels) {
+    // The same figure written by another exporter (its triangles in another
+    // order, each started at another corner) must give the same parts, face
+    // for face: the contact at the hip is where the order used to matter.
+    const TriangleMesh mesh = test::figureMesh(true);
+    const TriangleMesh shuffled = test::reorderedTriangles(mesh, 5);
+    const VoxelizeOptions options = thirdOfAVoxelGap(mesh, true);
+    const MeshVoxelization original = voxelizeMeshWithContacts(mesh, options);
+    const MeshVoxelization again = voxelizeMeshWithContacts(shuffled, options);
+    ASSERT_GE(original.contacts.contacts, 1u);
+    EXPECT_TRUE(again.mask.values() == original.mask.values());
+    const SegmentationResult originalResult = segmentVolume(original.mask, {});
+    const SegmentationResult againResult = segmentVolume(again.mask, {});
+    const std::vector<std::uint32_t> originalFaces = labelFaces(mesh, originalResult.labels);
+    const std::vector<std::uint32_t> againFaces = labelFaces(shuffled, againResult.labels);
+    EXPECT_GE(originalResult.segments.size(), 6u);
+    EXPECT_EQ(againResult.segments.size(), originalResult.segments.size());
+    EXPECT_TRUE(againFaces == originalFaces);
 }
 
 }  // namespace

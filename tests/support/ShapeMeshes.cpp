@@ -1,6 +1,10 @@
 #include "tests/support/ShapeMeshes.h"
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <random>
+#include <vector>
 
 #include "io/render/SegmentSurfaces.h"
 
@@ -64,6 +68,21 @@ TriangleMesh figureMesh(bool handOnHip) {
         hi[c] = int(std::ceil(bounds[1][c])) + 1;
     }
     return meshOfShape(shape, lo, hi);
+}
+
+TriangleMesh reorderedTriangles(const TriangleMesh& mesh, unsigned seed) {
+    std::vector<std::size_t> order(mesh.triangles.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::mt19937 random(seed);
+    std::shuffle(order.begin(), order.end(), random);
+    TriangleMesh out = mesh;
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        const auto& t = mesh.triangles[order[k]];
+        const std::size_t r = (k + seed) % 3;
+        out.triangles[k] = {t[r], t[(r + 1) % 3], t[(r + 2) % 3]};
+        if (!mesh.triangleFace.empty()) out.triangleFace[k] = mesh.triangleFace[order[k]];
+    }
+    return out;
 }
 
 }  // namespace skelseg::test

@@ -30,4 +30,9 @@ Shape figureWithHand(bool handOnHip);
 /// meshOfShape over the bounding box of figureWithHand.
 TriangleMesh figureMesh(bool handOnHip);
 
+/// The same surface with its triangles shuffled (a permutation drawn from
+/// `seed`) and each triangle's corners rotated: what another exporter of the
+/// same mesh could write. triangleFace follows its triangle.
+TriangleMesh reorderedTriangles(const TriangleMesh& mesh, unsigned seed);
+
 }  // namespace skelseg::test

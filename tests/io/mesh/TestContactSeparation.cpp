@@ -135,6 +135,36 @@ TEST(ContactSeparation, ASeamNeverCutsALimbLoose) {
     }
 }
 
+TEST(ContactSeparation, TheFaceOrderChangesNothing) {
+    // Where several triangles are nearest to a voxel (at a vertex or an edge
+    // they share), the one used must not be the first in the file: the same
+    // surface written in another order must give the same voxel model.
+    struct Case {
+        const char* name;
+        TriangleMesh mesh;
+        int resolution;
+    };
+    const std::vector<Case> cases{{"cut ring", cutRing(), 20},
+                                  {"rod on slab", rodOnSlab(), 26},
+                                  {"hand on hip", test::figureMesh(true), 64}};
+    for (const Case& c : cases) {
+        VoxelizeOptions options = coarse(true);
+        options.resolution = c.resolution;
+        const MeshVoxelization original = voxelizeMeshWithContacts(c.mesh, options);
+        ASSERT_GT(original.contacts.contactPairs, 0u) << c.name << ": no contact to separate";
+        for (unsigned seed : {1u, 2u}) {
+            const MeshVoxelization again =
+                voxelizeMeshWithContacts(test::reorderedTriangles(c.mesh, seed), options);
+            EXPECT_EQ(again.contacts.contactPairs, original.contacts.contactPairs)
+                << c.name << ", seed " << seed;
+            EXPECT_EQ(again.contacts.voxelsCleared, original.contacts.voxelsCleared)
+                << c.name << ", seed " << seed;
+            EXPECT_TRUE(again.mask.values() == original.mask.values())
+                << c.name << ", seed " << seed;
+        }
+    }
+}
+
 TEST(ContactSeparation, SerialEqualsParallel) {
     const TriangleMesh mesh = cutRing();
     const MeshVoxelization serial = voxelizeMeshWithContacts(mesh, coarse(true, false));

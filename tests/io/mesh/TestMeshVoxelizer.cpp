@@ -10,6 +10,7 @@
 
 #include "io/mesh/MeshCheck.h"
 #include "kernels/base/Error.h"
+#include "tests/support/ShapeMeshes.h"
 
 namespace skelseg {
 namespace {
@@ -140,6 +141,47 @@ TEST(MeshVoxelizer, SerialAndThreadedAgree) {
     EXPECT_EQ(threaded.dims(), serial.dims());
     EXPECT_TRUE(threaded.values() == serial.values());
     EXPECT_GT(solidCount(serial), 0u);
+}
+
+TEST(MeshVoxelizer, TheFaceOrderChangesNoVoxelAndNoNearestTriangle) {
+    // OpenVDB answers ties (a voxel as near to two triangles) by the lower
+    // index, and rounds a triangle's distances by the corner it starts at:
+    // the same sphere with its triangles shuffled and their corners rotated
+    // must still give the same voxels, and each voxel the same nearest
+    // triangle, named by the mesh's own index.
+    const TriangleMesh mesh = icosphere(3, 1.0, {0.1, -0.2, 0.3});
+    VoxelizeOptions options;
+    options.resolution = 24;
+    options.keepMeshTopology = true;
+    SignedVoxelization original;
+    const MeshVoxelization first =
+        voxelizeMeshWithContacts(mesh, options, nullInterrupter(), &original);
+    ASSERT_EQ(original.nearestTriangle.size(), first.mask.size());
+    auto cornersOf = [](const TriangleMesh& m, std::int32_t t) {
+        std::array<std::array<double, 3>, 3> c{m.vertices[m.triangles[std::size_t(t)][0]],
+                                               m.vertices[m.triangles[std::size_t(t)][1]],
+                                               m.vertices[m.triangles[std::size_t(t)][2]]};
+        std::sort(c.begin(), c.end());
+        return c;
+    };
+    for (unsigned seed : {1u, 2u}) {
+        const TriangleMesh shuffled = test::reorderedTriangles(mesh, seed);
+        SignedVoxelization again;
+        const MeshVoxelization second =
+            voxelizeMeshWithContacts(shuffled, options, nullInterrupter(), &again);
+        EXPECT_TRUE(second.mask.values() == first.mask.values()) << "seed " << seed;
+        ASSERT_EQ(again.nearestTriangle.size(), original.nearestTriangle.size());
+        std::size_t known = 0, differing = 0;
+        for (std::size_t i = 0; i < original.nearestTriangle.size(); ++i) {
+            const std::int32_t a = original.nearestTriangle[i], b = again.nearestTriangle[i];
+            ASSERT_EQ(a < 0, b < 0) << "voxel " << i;
+            if (a < 0) continue;
+            ++known;
+            differing += cornersOf(mesh, a) != cornersOf(shuffled, b);
+        }
+        EXPECT_GT(known, 1000u);
+        EXPECT_EQ(differing, 0u) << "seed " << seed;
+    }
 }
 
 TEST(MeshVoxelizer, TinyAndHugeUnitsGiveTheVoxelsOfOrdinaryOnes) {
