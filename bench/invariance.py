@@ -22,6 +22,14 @@ same, only the voxel model changes).
     /usr/bin/python3 bench/invariance.py --skelseg /tmp/old/skelseg --shapes hand.off
     /usr/bin/python3 bench/invariance.py --sequences none --shapes "" --psb all --jobs 2
 
+Orientations (--orientations rz,mx or all): the same meshes (--shapes, and
+the first frame of each pose sequence) turned a quarter turn about an axis
+(rx, ry, rz: exact, coordinates swapped and negated) or mirrored along one
+(mx, my, mz: the faces' corners reversed so they still face out), written as
+OBJ files with the faces in their order, are segmented at --pose-resolution
+and compared face for face with the mesh as it lies. A user expects the same
+parts from a scan however it lies; the table says how far that holds.
+
 Where DATA is absent it says so and exits 0. Needs numpy.
 """
 
@@ -68,7 +76,8 @@ def parse_args(argv):
                         "'smallest' give every frame of a sequence one voxel size, that of its "
                         "frame with the largest or smallest bounding box at --pose-resolution")
     p.add_argument("--resolutions", default="128,192,256,320",
-                   help="comma-separated resolutions for the shapes (default 128,192,256,320)")
+                   help="comma-separated resolutions for the shapes (default 128,192,256,320; "
+                        "empty: no resolution sweep)")
     p.add_argument("--shapes", default=",".join(DEFAULT_SHAPES),
                    help="comma-separated files of DATA/shapes (default %(default)s); empty: none")
     p.add_argument("--sequences", default="",
@@ -76,6 +85,10 @@ def parse_args(argv):
     p.add_argument("--psb", default="",
                    help="PSB models to sweep over the resolutions: 'all', 'articulated', "
                         "category names or model numbers, comma-separated (default: none)")
+    p.add_argument("--orientations", default="",
+                   help="comma-separated placements to compare with the mesh as it lies: "
+                        "rx, ry, rz (quarter turns), mx, my, mz (mirrors), or 'all' "
+                        "(default: none)")
     p.add_argument("--jobs", type=int, default=1,
                    help="segmentations run side by side (default 1; the seconds are then "
                         "inflated, the labels are not)")
@@ -122,6 +135,60 @@ def segment(skelseg, mesh, out, resolution):
             "mesh_genus": report.get("input", {}).get("mesh_genus"),
             "voxel_genus": report.get("input", {}).get("voxel_genus"),
             "contacts_separated": report.get("input", {}).get("contacts_separated")}
+
+
+ORIENTATIONS = ("rx", "ry", "rz", "mx", "my", "mz")
+
+
+def read_polygons(mesh):
+    """Vertex coordinates (as the file's text, three per vertex) and faces
+    (0-based corner lists) of an .obj or .off file, faces in file order."""
+    text = Path(mesh).read_text(errors="replace").split("\n")
+    if Path(mesh).suffix.lower() == ".off":
+        body = [t for t in (line.split("#")[0].split() for line in text) if t]
+        header = 1 if body[0][0].upper().endswith("OFF") and len(body[0]) == 1 else 0
+        counts = body[header] if header else body[0][1:]
+        first = header + 1
+        vertices = [t[:3] for t in body[first:first + int(counts[0])]]
+        faces = [[int(i) for i in t[1:1 + int(t[0])]]
+                 for t in body[first + int(counts[0]):first + int(counts[0]) + int(counts[1])]]
+        return vertices, faces
+    vertices, faces = [], []
+    for line in text:
+        if line.startswith("v "):
+            vertices.append(line.split()[1:4])
+        elif line.startswith("f "):
+            corners = [int(c.split("/")[0]) for c in line.split()[1:]]
+            faces.append([c - 1 if c > 0 else len(vertices) + c for c in corners])
+    return vertices, faces
+
+
+def negated(number):
+    return number[1:] if number.startswith("-") else "-" + number
+
+
+def write_oriented(mesh, placement, out):
+    """MESH turned (rx, ry, rz: a quarter turn about that axis) or mirrored
+    (mx, my, mz), written to OUT as OBJ with the faces in the same order. The
+    coordinates are the file's own numbers, swapped and negated, so the
+    placement is exact."""
+    vertices, faces = read_polygons(mesh)
+    axis = "xyz".index(placement[1])
+    lines = []
+    for v in vertices:
+        v = list(v)
+        if placement[0] == "m":
+            v[axis] = negated(v[axis])
+        else:  # a quarter turn: (a, b) -> (-b, a) in the plane of the two other axes
+            a, b = [k for k in range(3) if k != axis]
+            v[a], v[b] = negated(v[b]), v[a]
+        lines.append("v " + " ".join(v))
+    for f in faces:
+        corners = f[::-1] if placement[0] == "m" else f
+        lines.append("f " + " ".join(str(c + 1) for c in corners))
+    Path(out).parent.mkdir(parents=True, exist_ok=True)
+    Path(out).write_text("\n".join(lines) + "\n")
+    return Path(out)
 
 
 def longest_side(mesh):
@@ -259,16 +326,53 @@ def main(argv):
             if mesh.exists():
                 sweeps.append((f"{model} ({category})", mesh, work / "psb" / str(model), "psb"))
     results["psb"] = {}
+    placements = list(ORIENTATIONS) if args.orientations == "all" else \
+        [o for o in args.orientations.split(",") if o]
+    unknown = [o for o in placements if o not in ORIENTATIONS]
+    if unknown:
+        print(f"invariance.py: error: --orientations: unknown placement '{unknown[0]}' "
+              f"(known: {', '.join(ORIENTATIONS)}, all)", file=sys.stderr)
+        return 2
+    results["orientations"] = {}
+    turned = []  # (key, mesh): the shapes, and the first frame of each sequence
+    if placements:
+        turned = [(s, m) for s, m, _, table in sweeps if table == "resolutions"]
+        for name, frames in pose_sequences(data / "poses").items() if (data / "poses").is_dir() \
+                else []:
+            if not (wanted and name not in wanted or "none" in wanted):
+                turned.append((frames[0].name, frames[0]))
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        placed = {}
+        for key, mesh in turned:
+            stem = work / "orientations" / Path(key).stem
+            placed[(key, "")] = pool.submit(segment, skelseg, mesh, stem, args.pose_resolution)
+            for o in placements:
+                copy = write_oriented(mesh, o, work / "orientations" / "meshes" /
+                                      f"{Path(key).stem}-{o}.obj")
+                placed[(key, o)] = pool.submit(segment, skelseg, copy, Path(f"{stem}-{o}"),
+                                               args.pose_resolution)
         futures = {(key, r): pool.submit(segment, skelseg, mesh, Path(f"{stem}-{r}"), r)
                    for key, mesh, stem, _ in sweeps for r in resolutions}
-        for key, mesh, stem, table in sweeps:
+        for key, mesh, stem, table in sweeps if resolutions else []:
             runs = [futures[(key, r)].result() for r in resolutions]
             entry = compare(runs)
             entry["resolution"] = resolutions
             results[table][key] = entry
             print(f"{key}: parts {fmt_list(entry['parts'])}, mean RI error "
                   f"{entry['mean_ri_error']:.3f}", file=sys.stderr)
+        for key, _ in turned:
+            original = placed[(key, "")].result()
+            runs = [placed[(key, o)].result() for o in placements]
+            errors = [rand_index_error(original["labels"], r["labels"]) for r in runs]
+            results["orientations"][key] = {
+                "placements": placements, "parts": original["parts"],
+                "placed_parts": [r["parts"] for r in runs],
+                "same_parts": all(r["parts"] == original["parts"] for r in runs),
+                "ri_error": errors, "mean_ri_error": float(np.mean(errors)),
+                "identical": sum(bool(np.array_equal(original["labels"], r["labels"]))
+                                 for r in runs)}
+            print(f"{key}: parts {original['parts']}, placed "
+                  f"{fmt_list(results['orientations'][key]['placed_parts'])}", file=sys.stderr)
 
     lines = []
     if results["sequences"]:
@@ -307,6 +411,20 @@ def main(argv):
         mean = np.mean([e["mean_ri_error"] for e in results[table].values()])
         lines += ["", f"Same part count at every resolution: {same} of "
                   f"{len(results[table])} {plural}; mean RI error {mean:.3f}.", ""]
+    if results["orientations"]:
+        lines += [f"Orientations (resolution {args.pose_resolution}), each against the mesh "
+                  "as it lies:", "",
+                  f"| mesh | parts | parts {', '.join(placements)} | RI error to the mesh as "
+                  "it lies | same labels |", "| --- | --- | --- | --- | --- |"]
+        for name, e in results["orientations"].items():
+            lines.append(f"| {name} | {e['parts']} | {fmt_list(e['placed_parts'])} | "
+                         f"{', '.join(f'{x:.3f}' for x in e['ri_error'])} | "
+                         f"{e['identical']} of {len(placements)} |")
+        same = sum(e["same_parts"] for e in results["orientations"].values())
+        mean = np.mean([e["mean_ri_error"] for e in results["orientations"].values()])
+        lines += ["", f"Same part count in every placement: {same} of "
+                  f"{len(results['orientations'])} meshes; mean RI error to the mesh as it "
+                  f"lies {mean:.3f}.", ""]
     print("\n".join(lines))
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=2) + "\n")

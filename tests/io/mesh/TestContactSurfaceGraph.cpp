@@ -20,12 +20,8 @@ TriangleMesh cube() {
     TriangleMesh mesh;
     for (int k = 0; k < 8; ++k)
         mesh.vertices.push_back({k & 1 ? 4.0 : 0.0, k & 2 ? 4.0 : 0.0, k & 4 ? 4.0 : 0.0});
-    const std::array<std::array<std::uint32_t, 4>, 6> sides{{{0, 2, 3, 1},
-                                                              {4, 5, 7, 6},
-                                                              {0, 1, 5, 4},
-                                                              {2, 6, 7, 3},
-                                                              {0, 4, 6, 2},
-                                                              {1, 3, 7, 5}}};
+    const std::array<std::array<std::uint32_t, 4>, 6> sides{
+        {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
     for (const auto& s : sides) {
         mesh.triangles.push_back({s[0], s[1], s[2]});
         mesh.triangles.push_back({s[0], s[2], s[3]});
@@ -57,7 +53,8 @@ TEST(ContactSurfaceGraph, TiesAtAVertexGoToTheTriangleFacingThePoint) {
     // is nearest (at the corner itself); the ones on the side x = 4 face p.
     const Vec3 p{5.0, 4.2, 4.1};
     for (unsigned seed = 0; seed < 6; ++seed) {
-        const SurfaceGraph graph = buildSurfaceGraph(test::reorderedTriangles(cube(), seed), VolumeGeometry{});
+        const SurfaceGraph graph =
+            buildSurfaceGraph(test::reorderedTriangles(cube(), seed), VolumeGeometry{});
         const std::int32_t first = firstTriangleAt(graph, {4, 4, 4});
         ASSERT_GE(first, 0);
         const std::int32_t chosen = graph.nearestOfTied(first, p);
@@ -72,7 +69,8 @@ TEST(ContactSurfaceGraph, ExactTiesAreBrokenByGeometryNotFaceOrder) {
     const Vec3 p{5.0, 5.0, 5.0};
     std::array<Vec3, 3> expected{};
     for (unsigned seed = 0; seed < 8; ++seed) {
-        const SurfaceGraph graph = buildSurfaceGraph(test::reorderedTriangles(cube(), seed), VolumeGeometry{});
+        const SurfaceGraph graph =
+            buildSurfaceGraph(test::reorderedTriangles(cube(), seed), VolumeGeometry{});
         for (std::size_t t = 0; t < graph.triangles.size(); ++t) {
             const auto& c = graph.triangles[t];
             const bool atCorner = std::any_of(c.begin(), c.end(), [&](std::uint32_t v) {
@@ -92,7 +90,8 @@ TEST(ContactSurfaceGraph, TiesOnAnEdgeStayOnThatEdge) {
     // tie; the one on y = 4 faces p more squarely.
     const Vec3 p{4.3, 5.0, 2.0};
     for (unsigned seed = 0; seed < 6; ++seed) {
-        const SurfaceGraph graph = buildSurfaceGraph(test::reorderedTriangles(cube(), seed), VolumeGeometry{});
+        const SurfaceGraph graph =
+            buildSurfaceGraph(test::reorderedTriangles(cube(), seed), VolumeGeometry{});
         for (std::size_t t = 0; t < graph.triangles.size(); ++t) {
             const auto& c = graph.triangles[t];
             int onEdge = 0;
