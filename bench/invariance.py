@@ -28,7 +28,10 @@ the first frame of each pose sequence) turned a quarter turn about an axis
 (mx, my, mz: the faces' corners reversed so they still face out), written as
 OBJ files with the faces in their order, are segmented at --pose-resolution
 and compared face for face with the mesh as it lies. A user expects the same
-parts from a scan however it lies; the table says how far that holds.
+parts from a scan however it lies; the table says how far that holds. The
+placement "faces" keeps the geometry and writes the faces in another order
+(a fixed shuffle), each started at another corner, as another exporter
+might; its labels are mapped back to the original faces.
 
 Where DATA is absent it says so and exits 0. Needs numpy.
 """
@@ -87,8 +90,8 @@ def parse_args(argv):
                         "category names or model numbers, comma-separated (default: none)")
     p.add_argument("--orientations", default="",
                    help="comma-separated placements to compare with the mesh as it lies: "
-                        "rx, ry, rz (quarter turns), mx, my, mz (mirrors), or 'all' "
-                        "(default: none)")
+                        "rx, ry, rz (quarter turns), mx, my, mz (mirrors), faces (another "
+                        "face order), or 'all' (default: none)")
     p.add_argument("--jobs", type=int, default=1,
                    help="segmentations run side by side (default 1; the seconds are then "
                         "inflated, the labels are not)")
@@ -137,7 +140,7 @@ def segment(skelseg, mesh, out, resolution):
             "contacts_separated": report.get("input", {}).get("contacts_separated")}
 
 
-ORIENTATIONS = ("rx", "ry", "rz", "mx", "my", "mz")
+ORIENTATIONS = ("rx", "ry", "rz", "mx", "my", "mz", "faces")
 
 
 def read_polygons(mesh):
@@ -171,16 +174,25 @@ def write_oriented(mesh, placement, out):
     """MESH turned (rx, ry, rz: a quarter turn about that axis) or mirrored
     (mx, my, mz), written to OUT as OBJ with the faces in the same order. The
     coordinates are the file's own numbers, swapped and negated, so the
-    placement is exact."""
+    placement is exact. "faces": the same vertices, the faces shuffled (a
+    permutation fixed by the face count) and each rotated by one or two
+    corners. Returns the path and, per face of the copy, the index of the
+    original face it is."""
     vertices, faces = read_polygons(mesh)
-    axis = "xyz".index(placement[1])
+    order = np.arange(len(faces))
+    if placement == "faces":
+        order = np.random.default_rng(len(faces)).permutation(len(faces))
+        faces = [faces[k][1 + i % 2:] + faces[k][:1 + i % 2] for i, k in enumerate(order)]
     lines = []
     for v in vertices:
         v = list(v)
-        if placement[0] == "m":
+        if placement == "faces":
+            pass
+        elif placement[0] == "m":
+            axis = "xyz".index(placement[1])
             v[axis] = negated(v[axis])
         else:  # a quarter turn: (a, b) -> (-b, a) in the plane of the two other axes
-            a, b = [k for k in range(3) if k != axis]
+            a, b = [k for k in range(3) if k != "xyz".index(placement[1])]
             v[a], v[b] = negated(v[b]), v[a]
         lines.append("v " + " ".join(v))
     for f in faces:
@@ -188,7 +200,7 @@ def write_oriented(mesh, placement, out):
         lines.append("f " + " ".join(str(c + 1) for c in corners))
     Path(out).parent.mkdir(parents=True, exist_ok=True)
     Path(out).write_text("\n".join(lines) + "\n")
-    return Path(out)
+    return Path(out), order
 
 
 def longest_side(mesh):
@@ -347,10 +359,10 @@ def main(argv):
             stem = work / "orientations" / Path(key).stem
             placed[(key, "")] = pool.submit(segment, skelseg, mesh, stem, args.pose_resolution)
             for o in placements:
-                copy = write_oriented(mesh, o, work / "orientations" / "meshes" /
-                                      f"{Path(key).stem}-{o}.obj")
-                placed[(key, o)] = pool.submit(segment, skelseg, copy, Path(f"{stem}-{o}"),
-                                               args.pose_resolution)
+                copy, order = write_oriented(mesh, o, work / "orientations" / "meshes" /
+                                             f"{Path(key).stem}-{o}.obj")
+                placed[(key, o)] = (pool.submit(segment, skelseg, copy, Path(f"{stem}-{o}"),
+                                                args.pose_resolution), order)
         futures = {(key, r): pool.submit(segment, skelseg, mesh, Path(f"{stem}-{r}"), r)
                    for key, mesh, stem, _ in sweeps for r in resolutions}
         for key, mesh, stem, table in sweeps if resolutions else []:
@@ -362,7 +374,15 @@ def main(argv):
                   f"{entry['mean_ri_error']:.3f}", file=sys.stderr)
         for key, _ in turned:
             original = placed[(key, "")].result()
-            runs = [placed[(key, o)].result() for o in placements]
+            runs = []
+            for o in placements:
+                future, order = placed[(key, o)]
+                run = dict(future.result())
+                if run["labels"].size == order.size:  # back to the original faces
+                    labels = np.empty_like(run["labels"])
+                    labels[order] = run["labels"]
+                    run["labels"] = labels
+                runs.append(run)
             errors = [rand_index_error(original["labels"], r["labels"]) for r in runs]
             results["orientations"][key] = {
                 "placements": placements, "parts": original["parts"],

@@ -1,4 +1,4 @@
-"""bench/invariance.py --orientations: the turned and mirrored copies, and the table.
+"""bench/invariance.py --orientations: the turned, mirrored and reordered copies, and the table.
 
 The sweep runs a stand-in for skelseg that labels each face by which side of
 x = 0.5 its centre lies on, so what each placement should give is known."""
@@ -37,15 +37,24 @@ def test_turned_and_mirrored_copies_are_exact_and_keep_the_face_order(tmp_path):
     mesh.write_text(OFF)
     vertices, faces = invariance.read_polygons(mesh)
     assert len(vertices) == 12 and faces[1] == [3, 4, 5]
-    turned = invariance.read_polygons(invariance.write_oriented(mesh, "rz", tmp_path / "rz.obj"))
+    turned = invariance.read_polygons(invariance.write_oriented(mesh, "rz", tmp_path / "rz.obj")[0])
     # A quarter turn about z: (x, y, z) -> (-y, x, z), the file's own digits.
     assert turned[0][1] == ["-0.5", "1.5", "0"] and turned[0][3] == ["0.5", "0.5", "0"]
     assert turned[1] == faces
-    mirrored = invariance.read_polygons(invariance.write_oriented(mesh, "mx", tmp_path / "mx.obj"))
+    mirrored = invariance.read_polygons(invariance.write_oriented(mesh, "mx", tmp_path / "mx.obj")[0])
     assert mirrored[0][1] == ["-1.5", "0.5", "0"] and mirrored[0][6] == ["0.5", "0.5", "0"]
     assert mirrored[1] == [f[::-1] for f in faces]  # still facing out
-    about_x = invariance.read_polygons(invariance.write_oriented(mesh, "rx", tmp_path / "rx.obj"))
+    about_x = invariance.read_polygons(invariance.write_oriented(mesh, "rx", tmp_path / "rx.obj")[0])
     assert about_x[0][2] == ["1", "-0", "2"]  # (x, y, z) -> (x, -z, y)
+    # Another face order: the same vertices, each face of the copy one of
+    # the original's, started at another corner, as the returned order says.
+    path, order = invariance.write_oriented(mesh, "faces", tmp_path / "faces.obj")
+    shuffled = invariance.read_polygons(path)
+    assert shuffled[0] == vertices and sorted(order) == [0, 1, 2, 3]
+    assert list(order) != [0, 1, 2, 3]
+    for copy, original in zip(shuffled[1], order):
+        assert copy != faces[original]
+        assert any(copy == faces[original][r:] + faces[original][:r] for r in (1, 2))
 
 
 FAKE_SKELSEG = """#!/usr/bin/python3
@@ -74,7 +83,7 @@ def test_each_placement_is_compared_face_for_face_with_the_mesh_as_it_lies(tmp_p
     result = tmp_path / "sweep.json"
     run = subprocess.run([sys.executable, str(SCRIPT), "--skelseg", str(fake), "--data", str(data),
                           "--sequences", "none", "--shapes", "m.off", "--resolutions", "",
-                          "--orientations", "rz,mx,mz", "--jobs", "2", "--json", str(result)],
+                          "--orientations", "rz,mx,mz,faces", "--jobs", "2", "--json", str(result)],
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     sweep = json.loads(result.read_text())
@@ -83,10 +92,11 @@ def test_each_placement_is_compared_face_for_face_with_the_mesh_as_it_lies(tmp_p
     # As it lies: faces 0, 1 right of x = 0.5, faces 2, 3 left. Turned about z
     # or mirrored along x, every centre is at x <= 0: one part, and the 4 of
     # 6 face pairs split before now agree. Mirrored along z, nothing moves in x.
-    assert entry["parts"] == 2 and entry["placed_parts"] == [1, 1, 2]
-    assert entry["ri_error"] == pytest.approx([4 / 6, 4 / 6, 0.0])
-    assert entry["identical"] == 1 and not entry["same_parts"]
-    assert "| m.off | 2 | 1, 1, 2 | 0.667, 0.667, 0.000 | 1 of 3 |" in run.stdout
+    # In another face order the labels, mapped back, are the same.
+    assert entry["parts"] == 2 and entry["placed_parts"] == [1, 1, 2, 2]
+    assert entry["ri_error"] == pytest.approx([4 / 6, 4 / 6, 0.0, 0.0])
+    assert entry["identical"] == 2 and not entry["same_parts"]
+    assert "| m.off | 2 | 1, 1, 2, 2 | 0.667, 0.667, 0.000, 0.000 | 2 of 4 |" in run.stdout
 
 
 def test_an_unknown_placement_is_refused(tmp_path):
