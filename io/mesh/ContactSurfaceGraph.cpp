@@ -141,13 +141,11 @@ SurfaceGraph buildSurfaceGraph(const TriangleMesh& mesh, const VolumeGeometry& g
     std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
     edges.reserve(mesh.triangles.size() * 6);
     graph.triangles.reserve(mesh.triangles.size());
-    for (const auto& t : mesh.triangles) {
-        // From the corner with the smallest position, winding kept: the
-        // nearest points computed on it then round the same whichever corner
-        // the file starts the triangle at.
-        std::size_t first = 0;
-        for (std::size_t k = 1; k < 3; ++k)
-            if (mesh.vertices[t[k]] < mesh.vertices[t[first]]) first = k;
+    for (std::size_t triangle = 0; triangle < mesh.triangles.size(); ++triangle) {
+        // From the smallest corner: nearest points round the same whichever
+        // corner the file starts the triangle at.
+        const auto& t = mesh.triangles[triangle];
+        const std::size_t first = smallestCorner(mesh, triangle);
         const std::array<std::uint32_t, 3> c{canonical[t[first]], canonical[t[(first + 1) % 3]],
                                              canonical[t[(first + 2) % 3]]};
         graph.triangles.push_back(c);
@@ -168,11 +166,14 @@ SurfaceGraph buildSurfaceGraph(const TriangleMesh& mesh, const VolumeGeometry& g
                      graph.firstNeighbour.begin());
     graph.neighbours.reserve(edges.size());
     for (const auto& e : edges) graph.neighbours.push_back(e.second);
+    // A triangle is listed once at each distinct corner.
+    const auto distinctCorner = [](const std::array<std::uint32_t, 3>& c, std::size_t k) {
+        return k == 0 || (c[k] != c[0] && (k == 1 || c[k] != c[1]));
+    };
     graph.firstTriangle.assign(mesh.vertices.size() + 1, 0);
     for (const auto& c : graph.triangles)
         for (std::size_t k = 0; k < 3; ++k)
-            if (k == 0 || (c[k] != c[0] && (k == 1 || c[k] != c[1])))
-                ++graph.firstTriangle[c[k] + 1];
+            if (distinctCorner(c, k)) ++graph.firstTriangle[c[k] + 1];
     std::partial_sum(graph.firstTriangle.begin(), graph.firstTriangle.end(),
                      graph.firstTriangle.begin());
     graph.vertexTriangles.resize(graph.firstTriangle.back());
@@ -181,8 +182,7 @@ SurfaceGraph buildSurfaceGraph(const TriangleMesh& mesh, const VolumeGeometry& g
         for (std::uint32_t t = 0; t < graph.triangles.size(); ++t) {
             const auto& c = graph.triangles[t];
             for (std::size_t k = 0; k < 3; ++k)
-                if (k == 0 || (c[k] != c[0] && (k == 1 || c[k] != c[1])))
-                    graph.vertexTriangles[next[c[k]]++] = t;
+                if (distinctCorner(c, k)) graph.vertexTriangles[next[c[k]]++] = t;
         }
     }
     graph.piece.reserve(graph.triangles.size());

@@ -68,4 +68,16 @@ std::vector<std::string> meshWarnings(const MeshDiagnostics& diagnostics, const 
 /// meshes whose writers duplicated vertices.
 std::vector<std::uint32_t> canonicalVertices(const TriangleMesh& mesh);
 
+/// The corner (0, 1 or 2) of triangle t with the smallest position (x, then
+/// y, then z). Where skelseg starts a triangle, winding kept, so that what is
+/// computed on it rounds the same whichever corner the file starts it at
+/// (docs/meshes.md, "The same mesh in another face order").
+inline std::size_t smallestCorner(const TriangleMesh& mesh, std::size_t t) {
+    const auto& c = mesh.triangles[t];
+    std::size_t first = 0;
+    for (std::size_t k = 1; k < 3; ++k)
+        if (mesh.vertices[c[k]] < mesh.vertices[c[first]]) first = k;
+    return first;
+}
+
 }  // namespace skelseg

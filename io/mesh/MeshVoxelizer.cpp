@@ -52,13 +52,8 @@ public:
           mFirstCorner(mesh.triangles.size()),
           mTriangle(mesh.triangles.size()) {
         const auto& v = mesh.vertices;
-        for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-            const auto& c = mesh.triangles[t];
-            std::uint8_t first = 0;
-            for (std::uint8_t k = 1; k < 3; ++k)
-                if (v[c[k]] < v[c[first]]) first = k;
-            mFirstCorner[t] = first;
-        }
+        for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+            mFirstCorner[t] = std::uint8_t(smallestCorner(mesh, t));
         std::iota(mTriangle.begin(), mTriangle.end(), 0u);
         auto corner = [&](std::uint32_t t, std::size_t k) -> const std::array<double, 3>& {
             return v[mesh.triangles[t][(k + mFirstCorner[t]) % 3]];
