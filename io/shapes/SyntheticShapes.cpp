@@ -27,7 +27,6 @@ double segmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
     return (p - (a + t * ab)).norm();
 }
 
-
 /// `v` turned by `degrees` about +z.
 Vec rotateZ(const Vec& v, double degrees) {
     const double angle = degrees * M_PI / 180.0, c = std::cos(angle), s = std::sin(angle);
