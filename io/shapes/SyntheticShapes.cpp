@@ -27,7 +27,54 @@ double segmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
     return (p - (a + t * ab)).norm();
 }
 
-bool inside(const ShapePrimitive& s, const Vec& position) {
+/// `v` turned by `degrees` about +z.
+Vec rotateZ(const Vec& v, double degrees) {
+    const double angle = degrees * M_PI / 180.0, c = std::cos(angle), s = std::sin(angle);
+    return {c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]};
+}
+Vec add(const Vec& a, const Vec& b) {
+    const Eigen::Vector3d sum = point(a) + point(b);
+    return {sum[0], sum[1], sum[2]};
+}
+Vec scale(const Vec& a, double k) {
+    const Eigen::Vector3d scaled = point(a) * k;
+    return {scaled[0], scaled[1], scaled[2]};
+}
+
+/// The box (min, max) that holds every point of `s`.
+std::array<Vec, 2> primitiveBounds(const ShapePrimitive& s) {
+    Vec lo = {1e300, 1e300, 1e300}, hi = {-1e300, -1e300, -1e300};
+    auto grow = [&](Vec c, Vec h) {
+        for (int i = 0; i < 3; ++i)
+            lo[i] = std::min(lo[i], c[i] - h[i]), hi[i] = std::max(hi[i], c[i] + h[i]);
+    };
+    switch (s.kind) {
+        case ShapePrimitive::Kind::Sphere:
+            grow(s.a, {s.radius, s.radius, s.radius});
+            break;
+        case ShapePrimitive::Kind::Ellipsoid:
+            grow(s.a, {std::abs(s.axes[0]), std::abs(s.axes[1]), std::abs(s.axes[2])});
+            break;
+        case ShapePrimitive::Kind::Capsule:
+        case ShapePrimitive::Kind::Cylinder:
+            grow(s.a, {s.radius, s.radius, s.radius});
+            grow(s.b, {s.radius, s.radius, s.radius});
+            break;
+        case ShapePrimitive::Kind::Box:
+            grow(s.a, {std::abs(s.b[0]), std::abs(s.b[1]), std::abs(s.b[2])});
+            break;
+        case ShapePrimitive::Kind::Torus: {
+            const double r = s.radius + s.radius2;
+            grow(s.a, {r, r, r});
+            break;
+        }
+    }
+    return {lo, hi};
+}
+
+}  // namespace
+
+bool primitiveContains(const ShapePrimitive& s, const Vec& position) {
     const Eigen::Vector3d p = point(position), a = point(s.a);
     switch (s.kind) {
         case ShapePrimitive::Kind::Sphere:
@@ -67,50 +114,34 @@ bool inside(const ShapePrimitive& s, const Vec& position) {
     return false;
 }
 
-/// `v` turned by `degrees` about +z.
-Vec rotateZ(const Vec& v, double degrees) {
-    const double angle = degrees * M_PI / 180.0, c = std::cos(angle), s = std::sin(angle);
-    return {c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]};
-}
-Vec add(const Vec& a, const Vec& b) {
-    const Eigen::Vector3d sum = point(a) + point(b);
-    return {sum[0], sum[1], sum[2]};
-}
-Vec scale(const Vec& a, double k) {
-    const Eigen::Vector3d scaled = point(a) * k;
-    return {scaled[0], scaled[1], scaled[2]};
-}
-
-}  // namespace
-
 Shape& Shape::sphere(Vec centre, double radius) {
     ShapePrimitive p;
     p.kind = ShapePrimitive::Kind::Sphere, p.a = centre, p.radius = radius;
-    mPrimitives.push_back(p);
+    add(p);
     return *this;
 }
 Shape& Shape::ellipsoid(Vec centre, Vec semiAxes) {
     ShapePrimitive p;
     p.kind = ShapePrimitive::Kind::Ellipsoid, p.a = centre, p.axes = semiAxes;
-    mPrimitives.push_back(p);
+    add(p);
     return *this;
 }
 Shape& Shape::capsule(Vec from, Vec to, double radius) {
     ShapePrimitive p;
     p.kind = ShapePrimitive::Kind::Capsule, p.a = from, p.b = to, p.radius = radius;
-    mPrimitives.push_back(p);
+    add(p);
     return *this;
 }
 Shape& Shape::cylinder(Vec from, Vec to, double radius) {
     ShapePrimitive p;
     p.kind = ShapePrimitive::Kind::Cylinder, p.a = from, p.b = to, p.radius = radius;
-    mPrimitives.push_back(p);
+    add(p);
     return *this;
 }
 Shape& Shape::box(Vec centre, Vec halfSize, double chamfer) {
     ShapePrimitive p;
     p.kind = ShapePrimitive::Kind::Box, p.a = centre, p.b = halfSize, p.radius2 = chamfer;
-    mPrimitives.push_back(p);
+    add(p);
     return *this;
 }
 Shape& Shape::torus(Vec centre, Vec normal, double ringRadius, double tubeRadius) {
@@ -118,44 +149,41 @@ Shape& Shape::torus(Vec centre, Vec normal, double ringRadius, double tubeRadius
     p.kind = ShapePrimitive::Kind::Torus, p.a = centre,
     p.axes = scale(normal, 1.0 / point(normal).norm());
     p.radius = tubeRadius, p.radius2 = ringRadius;
-    mPrimitives.push_back(p);
+    add(p);
     return *this;
 }
 
 bool Shape::contains(const Vec& p) const {
-    for (const auto& s : mPrimitives)
-        if (inside(s, p)) return true;
+    for (std::size_t k = 0; k < mPrimitives.size(); ++k) {
+        // Most points of a shape's box lie outside most of its primitives:
+        // six comparisons settle them before any distance is computed.
+        const auto& box = mBoxes[k];
+        if (p[0] < box[0][0] || p[1] < box[0][1] || p[2] < box[0][2] || p[0] > box[1][0] ||
+            p[1] > box[1][1] || p[2] > box[1][2])
+            continue;
+        if (primitiveContains(mPrimitives[k], p)) return true;
+    }
     return false;
+}
+
+void Shape::add(const ShapePrimitive& primitive) {
+    auto box = primitiveBounds(primitive);
+    // A point whose rounded distance is within reach can lie a rounding
+    // error outside the exact box: widen it by far more than that.
+    for (int i = 0; i < 3; ++i) {
+        const double slack = 1e-9 * (1.0 + std::abs(box[0][i]) + std::abs(box[1][i]));
+        box[0][i] -= slack, box[1][i] += slack;
+    }
+    mPrimitives.push_back(primitive);
+    mBoxes.push_back(box);
 }
 
 std::array<Vec, 2> Shape::bounds() const {
     Vec lo = {1e300, 1e300, 1e300}, hi = {-1e300, -1e300, -1e300};
-    auto grow = [&](Vec c, Vec h) {
-        for (int i = 0; i < 3; ++i)
-            lo[i] = std::min(lo[i], c[i] - h[i]), hi[i] = std::max(hi[i], c[i] + h[i]);
-    };
     for (const auto& s : mPrimitives) {
-        switch (s.kind) {
-            case ShapePrimitive::Kind::Sphere:
-                grow(s.a, {s.radius, s.radius, s.radius});
-                break;
-            case ShapePrimitive::Kind::Ellipsoid:
-                grow(s.a, s.axes);
-                break;
-            case ShapePrimitive::Kind::Capsule:
-            case ShapePrimitive::Kind::Cylinder:
-                grow(s.a, {s.radius, s.radius, s.radius});
-                grow(s.b, {s.radius, s.radius, s.radius});
-                break;
-            case ShapePrimitive::Kind::Box:
-                grow(s.a, s.b);
-                break;
-            case ShapePrimitive::Kind::Torus: {
-                const double r = s.radius + s.radius2;
-                grow(s.a, {r, r, r});
-                break;
-            }
-        }
+        const auto box = primitiveBounds(s);
+        for (int i = 0; i < 3; ++i)
+            lo[i] = std::min(lo[i], box[0][i]), hi[i] = std::max(hi[i], box[1][i]);
     }
     return {lo, hi};
 }

@@ -37,6 +37,9 @@ struct ShapePrimitive {
     std::array<double, 3> axes{};  // ellipsoid semi-axes; torus normal
 };
 
+/// Whether `p` lies in the primitive `s` (its boundary included).
+bool primitiveContains(const ShapePrimitive& s, const std::array<double, 3>& p);
+
 class Shape {
 public:
     Shape& sphere(std::array<double, 3> centre, double radius);
@@ -50,13 +53,19 @@ public:
     Shape& torus(std::array<double, 3> centre, std::array<double, 3> normal, double ringRadius,
                  double tubeRadius);
 
+    /// Whether `p` lies in any primitive: primitiveContains of each, after
+    /// a test against the primitive's box (widened by far more than a
+    /// rounding error, so that it never decides alone).
     bool contains(const std::array<double, 3>& p) const;
     /// Bounding box (min, max) of the union.
     std::array<std::array<double, 3>, 2> bounds() const;
     const std::vector<ShapePrimitive>& primitives() const { return mPrimitives; }
 
 private:
+    void add(const ShapePrimitive& primitive);
+
     std::vector<ShapePrimitive> mPrimitives;
+    std::vector<std::array<std::array<double, 3>, 2>> mBoxes;  // per primitive, a little widened
 };
 
 struct RasterOptions {

@@ -72,29 +72,50 @@ inline std::size_t plyTypeSize(const std::string& type) {
     return it->second;
 }
 
-/// Decodes one little-endian binary value (the tests run on little-endian
-/// hosts; the writer composes bytes explicitly).
-inline double plyDecode(const std::string& type, const unsigned char* bytes) {
-    std::uint64_t raw = 0;
-    const std::size_t size = plyTypeSize(type);
-    for (std::size_t b = 0; b < size; ++b) raw |= std::uint64_t(bytes[b]) << (8 * b);
-    if (type == "float" || type == "float32") {
-        std::uint32_t bits = std::uint32_t(raw);
-        float value;
-        std::memcpy(&value, &bits, 4);
-        return double(value);
+/// How one PLY type's little-endian bytes become a value (the tests run on
+/// little-endian hosts; the writer composes bytes explicitly). Resolved once
+/// per property: the tests read meshes of a hundred thousand faces, under the
+/// sanitizers too.
+struct PlyDecoder {
+    enum class Kind { Unsigned, Signed, Float, Double } kind = Kind::Unsigned;
+    std::size_t size = 0;
+
+    PlyDecoder() = default;
+    explicit PlyDecoder(const std::string& type) : size(plyTypeSize(type)) {
+        if (type == "float" || type == "float32")
+            kind = Kind::Float;
+        else if (type == "double" || type == "float64")
+            kind = Kind::Double;
+        else if (type == "char" || type == "int8" || type == "short" || type == "int16" ||
+                 type == "int" || type == "int32")
+            kind = Kind::Signed;
     }
-    if (type == "double" || type == "float64") {
-        double value;
-        std::memcpy(&value, &raw, 8);
-        return value;
+    double decode(const unsigned char* bytes) const {
+        std::uint64_t raw = 0;
+        for (std::size_t b = 0; b < size; ++b) raw |= std::uint64_t(bytes[b]) << (8 * b);
+        switch (kind) {
+            case Kind::Float: {
+                const std::uint32_t bits = std::uint32_t(raw);
+                float value;
+                std::memcpy(&value, &bits, 4);
+                return double(value);
+            }
+            case Kind::Double: {
+                double value;
+                std::memcpy(&value, &raw, 8);
+                return value;
+            }
+            case Kind::Signed: {
+                const std::uint64_t signBit = std::uint64_t(1) << (8 * size - 1);
+                return (raw & signBit) ? double(std::int64_t(raw) - std::int64_t(signBit << 1))
+                                       : double(raw);
+            }
+            case Kind::Unsigned:
+                break;
+        }
+        return double(raw);
     }
-    const bool isSigned = type == "char" || type == "int8" || type == "short" || type == "int16" ||
-                          type == "int" || type == "int32";
-    if (!isSigned) return double(raw);
-    const std::uint64_t signBit = std::uint64_t(1) << (8 * size - 1);
-    return (raw & signBit) ? double(std::int64_t(raw) - std::int64_t(signBit << 1)) : double(raw);
-}
+};
 
 /// Reads a whole PLY file; throws std::runtime_error on anything malformed,
 /// including bytes left over after the last element.
@@ -156,25 +177,31 @@ inline PlyFile readPly(const std::filesystem::path& path) {
     if (ply.format != "binary_little_endian")
         throw std::runtime_error("unsupported format " + ply.format);
     const auto* bytes = reinterpret_cast<const unsigned char*>(content.data());
-    auto take = [&](const std::string& type) {
-        const std::size_t size = plyTypeSize(type);
-        if (offset + size > content.size()) throw std::runtime_error("binary body too short");
-        const double value = plyDecode(type, bytes + offset);
-        offset += size;
+    auto take = [&](const PlyDecoder& decoder) {
+        if (offset + decoder.size > content.size())
+            throw std::runtime_error("binary body too short");
+        const double value = decoder.decode(bytes + offset);
+        offset += decoder.size;
         return value;
     };
-    for (auto& element : ply.elements)
-        for (std::size_t i = 0; i < element.count; ++i) {
-            std::vector<std::vector<double>> row;
-            for (const auto& property : element.properties) {
-                std::size_t n = 1;
-                if (property.isList) n = std::size_t(take(property.countType));
-                std::vector<double> values(n);
-                for (double& v : values) v = take(property.type);
-                row.push_back(values);
-            }
-            element.rows.push_back(row);
+    for (auto& element : ply.elements) {
+        std::vector<PlyDecoder> values, counts;
+        for (const auto& property : element.properties) {
+            values.emplace_back(property.type);
+            counts.push_back(property.isList ? PlyDecoder(property.countType) : PlyDecoder());
         }
+        for (std::size_t i = 0; i < element.count; ++i) {
+            // Grown row by row: a count the body does not hold fails on the
+            // bytes, not on the memory it claims.
+            auto& row = element.rows.emplace_back(element.properties.size());
+            for (std::size_t p = 0; p < element.properties.size(); ++p) {
+                std::size_t n = 1;
+                if (element.properties[p].isList) n = std::size_t(take(counts[p]));
+                row[p].resize(n);
+                for (double& v : row[p]) v = take(values[p]);
+            }
+        }
+    }
     if (offset != content.size()) throw std::runtime_error("bytes after the last element");
     return ply;
 }
