@@ -76,7 +76,7 @@ void readReportFigures(const fs::path& outdir, BatchEntry& entry) {
 
 /// Runs `segment` for one input: the body of the parallel node. Never throws.
 FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
-                       const std::string& optionsText) {
+                       const std::string& optionsText, std::atomic<bool>& processStartCharged) {
     FinishedJob finished;
     finished.job = job;
     BatchEntry& entry = finished.entry;
@@ -108,6 +108,10 @@ FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
         segment.outdir = outdir;
         segment.outdirLock = claim->lock;
         segment.force = true;  // claimed: the earlier outputs are the batch's, or --force
+        // Only the first input started is charged for the process start;
+        // the others would be charged for the ones before them.
+        segment.budgetFromProcessStart =
+            options.segment.budgetFromProcessStart && !processStartCharged.exchange(true);
         {
             ProgressReporter reporter(ProgressReporter::Display::Quiet, segment.timeLimitSeconds,
                                       messages ? messages : stderr);
@@ -383,10 +387,12 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
     std::atomic<bool> interrupted{false};
     auto stopRequested = [&] { return interrupted.load() || interruptWatch.wasInterrupted(); };
 
+    std::atomic<bool> processStartCharged{false};
     tbb::flow::graph graph;
     tbb::flow::function_node<BatchJob, FinishedJob> segmentNode(
-        graph, tbb::flow::unlimited,
-        [&](const BatchJob& job) { return segmentOne(job, options, optionsText); });
+        graph, tbb::flow::unlimited, [&](const BatchJob& job) {
+            return segmentOne(job, options, optionsText, processStartCharged);
+        });
     auto lastSummaryWrite = std::chrono::steady_clock::now();
     std::chrono::steady_clock::duration summaryInterval = std::chrono::seconds(1);
     std::string recordError;

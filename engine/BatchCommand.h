@@ -39,7 +39,9 @@ struct BatchCommandOptions {
     std::filesystem::path outroot;
     /// The segment options for every input (input and outdir are set per
     /// input; force means: redo inputs that are done; maxMemoryBytes bounds
-    /// the whole batch; timeLimitSeconds applies per input).
+    /// the whole batch; timeLimitSeconds applies per input;
+    /// budgetFromProcessStart charges the process start to the first input
+    /// started only).
     SegmentCommandOptions segment;
     ShardSpec shard;         // 0/1: the whole manifest
     int shapesInFlight = 0;  // 0: threads + 1

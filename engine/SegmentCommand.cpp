@@ -303,14 +303,13 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     }
     double budgetAsTimeLimit = 0.0;
     if (options.timeBudgetSeconds > 0) {
-        // The first run of the process counts from the start of the process:
-        // loading the libraries is part of what the user of `skelseg segment`
-        // waits for. Later runs (the inputs of a batch) count from their own
-        // start, or each would be charged for the ones before it.
-        static std::atomic<bool> processStartCounted{false};
-        const double age = processStartCounted.exchange(true)
-                               ? progress.elapsedSeconds()
-                               : std::max(processAgeSeconds(), progress.elapsedSeconds());
+        // The CLI's first run counts from the start of the process: loading
+        // the libraries is part of what the user of `skelseg segment` waits
+        // for. Other runs (a batch's later inputs, library calls) count from
+        // their own start, or each would be charged for what came before it.
+        const double age = options.budgetFromProcessStart
+                               ? std::max(processAgeSeconds(), progress.elapsedSeconds())
+                               : progress.elapsedSeconds();
         inputOptions.start -= std::chrono::duration_cast<std::chrono::steady_clock::duration>(
             std::chrono::duration<double>(age));
         // (A limit <= 0 would mean none: a budget already spent stops at once.)

@@ -66,9 +66,14 @@ struct SegmentCommandOptions {
     /// (ContactSeparationOptions::grownSeams).
     bool grownContactSeams = true;
     SegmentationParameters parameters;
-    int threads = 0;                   // 0: all cores
-    double timeLimitSeconds = 0;       // 0: none
-    double timeBudgetSeconds = 0;      // 0: none; engine/TimeBudget.h
+    int threads = 0;               // 0: all cores
+    double timeLimitSeconds = 0;   // 0: none
+    double timeBudgetSeconds = 0;  // 0: none; engine/TimeBudget.h
+    /// The budget also counts the process's life before the call (loading
+    /// the libraries, static initialisation), which the user of `skelseg
+    /// segment` waits for: set by the CLI for its first run. Otherwise it
+    /// counts from the call, as a library caller (Python, a test) expects.
+    bool budgetFromProcessStart = false;
     bool calibrateTimeBudget = true;   // --budget-calibration probe (engine/BudgetCalibration.h)
     bool force = false;                // replace earlier results in OUTDIR
     std::uint64_t maxMemoryBytes = 0;  // 0: default share of physical memory

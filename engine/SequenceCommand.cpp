@@ -120,6 +120,7 @@ void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter&
             frame.input = options.frames[f];
             frame.outdir = staged / names[f];
             frame.force = false;
+            frame.budgetFromProcessStart = options.segment.budgetFromProcessStart && f == 0;
             if (options.announceFrames)
                 progress.message("skelseg sequence: frame " + std::to_string(f + 1) + " of " +
                                  std::to_string(options.frames.size()) + ": " +

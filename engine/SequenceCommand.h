@@ -26,7 +26,8 @@ struct SequenceCommandOptions {
     std::filesystem::path outdir;
     /// Every frame's options; input and outdir are set per frame, force
     /// applies to OUTDIR. --time-limit and --time-budget apply to each frame,
-    /// as in `skelseg batch`.
+    /// as in `skelseg batch`; budgetFromProcessStart charges the process
+    /// start to the first frame only.
     SegmentCommandOptions segment;
     /// Each frame's progress display.
     ProgressReporter::Display display = ProgressReporter::Display::Auto;

@@ -163,6 +163,7 @@ int runCommandLine(int argc, char** argv) {
     try {
         if (*segment) {
             segmentCli.finish();
+            segmentCli.options.budgetFromProcessStart = true;
             const skelseg::SegmentCommandOptions& seg = segmentCli.options;
             const bool quiet = segmentCli.quiet;
             skelseg::ProgressReporter::installSignalHandlers();
@@ -187,6 +188,7 @@ int runCommandLine(int argc, char** argv) {
             options.manifest = manifestText;
             options.outroot = outrootText;
             options.segment = batchCli.options;
+            options.segment.budgetFromProcessStart = true;  // the first input's
             options.shapesInFlight = shapesInFlight;
             options.display = batchCli.quiet ? skelseg::BatchProgress::Display::Quiet
                                              : skelseg::BatchProgress::Display::Auto;
@@ -229,6 +231,7 @@ int runCommandLine(int argc, char** argv) {
             options.frames.assign(sequenceFrames.begin(), sequenceFrames.end());
             options.outdir = sequenceOut;
             options.segment = sequenceCli.options;
+            options.segment.budgetFromProcessStart = true;  // the first frame's
             options.announceFrames = !sequenceCli.quiet;
             options.display = sequenceCli.quiet ? skelseg::ProgressReporter::Display::Quiet
                                                 : skelseg::ProgressReporter::Display::Auto;

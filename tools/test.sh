@@ -3,7 +3,8 @@
 # formatting, build everything in Release with strict warnings and run the
 # test suites, fastest first, slow ones last:
 #   bench  every benchmark at its smallest size, compared with the baseline
-#   unit   kernels, readers/writers, scoring          (label unit)
+#   unit   kernels, readers/writers, scoring          (label unit; run in shards,
+#          tools/run-gtest-shards.py)
 #   scene  generated shapes end to end                (label scene)
 #   python the Python module with pytest, Dask included (label python)
 #   browser viewer.html in headless Chromium           (label browser)
@@ -55,7 +56,12 @@ if [ "$fuzz_seconds" != "0" ]; then
 fi
 
 stamp "unit tests"
-ctest --test-dir build-ci -L unit --output-on-failure -j"$jobs"
+# The label's test executables in a few shards of one process each (a process
+# per test spent more time starting than some tests run), then the tools' own
+# tests (tools_pytest).
+/usr/bin/python3 tools/run-gtest-shards.py --jobs "$jobs" --log-dir build-ci/unit-shard-logs \
+  build-ci/test_engine build-ci/test_io build-ci/test_kernels
+ctest --test-dir build-ci -L unit -R '^tools_pytest$' --output-on-failure
 stamp "scene tests"
 ctest --test-dir build-ci -L scene --output-on-failure -j"$jobs"
 stamp "python tests"
