@@ -247,12 +247,20 @@ TEST(VdbInputCli, DamagedFileOnWhichOpenVdbCrashesIsBadInput) {
     EXPECT_TRUE(failsWithOneLine(result, 2, file.string(), "OpenVDB's reader crashed on it"));
     EXPECT_TRUE(leftNothing(dir / "out"));
     EXPECT_EQ(fileBytes(file), *crashing);
-    // The library call too: an InputError, and this process lives on.
+    // The library call too: an InputError naming the file, and this process
+    // lives on. Whether the parse crashes depends on the heap it starts
+    // from, which the child process inherits from this one: after some
+    // other tests in the same process (a shuffled order) the damage reads
+    // past the end of the data instead, a corrupt-file error.
     try {
         readVdbMask(file);
         ADD_FAILURE() << "no error";
     } catch (const InputError& error) {
-        EXPECT_NE(std::string(error.what()).find("crashed"), std::string::npos) << error.what();
+        const std::string message = error.what();
+        EXPECT_EQ(error.file(), file.string());
+        EXPECT_TRUE(message.find("crashed") != std::string::npos ||
+                    message.find("corrupt") != std::string::npos)
+            << message;
     }
 }
 

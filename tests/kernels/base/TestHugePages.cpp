@@ -1,9 +1,12 @@
 // The huge-page helpers change where memory comes from, never what it holds.
 #include <gtest/gtest.h>
 
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
+#include <new>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -79,18 +82,63 @@ TEST(HugePages, LargeVolumeHoldsItsFillValue) {
               std::ptrdiff_t(volume.size()));
 }
 
-TEST(HugePages, LargeArraysAreMarkedForHugePages) {
+/// Memory from a mapping of its own for each allocation, so that a block's
+/// VmFlags show only what was done to that block: blocks of the heap share
+/// their mapping with whatever else the process allocated (in a test process
+/// that ran other tests first, a small heap array sat in a region an earlier
+/// large array had advised).
+template <typename T>
+struct OwnMappingAllocator {
+    using value_type = T;
+    OwnMappingAllocator() = default;
+    template <typename U>
+    OwnMappingAllocator(const OwnMappingAllocator<U>&) noexcept {}
+    T* allocate(std::size_t count) {
+        void* block = mmap(nullptr, count * sizeof(T), PROT_READ | PROT_WRITE,
+                           MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (block == MAP_FAILED) throw std::bad_alloc();
+        return static_cast<T*>(block);
+    }
+    void deallocate(T* block, std::size_t count) noexcept { munmap(block, count * sizeof(T)); }
+    template <typename U>
+    bool operator==(const OwnMappingAllocator<U>&) const noexcept {
+        return true;
+    }
+    template <typename U>
+    bool operator!=(const OwnMappingAllocator<U>&) const noexcept {
+        return false;
+    }
+};
+
+TEST(HugePages, ArraysFromTheAdviceSizeUpAreMarkedForHugePagesAndSmallerOnesAreNot) {
     if (!systemHasTransparentHugePages()) GTEST_SKIP() << "no transparent huge pages here";
-    std::vector<std::uint32_t> values;
-    assignWithHugePages(values, kHugePageAdviceBytes, 0u);
-    const std::string flags = vmFlagsOf(values.data() + values.size() / 2);
+    using Values = std::vector<std::uint32_t, OwnMappingAllocator<std::uint32_t>>;
+    Values large;
+    assignWithHugePages(large, kHugePageAdviceBytes / sizeof(std::uint32_t), 0u);
+    const std::string flags = vmFlagsOf(large.data() + large.size() / 2);
     if (flags.empty()) GTEST_SKIP() << "/proc/self/smaps is not readable";
     // "hg": the mapping carries MADV_HUGEPAGE.
     EXPECT_NE(flags.find(" hg"), std::string::npos) << flags;
-    // A small array stays on the heap, unmarked.
-    std::vector<std::uint32_t> small;
-    assignWithHugePages(small, 1000, 0u);
-    EXPECT_EQ(vmFlagsOf(small.data()).find(" hg"), std::string::npos);
+    // One page less: still several whole huge pages inside, but below the
+    // size worth the advice.
+    Values smaller;
+    assignWithHugePages(smaller, (kHugePageAdviceBytes - 4096) / sizeof(std::uint32_t), 0u);
+    const std::string smallerFlags = vmFlagsOf(smaller.data() + smaller.size() / 2);
+    EXPECT_EQ(smallerFlags.find(" hg"), std::string::npos) << smallerFlags;
+}
+
+TEST(HugePages, TheAdviceItselfIsANoOpBelowItsSize) {
+    if (!systemHasTransparentHugePages()) GTEST_SKIP() << "no transparent huge pages here";
+    for (const std::size_t bytes : {kHugePageAdviceBytes - 4096, kHugePageAdviceBytes}) {
+        OwnMappingAllocator<char> mapping;
+        char* block = mapping.allocate(bytes);
+        adviseHugePages(block, bytes);
+        const std::string flags = vmFlagsOf(block + bytes / 2);
+        mapping.deallocate(block, bytes);
+        if (flags.empty()) GTEST_SKIP() << "/proc/self/smaps is not readable";
+        EXPECT_EQ(flags.find(" hg") != std::string::npos, bytes >= kHugePageAdviceBytes)
+            << bytes << " bytes: " << flags;
+    }
 }
 
 }  // namespace
