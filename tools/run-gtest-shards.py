@@ -28,7 +28,8 @@ import time
 
 PASSED = re.compile(r"^\[  PASSED  \] (\d+) tests?\.", re.MULTILINE)
 SKIPPED = re.compile(r"^\[  SKIPPED \] (\d+) tests?, listed below", re.MULTILINE)
-FAILED = re.compile(r"^\[  FAILED  \] ([^ ,\n]+)", re.MULTILINE)
+# A failed test's own line (Suite.Name), not the summary "[  FAILED  ] 2 tests, listed below:".
+FAILED = re.compile(r"^\[  FAILED  \] ([^ ,\n]+\.[^ ,\n]+)", re.MULTILINE)
 
 
 def gtest_filter(pattern, excluded):
@@ -121,7 +122,7 @@ def main():
 
     for name, index, log, text in failed:
         print(f"\n== {name} shard {index + 1}: {log}")
-        names = sorted(set(FAILED.findall(text)) - {"FAILED"})
+        names = sorted(set(FAILED.findall(text)))
         if names:
             print("failed tests: " + " ".join(names))
         print("\n".join(text.splitlines()[-60:]))

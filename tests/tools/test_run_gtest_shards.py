@@ -50,6 +50,8 @@ FAKE = textwrap.dedent('''\
     failed = [t for t in mine if mode == "fail:" + t]
     passed = len(mine) - len(failed) - (1 if mode == "short" and index == 0 and mine else 0)
     print("[  PASSED  ] %d tests." % passed)
+    if failed:
+        print("[  FAILED  ] %d test, listed below:" % len(failed))
     for t in failed:
         print("[  FAILED  ] %s" % t)
     sys.exit(1 if failed else 0)
@@ -91,7 +93,7 @@ def test_a_positive_filter_selects(tmp_path):
 
 
 @pytest.mark.parametrize("mode, shards, stream, says", [
-    ("fail:Beta.Four", 2, "stdout", "failed tests: Beta.Four"),
+    ("fail:Beta.Four", 2, "stdout", "failed tests: Beta.Four\n"),
     ("crash", 3, "stdout", "shard 2/3: 0 tests passed, failed (exit -6)"),
     ("short", 2, "stderr", "passed or skipped 6 of 7 tests"),
 ])
