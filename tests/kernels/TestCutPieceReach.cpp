@@ -146,7 +146,8 @@ TEST(CutPieceReach, OneMeasurerForManyLoopsAnswersAsAFreshCallEachTime) {
         for (const auto& junction : {at.junction(), beyondTip})
             for (const double limit : {1.2, 3.0}) {
                 SCOPED_TRACE("past " + std::to_string(past) + ", limit " + std::to_string(limit));
-                const double fresh = pieceReachPastLoop(fin.graph, at.loop, at.loop, junction, limit);
+                const double fresh =
+                    pieceReachPastLoop(fin.graph, at.loop, at.loop, junction, limit);
                 EXPECT_EQ(measurer.measure(at.loop, at.loop, junction, limit), fresh);
                 ++answers;
                 distinct += fresh != previous;
