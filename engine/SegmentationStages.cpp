@@ -184,6 +184,7 @@ void placeObjectCuts(ObjectState& state) {
     // objects need neither check.
     std::unique_ptr<GeodesicSearch> search;
     std::unique_ptr<RimCounter> rims;
+    std::unique_ptr<PieceReachMeasurer> reach;
     auto searchOnce = [&]() -> GeodesicSearch& {
         if (!search) search = std::make_unique<GeodesicSearch>(graph, &state.landmarks);
         return *search;
@@ -216,8 +217,9 @@ void placeObjectCuts(ObjectState& state) {
         const std::vector<std::uint32_t> loop =
             orderCutLoop(graph, gamma, a, b, searchOnce(), *rims);
         const Coord at = state.skeleton.coord[state.skeleton.junctions[junction].representative];
-        return pieceReachPastLoop(graph, gamma, loop, {double(at.x), double(at.y), double(at.z)},
-                                  2.0 * options.cornerReach);
+        if (!reach) reach = std::make_unique<PieceReachMeasurer>(graph);
+        return reach->measure(gamma, loop, {double(at.x), double(at.y), double(at.z)},
+                              2.0 * options.cornerReach);
     };
     state.plan = placeCuts(
         state.skeleton, state.points, options,

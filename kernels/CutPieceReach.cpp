@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_set>
 
 namespace skelseg {
 
@@ -20,9 +19,19 @@ double dot(const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-double pieceReachPastLoop(const BoundaryGraph& g, const std::vector<std::uint32_t>& gamma,
+double pieceReachPastLoop(const BoundaryGraph& graph, const std::vector<std::uint32_t>& gamma,
                           const std::vector<std::uint32_t>& loop, const Vec3& junction,
                           double limitRatio) {
+    return PieceReachMeasurer(graph).measure(gamma, loop, junction, limitRatio);
+}
+
+PieceReachMeasurer::PieceReachMeasurer(const BoundaryGraph& graph)
+    : mGraph(graph), mBlocked(graph.nodeCount()), mSeen(graph.nodeCount()) {}
+
+double PieceReachMeasurer::measure(const std::vector<std::uint32_t>& gamma,
+                                   const std::vector<std::uint32_t>& loop, const Vec3& junction,
+                                   double limitRatio) {
+    const BoundaryGraph& g = mGraph;
     if (loop.size() < 3 || gamma.empty()) return limitRatio;
     // The plane: the loop's mean and its vector area (Newell's normal).
     Vec3 centre{0.0, 0.0, 0.0};
@@ -56,25 +65,27 @@ double pieceReachPastLoop(const BoundaryGraph& g, const std::vector<std::uint32_
     if (loopSize <= 0.0) return limitRatio;
     const double ball = limitRatio * loopSize;
 
-    std::unordered_set<std::uint32_t> blocked;
+    mBlocked.nextGeneration();
+    mBlockedNodes.clear();
     for (std::uint32_t n : gamma) {
-        blocked.insert(n);
+        if (mBlocked.insert(n)) mBlockedNodes.push_back(n);
         for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e)
-            blocked.insert(g.neighbour[e]);
+            if (mBlocked.insert(g.neighbour[e])) mBlockedNodes.push_back(g.neighbour[e]);
     }
     // Seeds: the nodes next to the dilation, in node order (deterministic).
-    std::vector<std::uint32_t> seeds;
-    for (std::uint32_t n : blocked)
+    std::vector<std::uint32_t>& seeds = mSeeds;
+    seeds.clear();
+    for (std::uint32_t n : mBlockedNodes)
         for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e)
-            if (!blocked.count(g.neighbour[e])) seeds.push_back(g.neighbour[e]);
+            if (!mBlocked.isMarked(g.neighbour[e])) seeds.push_back(g.neighbour[e]);
     std::sort(seeds.begin(), seeds.end());
     seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
 
-    std::unordered_set<std::uint32_t> seen;
+    mSeen.nextGeneration();
     double farthest = 0.0;
-    std::vector<std::uint32_t> front;
+    std::vector<std::uint32_t>& front = mFront;
     for (std::uint32_t seed : seeds) {
-        if (!seen.insert(seed).second) continue;
+        if (!mSeen.insert(seed)) continue;
         // One component within the ball: its farthest node, its mean
         // distance past the plane, and whether it goes on out of the ball.
         front.assign(1, seed);
@@ -93,7 +104,7 @@ double pieceReachPastLoop(const BoundaryGraph& g, const std::vector<std::uint32_
             sum += dot(d, normal);
             for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
                 const std::uint32_t m = g.neighbour[e];
-                if (!blocked.count(m) && seen.insert(m).second) front.push_back(m);
+                if (!mBlocked.isMarked(m) && mSeen.insert(m)) front.push_back(m);
             }
         }
         // On average behind the plane: the body's side.

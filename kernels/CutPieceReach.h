@@ -20,7 +20,10 @@
 // component past the plane (on average over its nodes in the ball, so the
 // answer does not depend on the flood's order) that goes on out of the ball
 // is a piece reaching at least that far; one behind the plane is the body.
-// The cost is the surface within that ball.
+// The cost is the surface within that ball. The corner rule asks it for
+// many cuts of one object, serially, so the class keeps the per-node marks of
+// the flood between calls (cleared in O(1)); the free function makes them
+// for one call.
 #pragma once
 
 #include <array>
@@ -28,6 +31,7 @@
 #include <vector>
 
 #include "kernels/BoundaryGraph.h"
+#include "kernels/GenerationMarks.h"
 
 namespace skelseg {
 
@@ -41,5 +45,20 @@ namespace skelseg {
 double pieceReachPastLoop(const BoundaryGraph& graph, const std::vector<std::uint32_t>& gamma,
                           const std::vector<std::uint32_t>& loop,
                           const std::array<double, 3>& junction, double limitRatio);
+
+/// pieceReachPastLoop with its marks kept between calls: for many loops on
+/// one graph. Not thread-safe; one per thread.
+class PieceReachMeasurer {
+public:
+    explicit PieceReachMeasurer(const BoundaryGraph& graph);
+    /// The same as pieceReachPastLoop(graph, ...) for the graph given above.
+    double measure(const std::vector<std::uint32_t>& gamma, const std::vector<std::uint32_t>& loop,
+                   const std::array<double, 3>& junction, double limitRatio);
+
+private:
+    const BoundaryGraph& mGraph;
+    GenerationMarks mBlocked, mSeen;
+    std::vector<std::uint32_t> mBlockedNodes, mSeeds, mFront;
+};
 
 }  // namespace skelseg

@@ -129,6 +129,35 @@ TEST(CutPieceReach, CornerOfABlockStaysInItsLoopsBallAtTwoScales) {
     }
 }
 
+TEST(CutPieceReach, OneMeasurerForManyLoopsAnswersAsAFreshCallEachTime) {
+    // The cut placement asks one measurer about every cut of an object; the
+    // marks of one flood must not leak into the next (a node left "seen"
+    // would end a later component early, one left "blocked" would cut it).
+    // Loops at every distance from the fin's end, from either side and with
+    // limits on both sides of the reach, asked in turn of one measurer.
+    const Fin fin(1, 6);
+    const std::array<double, 3> beyondTip{double(fin.finEnd) + 10.0, 14.0, 14.0};
+    PieceReachMeasurer measurer(fin.graph);
+    int answers = 0, distinct = 0;
+    double previous = -1.0;
+    for (int past = 2; past <= 14; past += 3) {
+        const Fin at(1, past);
+        ASSERT_EQ(at.graph.nodeCount(), fin.graph.nodeCount());
+        for (const auto& junction : {at.junction(), beyondTip})
+            for (const double limit : {1.2, 3.0}) {
+                SCOPED_TRACE("past " + std::to_string(past) + ", limit " + std::to_string(limit));
+                const double fresh =
+                    pieceReachPastLoop(fin.graph, at.loop, at.loop, junction, limit);
+                EXPECT_EQ(measurer.measure(at.loop, at.loop, junction, limit), fresh);
+                ++answers;
+                distinct += fresh != previous;
+                previous = fresh;
+            }
+    }
+    EXPECT_EQ(answers, 20);
+    EXPECT_GT(distinct, 10) << "the loops must give different answers to tell a stale mark";
+}
+
 /// A body (rho_S 40 s) and one limb of rho_S 20 s (loop radius 6.4 s) whose
 /// skeleton goes on `levelsPastCut` levels past its first level, where it is
 /// cut, at scale s (as in TestCutPlacement.cpp); `reach` answers the corner
