@@ -133,6 +133,12 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
         throw InputError(source.file.string(),
                          "all " + std::to_string(mesh.faceCount) +
                              " faces have zero area: the mesh has no surface to segment");
+    // Every face in one plane: the voxeliser would make a sheet one voxel
+    // thick, which no skeleton crosses, and label it one part.
+    if (source.meshDiagnostics.flat)
+        throw InputError(source.file.string(),
+                         "the mesh is flat (every vertex of its faces lies in one plane): it "
+                         "encloses no volume to segment");
     estimatedMemory =
         estimateSegmentationMemory(grid.dims, grid.dims.voxelCount() / 4, options.threads) +
         grid.dims.voxelCount() * 12 +  // level set, dense copy, nearest-triangle grid

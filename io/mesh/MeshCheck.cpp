@@ -62,10 +62,41 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
             diagonalSquared += (high[c] - low[c]) * (high[c] - low[c]);
     const double areaTolerance = 1e-14 * diagonalSquared;
     std::vector<double> areas(mesh.faceCount, 0.0);
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-        areas[mesh.triangleFace[t]] += triangleArea(mesh, t);
+    // The largest triangle's normal is the best conditioned plane the mesh
+    // offers for the flatness test below.
+    std::size_t largest = mesh.triangles.size();
+    double largestArea = areaTolerance;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const double area = triangleArea(mesh, t);
+        areas[mesh.triangleFace[t]] += area;
+        if (area > largestArea) largestArea = area, largest = t;
+    }
     for (double area : areas)
         if (!(area > areaTolerance)) ++diagnostics.degenerateFaces;
+
+    // Flat: every used vertex in the plane of the largest triangle.
+    if (largest < mesh.triangles.size()) {
+        const auto& corners = mesh.triangles[largest];
+        const auto& a = mesh.vertices[corners[0]];
+        const auto& b = mesh.vertices[corners[1]];
+        const auto& c = mesh.vertices[corners[2]];
+        const std::array<double, 3> u{b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+            w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        std::array<double, 3> normal{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                                     u[0] * w[1] - u[1] * w[0]};
+        const double length =
+            std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+        for (double& n : normal) n /= length;
+        const double planeTolerance = 1e-9 * std::sqrt(diagonalSquared);
+        diagnostics.flat = true;
+        for (std::size_t v = 0; v < mesh.vertices.size() && diagnostics.flat; ++v) {
+            if (!isReferenced[v]) continue;
+            const auto& p = mesh.vertices[v];
+            const double height =
+                (p[0] - a[0]) * normal[0] + (p[1] - a[1]) * normal[1] + (p[2] - a[2]) * normal[2];
+            diagnostics.flat = std::abs(height) <= planeTolerance;
+        }
+    }
 
     // Edges: count uses of every undirected edge between distinct (canonical)
     // vertices. Fan diagonals inside a polygon are used twice, like any

@@ -33,6 +33,10 @@ struct MeshDiagnostics {
     /// True when every edge is used by an even number (>= 2) of triangles:
     /// the surface encloses a volume and inside/outside is well defined.
     bool closed = false;
+    /// True when some face has area and every vertex the faces use lies in
+    /// the plane of the face with the largest area (within 1e-9 of the box's
+    /// diagonal): a flat mesh bounds no volume, closed or not.
+    bool flat = false;
 };
 
 /// Counts degenerate faces, boundary and non-manifold edges and pieces.

@@ -311,19 +311,25 @@ TEST(DegenerateMeshes, ZeroAreaFacesGiveAResultAndAWarning) {
     EXPECT_EQ(report["input"]["mesh_degenerate_faces"], 1);
 }
 
-TEST(DegenerateMeshes, FlatSingleTriangleBecomesAThinSheet) {
+TEST(DegenerateMeshes, AFlatMeshIsRefusedAThinClosedPlateIsNot) {
     TempDir dir;
     TriangleMesh mesh;
     mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     mesh.triangles = {{0, 1, 2}};
     mesh.triangleFace = {0};
     mesh.faceCount = 1;
-    CliResult result;
-    const auto report = runMesh(dir, mesh, result);
-    EXPECT_TRUE(anyLineHas(warningLines(result), (dir / "input.off").string(), "not closed"))
-        << result.describe();
-    // The open surface is voxelised as a sheet one voxel thick: one part.
-    EXPECT_EQ(report["segment_count"], 1);
+    writeOff(dir / "input.off", mesh);
+    const CliResult result = runSegment(dir / "input.off", dir / "out", {"--resolution", "32"});
+    // One plane bounds no volume: refused with one line, where it used to
+    // become a sheet one voxel thick labelled as one part.
+    EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "input.off").string(), "the mesh is flat"));
+    EXPECT_TRUE(leftNothing(dir / "out"));
+    // A closed plate a thousandth of its size thick is a solid, however thin.
+    TriangleMesh plate = cubeMesh(false);
+    for (auto& v : plate.vertices) v[2] *= 1e-3;
+    CliResult plateResult;
+    const auto report = runMesh(dir, plate, plateResult);
+    EXPECT_EQ(report["segment_count"], 1) << plateResult.describe();
 }
 
 TEST(DegenerateMeshes, AllFacesDegenerate) {

@@ -422,6 +422,12 @@ std::vector<BadCase> meshCases() {
         // over or under what doubles can measure in voxels.
         bytes("obj_all_faces_zero_area", "line.obj",
               "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\nf 2 3 4\n", "have zero area"),
+        // A sheet in one plane, open or closed as two sides, also tilted
+        // to the grid: no volume, where the voxeliser made a one-voxel sheet.
+        bytes("obj_flat_sheet", "sheet.obj",
+              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n", "the mesh is flat"),
+        bytes("obj_flat_two_sided_tilted", "tilted.obj",
+              "v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 2\n", "encloses no volume"),
         bytes("obj_bounding_box_overflows", "huge.obj",
               "v -1e308 0 0\nv 1e308 0 0\nv 0 1e308 0\nf 1 2 3\n", "too large"),
         bytes("obj_bounding_box_huge", "huge.obj", "v 0 0 0\nv 1e150 0 0\nv 0 1e150 0\nf 1 2 3\n",

@@ -189,6 +189,10 @@ def test_meshes_without_area_or_out_of_scale_are_value_errors(capfd):
     with pytest.raises(ValueError, match=r"^mesh: all 1 faces have zero area"):
         skelseg.segment_mesh(np.array([[0., 0, 0], [1, 0, 0], [2, 0, 0]]), triangle,
                              resolution=16)
+    with pytest.raises(ValueError, match=r"^mesh: the mesh is flat \(every vertex of its faces "
+                                         r"lies in one plane\): it encloses no volume"):
+        skelseg.segment_mesh(np.array([[1., 0, 0], [0, 1, 0], [0, 0, 1]]), triangle,
+                             resolution=16)
     with pytest.raises(ValueError, match=r"^mesh: cannot voxelise the mesh: .* too large"):
         skelseg.segment_mesh(np.array([[0., 0, 0], [1e300, 0, 0], [0, 1e300, 0]]), triangle,
                              resolution=16)

@@ -229,6 +229,62 @@ TEST(MeshCheck, VertexNoFaceUsesDoesNotScaleTheZeroAreaCheck) {
     EXPECT_EQ(checkMesh(flat).degenerateFaces, 1u);
 }
 
+/// `mesh` turned about the axis (1, 2, 3) / |(1, 2, 3)| by 0.7 rad and moved
+/// by `offset`: a plane that no axis or diagonal of the grid lies in.
+TriangleMesh turnedAndMoved(TriangleMesh mesh, double offset) {
+    const double a = 0.7, n = std::sqrt(14.0), k[3] = {1 / n, 2 / n, 3 / n};
+    for (auto& v : mesh.vertices) {
+        const double dot = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+        const double cross[3] = {k[1] * v[2] - k[2] * v[1], k[2] * v[0] - k[0] * v[2],
+                                 k[0] * v[1] - k[1] * v[0]};
+        std::array<double, 3> turned{};
+        for (int i = 0; i < 3; ++i)
+            turned[std::size_t(i)] = v[std::size_t(i)] * std::cos(a) + cross[i] * std::sin(a) +
+                                     k[i] * dot * (1 - std::cos(a)) + offset;
+        v = turned;
+    }
+    return mesh;
+}
+
+TEST(MeshCheck, AMeshInOnePlaneIsFlatAThinSolidIsNot) {
+    // An open square sheet, and the sheet closed as two sides (the same
+    // triangles with the other winding: every edge used twice).
+    const TriangleMesh sheet = meshOf({{0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0}, {2, 1, 0}},
+                                      {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}});
+    TriangleMesh twoSided = sheet;
+    for (const auto& t : sheet.triangles) twoSided.triangles.push_back({t[0], t[2], t[1]});
+    twoSided.triangleFace.resize(twoSided.triangles.size());
+    std::iota(twoSided.triangleFace.begin(), twoSided.triangleFace.end(), 0u);
+    twoSided.faceCount = twoSided.triangles.size();
+    for (const double offset : {0.0, 1e3, -1e6}) {
+        SCOPED_TRACE("offset " + std::to_string(offset));
+        const MeshDiagnostics open = checkMesh(turnedAndMoved(sheet, offset));
+        EXPECT_TRUE(open.flat);
+        EXPECT_FALSE(open.closed);
+        EXPECT_EQ(open.degenerateFaces, 0u);
+        const MeshDiagnostics closed = checkMesh(turnedAndMoved(twoSided, offset));
+        EXPECT_TRUE(closed.flat);
+        EXPECT_TRUE(closed.closed) << "closed, and still no volume";
+        // A closed box of the sheet's size, 1e-6 of it thick: a solid.
+        TriangleMesh plate = unitCube();
+        for (auto& v : plate.vertices) v = {4 * v[0], 3 * v[1], 5e-6 * v[2]};
+        EXPECT_FALSE(checkMesh(turnedAndMoved(plate, offset)).flat);
+        // The sheet with one vertex lifted by 1e-6 of its size.
+        TriangleMesh bent = sheet;
+        bent.vertices[4][2] = 5e-6;
+        EXPECT_FALSE(checkMesh(turnedAndMoved(bent, offset)).flat);
+    }
+    EXPECT_FALSE(checkMesh(unitCube()).flat);
+    // A vertex no face uses takes no part in the shape.
+    TriangleMesh withStray = sheet;
+    withStray.vertices.push_back({0, 0, 9});
+    EXPECT_TRUE(checkMesh(withStray).flat);
+    // No face with area: not flat but degenerate (refused as such).
+    const MeshDiagnostics line = checkMesh(meshOf({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{0, 1, 2}}));
+    EXPECT_FALSE(line.flat);
+    EXPECT_EQ(line.degenerateFaces, 1u);
+}
+
 TEST(MeshCheck, VerticesNoFaceUsesAreCountedAndNamedInAWarning) {
     EXPECT_EQ(checkMesh(unitCube()).unusedVertices, 0u);
     EXPECT_TRUE(meshWarnings(checkMesh(unitCube()), "cube.off").empty());
