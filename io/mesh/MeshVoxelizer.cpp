@@ -207,6 +207,17 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, d
     return mask;
 }
 
+/// The shell pass works on a grid padded so that its border lies outside the
+/// thick shell, whatever the margin: the flood fill starts from that border.
+int shellPadding(double holeClosing) {
+    return int(std::ceil(holeClosing + kSurfaceLayer)) + 2;
+}
+
+Dims paddedShellGrid(const Dims& dims, double holeClosing) {
+    const int pad = shellPadding(holeClosing);
+    return {dims.x + 2 * pad, dims.y + 2 * pad, dims.z + 2 * pad};
+}
+
 /// The shell method (see the header). surfaceVoxels: how many voxels of the
 /// result lie in the half-voxel surface layer; enclosedVoxels: how many lie
 /// farther than the shell from the surface and out of the flood fill's reach,
@@ -222,10 +233,8 @@ MaskVolume shellVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, do
         openvdb::tools::UNSIGNED_DISTANCE_FIELD);
     throwIfInterrupted(interrupter);
 
-    // Work on a grid padded so that its border lies outside the thick shell,
-    // whatever the margin: the flood fill starts from that border.
-    const int pad = int(std::ceil(shellWidth)) + 2;
-    const Dims work{grid.dims.x + 2 * pad, grid.dims.y + 2 * pad, grid.dims.z + 2 * pad};
+    const int pad = shellPadding(holeClosing);
+    const Dims work = paddedShellGrid(grid.dims, holeClosing);
     if (work.voxelCount() > kMaxVoxels)
         throw UsageError("the padded voxel grid for an open mesh is over the limit of " +
                          std::to_string(kMaxVoxels) + " voxels; lower the resolution");
@@ -316,6 +325,10 @@ MaskVolume shellVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, do
 }
 
 }  // namespace
+
+double widestHoleClosing(int resolution) {
+    return std::min(48.0, std::max(16.0, double(resolution) / 12.0));
+}
 
 VoxelGrid voxelGridFor(const TriangleMesh& mesh, const VoxelizeOptions& options) {
     if (options.resolution < 8 || options.resolution > 2048)
@@ -486,7 +499,7 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
         }
         // A hole wider than the closing lets the flood fill in, and leaves
         // little more than the surface layer: retry with twice the closing
-        // (up to 16 voxels) while the result is that hollow. "Little more"
+        // (up to widestHoleClosing) while the result is that hollow. "Little more"
         // alone is not enough from a closing of 4 on: the 6-connected growth
         // back eats only (closing + 1) / sqrt(3) voxels of the shell where
         // the surface runs diagonally, and that residue can pass for an
@@ -495,8 +508,8 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
         // is taken at once; otherwise the first that is not that hollow,
         // unless a wider closing seals an inside.
         std::optional<MaskVolume> notHollow;
-        for (double closing = options.holeClosing;;
-             closing = std::min(16.0, std::max(1.0, 2.0 * closing))) {
+        const double widest = widestHoleClosing(options.resolution);
+        for (double closing = options.holeClosing;;) {
             std::size_t surfaceVoxels = 0, enclosedVoxels = 0;
             mask =
                 shellVoxelization(mesh, grid, closing, interrupter, surfaceVoxels, enclosedVoxels);
@@ -509,7 +522,15 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
                 if (closing == options.holeClosing) return;
                 notHollow = std::move(mask);
             }
-            if (closing >= 16.0) break;
+            // The last step is taken only where it widens the closing by a
+            // quarter or more (32 -> 33.3 at resolution 400 would repeat a
+            // pass), and only on a padded grid within the voxel limit (a
+            // wider closing is no reason to refuse what narrower ones made).
+            const double next = std::min(widest, std::max(1.0, 2.0 * closing));
+            if (closing >= widest || (next == widest && widest < 1.25 * closing) ||
+                paddedShellGrid(grid.dims, next).voxelCount() > kMaxVoxels)
+                break;
+            closing = next;
         }
         if (notHollow) mask = std::move(*notHollow);
     });

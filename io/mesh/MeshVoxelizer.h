@@ -22,8 +22,9 @@
 //    about 2 * holeClosing voxels are bridged; the solid keeps the outer
 //    half-voxel layer, so it is a few percent larger than for a closed mesh.
 //    When a wider hole lets the outside in (the solid is then hardly more
-//    than the surface layer), holeClosing is doubled, up to 16 voxels, and
-//    the pass repeated. A single open sheet becomes a thin plate.
+//    than the surface layer), holeClosing is doubled, up to
+//    widestHoleClosing(resolution), and the pass repeated. A single open
+//    sheet becomes a thin plate.
 // Thin parts (closed meshes only; see ThinPartFill.h): the voxels the middle
 // of a part thinner than a voxel or so passes through are made solid, so that
 // such a part is neither perforated nor broken into islands.
@@ -48,6 +49,13 @@
 #include "kernels/base/Volume.h"
 
 namespace skelseg {
+
+/// The widest hole closing tried for an open mesh at `resolution` (voxels
+/// along the longest side): 16 voxels up to resolution 192, above it a
+/// twelfth of the longest side, so that the same holes are bridged at every
+/// resolution, up to 48 voxels (resolution 576; each pass computes distances
+/// in a band that wide round the whole surface).
+double widestHoleClosing(int resolution);
 
 struct VoxelizeOptions {
     /// Voxels along the longest side of the mesh's bounding box, in [8, 2048].
