@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""The band search (--skeleton-search band) against the exhaustive search (the default),
-issue 14: same curve skeleton, cuts and labels, and the work each one does.
+"""The band search (the default, --skeleton-search band) against the exhaustive search
+(--skeleton-search exhaustive), issue 14: same curve skeleton, cuts and labels, and the work each one does.
 
 Usage: bench/compare_search.py INPUT... [--skelseg build/skelseg]
                                [--resolution 192] [--threads N] [--out out/compare]

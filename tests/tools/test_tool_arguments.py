@@ -27,6 +27,7 @@ POSITIONALS = {
     "bench/compare_search.py": ["mesh.off"],
     "bench/cut_separation.py": ["out"],
     "bench/fit_budget_calibration.py": ["out"],
+    "bench/heldout_psb.py": ["--benchmark", "benchmark", "--out", "out"],
     "bench/joint_candidates.py": ["out"],
     "bench/merge_measures.py": ["out"],
     "bench/trace_handles.py": ["out"],
