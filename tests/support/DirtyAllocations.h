@@ -30,7 +30,9 @@ public:
     DirtyAllocations(const DirtyAllocations&) = delete;
     DirtyAllocations& operator=(const DirtyAllocations&) = delete;
     /// Whether blocks now come dirty (glibc's allocator).
-    bool active() const noexcept { return mActive; }
+    bool active() const noexcept {
+        return mActive;
+    }
 
 private:
     bool mActive = false;
