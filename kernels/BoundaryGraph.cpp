@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <numeric>
 
-#include "kernels/base/HugePages.h"
 #include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
@@ -94,12 +93,17 @@ BoundaryGraph buildBoundaryGraph(const MaskVolume& mask, const BoundaryGraphOpti
     const std::uint32_t nodes = perSlab.back();
     graph.voxel.resize(nodes);
     graph.coord.resize(nodes);
-    assignWithHugePages(graph.nodeOfVoxel, mask.size(), kNoNode);
+    resizeUnwrittenWithHugePages(graph.nodeOfVoxel, mask.size());
     parallelForEach(
         slabs,
         [&](int slab) {
             std::uint32_t id = perSlab[std::size_t(slab)];
             const int z0 = slab * kBrick, z1 = std::min(d.z, z0 + kBrick);
+            // The slab's slices are one contiguous range of the map: mark it
+            // here, so the first touch of its pages runs on every thread.
+            std::fill(graph.nodeOfVoxel.begin() + std::ptrdiff_t(std::size_t(z0) * sliceSize),
+                      graph.nodeOfVoxel.begin() + std::ptrdiff_t(std::size_t(z1) * sliceSize),
+                      kNoNode);
             for (int y0 = 0; y0 < d.y; y0 += kBrick)
                 for (int x0 = 0; x0 < d.x; x0 += kBrick) {
                     const int y1 = std::min(d.y, y0 + kBrick), x1 = std::min(d.x, x0 + kBrick);

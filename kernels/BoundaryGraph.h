@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "kernels/base/Interrupter.h"
+#include "kernels/base/UninitialisedStorage.h"
 #include "kernels/base/Volume.h"
 
 namespace skelseg {
@@ -33,7 +34,9 @@ struct BoundaryGraph {
     /// Euclidean length of each CSR edge.
     std::vector<float> weight;
     /// Node id of every voxel of the grid (kNoNode for non-boundary voxels).
-    std::vector<std::uint32_t> nodeOfVoxel;
+    /// Grid-sized, so it is allocated unwritten and each slab of the
+    /// numbering pass writes its own part (UninitialisedStorage.h).
+    UninitialisedVector<std::uint32_t> nodeOfVoxel;
     /// Connected component (of the graph) of each node, numbered from 0 in
     /// order of smallest node id, and each component's node count.
     std::vector<std::uint32_t> component;

@@ -7,7 +7,6 @@
 #include <cstring>
 #include <limits>
 
-#include "kernels/base/HugePages.h"
 #include "kernels/base/ParallelFor.h"
 
 #if defined(__SSE2__)
@@ -152,12 +151,17 @@ float GeodesicSearch::shortestPath(std::uint32_t from, std::uint32_t to,
 }
 
 void Landmarks::allocateRows(std::uint32_t nodes) {
-    assignWithHugePages(mRows, std::size_t(nodes) * kStride + 16, 0.0f);
+    resizeUnwrittenWithHugePages(mRows, std::size_t(nodes) * kStride + 16);
     // Offset so that row 0 starts on a 64-byte boundary (vector data is only
     // 16-byte aligned); moving the vector keeps its buffer, so the offset stays
     // valid (a copy may lose the line alignment, hence unaligned loads).
     const auto address = reinterpret_cast<std::uintptr_t>(mRows.data());
     mRowsOffset = ((64 - address % 64) % 64) / sizeof(float);
+    // The floats before row 0 and after the last row are never read; written
+    // so that a copy of the rows copies no indeterminate values.
+    std::fill(mRows.begin(), mRows.begin() + std::ptrdiff_t(mRowsOffset), 0.0f);
+    std::fill(mRows.begin() + std::ptrdiff_t(mRowsOffset + std::size_t(nodes) * kStride),
+              mRows.end(), 0.0f);
 }
 
 Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded, Interrupter& interrupter) {
@@ -235,8 +239,12 @@ Landmarks computeLandmarks(const BoundaryGraph& graph, bool threaded, Interrupte
             n,
             [&](std::uint32_t begin, std::uint32_t end) {
                 for (std::uint32_t v = begin; v < end; ++v) {
-                    float* row = result.row(v) + first;
-                    for (std::uint32_t k = 0; k < group; ++k) row[k] = fields[k][v];
+                    float* row = result.row(v);
+                    for (std::uint32_t k = 0; k < group; ++k) row[first + k] = fields[k][v];
+                    // The rows were allocated unwritten: the last group also
+                    // writes the unused slots, which the A* bound reads as 0.
+                    if (first + group == result.count)
+                        std::fill(row + result.count, row + Landmarks::kStride, 0.0f);
                 }
             },
             threaded, 4096);

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "kernels/BoundaryGraph.h"
+#include "kernels/base/UninitialisedStorage.h"
 
 namespace skelseg {
 
@@ -65,13 +66,14 @@ struct Landmarks {
     float* row(std::uint32_t n) noexcept {
         return mRows.data() + mRowsOffset + std::size_t(n) * kStride;
     }
-    /// Sizes the rows for `nodes` nodes, all 0.
+    /// Sizes the rows for `nodes` nodes, unwritten: the caller writes all
+    /// kStride floats of every row (computeLandmarks() does, in parallel).
     void allocateRows(std::uint32_t nodes);
     bool hasRows() const noexcept { return !mRows.empty(); }
 
 private:
-    std::vector<float> mRows;
-    std::size_t mRowsOffset = 0;  // first element on a 64-byte boundary
+    UninitialisedVector<float> mRows;  // first touched by the parallel fill
+    std::size_t mRowsOffset = 0;       // first element on a 64-byte boundary
 };
 
 /// Landmarks: the boundary nodes that are extreme along 14 directions (the

@@ -10,6 +10,7 @@
 
 #include "io/shapes/SyntheticShapes.h"
 #include "tests/kernels/KernelTestSupport.h"
+#include "tests/support/DirtyAllocations.h"
 
 namespace skelseg {
 namespace {
@@ -205,6 +206,21 @@ TEST(BoundaryGraph, EmptyMaskGivesEmptyGraph) {
     EXPECT_EQ(graph.nodeCount(), 0u);
     EXPECT_EQ(graph.edgeCount(), 0u);
     EXPECT_TRUE(graph.componentSize.empty());
+}
+
+TEST(BoundaryGraph, TheNodeMapIsWrittenEverywhereWhenMemoryComesDirty) {
+    // The voxel -> node map is allocated unwritten and each slab writes its
+    // own part; a slab left out would keep the allocator's bytes (0xA5...),
+    // which no real node id or kNoNode equals.
+    const test::DirtyAllocations dirty;
+    const MaskVolume figure = rasterise(makeShape("figure"), {44, 2});
+    const MaskVolume blob = test::randomBlob(30, 5, 3);
+    for (const MaskVolume* mask : {&figure, &blob})
+        for (bool threaded : {false, true}) {
+            SCOPED_TRACE(std::string(threaded ? "parallel" : "serial") + ", dirty " +
+                         (dirty.active() ? "yes" : "no"));
+            expectGraphMatchesReference(*mask, buildBoundaryGraph(*mask, {threaded}));
+        }
 }
 
 TEST(BoundaryGraph, SerialEqualsParallel) {

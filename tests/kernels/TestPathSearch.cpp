@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "tests/kernels/KernelTestSupport.h"
+#include "tests/support/DirtyAllocations.h"
 
 namespace skelseg {
 namespace {
@@ -252,6 +253,34 @@ TEST_F(PathSearchOnBlob, LandmarkDistancesAreDijkstra) {
     for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
         for (std::uint32_t k = 0; k < serial.count; ++k)
             ASSERT_EQ(parallel.distance(n, k), serial.distance(n, k));
+}
+
+TEST(PathSearch, LandmarkRowsAreWrittenEverywhereWhenMemoryComesDirty) {
+    // The rows are allocated unwritten: every distance and, past the
+    // landmark count, every unused slot (which the A* bound reads) must be
+    // written, whatever the allocator handed out (0xA5... here).
+    const test::DirtyAllocations dirty;
+    MaskVolume small(Dims{5, 5, 5}, 0);
+    test::fillBox(small, {1, 1, 1}, {3, 3, 3});  // 26 boundary voxels: fewer than a row
+    const MaskVolume blob = test::randomBlob(22, 4, 7);
+    for (const MaskVolume* mask : std::vector<const MaskVolume*>{&small, &blob})
+        for (bool threaded : {false, true}) {
+            SCOPED_TRACE(std::string(threaded ? "parallel" : "serial") + ", dirty " +
+                         (dirty.active() ? "yes" : "no"));
+            const BoundaryGraph graph = buildBoundaryGraph(*mask, {false});
+            const Landmarks landmarks = computeLandmarks(graph, threaded);
+            ASSERT_EQ(landmarks.count,
+                      std::min<std::uint32_t>(Landmarks::kStride, graph.nodeCount()));
+            GeodesicSearch search(graph);
+            for (std::uint32_t k = 0; k < landmarks.count; ++k) {
+                const std::vector<float> d = search.distancesFrom(landmarks.node[k]);
+                for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
+                    ASSERT_EQ(landmarks.distance(n, k), d[n]) << "node " << n << ", landmark " << k;
+            }
+            for (std::uint32_t n = 0; n < graph.nodeCount(); ++n)
+                for (std::uint32_t k = landmarks.count; k < Landmarks::kStride; ++k)
+                    ASSERT_EQ(landmarks.row(n)[k], 0.0f) << "node " << n << ", unused slot " << k;
+        }
 }
 
 TEST_F(PathSearchOnBlob, AStarWithLandmarksEqualsDijkstra) {
