@@ -32,6 +32,8 @@ import shutil
 import sys
 from pathlib import Path
 
+from psb_benchmark import read_labels
+
 REPO = Path(__file__).resolve().parent.parent
 
 # The benchmark's categories, twenty models each, in its numbering (models
@@ -72,22 +74,6 @@ def off_face_count(path):
         return int(tokens[2])
     except ValueError:
         raise ValueError(f"face count '{tokens[2].decode(errors='replace')}' is not a number")
-
-
-def label_count(path):
-    """Lines of a .seg file that hold an integer label; raises ValueError otherwise."""
-    count = 0
-    with open(path, "rb") as f:
-        for number, raw in enumerate(f, 1):
-            line = raw.strip()
-            if not line:
-                continue
-            try:
-                int(line)
-            except ValueError:
-                raise ValueError(f"line {number} is not an integer label")
-            count += 1
-    return count
 
 
 def shared_models(shared_data):
@@ -138,7 +124,7 @@ def lay_out(benchmark, out, shared_data, models=None, log=print):
         problem = None
         for human in humans:
             try:
-                labels = label_count(human)
+                labels = len(read_labels(human))
             except (OSError, ValueError) as error:
                 problem = f"{human}: {error}"
                 break
