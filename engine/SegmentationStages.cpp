@@ -13,6 +13,7 @@
 #include "kernels/RimCount.h"
 #include "kernels/SkeletonBand.h"
 #include "kernels/SurfaceLabelling.h"
+#include "kernels/VoxelGenus.h"
 #include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
@@ -29,6 +30,7 @@ SkeletonMeasureOptions ObjectState::measureOptions() const {
     options.landmarks = &landmarks;
     options.tau = out.tauArea;
     options.noiseArea = out.noiseArea;
+    options.surfaceHasGenusZero = out.genus == 0 && !parameters.handleFlagOnGenusZero;
     // One measure serves every level (engine/SegmentationLevels.h): sigma
     // down to the finest tau.
     if (!parameters.finerTaus.empty()) options.sigmaTau = finerLevels.front().tauArea;
@@ -61,6 +63,8 @@ void cropObject(ObjectState& state, const ConnectedObjects& objects) {
                 }
         },
         state.parameters.threaded);
+    // The measures need to know whether a loop can go round a handle here.
+    state.out.genus = voxelTopology(crop, {state.parameters.threaded}, state.interrupter).genus;
 }
 
 void computeObjectFeatureTransform(ObjectState& state) {

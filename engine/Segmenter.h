@@ -103,6 +103,9 @@ struct SegmentationParameters {
     double bridgeGap = 4.0;
     /// Branchings of C_tau are junctions too (SkeletonGraphOptions::forkJunctions).
     bool forkJunctions = true;
+    /// On an object of genus 0 too, rims that meet mark a handle point
+    /// (SkeletonMeasureOptions::surfaceHasGenusZero off).
+    bool handleFlagOnGenusZero = false;
     /// Regions grow to their branches' split (SkeletonGraphOptions::growRegionsToSplits).
     bool growRegionsToSplits = true;
     /// Touching junction regions are one junction only within this many part
@@ -208,6 +211,8 @@ struct ObjectSegmentation {
     std::uint64_t voxelCount = 0;
     std::uint64_t boundaryArea = 0;
     std::uint64_t boundaryComponents = 0;
+    /// Total genus of the object's boundary surfaces (kernels/VoxelGenus.h).
+    std::int64_t genus = 0;
     std::array<int, 3> bboxMin{}, bboxMax{};
     double tauArea = 0.0;
     double noiseArea = 0.0;

@@ -135,6 +135,8 @@ CoarseView coarseSearch(const MaskVolume& mask, const SkeletonMeasureOptions& op
     coarseOptions.noiseArea = std::max(1.0, std::min(options.noiseArea / 4.0, coarseOptions.tau));
     coarseOptions.exactRhoC = false;
     coarseOptions.evaluateSigma = false;  // the coarse view keeps only voxels and rho_C
+    // Halving can close a gap into a handle; the coarse view stays a superset.
+    coarseOptions.surfaceHasGenusZero = false;
     bandStats.coarseCandidates += candidates.size();
     bandStats.levels = std::max(bandStats.levels, std::uint32_t(level + 1));
     SkeletonMeasureStats coarseStats;

@@ -126,6 +126,7 @@ bool measure(Workspace& ws, const SkeletonCandidate& c, std::uint32_t candidateI
         const std::uint32_t comp = areas.componentOfPiece[piece];
         const std::uint64_t area = areas.area[comp];
         if (area < noise) continue;
+        if (componentCounts[comp] && options.surfaceHasGenusZero) continue;
         ++rims;
         if (area >= tauArea) ++robust;
         std::uint64_t carried = area;

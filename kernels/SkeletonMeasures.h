@@ -100,6 +100,13 @@ struct SkeletonMeasureOptions {
     /// false: sigma is not evaluated (every point's sigma is -1); for
     /// searches that use only rho_C, such as the band's coarser levels.
     bool evaluateSigma = true;
+    /// The surface measured has genus 0 (every boundary surface of the object
+    /// is a sphere; kernels/VoxelGenus.h): no loop on it can go round a
+    /// handle, so two counting rims whose pieces meet are two parts of one
+    /// side of Gamma(p), parted by a digital break of the rim, and count once.
+    /// A point left with fewer than two sides is not in C. false: rims that
+    /// meet mark a handle (isHandle, rho_C = infinity).
+    bool surfaceHasGenusZero = false;
     /// Landmarks for A* (PathSearch.h), or null for the Euclidean bound only.
     /// They change which of several equally short paths is found, so every
     /// search of one run (measures, cut loops, exact re-measures) must use

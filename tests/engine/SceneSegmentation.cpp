@@ -127,6 +127,28 @@ TEST(Scene, TorusWithLimbKeepsItsRingAndSplitsTheLimb) {
         ++sectors[std::size_t(std::min(7, int(angle / (M_PI / 4))))];
     }
     for (int s = 0; s < 8; ++s) EXPECT_GT(sectors[std::size_t(s)], 0) << "sector " << s;
+    EXPECT_EQ(run.result.objects[0].genus, 1);
+}
+
+TEST(Scene, NoisySlabHasNoHandlePointsAndIsOnePart) {
+    // Boundary noise breaks the rim of some path sets on a thin slab into two
+    // pieces that meet again just past their break. On a surface of genus 0
+    // such pieces are one side of Gamma(p), not a loop round a handle
+    // (docs/algorithm.md §5.4): no handle point, and the slab stays one part.
+    SegmentationParameters legacy;
+    legacy.handleFlagOnGenusZero = true;
+    std::uint64_t legacyHandlePoints = 0;
+    for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+        const SceneRun run = segmentShape("slab", 96, {}, 0, 0.05, seed);
+        ASSERT_EQ(run.result.objects.size(), 1u);
+        EXPECT_EQ(run.result.objects[0].genus, 0) << "seed " << seed;
+        EXPECT_EQ(run.result.objects[0].handlePoints, 0u) << "seed " << seed;
+        EXPECT_EQ(parts(run), 1u) << "seed " << seed;
+        legacyHandlePoints +=
+            segmentShape("slab", 96, legacy, 0, 0.05, seed).result.objects[0].handlePoints;
+    }
+    // The seeds do break rims: read as handles, they give handle points.
+    EXPECT_GT(legacyHandlePoints, 0u);
 }
 
 TEST(Scene, FigureHasSixParts) {

@@ -57,6 +57,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(defaults.at("stub_limbs"), true);
     EXPECT_EQ(defaults.at("fork_junctions"), true);
     EXPECT_EQ(defaults.at("grow_regions_to_splits"), true);
+    EXPECT_EQ(defaults.at("handles_on_genus_zero"), false);
     EXPECT_EQ(defaults.at("junction_merge_radii"), SegmentationParameters{}.junctionMergeRadii);
 
     const nlohmann::json set = reportedParameters(dir, "set",
@@ -86,7 +87,8 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
                                                    "--tight-levels-in-runs",
                                                    "--no-stub-limbs",
                                                    "--no-fork-junctions",
-                                                   "--no-grow-regions"});
+                                                   "--no-grow-regions",
+                                                   "--handles-on-genus-zero"});
     EXPECT_EQ(set.at("sibling_tolerance"), 0.125);
     EXPECT_EQ(set.at("limb_taper"), 0.5);
     EXPECT_EQ(set.at("corner_length"), 1.5);
@@ -106,6 +108,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     EXPECT_EQ(set.at("stub_limbs"), false);
     EXPECT_EQ(set.at("fork_junctions"), false);
     EXPECT_EQ(set.at("grow_regions_to_splits"), false);
+    EXPECT_EQ(set.at("handles_on_genus_zero"), true);
     EXPECT_EQ(set.at("junction_merge_radii"), 0.0);
 }
 

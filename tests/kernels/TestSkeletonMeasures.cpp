@@ -405,6 +405,41 @@ TEST(SkeletonMeasures, HandleFlagIsExactOnlyWithExactAreas) {
     EXPECT_GT(flaggedExact, 20);
 }
 
+TEST(SkeletonMeasures, OnAGenusZeroSurfaceRimsThatMeetCountOnce) {
+    // surfaceHasGenusZero: rims whose pieces meet are one side of Gamma(p).
+    // On the torus (where the caller would not set it) this turns every
+    // handle point into a point with one side, which is not in C, and
+    // leaves every other point as it was.
+    const Prepared& p = prepared("torus", 56);
+    const SkeletonMeasureOptions handles = p.options(0.03, true);
+    SkeletonMeasureOptions genusZero = handles;
+    genusZero.surfaceHasGenusZero = true;
+    const std::vector<SkeletonPoint> before = measureSkeleton(p.graph, p.candidates, handles);
+    const std::vector<SkeletonPoint> after = measureSkeleton(p.graph, p.candidates, genusZero);
+    std::map<std::uint32_t, const SkeletonPoint*> afterByCandidate;
+    for (const SkeletonPoint& s : after) {
+        EXPECT_FALSE(s.isHandle);
+        EXPECT_FALSE(std::isinf(s.rhoC));
+        afterByCandidate[s.candidate] = &s;
+    }
+    std::size_t handlePoints = 0;
+    for (const SkeletonPoint& s : before) {
+        const auto it = afterByCandidate.find(s.candidate);
+        if (s.isHandle) {
+            ++handlePoints;
+            // Two rims of one component: one side, so not a loop.
+            if (s.rims == 2) EXPECT_EQ(it, afterByCandidate.end());
+            continue;
+        }
+        ASSERT_NE(it, afterByCandidate.end());
+        EXPECT_EQ(it->second->rims, s.rims);
+        EXPECT_EQ(it->second->robustRims, s.robustRims);
+        EXPECT_EQ(it->second->rhoC, s.rhoC);
+    }
+    EXPECT_GT(handlePoints, 20u);
+    EXPECT_LT(after.size(), before.size());
+}
+
 class MeasurePointAgreement : public ::testing::TestWithParam<bool> {};
 
 TEST_P(MeasurePointAgreement, MeasurePointEqualsMeasureSkeletonWithExactRhoC) {

@@ -135,6 +135,7 @@ RULES = [
     ("no_separation_check", True, "separating_cuts_only"),
     ("no_fork_junctions", True, "fork_junctions"),
     ("no_grow_regions", True, "grow_regions_to_splits"),
+    ("handles_on_genus_zero", True, "handles_on_genus_zero"),
     ("joints", True, "joints"),
     ("joint_ratio", 0.7, ("joint_options", "narrowing_ratio")),
     ("bend_angle", 40.0, ("joint_options", "bend_angle_degrees")),

@@ -358,8 +358,9 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
             no_body_radius_window: bool = False, surface_loops: bool = False,
             tight_levels_in_runs: bool = False, no_stub_limbs: bool = False,
             no_separation_check: bool = False, no_fork_junctions: bool = False,
-            no_grow_regions: bool = False, joint_ratio: float = 0.82,
-            bend_angle: float = 360.0, joint_min_part: float = 0.25) -> SegmentationResult:
+            no_grow_regions: bool = False, handles_on_genus_zero: bool = False,
+            joint_ratio: float = 0.82, bend_angle: float = 360.0,
+            joint_min_part: float = 0.25) -> SegmentationResult:
     """Segments the object(s) of a 3-D mask into parts.
 
     Every option of `skelseg segment` that changes the result or the run is a
@@ -474,8 +475,8 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
                  no_body_radius_window: bool = False, surface_loops: bool = False,
                  tight_levels_in_runs: bool = False, no_stub_limbs: bool = False,
                  no_separation_check: bool = False, no_fork_junctions: bool = False,
-                 no_grow_regions: bool = False, joint_ratio: float = 0.82,
-                 bend_angle: float = 360.0,
+                 no_grow_regions: bool = False, handles_on_genus_zero: bool = False,
+                 joint_ratio: float = 0.82, bend_angle: float = 360.0,
                  joint_min_part: float = 0.25) -> MeshSegmentationResult:
     """Voxelises a closed triangle mesh, segments it and labels its faces.
 
