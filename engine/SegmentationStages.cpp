@@ -142,7 +142,9 @@ void buildObjectSkeletonGraph(ObjectState& state) {
     options.growRegionsToSplits = state.parameters.growRegionsToSplits;
     options.junctionMergeRadii = state.parameters.junctionMergeRadii;
     options.inside = &state.crop;
-    state.skeleton = buildSkeletonGraph(state.points, state.crop.dims(), options);
+    options.threaded = state.parameters.threaded;
+    state.skeleton =
+        buildSkeletonGraph(state.points, state.crop.dims(), options, state.interrupter);
     throwIfInterrupted(state.interrupter);
 }
 

@@ -1,13 +1,18 @@
 #include "kernels/SkeletonGraph.h"
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <memory>
 #include <unordered_map>
 
 #include "kernels/DisjointSets.h"
 #include "kernels/SkeletonBridges.h"
 #include "kernels/SkeletonForks.h"
 #include "kernels/SkeletonGraphSearch.h"
+#include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
 
@@ -149,7 +154,8 @@ void contractJunctions(SkeletonGraph& g, const std::vector<SkeletonPoint>& point
 }  // namespace
 
 SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const Dims& dims,
-                                 const SkeletonGraphOptions& options) {
+                                 const SkeletonGraphOptions& options, Interrupter& interrupter) {
+    InterrupterScope scope(interrupter, "skeleton graph");
     SkeletonGraph g;
     std::unordered_map<std::uint32_t, std::uint32_t> nodeOfVoxel;
     const std::uint32_t nx = std::uint32_t(dims.x), ny = std::uint32_t(dims.y);
@@ -188,11 +194,28 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
     std::vector<std::uint8_t> fork(g.nodeCount(), 0);
     std::vector<float> forkBodyRhoS(g.nodeCount(), 0.0f);
     if (options.forkJunctions && g.nodeCount()) {
-        ForkSearch search(g.nodeCount());
-        for (std::uint32_t n = 0; n < g.nodeCount(); ++n)
-            if (!isJunctionPoint(points[g.point[n]]))
-                fork[n] = search.countBranches(g, points, n, double(options.regionRadius),
-                                               forkBodyRhoS[n]) >= 3;
+        // One search per thread; a node's test reads the graph and writes its
+        // own two slots only. Small ranges: a test costs its ball, a few
+        // nodes on a limb and most of the sheet on a sheet of C_tau.
+        tbb::enumerable_thread_specific<std::unique_ptr<ForkSearch>> searches;
+        std::atomic<bool> stop{false};
+        parallelForSmallRanges(
+            g.nodeCount(),
+            [&](std::uint32_t begin, std::uint32_t end) {
+                if (stop.load(std::memory_order_relaxed)) return;
+                if (interrupter.wasInterrupted(double(begin) / double(g.nodeCount()))) {
+                    stop = true;
+                    return;
+                }
+                std::unique_ptr<ForkSearch>& search = searches.local();
+                if (!search) search = std::make_unique<ForkSearch>(g.nodeCount());
+                for (std::uint32_t n = begin; n < end; ++n)
+                    if (!isJunctionPoint(points[g.point[n]]))
+                        fork[n] = search->countBranches(g, points, n, double(options.regionRadius),
+                                                        forkBodyRhoS[n]) >= 3;
+            },
+            options.threaded, 16);
+        throwIfInterrupted(interrupter);
     }
 
     contractJunctions(g, points, options, fork, forkBodyRhoS);

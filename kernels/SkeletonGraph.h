@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "kernels/SkeletonMeasures.h"
+#include "kernels/base/Interrupter.h"
 #include "kernels/base/Volume.h"
 
 namespace skelseg {
@@ -99,9 +100,17 @@ struct SkeletonGraphOptions {
     /// does not (docs/algorithm.md §6, "Junctions apart by their radii").
     /// 0 or less: every touching pair is one junction.
     double junctionMergeRadii = 0.8;
+    /// false: the fork tests run on the calling thread (each node's test
+    /// writes only its own flag, so the graph is the same either way).
+    bool threaded = true;
 };
 
+/// The graph of C_tau (points with rho_C >= options.tau), its junctions,
+/// forks and bridges.
+/// @throw InterruptedError when `interrupter` asks to stop (polled between
+/// the fork tests, which on a sheet of C_tau cost the square of its size).
 SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const Dims& dims,
-                                 const SkeletonGraphOptions& options);
+                                 const SkeletonGraphOptions& options,
+                                 Interrupter& interrupter = nullInterrupter());
 
 }  // namespace skelseg

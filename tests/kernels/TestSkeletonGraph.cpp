@@ -463,6 +463,60 @@ TEST(SkeletonGraph, PointsBelowTauAreLeftOut) {
         EXPECT_GE(set.points()[g.point[n]].rhoC, 50.0);
 }
 
+/// Six chains from a centre with no J_tau point (a fork of six branches) and,
+/// apart from it, a square sheet of C_tau: a fork test per node, whose ball
+/// on the sheet holds most of the sheet.
+SkeletonPointSet starAndSheet() {
+    SkeletonPointSet set(Dims{90, 50, 3});
+    set.add({20, 20, 1}, 20.0f);
+    const std::array<std::array<int, 3>, 6> steps{
+        {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {1, 1, 0}, {-1, -1, 0}}};
+    for (const auto& step : steps)
+        set.chain({20 + step[0], 20 + step[1], 1}, step, 15, 6.0f + float(step[0] + 2 * step[1]));
+    for (int y = 5; y < 45; ++y)
+        for (int x = 50; x < 88; ++x) set.add({x, y, 1}, 30.0f + float((x * 7 + y * 3) % 11));
+    return set;
+}
+
+TEST(SkeletonGraph, SerialAndParallelForkTestsGiveTheSameGraph) {
+    const SkeletonPointSet set = starAndSheet();
+    const std::vector<SkeletonPoint> points = set.points();
+    SkeletonGraphOptions serial;
+    serial.threaded = false;
+    const SkeletonGraph a = buildSkeletonGraph(points, set.dims(), serial);
+    const SkeletonGraph b = buildSkeletonGraph(points, set.dims(), {});
+    ASSERT_FALSE(a.junctions.empty()) << "the star's centre must be a fork";
+    EXPECT_EQ(a.point, b.point);
+    EXPECT_EQ(a.edges, b.edges);
+    EXPECT_EQ(a.junctionOf, b.junctionOf);
+    EXPECT_EQ(a.pieceOf, b.pieceOf);
+    EXPECT_EQ(a.pieceCount, b.pieceCount);
+    ASSERT_EQ(a.junctions.size(), b.junctions.size());
+    for (std::size_t j = 0; j < a.junctions.size(); ++j) {
+        EXPECT_EQ(a.junctions[j].core, b.junctions[j].core);
+        EXPECT_EQ(a.junctions[j].region, b.junctions[j].region);
+        EXPECT_EQ(a.junctions[j].rhoS, b.junctions[j].rhoS);
+        EXPECT_EQ(a.junctions[j].representative, b.junctions[j].representative);
+    }
+}
+
+/// Asks to stop at its first poll.
+class StopAtOnce final : public Interrupter {
+public:
+    bool wasInterrupted(double) override { return true; }
+};
+
+TEST(SkeletonGraph, ForkTestsStopWhenAsked) {
+    const SkeletonPointSet set = starAndSheet();
+    const std::vector<SkeletonPoint> points = set.points();
+    for (bool threaded : {false, true}) {
+        SkeletonGraphOptions options;
+        options.threaded = threaded;
+        StopAtOnce stop;
+        EXPECT_THROW(buildSkeletonGraph(points, set.dims(), options, stop), InterruptedError);
+    }
+}
+
 TEST(SkeletonGraph, EmptyInput) {
     const SkeletonGraph g = buildSkeletonGraph({}, Dims{4, 4, 4}, {});
     EXPECT_EQ(g.nodeCount(), 0u);
