@@ -202,7 +202,8 @@ struct SkeletonMeasureWorkspaces::Impl {
     bool builtFor(const BoundaryGraph& g, const SkeletonMeasureOptions& o) const {
         return graph == &g && options.landmarks == o.landmarks && options.tau == o.tau &&
                options.noiseArea == o.noiseArea && options.sigmaTau == o.sigmaTau &&
-               options.exactRhoC == o.exactRhoC && options.evaluateSigma == o.evaluateSigma;
+               options.exactRhoC == o.exactRhoC && options.evaluateSigma == o.evaluateSigma &&
+               options.surfaceHasGenusZero == o.surfaceHasGenusZero;
     }
 };
 

@@ -440,6 +440,23 @@ TEST(SkeletonMeasures, OnAGenusZeroSurfaceRimsThatMeetCountOnce) {
     EXPECT_LT(after.size(), before.size());
 }
 
+TEST(SkeletonMeasures, KeptWorkspacesForgetAnswersOfTheOtherGenusReading) {
+    // The feature-set memo holds whole answers; one kept from the handle
+    // reading must not answer for the genus-0 reading.
+    const Prepared& p = prepared("torus", 56);
+    const SkeletonMeasureOptions handles = p.options(0.03, true);
+    SkeletonMeasureOptions genusZero = handles;
+    genusZero.surfaceHasGenusZero = true;
+    SkeletonMeasureWorkspaces kept;
+    const std::vector<SkeletonPoint> first = measureSkeleton(p.graph, p.candidates, handles, kept);
+    const std::vector<SkeletonPoint> again =
+        measureSkeleton(p.graph, p.candidates, genusZero, kept);
+    const std::vector<SkeletonPoint> fresh = measureSkeleton(p.graph, p.candidates, genusZero);
+    ASSERT_EQ(again.size(), fresh.size());
+    EXPECT_LT(fresh.size(), first.size());
+    for (std::size_t i = 0; i < fresh.size(); ++i) test::expectSamePoint(fresh[i], again[i]);
+}
+
 class MeasurePointAgreement : public ::testing::TestWithParam<bool> {};
 
 TEST_P(MeasurePointAgreement, MeasurePointEqualsMeasureSkeletonWithExactRhoC) {
