@@ -19,6 +19,7 @@
 #include "kernels/Geodesicness.h"
 #include "kernels/RimCount.h"
 #include "kernels/SkeletonBand.h"
+#include "kernels/SkeletonGraph.h"
 #include "kernels/VoxelGenus.h"
 
 namespace skelseg::bench {
@@ -318,6 +319,31 @@ void measureSkeletonBench(benchmark::State& state, const std::string& shape) {
     state.counters["skeletonPoints"] = perIteration(double(points));
 }
 
+/// The graph of C_tau from the measured skeleton (junctions, forks, bridges,
+/// joins through the object), as the engine builds it but serially. Its cost
+/// is the fork tests, which grow with the square of a sheet's size where C_tau
+/// thickens into one (docs/performance.md, "The fork tests in parallel and
+/// stoppable"); the counters tell a larger graph from a slower build.
+void skeletonGraphBench(benchmark::State& state, const std::string& shape) {
+    ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    const std::vector<SkeletonPoint>& points = in.skeletonPoints();
+    SkeletonGraphOptions options;
+    options.tau = in.tau;
+    options.inside = &in.mask;
+    options.threaded = false;
+    SkeletonGraph graph;
+    for (auto _ : state) {
+        graph = buildSkeletonGraph(points, in.mask.dims(), options);
+        benchmark::DoNotOptimize(graph.point.data());
+    }
+    state.counters["points"] = double(points.size());
+    state.counters["nodes"] = double(graph.nodeCount());
+    state.counters["junctions"] = double(graph.junctions.size());
+    state.counters["pieces"] = double(graph.pieceCount);
+    state.counters["bridges"] = double(graph.bridgeCount);
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(graph.nodeCount()));
+}
+
 [[maybe_unused]] const bool kRegistered = [] {
     registerForShapes("FeatureTransform", kLinearSizes, featureTransformBench);
     registerForShapes("BoundaryVoxels", kLinearSizes, boundaryVoxelsBench);
@@ -339,6 +365,7 @@ void measureSkeletonBench(benchmark::State& state, const std::string& shape) {
     registerForShapes("Geodesicness", kSizes, geodesicnessBench);
     registerForShapes("MeasureSkeleton", kSizes, measureSkeletonBench);
     registerForShapes("MeasureSkeletonInBand", kSizes, measureSkeletonInBandBench);
+    registerForShapes("SkeletonGraph", kSizes, skeletonGraphBench);
     return true;
 }();
 
