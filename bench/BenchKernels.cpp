@@ -344,6 +344,44 @@ void skeletonGraphBench(benchmark::State& state, const std::string& shape) {
     state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(graph.nodeCount()));
 }
 
+/// C_tau as a flat square sheet of `side` x `side` points one voxel thick,
+/// rho_S 30 to 40 voxels: what a wall's medial surface gives when its path
+/// sets close into loops (the cup PSB 34 at 160). Every node's fork test
+/// then searches a ball holding most of the sheet, so the stage grows with
+/// the square of the sheet's size; the synthetic shapes never show that.
+std::vector<SkeletonPoint> skeletonSheet(int side, Dims& dims) {
+    dims = Dims{side + 4, side + 4, 3};
+    std::vector<SkeletonPoint> points;
+    for (int y = 2; y < side + 2; ++y)
+        for (int x = 2; x < side + 2; ++x) {
+            SkeletonPoint p;
+            p.voxel = std::uint32_t(x + dims.x * (y + dims.y * 1));
+            p.candidate = std::uint32_t(points.size());
+            p.rhoS = 30.0f + float((x * 7 + y * 3) % 11);
+            p.rhoC = 1000.0;
+            p.rims = p.robustRims = 2;
+            p.sigma = 0.5f;
+            points.push_back(p);
+        }
+    return points;
+}
+
+void skeletonGraphSheetBench(benchmark::State& state) {
+    Dims dims;
+    const std::vector<SkeletonPoint> points = skeletonSheet(int(state.range(0)), dims);
+    SkeletonGraphOptions options;
+    options.tau = 1.0;
+    options.threaded = false;
+    SkeletonGraph graph;
+    for (auto _ : state) {
+        graph = buildSkeletonGraph(points, dims, options);
+        benchmark::DoNotOptimize(graph.point.data());
+    }
+    state.counters["nodes"] = double(graph.nodeCount());
+    state.counters["junctions"] = double(graph.junctions.size());
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(graph.nodeCount()));
+}
+
 [[maybe_unused]] const bool kRegistered = [] {
     registerForShapes("FeatureTransform", kLinearSizes, featureTransformBench);
     registerForShapes("BoundaryVoxels", kLinearSizes, boundaryVoxelsBench);
@@ -366,6 +404,10 @@ void skeletonGraphBench(benchmark::State& state, const std::string& shape) {
     registerForShapes("MeasureSkeleton", kSizes, measureSkeletonBench);
     registerForShapes("MeasureSkeletonInBand", kSizes, measureSkeletonInBandBench);
     registerForShapes("SkeletonGraph", kSizes, skeletonGraphBench);
+    benchmark::RegisterBenchmark("BM_SkeletonGraph/sheet", skeletonGraphSheetBench)
+        ->Arg(32)
+        ->Arg(64)
+        ->Unit(benchmark::kMillisecond);
     return true;
 }();
 
