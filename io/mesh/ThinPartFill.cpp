@@ -25,6 +25,8 @@ using vec3::Vec3;
 /// Side of the cubic cells the triangles are binned in (voxels). Rays are at
 /// most maxThickness long, so one ray looks at a few cells.
 constexpr double kCellSize = 2.0;
+/// Voxels added on every side of a ray's box before its cells are listed.
+constexpr double kCellPadding = 1e-6;
 
 /// Triangles by cell: the cells each triangle's bounding box overlaps, as a
 /// sorted list of occupied cells with their triangles (CSR).
@@ -139,6 +141,26 @@ private:
     std::vector<std::uint32_t> mFirst, mTriangles;
 };
 
+/// A triangle a ray may meet, with its plane put in the ray's terms: the
+/// ray origin + s * direction meets the plane at s = offset - dot(slope,
+/// origin). `planeTest` is false where the ray runs almost along the plane,
+/// where that quotient says little.
+struct ListedTriangle {
+    std::uint32_t triangle = 0;
+    bool planeTest = false;
+    Vec3 slope{0, 0, 0};
+    double offset = 0.0;
+};
+
+/// Rays whose direction makes a cosine below this with a triangle's plane
+/// normal are tested against the triangle itself, never rejected by plane.
+constexpr double kPlaneTestCosine = 1e-3;
+/// How far outside (0, reach] the plane distance must lie to reject a
+/// triangle without the exact test: far above the rounding of either
+/// distance, so the rejected triangles are exactly those the exact test
+/// would reject.
+constexpr double kPlaneTestSlack = 1e-6;
+
 /// Distance along the ray origin + t * direction to triangle (a, b, c), or a
 /// negative value when the ray misses it (Moller and Trumbore's test).
 double rayHit(const Vec3& origin, const Vec3& direction, const Vec3& a, const Vec3& b,
@@ -155,6 +177,19 @@ double rayHit(const Vec3& origin, const Vec3& direction, const Vec3& a, const Ve
     const double v = dot(direction, q) * inverse;
     if (v < 0.0 || u + v > 1.0) return -1.0;
     return dot(e2, q) * inverse;
+}
+
+ListedTriangle listTriangle(const CanonicalSurface& surface, const std::vector<Vec3>& planeNormal,
+                            std::uint32_t triangle, const Vec3& direction) {
+    ListedTriangle listed;
+    listed.triangle = triangle;
+    const Vec3& n = planeNormal[triangle];
+    const double cosine = dot(n, direction);
+    if (std::abs(cosine) < kPlaneTestCosine) return listed;
+    listed.planeTest = true;
+    listed.slope = {n[0] / cosine, n[1] / cosine, n[2] / cosine};
+    listed.offset = dot(n, surface.points[surface.triangles[triangle][0]]) / cosine;
+    return listed;
 }
 
 }  // namespace
@@ -182,6 +217,19 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                               orientation[t] * n[2] / length};
         },
         options.threaded, 4096);
+    // Unit plane normals whatever the orientation (zero without area), for
+    // the plane test of ListedTriangle.
+    std::vector<Vec3> planeNormal(surface.triangles.size(), Vec3{0, 0, 0});
+    parallelForEach(
+        surface.triangles.size(),
+        [&](std::size_t t) {
+            const auto& c = surface.triangles[t];
+            const Vec3 n = cross(sub(surface.points[c[1]], surface.points[c[0]]),
+                                 sub(surface.points[c[2]], surface.points[c[0]]));
+            const double length = std::sqrt(dot(n, n));
+            if (length > 0.0) planeNormal[t] = {n[0] / length, n[1] / length, n[2] / length};
+        },
+        options.threaded, 4096);
     const TriangleBins bins(surface, options.threaded);
     throwIfInterrupted(interrupter);
 
@@ -198,7 +246,8 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                 stopped = true;
                 return;
             }
-            std::vector<std::uint32_t> local, candidates;
+            std::vector<std::uint32_t> local;
+            std::vector<ListedTriangle> candidates;
             std::size_t localThin = 0;
             for (std::size_t t = begin; t < end; ++t) {
                 const Vec3& normal = outward[t];
@@ -210,11 +259,9 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                 const double longest =
                     std::sqrt(std::max({dot(sub(b, a), sub(b, a)), dot(sub(e, b), sub(e, b)),
                                         dot(sub(a, e), sub(a, e))}));
-                // The triangles a ray from this triangle can meet: those in the
-                // cells of the box swept by the triangle along the ray. Only a
-                // wall facing the other way can make the part thin, so most
-                // triangles (of thick parts) stop here.
-                candidates.clear();
+                // Only a wall facing the other way can make the part thin: a
+                // triangle with none in the cells of the box it sweeps along
+                // the ray (almost every triangle of a thick part) stops here.
                 {
                     std::array<std::int64_t, 3> low{}, high{};
                     for (std::size_t k = 0; k < 3; ++k) {
@@ -224,20 +271,21 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                         high[k] = TriangleBins::cellOf(std::max(hi, hi + reach * direction[k]));
                     }
                     bool opposingWall = false;
-                    for (std::int64_t z = low[2]; z <= high[2]; ++z)
-                        for (std::int64_t y = low[1]; y <= high[1]; ++y)
-                            for (std::int64_t x = low[0]; x <= high[0]; ++x)
+                    for (std::int64_t z = low[2]; z <= high[2] && !opposingWall; ++z)
+                        for (std::int64_t y = low[1]; y <= high[1] && !opposingWall; ++y)
+                            for (std::int64_t x = low[0]; x <= high[0] && !opposingWall; ++x)
                                 bins.forEachInCell(x, y, z, [&](std::uint32_t other) {
-                                    if (other == t) return;
-                                    candidates.push_back(other);
-                                    opposingWall |=
-                                        dot(normal, outward[other]) < options.opposingCosine;
+                                    opposingWall |= other != t && dot(normal, outward[other]) <
+                                                                      options.opposingCosine;
                                 });
                     if (!opposingWall) continue;
-                    std::sort(candidates.begin(), candidates.end());
-                    candidates.erase(std::unique(candidates.begin(), candidates.end()),
-                                     candidates.end());
                 }
+                // Each sample's ray, at most `reach` long, meets only
+                // triangles in the one to eight cells of its own box, where
+                // a large triangle's swept box holds many; neighbouring
+                // samples mostly share those cells, so their list is kept.
+                std::array<std::int64_t, 3> listedLow{-1, -1, -1}, listedHigh{-1, -1, -1};
+                candidates.clear();
                 const int m = std::max(1, int(std::ceil(longest / options.sampleSpacing)));
                 // Centroids of the m x m sub-triangles: (i + 1/3, j + 1/3) / m
                 // for the upright ones, (i + 2/3, j + 2/3) / m for the others.
@@ -250,14 +298,53 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                             const Vec3 origin{a[0] + u * (b[0] - a[0]) + v * (e[0] - a[0]),
                                               a[1] + u * (b[1] - a[1]) + v * (e[1] - a[1]),
                                               a[2] + u * (b[2] - a[2]) + v * (e[2] - a[2])};
+                            std::array<std::int64_t, 3> low{}, high{};
+                            for (std::size_t k = 0; k < 3; ++k) {
+                                // Padded: a hit on an edge may lie an ulp
+                                // outside the triangle's own cells.
+                                const double rayEnd = origin[k] + reach * direction[k];
+                                low[k] = TriangleBins::cellOf(std::min(origin[k], rayEnd) -
+                                                              kCellPadding);
+                                high[k] = TriangleBins::cellOf(std::max(origin[k], rayEnd) +
+                                                               kCellPadding);
+                            }
+                            if (options.testEveryTriangle) {
+                                // The exact test alone: no plane test.
+                                if (candidates.empty())
+                                    for (std::uint32_t other = 0; other < surface.triangles.size();
+                                         ++other)
+                                        if (other != t) candidates.push_back({other});
+                            } else if (low != listedLow || high != listedHigh) {
+                                candidates.clear();
+                                for (std::int64_t z = low[2]; z <= high[2]; ++z)
+                                    for (std::int64_t y = low[1]; y <= high[1]; ++y)
+                                        for (std::int64_t x = low[0]; x <= high[0]; ++x)
+                                            bins.forEachInCell(x, y, z, [&](std::uint32_t other) {
+                                                if (other != t)
+                                                    candidates.push_back(listTriangle(
+                                                        surface, planeNormal, other, direction));
+                                            });
+                                listedLow = low;
+                                listedHigh = high;
+                            }
+                            // A triangle in several cells is tested once per
+                            // cell; equal distances go to the lowest index,
+                            // so the order of the list does not matter.
                             double nearest = HUGE_VAL;
                             std::uint32_t hit = 0;
-                            for (std::uint32_t other : candidates) {
+                            for (const ListedTriangle& listed : candidates) {
+                                if (listed.planeTest) {
+                                    const double along = listed.offset - dot(listed.slope, origin);
+                                    if (along < -kPlaneTestSlack || along > reach + kPlaneTestSlack)
+                                        continue;
+                                }
+                                const std::uint32_t other = listed.triangle;
                                 const auto& o = surface.triangles[other];
                                 const double distance =
                                     rayHit(origin, direction, surface.points[o[0]],
                                            surface.points[o[1]], surface.points[o[2]]);
-                                if (distance > 0.0 && distance <= reach && distance < nearest) {
+                                if (distance > 0.0 && distance <= reach &&
+                                    (distance < nearest || (distance == nearest && other < hit))) {
                                     nearest = distance;
                                     hit = other;
                                 }

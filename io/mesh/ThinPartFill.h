@@ -50,6 +50,11 @@ struct ThinPartOptions {
     double coverRadius = 0.25;
     /// false: everything runs on the calling thread (same result).
     bool threaded = true;
+    /// true: every sample's ray is tested exactly against every triangle,
+    /// instead of against those binned in the cells it crosses that its
+    /// plane test keeps (same result, quadratic): the reference the tests
+    /// compare with.
+    bool testEveryTriangle = false;
 };
 
 struct ThinPartFill {

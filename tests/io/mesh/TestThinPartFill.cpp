@@ -7,6 +7,7 @@
 #include "io/mesh/MeshVoxelizer.h"
 #include "kernels/VoxelGenus.h"
 #include "tests/support/BoxMeshes.h"
+#include "tests/support/CurledTube.h"
 
 namespace skelseg {
 namespace {
@@ -98,6 +99,34 @@ TEST(ThinPartFill, SerialEqualsParallel) {
     EXPECT_EQ(serial.thinParts.voxelsAdded, threaded.thinParts.voxelsAdded);
     EXPECT_EQ(serial.thinParts.thinSamples, threaded.thinParts.thinSamples);
     EXPECT_EQ(serial.mask.values(), threaded.mask.values());
+}
+
+TEST(ThinPartFill, RaysMeetTheTrianglesOfTheirCellsAsTheyWouldMeetEveryTriangle) {
+    // A UV sphere flattened into a closed disc under a voxel thick at its
+    // centre and thinner towards its rim, turned obliquely: about 800
+    // triangles of one to seven voxels, so a ray often ends in another cell
+    // than it starts in and sees several triangles there. The reference
+    // tests every ray exactly against every triangle; a cell list that
+    // misses one, or a plane test that rejects a hit, changes the fill.
+    for (const std::size_t orientation : {3u, 4u, 5u}) {
+        const Rotation& r = kOrientations[orientation];
+        TriangleMesh mesh = test::sphereMesh({0, 0, 0}, 20.0, 18, 24);
+        for (auto& v : mesh.vertices) {
+            const std::array<double, 3> flat{v[0], v[1], v[2] * 0.3 / 20.0};
+            for (std::size_t i = 0; i < 3; ++i)
+                v[i] = r[i][0] * flat[0] + r[i][1] * flat[1] + r[i][2] * flat[2];
+        }
+        const MaskVolume unfilled = voxelizeMesh(mesh, options(false, 48));
+        MaskVolume byCells = unfilled, byEveryTriangle = unfilled;
+        ThinPartOptions reference;
+        reference.testEveryTriangle = true;
+        const ThinPartFill cells = fillThinParts(mesh, byCells, {});
+        const ThinPartFill every = fillThinParts(mesh, byEveryTriangle, reference);
+        EXPECT_GT(cells.voxelsAdded, 100u) << "rotation " << orientation;
+        EXPECT_EQ(cells.thinSamples, every.thinSamples) << "rotation " << orientation;
+        EXPECT_EQ(cells.voxelsAdded, every.voxelsAdded) << "rotation " << orientation;
+        EXPECT_TRUE(byCells.values() == byEveryTriangle.values()) << "rotation " << orientation;
+    }
 }
 
 TEST(ThinPartFill, SecondVoxelisationFromTheKeptConversionIsTheSame) {
