@@ -202,8 +202,10 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
     const std::vector<std::int8_t> orientation =
         triangleOrientation(surface.triangles, surface.points, surface.piece);
     throwIfInterrupted(interrupter);
-    // Unit outward normals (zero where the side is unknown or the triangle
-    // has no area).
+    // Unit plane normals (zero without area), for the plane test of
+    // ListedTriangle, and the outward normals (zero where the side is
+    // unknown too).
+    std::vector<Vec3> planeNormal(surface.triangles.size(), Vec3{0, 0, 0});
     std::vector<Vec3> outward(surface.triangles.size(), Vec3{0, 0, 0});
     parallelForEach(
         surface.triangles.size(),
@@ -212,22 +214,12 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
             const Vec3 n = cross(sub(surface.points[c[1]], surface.points[c[0]]),
                                  sub(surface.points[c[2]], surface.points[c[0]]));
             const double length = std::sqrt(dot(n, n));
-            if (orientation[t] != 0 && length > 0.0)
-                outward[t] = {orientation[t] * n[0] / length, orientation[t] * n[1] / length,
-                              orientation[t] * n[2] / length};
-        },
-        options.threaded, 4096);
-    // Unit plane normals whatever the orientation (zero without area), for
-    // the plane test of ListedTriangle.
-    std::vector<Vec3> planeNormal(surface.triangles.size(), Vec3{0, 0, 0});
-    parallelForEach(
-        surface.triangles.size(),
-        [&](std::size_t t) {
-            const auto& c = surface.triangles[t];
-            const Vec3 n = cross(sub(surface.points[c[1]], surface.points[c[0]]),
-                                 sub(surface.points[c[2]], surface.points[c[0]]));
-            const double length = std::sqrt(dot(n, n));
-            if (length > 0.0) planeNormal[t] = {n[0] / length, n[1] / length, n[2] / length};
+            if (length == 0.0) return;
+            planeNormal[t] = {n[0] / length, n[1] / length, n[2] / length};
+            if (orientation[t] != 0)
+                outward[t] = {orientation[t] * planeNormal[t][0],
+                              orientation[t] * planeNormal[t][1],
+                              orientation[t] * planeNormal[t][2]};
         },
         options.threaded, 4096);
     const TriangleBins bins(surface, options.threaded);
