@@ -278,6 +278,9 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                 // samples mostly share those cells, so their list is kept.
                 std::array<std::int64_t, 3> listedLow{-1, -1, -1}, listedHigh{-1, -1, -1};
                 candidates.clear();
+                // Whether the list holds a wall facing the other way: where
+                // it does not, no hit can make the sample thin.
+                bool listOpposes = true;
                 const int m = std::max(1, int(std::ceil(longest / options.sampleSpacing)));
                 // Centroids of the m x m sub-triangles: (i + 1/3, j + 1/3) / m
                 // for the upright ones, (i + 2/3, j + 2/3) / m for the others.
@@ -318,7 +321,12 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                                             });
                                 listedLow = low;
                                 listedHigh = high;
+                                listOpposes = false;
+                                for (const ListedTriangle& listed : candidates)
+                                    listOpposes |= dot(normal, outward[listed.triangle]) <
+                                                   options.opposingCosine;
                             }
+                            if (!listOpposes) continue;
                             // A triangle in several cells is tested once per
                             // cell; equal distances go to the lowest index,
                             // so the order of the list does not matter.
