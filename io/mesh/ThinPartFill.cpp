@@ -245,6 +245,11 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                 const Vec3& normal = outward[t];
                 if (normal[0] == 0 && normal[1] == 0 && normal[2] == 0) continue;
                 const Vec3 direction{-normal[0], -normal[1], -normal[2]};
+                // Whether `other` faces away from this triangle: only such a
+                // wall can make the part thin.
+                auto facesAway = [&](std::uint32_t other) {
+                    return dot(normal, outward[other]) < options.opposingCosine;
+                };
                 const auto& c = surface.triangles[t];
                 const Vec3 &a = surface.points[c[0]], &b = surface.points[c[1]],
                            &e = surface.points[c[2]];
@@ -267,8 +272,7 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                         for (std::int64_t y = low[1]; y <= high[1] && !opposingWall; ++y)
                             for (std::int64_t x = low[0]; x <= high[0] && !opposingWall; ++x)
                                 bins.forEachInCell(x, y, z, [&](std::uint32_t other) {
-                                    opposingWall |= other != t && dot(normal, outward[other]) <
-                                                                      options.opposingCosine;
+                                    opposingWall |= other != t && facesAway(other);
                                 });
                     if (!opposingWall) continue;
                 }
@@ -281,6 +285,39 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                 // Whether the list holds a wall facing the other way: where
                 // it does not, no hit can make the sample thin.
                 bool listOpposes = true;
+                // Brings the list up to the cells of the ray from `origin`.
+                auto listFor = [&](const Vec3& origin) {
+                    if (options.testEveryTriangle) {
+                        // The reference: the exact test alone, no plane test.
+                        if (candidates.empty())
+                            for (std::uint32_t other = 0; other < surface.triangles.size(); ++other)
+                                if (other != t) candidates.push_back({other});
+                        return;
+                    }
+                    std::array<std::int64_t, 3> low{}, high{};
+                    for (std::size_t k = 0; k < 3; ++k) {
+                        // Padded: a hit on an edge may lie an ulp outside
+                        // the triangle's own cells.
+                        const double rayEnd = origin[k] + reach * direction[k];
+                        low[k] = TriangleBins::cellOf(std::min(origin[k], rayEnd) - kCellPadding);
+                        high[k] = TriangleBins::cellOf(std::max(origin[k], rayEnd) + kCellPadding);
+                    }
+                    if (low == listedLow && high == listedHigh) return;
+                    candidates.clear();
+                    for (std::int64_t z = low[2]; z <= high[2]; ++z)
+                        for (std::int64_t y = low[1]; y <= high[1]; ++y)
+                            for (std::int64_t x = low[0]; x <= high[0]; ++x)
+                                bins.forEachInCell(x, y, z, [&](std::uint32_t other) {
+                                    if (other != t)
+                                        candidates.push_back(
+                                            listTriangle(surface, planeNormal, other, direction));
+                                });
+                    listedLow = low;
+                    listedHigh = high;
+                    listOpposes = false;
+                    for (const ListedTriangle& listed : candidates)
+                        listOpposes |= facesAway(listed.triangle);
+                };
                 const int m = std::max(1, int(std::ceil(longest / options.sampleSpacing)));
                 // Centroids of the m x m sub-triangles: (i + 1/3, j + 1/3) / m
                 // for the upright ones, (i + 2/3, j + 2/3) / m for the others.
@@ -293,39 +330,7 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                             const Vec3 origin{a[0] + u * (b[0] - a[0]) + v * (e[0] - a[0]),
                                               a[1] + u * (b[1] - a[1]) + v * (e[1] - a[1]),
                                               a[2] + u * (b[2] - a[2]) + v * (e[2] - a[2])};
-                            std::array<std::int64_t, 3> low{}, high{};
-                            for (std::size_t k = 0; k < 3; ++k) {
-                                // Padded: a hit on an edge may lie an ulp
-                                // outside the triangle's own cells.
-                                const double rayEnd = origin[k] + reach * direction[k];
-                                low[k] = TriangleBins::cellOf(std::min(origin[k], rayEnd) -
-                                                              kCellPadding);
-                                high[k] = TriangleBins::cellOf(std::max(origin[k], rayEnd) +
-                                                               kCellPadding);
-                            }
-                            if (options.testEveryTriangle) {
-                                // The exact test alone: no plane test.
-                                if (candidates.empty())
-                                    for (std::uint32_t other = 0; other < surface.triangles.size();
-                                         ++other)
-                                        if (other != t) candidates.push_back({other});
-                            } else if (low != listedLow || high != listedHigh) {
-                                candidates.clear();
-                                for (std::int64_t z = low[2]; z <= high[2]; ++z)
-                                    for (std::int64_t y = low[1]; y <= high[1]; ++y)
-                                        for (std::int64_t x = low[0]; x <= high[0]; ++x)
-                                            bins.forEachInCell(x, y, z, [&](std::uint32_t other) {
-                                                if (other != t)
-                                                    candidates.push_back(listTriangle(
-                                                        surface, planeNormal, other, direction));
-                                            });
-                                listedLow = low;
-                                listedHigh = high;
-                                listOpposes = false;
-                                for (const ListedTriangle& listed : candidates)
-                                    listOpposes |= dot(normal, outward[listed.triangle]) <
-                                                   options.opposingCosine;
-                            }
+                            listFor(origin);
                             if (!listOpposes) continue;
                             // A triangle in several cells is tested once per
                             // cell; equal distances go to the lowest index,
@@ -349,9 +354,7 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
                                     hit = other;
                                 }
                             }
-                            if (!(nearest <= reach) ||
-                                dot(normal, outward[hit]) >= options.opposingCosine)
-                                continue;
+                            if (!(nearest <= reach) || !facesAway(hit)) continue;
                             ++localThin;
                             const Vec3 middle{origin[0] + 0.5 * nearest * direction[0],
                                               origin[1] + 0.5 * nearest * direction[1],
