@@ -287,21 +287,6 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// The first pass's times (FirstPassTimes) from its stage timer.
-FirstPassTimes firstPassTimes(const StageTimer& timer, bool mesh, double seconds) {
-    FirstPassTimes times;
-    times.seconds = seconds;
-    for (const StageTiming& t : timer.timings()) {
-        if (t.name.rfind("read ", 0) == 0) {  // before the probe: not in `seconds`
-            times.readSeconds += t.wallSeconds;
-            continue;
-        }
-        const double exponent = stageGrowthExponent(t.name, mesh);
-        if (exponent >= 0.0) times.stages.emplace_back(t.wallSeconds, exponent);
-    }
-    return times;
-}
-
 /// --time-budget's finer pass (engine/TimeBudget.h BudgetRefinement): after
 /// a first pass whose outputs are staged, plans a finer choice for the time
 /// left and runs it into a fresh staging, stopped at the budget less a
@@ -315,7 +300,7 @@ void refineWithinBudget(const RunContext& run, const SegmentedShape& first,
     const double elapsed = secondsSince(run.inputOptions.start);  // the budget's clock
     const double firstPass = elapsed - (budget - choice.secondsLeft);
     const FirstPassTimes times =
-        firstPassTimes(run.timer, first.input->source->isMesh(), firstPass);
+        firstPassTimes(run.timer.timings(), first.input->source->isMesh(), firstPass);
     BudgetRefinement plan =
         planBudgetRefinement(choice, options.resolution, times, budget - elapsed);
     if (!plan.tried) {
@@ -323,16 +308,19 @@ void refineWithinBudget(const RunContext& run, const SegmentedShape& first,
         return;
     }
     const double reserve = kRefinementReserve * budget + kRefinementReserveSeconds;
-    plan.deadlineSeconds = budget - reserve;
+    // The deadline on the progress clock, which started `offset` after the
+    // budget's; --time-limit (on the progress clock) when it comes first.
+    const double offset = budget - run.budgetAsTimeLimit;
+    const double userLimit = run.progress.timeLimit();
+    double deadline = run.budgetAsTimeLimit - reserve;
+    if (userLimit > 0) deadline = std::min(deadline, userLimit);
+    run.progress.setTimeLimit(deadline);
+    plan.deadlineSeconds = deadline + offset;
     plan.kept = true;  // what the finer pass's own report says if it finishes
     RunContext finer = run;
     finer.inputOptions.budgetChoice = plan.choice;
     finer.budgetDeadlineSeconds = plan.deadlineSeconds;
     finer.refinement = &plan;
-    // The deadline on the progress clock, which started after the budget's.
-    const double deadline = run.budgetAsTimeLimit - reserve;
-    const double userLimit = run.progress.timeLimit();
-    run.progress.setTimeLimit(userLimit > 0 ? std::min(userLimit, deadline) : deadline);
     run.out.setAside();
     try {
         arena.arena().execute([&] { runGraph(finer); });

@@ -123,6 +123,20 @@ double stageGrowthExponent(const std::string& stage, bool mesh) {
     return 3.0;
 }
 
+FirstPassTimes firstPassTimes(const std::vector<StageTiming>& stages, bool mesh, double seconds) {
+    FirstPassTimes times;
+    times.seconds = seconds;
+    for (const StageTiming& t : stages) {
+        if (t.name.rfind("read ", 0) == 0) {
+            times.readSeconds += t.wallSeconds;
+            continue;
+        }
+        const double exponent = stageGrowthExponent(t.name, mesh);
+        if (exponent >= 0.0) times.stages.emplace_back(t.wallSeconds, exponent);
+    }
+    return times;
+}
+
 double predictFinerPass(const FirstPassTimes& first, double factor) {
     double staged = 0.0, predicted = first.readSeconds;
     for (const auto& [seconds, exponent] : first.stages) {

@@ -35,6 +35,7 @@
 
 #include "engine/BudgetCalibration.h"
 #include "engine/Segmenter.h"
+#include "engine/StageTimer.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "kernels/base/Interrupter.h"
@@ -155,6 +156,11 @@ constexpr double kRefinementReserve = 0.03;
 constexpr double kRefinementReserveSeconds = 0.05;
 /// Meshes: a second pass only for a resolution at least this many times the first's.
 constexpr double kRefinementMinimumGain = 1.25;
+
+/// The first pass's times from its stage timer: `seconds` from the end of
+/// its probe to its last output, the stages that read the input apart
+/// (they ran before the probe), the others with their growth exponents.
+FirstPassTimes firstPassTimes(const std::vector<StageTiming>& stages, bool mesh, double seconds);
 
 /// Predicted wall seconds of a second pass on a grid `factor` times finer
 /// (per axis) than the first's: see BudgetRefinement.

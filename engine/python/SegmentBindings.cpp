@@ -55,13 +55,8 @@ struct CallRecord {
         };
         const BudgetChoice& choice = *first->input->budget;
         const bool mesh = first->input->source->isMesh();
-        FirstPassTimes times;
-        times.seconds = elapsed() - (budget - choice.secondsLeft);
-        for (const StageTiming& t : timer.timings()) {
-            const double exponent = stageGrowthExponent(t.name, mesh);
-            if (t.name.rfind("read ", 0) == 0 || exponent < 0.0) continue;
-            times.stages.emplace_back(t.wallSeconds, exponent);
-        }
+        const FirstPassTimes times =
+            firstPassTimes(timer.timings(), mesh, elapsed() - (budget - choice.secondsLeft));
         refinement = planBudgetRefinement(choice, options.resolution, times, budget - elapsed());
         if (!refinement->tried) return first;
         // The input again: a mesh is whole in the first pass's source; a
@@ -69,12 +64,13 @@ struct CallRecord {
         auto again = std::make_shared<SegmentSource>(*first->input->source);
         if (!mesh) again->volumeMask = first->input->fineMask;
         const double reserve = kRefinementReserve * budget + kRefinementReserveSeconds;
-        refinement->deadlineSeconds = budget - reserve;
+        // Both clocks start with the call; time_limit when it comes first.
+        const double userLimit = interrupter.timeLimit();
+        refinement->deadlineSeconds =
+            userLimit > 0 ? std::min(userLimit, budget - reserve) : budget - reserve;
+        interrupter.setTimeLimit(refinement->deadlineSeconds);
         SegmentInputOptions finer = inputOptions;
         finer.budgetChoice = refinement->choice;
-        const double userLimit = interrupter.timeLimit();
-        interrupter.setTimeLimit(userLimit > 0 ? std::min(userLimit, budget - reserve)
-                                               : budget - reserve);
         try {
             std::shared_ptr<SegmentedShape> second = onePass(std::move(again), finer);
             refinement->kept = true;

@@ -190,6 +190,24 @@ TEST(BudgetRefinement, AVolumeGoesToTheSmallestCoarseningThatFits) {
     EXPECT_FALSE(planBudgetRefinement(first, 0, times, 4.0).tried);
 }
 
+TEST(BudgetRefinement, TheFirstPassesStagesKeepReadingApartAndLeaveOutTheProbe) {
+    const auto stage = [](const char* name, double seconds) {
+        StageTiming t;
+        t.name = name;
+        t.wallSeconds = seconds;
+        return t;
+    };
+    const FirstPassTimes times = firstPassTimes(
+        {stage("read mesh", 0.1), stage("time budget probe", 0.3), stage("voxelise", 0.4),
+         stage("face labels", 0.05), stage("segment surfaces and preview", 0.2),
+         stage("write segments.glb, viewer.html", 0.1)},
+        true, 0.9);
+    EXPECT_EQ(times.seconds, 0.9);
+    EXPECT_EQ(times.readSeconds, 0.1);
+    const std::vector<std::pair<double, double>> expected = {{0.4, 2.0}, {0.05, 0.0}, {0.2, 0.0}};
+    EXPECT_EQ(times.stages, expected);
+}
+
 TEST(BudgetRefinement, StagesGrowAsMeasured) {
     EXPECT_EQ(stageGrowthExponent("face labels", true), 0.0);
     EXPECT_EQ(stageGrowthExponent("segment surfaces and preview", true), 0.0);
