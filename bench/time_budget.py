@@ -57,6 +57,10 @@ def main():
                            skipped=tb.get("skipped", []),
                            predicted_cpu=tb.get("predicted_cpu_seconds", tb["predicted_seconds"]),
                            calibration=tb.get("calibration"))
+                refinement = tb.get("refinement") or {}
+                row.update(finer_tried=bool(refinement.get("tried")),
+                           finer_kept=bool(refinement.get("kept")),
+                           first_resolution=(refinement.get("first_resolution")))
             rows.append(row)
             print(f"{inp.name} budget {budget:g}: exit {proc.returncode}, {wall:.2f} s, "
                   f"resolution {row.get('resolution')}, predicted {row.get('predicted', 0):.2f}",
@@ -65,8 +69,8 @@ def main():
     print(f"1-minute load average: {load_start:.1f} at the start, {os.getloadavg()[0]:.1f} at the end\n")
     print("| budget s | runs | within budget (wall) | within budget (CPU s) | stopped (exit 3) | "
           "resolution chosen (median, range) | wall s (median, worst) | CPU s (median, worst) | predicted s (median) | "
-          "preview skipped | budget used (median, worst) |")
-    print("| ---: | ---: | ---: | ---: | ---: | --- | --- | --- | ---: | ---: | --- |")
+          "preview skipped | budget used (median, worst) | finer pass kept / tried |")
+    print("| ---: | ---: | ---: | ---: | ---: | --- | --- | --- | ---: | ---: | --- | ---: |")
     for budget in map(float, args.budgets.split(",")):
         rs = [r for r in rows if r["budget"] == budget]
         ok = [r for r in rs if r["exit"] == 0 and r["wall"] <= budget]
@@ -85,7 +89,9 @@ def main():
               f"{statistics.median(cpus):.2f}, {max(cpus):.2f} | "
               f"{statistics.median(pred) if pred else 0:.2f} | "
               f"{sum(1 for r in rs if r.get('skipped'))} | "
-              f"{100.0 * statistics.median(used):.0f}%, {100.0 * max(used):.0f}% |")
+              f"{100.0 * statistics.median(used):.0f}%, {100.0 * max(used):.0f}% | "
+              f"{sum(1 for r in rs if r.get('finer_kept'))} / "
+              f"{sum(1 for r in rs if r.get('finer_tried'))} |")
     return 0
 
 

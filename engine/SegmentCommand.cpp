@@ -105,6 +105,11 @@ struct RunContext {
     /// Under --time-budget, the budget as a limit on the progress clock
     /// (seconds since this run's start); 0 without a budget.
     double budgetAsTimeLimit;
+    /// Under --time-budget, when the writers must be done, in seconds of the
+    /// budget's clock: 0 for the budget itself; a finer pass's deadline.
+    double budgetDeadlineSeconds = 0.0;
+    /// A finer pass: its plan, for its report.json (null in a first pass).
+    const BudgetRefinement* refinement = nullptr;
 
     void warn(const std::string& warning) const {
         progress.message("skelseg: warning: " + warning);
@@ -148,9 +153,10 @@ bool previewFitsBudget(const RunContext& run, const SegmentedShape& shape) {
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - run.inputOptions.start)
             .count();
-    const bool fits =
-        budget->writePreview &&
-        elapsed + budget->previewSeconds * (1.0 + budget->safetyMargin) <= budget->budgetSeconds;
+    const double deadline =
+        run.budgetDeadlineSeconds > 0.0 ? run.budgetDeadlineSeconds : budget->budgetSeconds;
+    const bool fits = budget->writePreview &&
+                      elapsed + budget->previewSeconds * (1.0 + budget->safetyMargin) <= deadline;
     if (!fits) {
         run.previewSkippedForBudget.store(true);
         run.warn(previewSkippedWarning(budget->budgetSeconds));
@@ -158,9 +164,11 @@ bool previewFitsBudget(const RunContext& run, const SegmentedShape& shape) {
     return fits;
 }
 
-void writeReport(const RunContext& run, const SegmentedShape& shape) {
+void writeReport(const RunContext& run, const SegmentedShape& shape,
+                 const BudgetRefinement* refinement) {
     // Last: the report holds the timings of every stage above.
     SegmentRunFigures figures;
+    if (refinement) figures.budgetRefinement = *refinement;
     figures.threads = run.threads;
     figures.memoryLimit = run.inputOptions.memoryLimit;
     figures.wallSeconds =
@@ -172,8 +180,9 @@ void writeReport(const RunContext& run, const SegmentedShape& shape) {
 }
 
 /// Builds the graph of SegmentCommand.h and runs it to the end; exceptions
-/// of the nodes come out of here.
-void runGraph(const RunContext& run) {
+/// of the nodes come out of here. Returns the shape the writers wrote.
+ShapeMessage runGraph(const RunContext& run) {
+    ShapeMessage written;
     namespace flow = tbb::flow;
     flow::graph graph;
     flow::function_node<flow::continue_msg, SourceMessage> read(
@@ -193,8 +202,10 @@ void runGraph(const RunContext& run) {
             return shape;
         });
     flow::function_node<SegmentingMessage, ShapeMessage> complete(
-        graph, flow::serial,
-        [&](SegmentingMessage shape) { return completeShape(run, std::move(shape)); });
+        graph, flow::serial, [&](SegmentingMessage shape) {
+            written = completeShape(run, std::move(shape));
+            return written;
+        });
 
     // The writers pass the shape on, so the join below hears when each is
     // done. A writer that fails passes nothing and keeps its error for after
@@ -241,12 +252,12 @@ void runGraph(const RunContext& run) {
         [&](const SegmentedShape& shape) { writeLevels(run.out, shape, run.timer, run.progress); });
     using Written =
         std::tuple<ShapeMessage, ShapeMessage, ShapeMessage, ShapeMessage, ShapeMessage>;
-    flow::join_node<Written, flow::queueing> written(graph);
+    flow::join_node<Written, flow::queueing> allWritten(graph);
     flow::function_node<Written, flow::continue_msg> report(
         graph, flow::serial, [&](const Written& all) {
             const bool everyWriterDone = std::apply(
                 [](const auto&... shapes) { return (static_cast<bool>(shapes) && ...); }, all);
-            if (everyWriterDone) writeReport(run, *std::get<0>(all));
+            if (everyWriterDone) writeReport(run, *std::get<0>(all), run.refinement);
             return flow::continue_msg();
         });
 
@@ -259,15 +270,69 @@ void runGraph(const RunContext& run) {
     flow::make_edge(complete, writeSkeleton);
     flow::make_edge(complete, writeSurfaces);
     flow::make_edge(complete, writeLevelFiles);
-    flow::make_edge(writeNrrd, flow::input_port<0>(written));
-    flow::make_edge(writeVdb, flow::input_port<1>(written));
-    flow::make_edge(writeSkeleton, flow::input_port<2>(written));
-    flow::make_edge(writeSurfaces, flow::input_port<3>(written));
-    flow::make_edge(writeLevelFiles, flow::input_port<4>(written));
-    flow::make_edge(written, report);
+    flow::make_edge(writeNrrd, flow::input_port<0>(allWritten));
+    flow::make_edge(writeVdb, flow::input_port<1>(allWritten));
+    flow::make_edge(writeSkeleton, flow::input_port<2>(allWritten));
+    flow::make_edge(writeSurfaces, flow::input_port<3>(allWritten));
+    flow::make_edge(writeLevelFiles, flow::input_port<4>(allWritten));
+    flow::make_edge(allWritten, report);
     read.try_put(flow::continue_msg());
     graph.wait_for_all();
     if (writerError) std::rethrow_exception(writerError);
+    return written;
+}
+
+/// Seconds since `start`.
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// --time-budget's finer pass (engine/TimeBudget.h BudgetRefinement): after
+/// a first pass whose outputs are staged, plans a finer choice for the time
+/// left and runs it into a fresh staging, stopped at the budget less a
+/// reserve; the first pass's outputs come back if it is stopped. Either way
+/// report.json ends up saying what was done.
+void refineWithinBudget(const RunContext& run, const SegmentedShape& first,
+                        const ArenaPool::Lease& arena) {
+    const BudgetChoice& choice = *first.input->budget;
+    const SegmentCommandOptions& options = run.options;
+    const double budget = options.timeBudgetSeconds;
+    const double elapsed = secondsSince(run.inputOptions.start);  // the budget's clock
+    const double firstPass = elapsed - (budget - choice.secondsLeft);
+    const FirstPassTimes times =
+        firstPassTimes(run.timer.timings(), first.input->source->isMesh(), firstPass);
+    BudgetRefinement plan =
+        planBudgetRefinement(choice, options.resolution, times, budget - elapsed);
+    if (!plan.tried) {
+        writeReport(run, first, &plan);
+        return;
+    }
+    const double reserve = kRefinementReserve * budget + kRefinementReserveSeconds;
+    // The deadline on the progress clock, which started `offset` after the
+    // budget's; --time-limit (on the progress clock) when it comes first.
+    const double offset = budget - run.budgetAsTimeLimit;
+    const double userLimit = run.progress.timeLimit();
+    double deadline = run.budgetAsTimeLimit - reserve;
+    if (userLimit > 0) deadline = std::min(deadline, userLimit);
+    run.progress.setTimeLimit(deadline);
+    plan.deadlineSeconds = deadline + offset;
+    plan.kept = true;  // what the finer pass's own report says if it finishes
+    RunContext finer = run;
+    finer.inputOptions.budgetChoice = plan.choice;
+    finer.budgetDeadlineSeconds = plan.deadlineSeconds;
+    finer.refinement = &plan;
+    run.out.setAside();
+    try {
+        arena.arena().execute([&] { runGraph(finer); });
+        throwIfInterrupted(run.progress);
+    } catch (const InterruptedError& error) {
+        if (error.reason() != InterruptedError::Reason::TimeLimit) throw;
+        run.out.restoreSetAside();
+        plan.kept = false;
+        writeReport(run, first, &plan);
+        return;
+    }
+    run.out.dropSetAside();
 }
 
 /// Why a run stopped at its time limit, in words: the budget when it was
@@ -332,8 +397,11 @@ void runSegmentCommand(const SegmentCommandOptions& options, ProgressReporter& p
     // run starts inside a busy task (kernels/base/ArenaPool.h).
     const ArenaPool::Lease arena = ArenaPool::process().acquire(threads);
     try {
-        arena.arena().execute([&] { runGraph(run); });
+        ShapeMessage first;
+        arena.arena().execute([&] { first = runGraph(run); });
         throwIfInterrupted(progress);
+        if (first && first->input->budget && options.budgetPasses > 1)
+            refineWithinBudget(run, *first, arena);
     } catch (const InterruptedError& error) {
         if (error.reason() != InterruptedError::Reason::TimeLimit) throw;
         throw InterruptedError(error.reason(),

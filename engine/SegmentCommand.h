@@ -40,6 +40,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -74,7 +75,15 @@ struct SegmentCommandOptions {
     /// segment` waits for: set by the CLI for its first run. Otherwise it
     /// counts from the call, as a library caller (Python, a test) expects.
     bool budgetFromProcessStart = false;
-    bool calibrateTimeBudget = true;   // --budget-calibration probe (engine/BudgetCalibration.h)
+    bool calibrateTimeBudget = true;  // --budget-calibration probe (engine/BudgetCalibration.h)
+    /// --budget-passes: 2 lets a budget run that ends early try a finer
+    /// choice in the time left (engine/TimeBudget.h BudgetRefinement); 1
+    /// keeps the first choice.
+    int budgetPasses = 2;
+    /// With --time-budget: a first choice already made, taken instead of the
+    /// probe's (a caller that planned once for many similar inputs; tests).
+    /// budgetSeconds and secondsLeft are the caller's.
+    std::optional<BudgetChoice> budgetChoice;
     bool force = false;                // replace earlier results in OUTDIR
     std::uint64_t maxMemoryBytes = 0;  // 0: default share of physical memory
     bool writePreview = true;

@@ -212,9 +212,13 @@ BudgetChoice planMeshBudget(const SegmentSource& source, const SegmentInputOptio
 void planVolumeBudget(SegmentMask& result, const SegmentInputOptions& options, StageTimer& timer,
                       Interrupter& interrupter) {
     Stage stage(timer, interrupter, "time budget probe", true);
-    result.budget =
-        planVolumeRun(result.mask, secondsLeft(options), CostModel::fitted(), interrupter);
-    result.budget->budgetSeconds = options.timeBudgetSeconds;
+    if (options.budgetChoice) {
+        result.budget = options.budgetChoice;
+    } else {
+        result.budget =
+            planVolumeRun(result.mask, secondsLeft(options), CostModel::fitted(), interrupter);
+        result.budget->budgetSeconds = options.timeBudgetSeconds;
+    }
     if (result.budget->coarsening > 1) {
         result.fineMask = std::move(result.mask);
         result.mask = coarsenMask(result.fineMask, result.budget->coarsening);
@@ -232,7 +236,11 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
     Interrupter& stop = options.timeBudgetSeconds > 0 ? budgetStop : interrupter;
     if (source->isMesh()) {
         SegmentInputOptions chosen = options;
-        if (options.timeBudgetSeconds > 0) {
+        if (options.budgetChoice) {
+            result.budget = options.budgetChoice;
+            chosen.resolution = result.budget->resolution;
+            budgetStop.release();
+        } else if (options.timeBudgetSeconds > 0) {
             result.budget = planMeshBudget(*source, options, timer, stop);
             chosen.resolution = result.budget->resolution;
             if (result.budget->fits) budgetStop.release();
@@ -285,7 +293,7 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         }
     } else {
         result.mask = std::move(source->volumeMask);
-        if (options.timeBudgetSeconds > 0) {
+        if (options.budgetChoice || options.timeBudgetSeconds > 0) {
             planVolumeBudget(result, options, timer, stop);
             if (result.budget->fits) budgetStop.release();
         }

@@ -87,6 +87,9 @@ struct SegmentInputOptions {
     std::uint64_t memoryLimit = 0;
     double timeBudgetSeconds = 0;     // 0: none; counted from `start`
     bool calibrateTimeBudget = true;  // meshes: engine/BudgetCalibration.h
+    /// Set: take this choice instead of probing and planning one (the finer
+    /// pass of a budget run, engine/TimeBudget.h BudgetRefinement).
+    std::optional<BudgetChoice> budgetChoice;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 };
 

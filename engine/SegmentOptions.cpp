@@ -290,6 +290,14 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
                      "predicted CPU seconds into this machine's wall seconds now) or cpu (CPU "
                      "seconds compared with the budget, the cautious choice before)")
         ->check(CLI::IsMember({"probe", "cpu"}));
+    command
+        ->add_option("--budget-passes", seg.budgetPasses,
+                     "--time-budget: 2 (default) tries a finer resolution or coarsening in the "
+                     "time a first pass leaves, keeping the first pass's output if the finer "
+                     "pass cannot finish by the budget; 1 keeps the first choice")
+        ->capture_default_str()
+        ->transform(integerText())
+        ->check(CLI::IsMember({1, 2}));
     command->add_option("--max-memory", cli.maxMemoryText,
                         "Refuse runs estimated to need more (e.g. 4G; default 75% of RAM)");
     command->add_flag("--force", seg.force,

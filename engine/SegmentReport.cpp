@@ -106,6 +106,29 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
             {"skipped",
              figures.previewSkippedForBudget ? json::array({"preview.png"}) : json::array()},
             {"chosen", describeBudgetChoice(*budget)}};
+    if (figures.budgetRefinement) {
+        const BudgetRefinement& refinement = *figures.budgetRefinement;
+        json block = {{"tried", refinement.tried},
+                      {"first_resolution",
+                       source.isMesh() ? json(refinement.firstResolution) : json(nullptr)},
+                      {"first_coarsening", refinement.firstCoarsening},
+                      {"first_pass_seconds", refinement.firstPassSeconds}};
+        if (refinement.tried) {
+            const BudgetChoice& finer = refinement.choice;
+            block["resolution"] = source.isMesh() ? json(finer.resolution) : json(nullptr);
+            block["coarsening"] = finer.coarsening;
+            block["predicted_seconds"] = finer.predictedSeconds;
+            block["margin"] = finer.safetyMargin;
+            block["deadline_seconds"] = refinement.deadlineSeconds;
+            block["kept"] = refinement.kept;
+            block["outcome"] = refinement.kept
+                                   ? "finished by its deadline; its output is given"
+                                   : "stopped at its deadline; the first pass's output is given";
+        } else {
+            block["outcome"] = "not tried: " + refinement.reason;
+        }
+        report["time_budget"]["refinement"] = block;
+    }
     return report;
 }
 

@@ -10,12 +10,14 @@
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "engine/SegmentCommand.h"
 #include "engine/SegmentOutput.h"
 #include "engine/StageTimer.h"
+#include "engine/TimeBudget.h"
 
 namespace skelseg {
 
@@ -26,6 +28,8 @@ struct SegmentRunFigures {
     double wallSeconds = 0.0;              // from the start of the command
     double cpuSeconds = 0.0;               // process CPU time since the start of the command
     bool previewSkippedForBudget = false;  // --time-budget left no time for preview.png
+    /// --time-budget: the finer pass, planned or not (time_budget.refinement).
+    std::optional<BudgetRefinement> budgetRefinement;
 };
 
 /// The warning of a run whose preview.png --time-budget skipped (stderr and

@@ -17,6 +17,7 @@ SegmentInputOptions segmentInputOptions(const SegmentCommandOptions& options, in
     inputOptions.levels = int(options.parameters.levelCount());
     inputOptions.timeBudgetSeconds = options.timeBudgetSeconds;
     inputOptions.calibrateTimeBudget = options.calibrateTimeBudget;
+    if (options.timeBudgetSeconds > 0) inputOptions.budgetChoice = options.budgetChoice;
     inputOptions.start = start;
     inputOptions.memoryLimit =
         options.maxMemoryBytes ? options.maxMemoryBytes : defaultMemoryLimit();

@@ -110,6 +110,100 @@ BudgetChoice chooseVolumeCoarsening(const CostModel& model, const WorkCounts& pr
     return choice;
 }
 
+double stageGrowthExponent(const std::string& stage, bool mesh) {
+    if (stage == "time budget probe" || stage == "write segments.glb, viewer.html") return -1.0;
+    if (stage.rfind("read ", 0) == 0 || stage == "check mesh" || stage == "face labels" ||
+        stage == "write skeleton.ply, cuts.ply" ||
+        (mesh && stage == "segment surfaces and preview"))
+        return 0.0;
+    if (stage.rfind("voxelise", 0) == 0) return 2.0;
+    if (stage == "landmarks" || stage == "path sets, rims, areas, sigma" ||
+        stage == "skeleton graph" || stage == "cut placement")
+        return 2.5;
+    return 3.0;
+}
+
+FirstPassTimes firstPassTimes(const std::vector<StageTiming>& stages, bool mesh, double seconds) {
+    FirstPassTimes times;
+    times.seconds = seconds;
+    for (const StageTiming& t : stages) {
+        if (t.name.rfind("read ", 0) == 0) {
+            times.readSeconds += t.wallSeconds;
+            continue;
+        }
+        const double exponent = stageGrowthExponent(t.name, mesh);
+        if (exponent >= 0.0) times.stages.emplace_back(t.wallSeconds, exponent);
+    }
+    return times;
+}
+
+double predictFinerPass(const FirstPassTimes& first, double factor) {
+    double staged = 0.0, predicted = first.readSeconds;
+    for (const auto& [seconds, exponent] : first.stages) {
+        staged += seconds;
+        predicted += seconds * std::pow(factor, exponent);
+    }
+    // Time outside the stages (starting threads, the flow graph, waiting on
+    // the writers) is kept as it was; overlapping writers make `staged`
+    // exceed the pass, which only makes the prediction more cautious.
+    return predicted + std::max(0.0, first.seconds - staged);
+}
+
+BudgetRefinement planBudgetRefinement(const BudgetChoice& first, int maximumResolution,
+                                      const FirstPassTimes& times, double secondsLeft) {
+    BudgetRefinement plan;
+    plan.firstPassSeconds = times.seconds;
+    plan.firstResolution = first.resolution;
+    plan.firstCoarsening = first.coarsening;
+    const bool mesh = first.resolution > 0;
+    if (!first.fits) {
+        plan.reason = "the first choice did not fit";
+        return plan;
+    }
+    if (!first.coarsened) {
+        plan.reason = "the first choice was not coarsened";
+        return plan;
+    }
+    const double usable =
+        secondsLeft - (kRefinementReserve * first.budgetSeconds + kRefinementReserveSeconds);
+    double predicted = 0.0;
+    const auto fits = [&](double factor) {
+        predicted = predictFinerPass(times, factor);
+        return predicted * (1.0 + kRefinementMargin) <= usable;
+    };
+    BudgetChoice finer = first;
+    bool found = false;
+    if (mesh) {
+        const int least = int(std::ceil(kRefinementMinimumGain * first.resolution));
+        for (int r = maximumResolution; r >= least && !found; r = int(std::floor(r * 0.9))) {
+            if (fits(double(r) / double(first.resolution))) {
+                finer.resolution = r;
+                finer.coarsened = r < maximumResolution;
+                found = true;
+            }
+        }
+    } else {
+        for (int factor = 1; factor < first.coarsening && !found; factor *= 2) {
+            if (fits(double(first.coarsening) / double(factor))) {
+                finer.coarsening = factor;
+                finer.coarsened = factor > 1;
+                found = true;
+            }
+        }
+    }
+    if (!found) {
+        plan.reason = "nothing finer fits in the time left";
+        return plan;
+    }
+    finer.predictedSeconds = predicted;
+    finer.predictedCpuSeconds = 0.0;  // not the cost model's: from the first pass
+    finer.safetyMargin = kRefinementMargin;
+    finer.fits = true;
+    plan.tried = true;
+    plan.choice = finer;
+    return plan;
+}
+
 MaskVolume coarsenMask(const MaskVolume& mask, int factor, bool threaded) {
     const Dims d = mask.dims();
     const Dims cd{(d.x + factor - 1) / factor, (d.y + factor - 1) / factor,
@@ -184,6 +278,7 @@ BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxeli
     choice.secondsLeft = seconds - spent;
     choice.calibration = calibration;
     choice.probeWork = probe;
+    choice.probeResolution = probeOptions.resolution;
     choice.predictedCpuSeconds = choice.predictedSeconds / calibration.wallPerCpuSecond;
     choice.previewSeconds = preview.previewSeconds;
     choice.writePreview = preview.writePreview;
@@ -208,6 +303,7 @@ BudgetChoice planVolumeRun(const MaskVolume& mask, double seconds, const CostMod
     choice.probeSeconds = spent;
     choice.secondsLeft = seconds - spent;
     choice.probeWork = probe;
+    choice.probeCoarsening = probeCoarsening;
     choice.predictedCpuSeconds = choice.predictedSeconds;
     choice.previewSeconds = preview.previewSeconds;
     choice.writePreview = preview.writePreview;

@@ -23,14 +23,19 @@
 // `fits` false. A run whose
 // choice fits finishes even if it overruns the prediction (a late answer is
 // worth more than none; report.json gives predicted and actual seconds).
+// A first choice that leaves time over is followed by a finer pass
+// (BudgetRefinement below), which the caller stops at the budget and falls
+// back from.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/BudgetCalibration.h"
 #include "engine/Segmenter.h"
+#include "engine/StageTimer.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "kernels/base/Interrupter.h"
@@ -95,8 +100,81 @@ struct BudgetChoice {
     bool writePreview = true;          // false: preview.png skipped to fit the budget
     double secondsLeft = 0.0;          // of the budget when the probe ended
     WorkCounts probeWork;              // the probe's counters
+    int probeResolution = 0;           // meshes: the resolution the probe voxelised at
+    int probeCoarsening = 0;           // volumes: how many times coarser the probe's grid was
     BudgetCalibration calibration;     // meshes: from the probe; volumes: not enabled
 };
+
+/// The finer pass of a budget run. The first choice is cautious (its margin
+/// covers the shapes the cost model under-predicts most, and the model's
+/// growth with the resolution is steeper than most runs'), so on most inputs
+/// the first pass ends with most of the budget left. The first pass's own
+/// stage times then predict a finer choice of the same input, each stage
+/// grown by its own power of the resolution (stageGrowthExponent) and the
+/// time outside the stages kept as it was. The finest
+/// choice whose prediction, with kRefinementMargin, fits in what is left
+/// runs as a second pass, stopped at the budget less the reserve; if it is
+/// stopped, the first pass's outputs are given. report.json:
+/// `time_budget.refinement`.
+struct BudgetRefinement {
+    bool tried = false;
+    std::string reason;             // why not tried ("" when tried)
+    BudgetChoice choice;            // the finer choice (when tried)
+    int firstResolution = 0;        // meshes: the first choice's
+    int firstCoarsening = 1;        // volumes: the first choice's
+    double firstPassSeconds = 0.0;  // measured: the first pass after its probe
+    double deadlineSeconds = 0.0;   // the second pass stops here (budget clock)
+    bool kept = false;              // the second pass finished by its deadline
+};
+
+/// What the first pass of a budget run took.
+struct FirstPassTimes {
+    double seconds = 0.0;      // wall, from the end of the probe to the last output
+    double readSeconds = 0.0;  // reading the input (before the probe), which a second pass repeats
+    /// Each stage of the pass: wall seconds and stageGrowthExponent().
+    std::vector<std::pair<double, double>> stages;
+};
+
+/// How a stage's time grows with the resolution r, as r^exponent, rounded
+/// up from the cost growth measured from 64 to 400 (docs/performance.md,
+/// "Cost growth"): 0 for work per mesh face (checking the mesh, the face
+/// labels, a mesh's surfaces and preview, the small PLY files), 2 for
+/// voxelising (per face and per voxel of the surface band; measured 0.4 to
+/// 0.8), 2.5 for the stages on the surface and the skeleton (landmarks, path
+/// sets, the skeleton graph, cut placement; measured 2.1 to 2.3), and 3 for
+/// every stage over the grid (the feature transform, measured 3.0) and any
+/// stage not named here. Stages a second pass does not run (the probe) or
+/// that run inside another (the viewer's writer) give a negative exponent:
+/// left out.
+double stageGrowthExponent(const std::string& stage, bool mesh);
+
+/// A second pass's prediction times 1 + this must fit.
+constexpr double kRefinementMargin = 0.15;
+/// Kept from the budget for stopping a second pass and putting the first
+/// pass's outputs back: this share of the budget, plus kRefinementReserveSeconds.
+constexpr double kRefinementReserve = 0.03;
+constexpr double kRefinementReserveSeconds = 0.05;
+/// Meshes: a second pass only for a resolution at least this many times the first's.
+constexpr double kRefinementMinimumGain = 1.25;
+
+/// The first pass's times from its stage timer: `seconds` from the end of
+/// its probe to its last output, the stages that read the input apart
+/// (they ran before the probe), the others with their growth exponents.
+FirstPassTimes firstPassTimes(const std::vector<StageTiming>& stages, bool mesh, double seconds);
+
+/// Predicted wall seconds of a second pass on a grid `factor` times finer
+/// (per axis) than the first's: see BudgetRefinement.
+double predictFinerPass(const FirstPassTimes& first, double factor);
+
+/// Plans the second pass after a first pass under `first` that took `times`,
+/// with `secondsLeft` of the budget left; `maximumResolution` is the mesh's
+/// --resolution. The finer choice is the largest resolution (meshes, from
+/// the maximum down in steps of about 10%, at least kRefinementMinimumGain
+/// times the first) or the smallest coarsening (volumes) whose prediction
+/// fits; none when the first choice was not coarsened, did not fit, or
+/// nothing finer fits (refinement.reason says which).
+BudgetRefinement planBudgetRefinement(const BudgetChoice& first, int maximumResolution,
+                                      const FirstPassTimes& times, double secondsLeft);
 
 /// Whether preview.png fits: its predicted cost, with the safety margin, is
 /// at most a quarter of `secondsLeft`. Sets choice.previewSeconds and

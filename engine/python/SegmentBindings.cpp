@@ -43,9 +43,52 @@ struct CallRecord {
     /// The mask, its segmentation and the face labels, as the CLI's graph
     /// makes them. The time budget counts from the start of the call.
     std::shared_ptr<SegmentedShape> segment(std::shared_ptr<SegmentSource> source) {
+        std::shared_ptr<SegmentedShape> first = onePass(std::move(source), inputOptions);
+        if (!first->input->budget || options.budgetPasses < 2) return first;
+        // The CLI's finer pass (engine/TimeBudget.h BudgetRefinement), with
+        // the result in memory instead of staged files.
+        const double budget = options.timeBudgetSeconds;
+        const auto elapsed = [&] {
+            return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                 inputOptions.start)
+                .count();
+        };
+        const BudgetChoice& choice = *first->input->budget;
+        const bool mesh = first->input->source->isMesh();
+        const FirstPassTimes times =
+            firstPassTimes(timer.timings(), mesh, elapsed() - (budget - choice.secondsLeft));
+        refinement = planBudgetRefinement(choice, options.resolution, times, budget - elapsed());
+        if (!refinement->tried) return first;
+        // The input again: a mesh is whole in the first pass's source; a
+        // volume's mask went into the first pass, which kept it as its fine mask.
+        auto again = std::make_shared<SegmentSource>(*first->input->source);
+        if (!mesh) again->volumeMask = first->input->fineMask;
+        const double reserve = kRefinementReserve * budget + kRefinementReserveSeconds;
+        // Both clocks start with the call; time_limit when it comes first.
+        const double userLimit = interrupter.timeLimit();
+        refinement->deadlineSeconds =
+            userLimit > 0 ? std::min(userLimit, budget - reserve) : budget - reserve;
+        interrupter.setTimeLimit(refinement->deadlineSeconds);
+        SegmentInputOptions finer = inputOptions;
+        finer.budgetChoice = refinement->choice;
+        try {
+            std::shared_ptr<SegmentedShape> second = onePass(std::move(again), finer);
+            refinement->kept = true;
+            return second;
+        } catch (const InterruptedError& error) {
+            if (error.reason() != InterruptedError::Reason::TimeLimit) throw;
+            refinement->kept = false;
+            interrupter.setTimeLimit(0.0);  // the call returns the first pass's result
+            return first;
+        }
+    }
+
+    /// One pass from the input to the result, as the CLI's graph makes it.
+    std::shared_ptr<SegmentedShape> onePass(std::shared_ptr<SegmentSource> source,
+                                            const SegmentInputOptions& passOptions) {
         const auto quiet = [](const std::string&) {};  // warnings come back in the result
         auto mask = std::make_shared<SegmentMask>(
-            maskSegmentSource(std::move(source), inputOptions, timer, interrupter, quiet));
+            maskSegmentSource(std::move(source), passOptions, timer, interrupter, quiet));
         interrupter.setTimeLimit(
             limitTimeToBudget(*mask, interrupter.timeLimit(), options.timeBudgetSeconds));
         auto shape =
@@ -64,6 +107,7 @@ struct CallRecord {
         figures.wallSeconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
         figures.cpuSeconds = processCpuSeconds() - cpuStart;
+        figures.budgetRefinement = refinement;
         nlohmann::json report = segmentReport(options, shape, timer.timings(), figures);
         report["input"].erase("file");
         for (const auto& [key, value] : input.items()) report["input"][key] = value;
@@ -133,6 +177,7 @@ struct CallRecord {
     SegmentInputOptions inputOptions;
     CallerPolledInterrupter interrupter;
     StageTimer timer;
+    std::optional<BudgetRefinement> refinement;  // time_budget's finer pass
 };
 
 std::string dtypeName(const py::dtype& dtype) {

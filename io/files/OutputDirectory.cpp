@@ -279,6 +279,64 @@ void OutputDirectory::commit() {
     fs::remove_all(mStaging, ec);
 }
 
+namespace {
+/// Where setAside() keeps the first attempt's files, inside the staging
+/// directory: no output name starts with a dot, so none can clash.
+constexpr char kSetAsideName[] = ".set-aside";
+}  // namespace
+
+void OutputDirectory::setAside() {
+    const std::lock_guard<std::mutex> lock(mStagedMutex);
+    const fs::path kept = mStaging / kSetAsideName;
+    std::error_code ec;
+    fs::remove_all(kept, ec);
+    fs::create_directory(kept, ec);
+    if (ec)
+        throw OutputError(kept.string() +
+                          ": cannot create directory: " + describeErrno(ec.value()));
+    for (const auto& name : mStaged) {
+        if (!fs::exists(fs::symlink_status(mStaging / name, ec))) continue;
+        fs::rename(mStaging / name, kept / name, ec);
+        if (ec)
+            throw OutputError((mStaging / name).string() +
+                              ": cannot set aside: " + describeErrno(ec.value()));
+    }
+    mSetAsideStaged = std::move(mStaged);
+    mStaged.clear();
+    mSetAsideObsolete = mObsolete;
+    mHasSetAside = true;
+}
+
+void OutputDirectory::restoreSetAside() {
+    const std::lock_guard<std::mutex> lock(mStagedMutex);
+    if (!mHasSetAside) return;
+    const fs::path kept = mStaging / kSetAsideName;
+    std::error_code ec;
+    for (const auto& name : mStaged) fs::remove_all(mStaging / name, ec);
+    for (const auto& name : mSetAsideStaged) {
+        if (!fs::exists(fs::symlink_status(kept / name, ec))) continue;
+        fs::rename(kept / name, mStaging / name, ec);
+        if (ec)
+            throw OutputError((mStaging / name).string() +
+                              ": cannot put back: " + describeErrno(ec.value()));
+    }
+    mStaged = std::move(mSetAsideStaged);
+    mObsolete = std::move(mSetAsideObsolete);
+    mSetAsideStaged.clear();
+    mSetAsideObsolete.clear();
+    mHasSetAside = false;
+    fs::remove_all(kept, ec);
+}
+
+void OutputDirectory::dropSetAside() noexcept {
+    const std::lock_guard<std::mutex> lock(mStagedMutex);
+    std::error_code ec;
+    fs::remove_all(mStaging / kSetAsideName, ec);
+    mSetAsideStaged.clear();
+    mSetAsideObsolete.clear();
+    mHasSetAside = false;
+}
+
 void OutputDirectory::discard() noexcept {
     std::error_code ec;
     if (!mStaging.empty()) fs::remove_all(mStaging, ec);

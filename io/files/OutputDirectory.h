@@ -67,6 +67,20 @@ public:
     /// UsageError, changing nothing, when an output it would replace or
     /// remove now holds what no run writes (put there while this run ran).
     void commit();
+    /// Keeps everything staged so far apart, inside the staging directory,
+    /// and starts an empty staging: a second attempt at the outputs (the
+    /// finer pass of --time-budget, engine/SegmentCommand.cpp) stages into
+    /// it, and restoreSetAside() brings the first back if the attempt is
+    /// given up. What removeOnCommit() marked stays marked. Throws
+    /// OutputError when the files cannot be moved (nothing is lost: what
+    /// was moved stays in the staging directory until discard()).
+    void setAside();
+    /// Drops what was staged since setAside() and puts back what it kept,
+    /// with the marks of removeOnCommit() as they were then. Throws
+    /// OutputError when a file cannot be moved back.
+    void restoreSetAside();
+    /// Drops what setAside() kept: the second attempt's outputs stand.
+    void dropSetAside() noexcept;
     /// Drops everything staged (also done by the destructor if not committed),
     /// and removes OUTDIR again if this object created it and it is empty.
     void discard() noexcept;
@@ -85,6 +99,9 @@ private:
     std::mutex mStagedMutex;  // guards mStaged
     std::vector<std::string> mStaged;
     std::vector<std::string> mObsolete;  // removed by commit(); guarded by mStagedMutex
+    // What setAside() kept (guarded by mStagedMutex); mHasSetAside while kept.
+    std::vector<std::string> mSetAsideStaged, mSetAsideObsolete;
+    bool mHasSetAside = false;
     std::vector<std::filesystem::path>
         mCreated;  // directories the constructor created, deepest first
     bool mCommitted = false;

@@ -249,3 +249,102 @@ TEST(SegmentCommand, APreviewSkippedForTheBudgetIsAmongTheReportsWarnings) {
     for (const auto& warning : report["warnings"]) listed = listed || warning == expected;
     EXPECT_TRUE(listed) << report["warnings"].dump();
 }
+
+namespace {
+
+/// A first choice made by the caller: the volume `coarsening` times
+/// coarser, with the whole budget left after a probe of no time.
+BudgetChoice coarsenedVolumeChoice(int coarsening, double budget) {
+    BudgetChoice first;
+    first.budgetSeconds = budget;
+    first.secondsLeft = budget;
+    first.coarsening = coarsening;
+    first.coarsened = true;
+    first.fits = true;
+    first.probeCoarsening = 1;
+    return first;
+}
+
+}  // namespace
+
+TEST(SegmentCommand, AFinerPassThatFinishesGivesTheFinerChoicesOutput) {
+    // A budget of ten minutes after a first pass on a 2x coarser volume:
+    // the finer pass takes the volume's own grid, and gives what a run
+    // without a budget gives.
+    const test::TempDir dir;
+    const fs::path input = writeShape(dir);
+    segment(optionsFor(input, dir / "plain", 1));
+    SegmentCommandOptions options = optionsFor(input, dir / "budget", 1);
+    options.timeBudgetSeconds = 600.0;
+    options.budgetChoice = coarsenedVolumeChoice(2, 600.0);
+    segment(options);
+    EXPECT_EQ(fileBytes(dir / "budget" / "labels.nrrd"), fileBytes(dir / "plain" / "labels.nrrd"));
+    EXPECT_EQ(fileBytes(dir / "budget" / "skeleton.ply"),
+              fileBytes(dir / "plain" / "skeleton.ply"));
+    const auto report = nlohmann::json::parse(fileBytes(dir / "budget" / "report.json"));
+    const auto& budget = report["time_budget"];
+    EXPECT_EQ(budget["coarsening"], 1);
+    EXPECT_EQ(budget["coarsened"], false);
+    const auto& refinement = budget["refinement"];
+    EXPECT_EQ(refinement["tried"], true);
+    EXPECT_EQ(refinement["kept"], true);
+    EXPECT_EQ(refinement["first_coarsening"], 2);
+    EXPECT_EQ(refinement["coarsening"], 1);
+    EXPECT_GT(refinement["first_pass_seconds"].get<double>(), 0.0);
+    // Both passes are in the stage times.
+    for (const auto& stage : report["stages"])
+        if (stage["name"] == "feature transform") EXPECT_EQ(stage["calls"], 2);
+    // Without the second pass the coarser choice stands.
+    options.outdir = dir / "one-pass";
+    options.budgetPasses = 1;
+    segment(options);
+    const auto onePass = nlohmann::json::parse(fileBytes(dir / "one-pass" / "report.json"));
+    EXPECT_EQ(onePass["time_budget"]["coarsening"], 2);
+    EXPECT_FALSE(onePass["time_budget"].contains("refinement"));
+}
+
+TEST(SegmentCommand, AFinerPassStoppedAtItsDeadlineGivesTheFirstPassesOutput) {
+    // The caller's time limit is the finer pass's deadline when it comes
+    // before the budget's. Set between what the first pass (the figure 4x
+    // coarser) and a whole run take, it stops the finer pass only.
+    const test::TempDir dir;
+    const fs::path input = dir / "figure.nrrd";
+    writeNrrdMask(input, rasterise(makeShape("figure"), {256, 2}));
+    using Clock = std::chrono::steady_clock;
+    const auto timed = [](const SegmentCommandOptions& options) {
+        const auto start = Clock::now();
+        segment(options);
+        return std::chrono::duration<double>(Clock::now() - start).count();
+    };
+    SegmentCommandOptions first = optionsFor(input, dir / "first", 1);
+    first.timeBudgetSeconds = 600.0;
+    first.budgetChoice = coarsenedVolumeChoice(4, 600.0);
+    first.budgetPasses = 1;
+    const double firstSeconds = timed(first);
+    const double wholeSeconds = timed(optionsFor(input, dir / "whole", 1));
+    // The first pass has 0.4 of a whole run to spare; the finer pass, a
+    // whole run after it, cannot end by then.
+    const double limit = firstSeconds + 0.4 * wholeSeconds;
+    SegmentCommandOptions options = first;
+    options.outdir = dir / "stopped";
+    options.budgetPasses = 2;
+    options.timeLimitSeconds = limit;
+    ProgressReporter progress(ProgressReporter::Display::Quiet, limit);
+    try {
+        runSegmentCommand(options, progress);
+    } catch (const InterruptedError&) {
+        GTEST_SKIP() << "the first pass itself overran " << limit << " s on this machine";
+    }
+    EXPECT_EQ(fileBytes(dir / "stopped" / "labels.nrrd"), fileBytes(dir / "first" / "labels.nrrd"));
+    const auto report = nlohmann::json::parse(fileBytes(dir / "stopped" / "report.json"));
+    const auto& budget = report["time_budget"];
+    EXPECT_EQ(budget["coarsening"], 4);
+    const auto& refinement = budget["refinement"];
+    EXPECT_EQ(refinement["tried"], true);
+    EXPECT_EQ(refinement["kept"], false);
+    EXPECT_NE(refinement["coarsening"].get<int>(), 4);
+    EXPECT_EQ(refinement["outcome"], "stopped at its deadline; the first pass's output is given");
+    // Nothing of the finer pass is left beside the outputs.
+    for (const auto& entry : fs::directory_iterator(dir / "stopped"))
+        EXPECT_NE(entry.path().filename().string().rfind(".skelseg", 0), 0u) << entry.path();
+}

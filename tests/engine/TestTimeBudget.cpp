@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "engine/Segmenter.h"
@@ -90,6 +91,132 @@ TEST(TimeBudget, ThePreviewIsSkippedWhenItTakesMoreThanAQuarterOfWhatIsLeft) {
     EXPECT_TRUE(margin.writePreview);
     EXPECT_FALSE(planPreview(model, 1e5, 4.0, margin) < 4.0);
     EXPECT_FALSE(margin.writePreview);
+}
+
+/// A first mesh choice that fits and was coarsened to `resolution`.
+BudgetChoice coarsenedMeshChoice(int resolution, double budget) {
+    BudgetChoice first;
+    first.budgetSeconds = budget;
+    first.resolution = resolution;
+    first.coarsened = true;
+    first.fits = true;
+    first.probeResolution = 64;
+    return first;
+}
+
+/// A first pass of 1 s: 0.2 s per face, 0.5 s over the grid, 0.2 s on the
+/// surface, 0.1 s outside the stages; 0.05 s reading.
+FirstPassTimes firstPassOfOneSecond() {
+    FirstPassTimes times;
+    times.seconds = 1.0;
+    times.readSeconds = 0.05;
+    times.stages = {{0.2, 0.0}, {0.5, 3.0}, {0.2, 2.5}};
+    return times;
+}
+
+TEST(BudgetRefinement, AFinerPassGrowsEachStageByItsOwnPower) {
+    const FirstPassTimes times = firstPassOfOneSecond();
+    EXPECT_NEAR(predictFinerPass(times, 1.0), 1.05, 1e-12);  // read again, the rest as it was
+    EXPECT_NEAR(predictFinerPass(times, 2.0),
+                0.05 + 0.2 + 0.5 * 8.0 + 0.2 * std::pow(2.0, 2.5) + 0.1, 1e-12);
+    // Overlapping stages (concurrent writers) add up to more than the pass:
+    // nothing is counted outside them.
+    FirstPassTimes overlapping = times;
+    overlapping.seconds = 0.5;
+    EXPECT_NEAR(predictFinerPass(overlapping, 1.0), 0.95, 1e-12);
+}
+
+TEST(BudgetRefinement, ChoosesTheLargestResolutionWhosePredictionFits) {
+    const FirstPassTimes times = firstPassOfOneSecond();
+    const BudgetChoice first = coarsenedMeshChoice(100, 10.0);
+    const double left = 8.0;
+    const BudgetRefinement plan = planBudgetRefinement(first, 400, times, left);
+    ASSERT_TRUE(plan.tried) << plan.reason;
+    const double usable = left - (kRefinementReserve * 10.0 + kRefinementReserveSeconds);
+    const int r = plan.choice.resolution;
+    EXPECT_GE(r, int(std::ceil(kRefinementMinimumGain * 100)));
+    EXPECT_LE(plan.choice.predictedSeconds * (1.0 + kRefinementMargin), usable);
+    EXPECT_NEAR(plan.choice.predictedSeconds, predictFinerPass(times, r / 100.0), 1e-12);
+    // The next step up the ladder (about 10% larger) would not fit.
+    int larger = 400;
+    while (int(std::floor(larger * 0.9)) > r) larger = int(std::floor(larger * 0.9));
+    ASSERT_GT(larger, r);
+    EXPECT_GT(predictFinerPass(times, larger / 100.0) * (1.0 + kRefinementMargin), usable);
+    EXPECT_TRUE(plan.choice.coarsened);
+    EXPECT_EQ(plan.choice.safetyMargin, kRefinementMargin);
+    EXPECT_EQ(plan.firstResolution, 100);
+}
+
+TEST(BudgetRefinement, AnAmpleRemainderGoesToTheRequestedResolution) {
+    const BudgetRefinement plan =
+        planBudgetRefinement(coarsenedMeshChoice(100, 1000.0), 400, firstPassOfOneSecond(), 990.0);
+    ASSERT_TRUE(plan.tried);
+    EXPECT_EQ(plan.choice.resolution, 400);
+    EXPECT_FALSE(plan.choice.coarsened);
+}
+
+TEST(BudgetRefinement, NoFinerPassWhereNothingFinerFitsOrNothingWasCoarsened) {
+    const FirstPassTimes times = firstPassOfOneSecond();
+    // 1.25 times the resolution is about twice the grid time: over 1.5 s left.
+    EXPECT_FALSE(planBudgetRefinement(coarsenedMeshChoice(100, 3.0), 400, times, 1.5).tried);
+    BudgetChoice uncoarsened = coarsenedMeshChoice(400, 100.0);
+    uncoarsened.coarsened = false;
+    const BudgetRefinement asked = planBudgetRefinement(uncoarsened, 400, times, 90.0);
+    EXPECT_FALSE(asked.tried);
+    EXPECT_EQ(asked.reason, "the first choice was not coarsened");
+    BudgetChoice over = coarsenedMeshChoice(16, 100.0);
+    over.fits = false;  // the budget acted as the time limit
+    EXPECT_FALSE(planBudgetRefinement(over, 400, times, 90.0).tried);
+}
+
+TEST(BudgetRefinement, AVolumeGoesToTheSmallestCoarseningThatFits) {
+    BudgetChoice first;
+    first.budgetSeconds = 20.0;
+    first.coarsening = 4;
+    first.coarsened = true;
+    first.probeCoarsening = 2;
+    FirstPassTimes times;
+    times.seconds = 0.5;
+    times.stages = {{0.5, 3.0}};
+    // Twice finer: 4 s; four times: 32 s.
+    BudgetRefinement plan = planBudgetRefinement(first, 0, times, 10.0);
+    ASSERT_TRUE(plan.tried);
+    EXPECT_EQ(plan.choice.coarsening, 2);
+    EXPECT_TRUE(plan.choice.coarsened);
+    plan = planBudgetRefinement(first, 0, times, 50.0);
+    ASSERT_TRUE(plan.tried);
+    EXPECT_EQ(plan.choice.coarsening, 1);
+    EXPECT_FALSE(plan.choice.coarsened);
+    EXPECT_FALSE(planBudgetRefinement(first, 0, times, 4.0).tried);
+}
+
+TEST(BudgetRefinement, TheFirstPassesStagesKeepReadingApartAndLeaveOutTheProbe) {
+    const auto stage = [](const char* name, double seconds) {
+        StageTiming t;
+        t.name = name;
+        t.wallSeconds = seconds;
+        return t;
+    };
+    const FirstPassTimes times = firstPassTimes(
+        {stage("read mesh", 0.1), stage("time budget probe", 0.3), stage("voxelise", 0.4),
+         stage("face labels", 0.05), stage("segment surfaces and preview", 0.2),
+         stage("write segments.glb, viewer.html", 0.1)},
+        true, 0.9);
+    EXPECT_EQ(times.seconds, 0.9);
+    EXPECT_EQ(times.readSeconds, 0.1);
+    const std::vector<std::pair<double, double>> expected = {{0.4, 2.0}, {0.05, 0.0}, {0.2, 0.0}};
+    EXPECT_EQ(times.stages, expected);
+}
+
+TEST(BudgetRefinement, StagesGrowAsMeasured) {
+    EXPECT_EQ(stageGrowthExponent("face labels", true), 0.0);
+    EXPECT_EQ(stageGrowthExponent("segment surfaces and preview", true), 0.0);
+    EXPECT_EQ(stageGrowthExponent("segment surfaces and preview", false), 3.0);
+    EXPECT_EQ(stageGrowthExponent("voxelise with thin parts filled", true), 2.0);
+    EXPECT_EQ(stageGrowthExponent("path sets, rims, areas, sigma", true), 2.5);
+    EXPECT_EQ(stageGrowthExponent("feature transform", true), 3.0);
+    EXPECT_EQ(stageGrowthExponent("a stage added later", true), 3.0);
+    EXPECT_LT(stageGrowthExponent("time budget probe", true), 0.0);
 }
 
 TEST(TimeBudget, CoarsenedMaskKeepsEveryObjectVoxelAndRefinesBack) {

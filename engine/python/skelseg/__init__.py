@@ -346,8 +346,8 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
             threads: Optional[int] = None, time_limit: Optional[float] = None,
             max_memory: Union[None, int, str] = None,
             progress: Optional[ProgressCallback] = None,
-            time_budget: Optional[float] = None, exhaustive: bool = False,
-            skeleton_search: Optional[str] = None,
+            time_budget: Optional[float] = None, budget_passes: int = 2,
+            exhaustive: bool = False, skeleton_search: Optional[str] = None,
             sibling_tolerance: float = 0.25, limb_taper: float = 0.3,
             corner_length: float = 0.5, corner_reach: float = 1.16,
             junction_merge_radii: float = 0.8, limb_sigma_margin: float = 0.05,
@@ -410,6 +410,12 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
             the coarsest run goes ahead with the budget as its time limit:
             it returns if it finishes in time, else raises TimeoutError, as
             the CLI stops with exit code 3.
+        budget_passes: with time_budget, 2 (default): a first pass that
+            ends early leaves its time to a finer pass (a smaller
+            coarsening), whose result is returned if it finishes by the
+            budget, else the first pass's; report["time_budget"]
+            ["refinement"] says which. 1 keeps the first choice. The CLI's
+            --budget-passes.
         exhaustive: the reference search, which measures every candidate
             (slower on large grids, same answer); the CLI's --exhaustive.
         skeleton_search: "band" or "exhaustive" (None: band for a single
@@ -461,7 +467,7 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
                  time_limit: Optional[float] = None, max_memory: Union[None, int, str] = None,
                  progress: Optional[ProgressCallback] = None,
                  contact_patch_seams: bool = False, no_grown_contact_seams: bool = False,
-                 time_budget: Optional[float] = None,
+                 time_budget: Optional[float] = None, budget_passes: int = 2,
                  budget_calibration: str = "probe", exhaustive: bool = False,
                  skeleton_search: Optional[str] = None,
                  sibling_tolerance: float = 0.25, limb_taper: float = 0.3,
@@ -507,6 +513,8 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
             When nothing fits, the coarsest run goes ahead with the budget as
             its time limit: it returns if it finishes in time, else raises
             TimeoutError, as the CLI stops with exit code 3.
+        budget_passes: with time_budget, 2 (default) lets a first pass that
+            ends early leave its time to a finer resolution, as segment().
         budget_calibration: with time_budget, "probe" (the probe's own time
             turns predicted CPU seconds into this machine's wall seconds now)
             or "cpu" (CPU seconds compared with the budget).

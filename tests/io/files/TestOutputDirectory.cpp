@@ -218,6 +218,68 @@ TEST(OutputDirectory, AFailedCommitPutsTheEarlierOutputsBack) {
     EXPECT_EQ(textOf(mount / "inside.txt"), "earlier tmpfs");
 }
 
+// --time-budget's finer pass stages a second set of outputs and falls back
+// on the first when it is given up (engine/SegmentCommand.cpp).
+TEST(OutputDirectory, ASetAsideAttemptIsPutBackWithItsMarks) {
+    test::TempDir tmp;
+    const fs::path outdir = tmp / "out";
+    fs::create_directories(outdir);
+    std::ofstream(outdir / "preview.png") << "earlier";
+    std::ofstream(outdir / "hierarchy.json") << "{}";
+    {
+        OutputDirectory out(
+            outdir, true,
+            layoutWithLevels({"a.txt", "b.txt", "preview.png", "hierarchy.json"}, {"a.txt"}));
+        out.removeOnCommit("hierarchy.json");
+        std::ofstream(out.stagingPath("a.txt")) << "first";
+        fs::create_directories(out.stagingPath("levels") / "0");
+        std::ofstream(out.stagingPath("levels") / "0" / "a.txt") << "first level";
+        out.setAside();
+        // The second attempt writes other files and marks others.
+        std::ofstream(out.stagingPath("a.txt")) << "second";
+        std::ofstream(out.stagingPath("b.txt")) << "second only";
+        out.removeOnCommit("preview.png");
+        out.restoreSetAside();
+        out.commit();
+    }
+    EXPECT_EQ(entries(outdir), (std::set<std::string>{"a.txt", "levels", "preview.png"}));
+    EXPECT_EQ(textOf(outdir / "a.txt"), "first");
+    EXPECT_EQ(textOf(outdir / "levels" / "0" / "a.txt"), "first level");
+    EXPECT_EQ(textOf(outdir / "preview.png"), "earlier");  // the second attempt's mark is gone
+}
+
+TEST(OutputDirectory, ADroppedSetAsideLeavesTheSecondAttempt) {
+    test::TempDir tmp;
+    const fs::path outdir = tmp / "out";
+    fs::create_directories(outdir);
+    std::ofstream(outdir / "hierarchy.json") << "{}";
+    {
+        OutputDirectory out(outdir, true, {"a.txt", "b.txt", "hierarchy.json"});
+        out.removeOnCommit("hierarchy.json");
+        std::ofstream(out.stagingPath("a.txt")) << "first";
+        std::ofstream(out.stagingPath("b.txt")) << "first only";
+        out.setAside();
+        std::ofstream(out.stagingPath("a.txt")) << "second";
+        out.dropSetAside();
+        out.commit();
+    }
+    // The first attempt's b.txt went with it; the marks made before stay.
+    EXPECT_EQ(entries(outdir), std::set<std::string>{"a.txt"});
+    EXPECT_EQ(textOf(outdir / "a.txt"), "second");
+}
+
+TEST(OutputDirectory, NothingOfASetAsideAttemptIsLeftWithoutCommit) {
+    test::TempDir tmp;
+    const fs::path outdir = tmp / "out";
+    {
+        OutputDirectory out(outdir, false, {"a.txt"});
+        std::ofstream(out.stagingPath("a.txt")) << "first";
+        out.setAside();
+        std::ofstream(out.stagingPath("a.txt")) << "second";
+    }
+    EXPECT_FALSE(fs::exists(outdir));
+}
+
 TEST(WriteFileAtomically, FullDiskGivesTheSystemsReasonAndLeavesNoFile) {
     test::SmallTmpfs disk(64 * 1024);
     if (!disk.mounted()) GTEST_SKIP() << disk.skipReason();
