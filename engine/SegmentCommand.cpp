@@ -282,11 +282,6 @@ ShapeMessage runGraph(const RunContext& run) {
     return written;
 }
 
-/// Seconds since `start`.
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 /// --time-budget's finer pass (engine/TimeBudget.h BudgetRefinement): after
 /// a first pass whose outputs are staged, plans a finer choice for the time
 /// left and runs it into a fresh staging, stopped at the budget less a
@@ -294,28 +289,19 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 /// report.json ends up saying what was done.
 void refineWithinBudget(const RunContext& run, const SegmentedShape& first,
                         const ArenaPool::Lease& arena) {
-    const BudgetChoice& choice = *first.input->budget;
-    const SegmentCommandOptions& options = run.options;
-    const double budget = options.timeBudgetSeconds;
-    const double elapsed = secondsSince(run.inputOptions.start);  // the budget's clock
-    const double firstPass = elapsed - (budget - choice.secondsLeft);
-    const FirstPassTimes times =
-        firstPassTimes(run.timer.timings(), first.input->source->isMesh(), firstPass);
     BudgetRefinement plan =
-        planBudgetRefinement(choice, options.resolution, times, budget - elapsed);
+        planFinerPass(*first.input->budget, first.input->source->isMesh(), run.options.resolution,
+                      run.timer.timings(), run.inputOptions.start);
     if (!plan.tried) {
         writeReport(run, first, &plan);
         return;
     }
-    const double reserve = kRefinementReserve * budget + kRefinementReserveSeconds;
-    // The deadline on the progress clock, which started `offset` after the
-    // budget's; --time-limit (on the progress clock) when it comes first.
-    const double offset = budget - run.budgetAsTimeLimit;
+    // The progress clock started `offset` after the budget's; --time-limit
+    // (on the progress clock) stops the finer pass when it comes first.
+    const double offset = run.options.timeBudgetSeconds - run.budgetAsTimeLimit;
     const double userLimit = run.progress.timeLimit();
-    double deadline = run.budgetAsTimeLimit - reserve;
-    if (userLimit > 0) deadline = std::min(deadline, userLimit);
-    run.progress.setTimeLimit(deadline);
-    plan.deadlineSeconds = deadline + offset;
+    if (userLimit > 0) plan.deadlineSeconds = std::min(plan.deadlineSeconds, userLimit + offset);
+    run.progress.setTimeLimit(plan.deadlineSeconds - offset);
     plan.kept = true;  // what the finer pass's own report says if it finishes
     RunContext finer = run;
     finer.inputOptions.budgetChoice = plan.choice;

@@ -164,8 +164,7 @@ BudgetRefinement planBudgetRefinement(const BudgetChoice& first, int maximumReso
         plan.reason = "the first choice was not coarsened";
         return plan;
     }
-    const double usable =
-        secondsLeft - (kRefinementReserve * first.budgetSeconds + kRefinementReserveSeconds);
+    const double usable = secondsLeft - refinementReserve(first.budgetSeconds);
     double predicted = 0.0;
     const auto fits = [&](double factor) {
         predicted = predictFinerPass(times, factor);
@@ -249,6 +248,24 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 }
 }  // namespace
 
+double refinementReserve(double budgetSeconds) {
+    return kRefinementReserve * budgetSeconds + kRefinementReserveSeconds;
+}
+
+BudgetRefinement planFinerPass(const BudgetChoice& first, bool mesh, int maximumResolution,
+                               const std::vector<StageTiming>& stages,
+                               std::chrono::steady_clock::time_point budgetStart) {
+    const double elapsed = secondsSince(budgetStart);
+    // first.secondsLeft is what the budget had left when the probe ended.
+    const double firstPass = elapsed - (first.budgetSeconds - first.secondsLeft);
+    BudgetRefinement plan =
+        planBudgetRefinement(first, maximumResolution, firstPassTimes(stages, mesh, firstPass),
+                             first.budgetSeconds - elapsed);
+    if (plan.tried)
+        plan.deadlineSeconds = first.budgetSeconds - refinementReserve(first.budgetSeconds);
+    return plan;
+}
+
 BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxelize, double seconds,
                          const CostModel& cpuModel, const ProbeCostModel* probeModel,
                          Interrupter& interrupter) {
@@ -278,7 +295,6 @@ BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxeli
     choice.secondsLeft = seconds - spent;
     choice.calibration = calibration;
     choice.probeWork = probe;
-    choice.probeResolution = probeOptions.resolution;
     choice.predictedCpuSeconds = choice.predictedSeconds / calibration.wallPerCpuSecond;
     choice.previewSeconds = preview.previewSeconds;
     choice.writePreview = preview.writePreview;
@@ -303,7 +319,6 @@ BudgetChoice planVolumeRun(const MaskVolume& mask, double seconds, const CostMod
     choice.probeSeconds = spent;
     choice.secondsLeft = seconds - spent;
     choice.probeWork = probe;
-    choice.probeCoarsening = probeCoarsening;
     choice.predictedCpuSeconds = choice.predictedSeconds;
     choice.previewSeconds = preview.previewSeconds;
     choice.writePreview = preview.writePreview;

@@ -28,6 +28,7 @@
 // back from.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -100,8 +101,6 @@ struct BudgetChoice {
     bool writePreview = true;          // false: preview.png skipped to fit the budget
     double secondsLeft = 0.0;          // of the budget when the probe ended
     WorkCounts probeWork;              // the probe's counters
-    int probeResolution = 0;           // meshes: the resolution the probe voxelised at
-    int probeCoarsening = 0;           // volumes: how many times coarser the probe's grid was
     BudgetCalibration calibration;     // meshes: from the probe; volumes: not enabled
 };
 
@@ -165,6 +164,20 @@ FirstPassTimes firstPassTimes(const std::vector<StageTiming>& stages, bool mesh,
 /// Predicted wall seconds of a second pass on a grid `factor` times finer
 /// (per axis) than the first's: see BudgetRefinement.
 double predictFinerPass(const FirstPassTimes& first, double factor);
+
+/// What a finer pass keeps from the budget: kRefinementReserve of it plus
+/// kRefinementReserveSeconds.
+double refinementReserve(double budgetSeconds);
+
+/// The whole plan after a first pass under `first` whose stages took
+/// `stages`, on the budget's clock that started at `budgetStart` (the
+/// budget is first.budgetSeconds): planBudgetRefinement() on the first
+/// pass's times and what is left now, with the deadline (the budget less
+/// refinementReserve()) when a finer pass is tried. A caller with an earlier
+/// limit of its own lowers the deadline to it.
+BudgetRefinement planFinerPass(const BudgetChoice& first, bool mesh, int maximumResolution,
+                               const std::vector<StageTiming>& stages,
+                               std::chrono::steady_clock::time_point budgetStart);
 
 /// Plans the second pass after a first pass under `first` that took `times`,
 /// with `secondsLeft` of the budget left; `maximumResolution` is the mesh's

@@ -47,27 +47,18 @@ struct CallRecord {
         if (!first->input->budget || options.budgetPasses < 2) return first;
         // The CLI's finer pass (engine/TimeBudget.h BudgetRefinement), with
         // the result in memory instead of staged files.
-        const double budget = options.timeBudgetSeconds;
-        const auto elapsed = [&] {
-            return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                                 inputOptions.start)
-                .count();
-        };
-        const BudgetChoice& choice = *first->input->budget;
         const bool mesh = first->input->source->isMesh();
-        const FirstPassTimes times =
-            firstPassTimes(timer.timings(), mesh, elapsed() - (budget - choice.secondsLeft));
-        refinement = planBudgetRefinement(choice, options.resolution, times, budget - elapsed());
+        refinement = planFinerPass(*first->input->budget, mesh, options.resolution, timer.timings(),
+                                   inputOptions.start);
         if (!refinement->tried) return first;
         // The input again: a mesh is whole in the first pass's source; a
         // volume's mask went into the first pass, which kept it as its fine mask.
         auto again = std::make_shared<SegmentSource>(*first->input->source);
         if (!mesh) again->volumeMask = first->input->fineMask;
-        const double reserve = kRefinementReserve * budget + kRefinementReserveSeconds;
         // Both clocks start with the call; time_limit when it comes first.
         const double userLimit = interrupter.timeLimit();
-        refinement->deadlineSeconds =
-            userLimit > 0 ? std::min(userLimit, budget - reserve) : budget - reserve;
+        if (userLimit > 0)
+            refinement->deadlineSeconds = std::min(refinement->deadlineSeconds, userLimit);
         interrupter.setTimeLimit(refinement->deadlineSeconds);
         SegmentInputOptions finer = inputOptions;
         finer.budgetChoice = refinement->choice;

@@ -283,6 +283,20 @@ namespace {
 /// Where setAside() keeps the first attempt's files, inside the staging
 /// directory: no output name starts with a dot, so none can clash.
 constexpr char kSetAsideName[] = ".set-aside";
+
+/// Renames each of `names` that exists in `from` to `to`; OutputError
+/// naming the file and `what` on failure.
+void moveEach(const std::vector<std::string>& names, const fs::path& from, const fs::path& to,
+              const char* what) {
+    std::error_code ec;
+    for (const auto& name : names) {
+        if (!fs::exists(fs::symlink_status(from / name, ec))) continue;
+        fs::rename(from / name, to / name, ec);
+        if (ec)
+            throw OutputError((from / name).string() + ": cannot " + what + ": " +
+                              describeErrno(ec.value()));
+    }
+}
 }  // namespace
 
 void OutputDirectory::setAside() {
@@ -294,13 +308,7 @@ void OutputDirectory::setAside() {
     if (ec)
         throw OutputError(kept.string() +
                           ": cannot create directory: " + describeErrno(ec.value()));
-    for (const auto& name : mStaged) {
-        if (!fs::exists(fs::symlink_status(mStaging / name, ec))) continue;
-        fs::rename(mStaging / name, kept / name, ec);
-        if (ec)
-            throw OutputError((mStaging / name).string() +
-                              ": cannot set aside: " + describeErrno(ec.value()));
-    }
+    moveEach(mStaged, mStaging, kept, "set aside");
     mSetAsideStaged = std::move(mStaged);
     mStaged.clear();
     mSetAsideObsolete = mObsolete;
@@ -313,13 +321,7 @@ void OutputDirectory::restoreSetAside() {
     const fs::path kept = mStaging / kSetAsideName;
     std::error_code ec;
     for (const auto& name : mStaged) fs::remove_all(mStaging / name, ec);
-    for (const auto& name : mSetAsideStaged) {
-        if (!fs::exists(fs::symlink_status(kept / name, ec))) continue;
-        fs::rename(kept / name, mStaging / name, ec);
-        if (ec)
-            throw OutputError((mStaging / name).string() +
-                              ": cannot put back: " + describeErrno(ec.value()));
-    }
+    moveEach(mSetAsideStaged, kept, mStaging, "put back");
     mStaged = std::move(mSetAsideStaged);
     mObsolete = std::move(mSetAsideObsolete);
     mSetAsideStaged.clear();

@@ -261,7 +261,6 @@ BudgetChoice coarsenedVolumeChoice(int coarsening, double budget) {
     first.coarsening = coarsening;
     first.coarsened = true;
     first.fits = true;
-    first.probeCoarsening = 1;
     return first;
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <vector>
 
@@ -100,7 +101,6 @@ BudgetChoice coarsenedMeshChoice(int resolution, double budget) {
     first.resolution = resolution;
     first.coarsened = true;
     first.fits = true;
-    first.probeResolution = 64;
     return first;
 }
 
@@ -174,7 +174,6 @@ TEST(BudgetRefinement, AVolumeGoesToTheSmallestCoarseningThatFits) {
     first.budgetSeconds = 20.0;
     first.coarsening = 4;
     first.coarsened = true;
-    first.probeCoarsening = 2;
     FirstPassTimes times;
     times.seconds = 0.5;
     times.stages = {{0.5, 3.0}};
@@ -206,6 +205,23 @@ TEST(BudgetRefinement, TheFirstPassesStagesKeepReadingApartAndLeaveOutTheProbe) 
     EXPECT_EQ(times.readSeconds, 0.1);
     const std::vector<std::pair<double, double>> expected = {{0.4, 2.0}, {0.05, 0.0}, {0.2, 0.0}};
     EXPECT_EQ(times.stages, expected);
+}
+
+TEST(BudgetRefinement, TheWholePlanTimesTheFirstPassOnTheBudgetsClock) {
+    // A budget of 100 s that started a second ago, its probe ended at 0.2 s:
+    // the first pass took about 0.8 s, and a finer pass stops at the
+    // budget less the reserve.
+    BudgetChoice first = coarsenedMeshChoice(100, 100.0);
+    first.secondsLeft = 99.8;
+    const auto start = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+    const BudgetRefinement plan = planFinerPass(first, true, 400, {}, start);
+    ASSERT_TRUE(plan.tried) << plan.reason;
+    EXPECT_NEAR(plan.firstPassSeconds, 0.8, 0.5);
+    EXPECT_GE(plan.firstPassSeconds, 0.8);
+    EXPECT_EQ(plan.choice.resolution, 400);
+    EXPECT_DOUBLE_EQ(refinementReserve(100.0),
+                     kRefinementReserve * 100.0 + kRefinementReserveSeconds);
+    EXPECT_DOUBLE_EQ(plan.deadlineSeconds, 100.0 - refinementReserve(100.0));
 }
 
 TEST(BudgetRefinement, StagesGrowAsMeasured) {
