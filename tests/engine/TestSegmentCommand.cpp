@@ -308,7 +308,7 @@ TEST(SegmentCommand, AFinerPassStoppedAtItsDeadlineGivesTheFirstPassesOutput) {
     // coarser) and a whole run take, it stops the finer pass only.
     const test::TempDir dir;
     const fs::path input = dir / "figure.nrrd";
-    writeNrrdMask(input, rasterise(makeShape("figure"), {256, 2}));
+    writeNrrdMask(input, rasterise(makeShape("figure"), {160, 2}));
     using Clock = std::chrono::steady_clock;
     const auto timed = [](const SegmentCommandOptions& options) {
         const auto start = Clock::now();
