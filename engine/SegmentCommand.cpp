@@ -282,6 +282,14 @@ ShapeMessage runGraph(const RunContext& run) {
     return written;
 }
 
+/// A finer pass that did not finish: the first pass's outputs come back, with
+/// a report.json that says why.
+void giveTheFirstPass(const RunContext& run, const SegmentedShape& first, BudgetRefinement& plan) {
+    run.out.restoreSetAside();
+    plan.kept = false;
+    writeReport(run, first, &plan);
+}
+
 /// --time-budget's finer pass (engine/TimeBudget.h BudgetRefinement): after
 /// a first pass whose outputs are staged, plans a finer choice for the time
 /// left and runs it into a fresh staging, stopped at the budget less a
@@ -313,9 +321,11 @@ void refineWithinBudget(const RunContext& run, const SegmentedShape& first,
         throwIfInterrupted(run.progress);
     } catch (const InterruptedError& error) {
         if (error.reason() != InterruptedError::Reason::TimeLimit) throw;
-        run.out.restoreSetAside();
-        plan.kept = false;
-        writeReport(run, first, &plan);
+        giveTheFirstPass(run, first, plan);
+        return;
+    } catch (const MemoryLimitError&) {
+        plan.overMemory = true;
+        giveTheFirstPass(run, first, plan);
         return;
     }
     run.out.dropSetAside();

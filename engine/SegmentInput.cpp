@@ -96,6 +96,30 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
     return source;
 }
 
+std::uint64_t meshRunMemory(const Dims& grid, int threads) {
+    return estimateSegmentationMemory(grid, grid.voxelCount() / 4, threads) +
+           grid.voxelCount() * 12;  // level set, dense copy, nearest-triangle grid
+}
+
+int largestResolutionWithinMemory(const TriangleMesh& mesh, const SegmentInputOptions& options) {
+    VoxelizeOptions voxelizeOptions;
+    const auto fits = [&](int resolution) {
+        voxelizeOptions.resolution = resolution;
+        return meshRunMemory(voxelGridFor(mesh, voxelizeOptions).dims, options.threads) <=
+               options.memoryLimit;
+    };
+    if (options.resolution < kSmallestBudgetResolution || !fits(kSmallestBudgetResolution))
+        return 0;
+    if (fits(options.resolution)) return options.resolution;
+    // The estimate grows with the resolution: the last that fits, by bisection.
+    int fitting = kSmallestBudgetResolution, over = options.resolution;
+    while (over - fitting > 1) {
+        const int middle = fitting + (over - fitting) / 2;
+        (fits(middle) ? fitting : over) = middle;
+    }
+    return fitting;
+}
+
 namespace {
 
 /// Voxelises the mesh in a stage named `stageName`; `fillThinParts` as in
@@ -139,10 +163,7 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
         throw InputError(source.file.string(),
                          "the mesh is flat (every vertex of its faces lies in one plane): it "
                          "encloses no volume to segment");
-    estimatedMemory =
-        estimateSegmentationMemory(grid.dims, grid.dims.voxelCount() / 4, options.threads) +
-        grid.dims.voxelCount() * 12 +  // level set, dense copy, nearest-triangle grid
-        heldBytes;
+    estimatedMemory = meshRunMemory(grid.dims, options.threads) + heldBytes;
     if (estimatedMemory > options.memoryLimit)
         throw MemoryLimitError(source.file.string() + ": needs about " +
                                formatBytes(estimatedMemory) + " at resolution " +
@@ -199,11 +220,17 @@ BudgetChoice planMeshBudget(const SegmentSource& source, const SegmentInputOptio
     VoxelizeOptions voxelizeOptions;
     voxelizeOptions.resolution = options.resolution;
     voxelizeOptions.meshIsClosed = source.meshDiagnostics.closed;
+    // Only what --max-memory allows is a choice; with none, the requested
+    // resolution stays and its refusal names the limit.
+    const int memoryCap = largestResolutionWithinMemory(*source.mesh, options);
+    if (memoryCap > 0) voxelizeOptions.resolution = memoryCap;
     const ProbeCostModel probeModel = ProbeCostModel::fitted();
     BudgetChoice choice =
         planMeshRun(*source.mesh, voxelizeOptions, secondsLeft(options), CostModel::fitted(),
                     options.calibrateTimeBudget ? &probeModel : nullptr, interrupter);
     choice.budgetSeconds = options.timeBudgetSeconds;
+    choice.memoryCapResolution = memoryCap < options.resolution ? memoryCap : 0;
+    if (choice.memoryCapResolution > 0) choice.coarsened = true;
     return choice;
 }
 

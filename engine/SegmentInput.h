@@ -93,6 +93,16 @@ struct SegmentInputOptions {
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 };
 
+/// The memory a mesh run on a grid of `grid` voxels is estimated to need
+/// (segmentation, level set, dense copy, nearest-triangle grid), the
+/// estimate checked against --max-memory before voxelising.
+std::uint64_t meshRunMemory(const Dims& grid, int threads);
+
+/// The largest resolution up to options.resolution whose meshRunMemory fits
+/// options.memoryLimit; 0 when not even kSmallestBudgetResolution fits. What
+/// --time-budget may choose from, first pass and finer pass alike.
+int largestResolutionWithinMemory(const TriangleMesh& mesh, const SegmentInputOptions& options);
+
 /// @throw MemoryLimitError when `file` is larger than `memoryLimit` (and
 /// small enough for the readers, which refuse larger files themselves).
 void checkInputFileSize(const std::filesystem::path& file, std::uint64_t memoryLimit);

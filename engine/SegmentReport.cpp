@@ -87,7 +87,7 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
     // With the mesh's face nesting counts, which only the command has.
     report["levels"] = reportLevelsJson(result, shape.levels.nestedFaces);
     const double wall = figures.wallSeconds;
-    if (const auto& budget = shape.input->budget)
+    if (const auto& budget = shape.input->budget) {
         report["time_budget"] = {
             {"budget_seconds", budget->budgetSeconds},
             {"probe_seconds", budget->probeSeconds},
@@ -106,6 +106,9 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
             {"skipped",
              figures.previewSkippedForBudget ? json::array({"preview.png"}) : json::array()},
             {"chosen", describeBudgetChoice(*budget)}};
+        if (budget->memoryCapResolution > 0)
+            report["time_budget"]["memory_cap_resolution"] = budget->memoryCapResolution;
+    }
     if (figures.budgetRefinement) {
         const BudgetRefinement& refinement = *figures.budgetRefinement;
         json block = {{"tried", refinement.tried},
@@ -121,9 +124,12 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
             block["margin"] = finer.safetyMargin;
             block["deadline_seconds"] = refinement.deadlineSeconds;
             block["kept"] = refinement.kept;
-            block["outcome"] = refinement.kept
-                                   ? "finished by its deadline; its output is given"
-                                   : "stopped at its deadline; the first pass's output is given";
+            block["over_memory"] = refinement.overMemory;
+            block["outcome"] =
+                refinement.kept ? "finished by its deadline; its output is given"
+                : refinement.overMemory
+                    ? "needed more than --max-memory; the first pass's output is given"
+                    : "stopped at its deadline; the first pass's output is given";
         } else {
             block["outcome"] = "not tried: " + refinement.reason;
         }

@@ -174,10 +174,16 @@ BudgetRefinement planBudgetRefinement(const BudgetChoice& first, int maximumReso
     bool found = false;
     if (mesh) {
         const int least = int(std::ceil(kRefinementMinimumGain * first.resolution));
+        if (maximumResolution < least) {
+            plan.reason = first.memoryCapResolution > 0 ? "--max-memory allows nothing finer"
+                                                        : "--resolution allows nothing finer";
+            return plan;
+        }
         for (int r = maximumResolution; r >= least && !found; r = int(std::floor(r * 0.9))) {
             if (fits(double(r) / double(first.resolution))) {
                 finer.resolution = r;
-                finer.coarsened = r < maximumResolution;
+                // Below --resolution when --max-memory capped it.
+                finer.coarsened = r < maximumResolution || first.memoryCapResolution > 0;
                 found = true;
             }
         }
@@ -258,6 +264,8 @@ BudgetRefinement planFinerPass(const BudgetChoice& first, bool mesh, int maximum
     const double elapsed = secondsSince(budgetStart);
     // first.secondsLeft is what the budget had left when the probe ended.
     const double firstPass = elapsed - (first.budgetSeconds - first.secondsLeft);
+    if (first.memoryCapResolution > 0)
+        maximumResolution = std::min(maximumResolution, first.memoryCapResolution);
     BudgetRefinement plan =
         planBudgetRefinement(first, maximumResolution, firstPassTimes(stages, mesh, firstPass),
                              first.budgetSeconds - elapsed);
@@ -289,7 +297,8 @@ BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxeli
     BudgetChoice preview;
     const double left = planPreview(model, double(mesh.triangles.size()), seconds - spent, preview);
     BudgetChoice choice =
-        chooseMeshResolution(model, probe, probeOptions.resolution, voxelize.resolution, 16, left);
+        chooseMeshResolution(model, probe, probeOptions.resolution, voxelize.resolution,
+                             kSmallestBudgetResolution, left);
     choice.budgetSeconds = seconds;
     choice.probeSeconds = spent;
     choice.secondsLeft = seconds - spent;

@@ -100,8 +100,11 @@ struct BudgetChoice {
     double previewSeconds = 0.0;       // predicted cost of preview.png
     bool writePreview = true;          // false: preview.png skipped to fit the budget
     double secondsLeft = 0.0;          // of the budget when the probe ended
-    WorkCounts probeWork;              // the probe's counters
-    BudgetCalibration calibration;     // meshes: from the probe; volumes: not enabled
+    /// Meshes: the largest resolution --max-memory allows when below
+    /// --resolution (no choice, first or finer, goes above it); 0: no cap.
+    int memoryCapResolution = 0;
+    WorkCounts probeWork;           // the probe's counters
+    BudgetCalibration calibration;  // meshes: from the probe; volumes: not enabled
 };
 
 /// The finer pass of a budget run. The first choice is cautious (its margin
@@ -124,6 +127,10 @@ struct BudgetRefinement {
     double firstPassSeconds = 0.0;  // measured: the first pass after its probe
     double deadlineSeconds = 0.0;   // the second pass stops here (budget clock)
     bool kept = false;              // the second pass finished by its deadline
+    /// Not kept because the second pass needed more than --max-memory (a
+    /// volume's finer grid; a mesh's second voxelisation): the first pass's
+    /// output is given, as when the deadline stops it.
+    bool overMemory = false;
 };
 
 /// What the first pass of a budget run took.
@@ -174,7 +181,8 @@ double refinementReserve(double budgetSeconds);
 /// budget is first.budgetSeconds): planBudgetRefinement() on the first
 /// pass's times and what is left now, with the deadline (the budget less
 /// refinementReserve()) when a finer pass is tried. A caller with an earlier
-/// limit of its own lowers the deadline to it.
+/// limit of its own lowers the deadline to it. `maximumResolution` is
+/// lowered to first.memoryCapResolution when that is set.
 BudgetRefinement planFinerPass(const BudgetChoice& first, bool mesh, int maximumResolution,
                                const std::vector<StageTiming>& stages,
                                std::chrono::steady_clock::time_point budgetStart);
@@ -230,13 +238,16 @@ std::string describeBudgetChoice(const BudgetChoice& choice);
 /// (docs/performance.md), and it costs little beyond the per-face work.
 constexpr int kProbeResolution = 64;
 
+/// The coarsest resolution a budget chooses for a mesh.
+constexpr int kSmallestBudgetResolution = 16;
+
 /// The whole plan for a mesh: voxelises at a probe resolution
 /// (kProbeResolution, or --resolution when lower; without the topology
 /// separations), counts the work, calibrates `model` to wall seconds with
 /// the probe's time when `probeModel` is given (calibrateFromProbe;
 /// otherwise CPU seconds are compared with the budget), decides the preview
 /// (planPreview) and chooses a resolution from `voxelize.resolution` down to
-/// 16 that fits in `seconds` minus the probe's own time and the preview's.
+/// kSmallestBudgetResolution that fits in `seconds` minus the probe's own time and the preview's.
 BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxelize, double seconds,
                          const CostModel& model, const ProbeCostModel* probeModel,
                          Interrupter& interrupter = nullInterrupter());

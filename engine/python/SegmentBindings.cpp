@@ -68,10 +68,12 @@ struct CallRecord {
             return second;
         } catch (const InterruptedError& error) {
             if (error.reason() != InterruptedError::Reason::TimeLimit) throw;
-            refinement->kept = false;
-            interrupter.setTimeLimit(0.0);  // the call returns the first pass's result
-            return first;
+        } catch (const MemoryLimitError&) {
+            refinement->overMemory = true;
         }
+        refinement->kept = false;
+        interrupter.setTimeLimit(0.0);  // the call returns the first pass's result
+        return first;
     }
 
     /// One pass from the input to the result, as the CLI's graph makes it.

@@ -2,6 +2,7 @@
 // report.json, errors from inside the graph, and concurrent calls (as
 // `skelseg batch` makes them) writing what one call alone writes.
 #include "engine/SegmentCommand.h"
+#include "engine/SegmentInput.h"
 #include "engine/SegmentReport.h"
 #include "engine/StageTimer.h"
 #include "engine/TimeBudget.h"
@@ -20,6 +21,7 @@
 #include "io/shapes/SyntheticShapes.h"
 #include "io/volume/NrrdIO.h"
 #include "tests/support/BoxMeshes.h"
+#include "tests/support/CurledTube.h"
 #include "tests/support/FileBytes.h"
 #include "tests/support/TempDir.h"
 
@@ -302,13 +304,83 @@ TEST(SegmentCommand, AFinerPassThatFinishesGivesTheFinerChoicesOutput) {
     EXPECT_FALSE(onePass["time_budget"].contains("refinement"));
 }
 
+TEST(SegmentCommand, ABudgetChoosesOnlyResolutionsTheMemoryLimitAllows) {
+    // A limit between what resolutions 40 and 64 need: without a budget,
+    // 64 is refused; with an ample one, the budget takes the largest
+    // resolution that fits the limit, and no finer pass goes above it.
+    const test::TempDir dir;
+    const fs::path input = dir / "sphere.off";
+    writeOff(input, test::sphereMesh({0, 0, 0}, 1.0));
+    SegmentCommandOptions options = optionsFor(input, dir / "plain", 1);
+    options.resolution = 64;
+    SegmentInputOptions probe;
+    probe.threads = 1;
+    const TriangleMesh mesh = readMesh(input);
+    const auto needs = [&](int resolution) {
+        VoxelizeOptions voxelize;
+        voxelize.resolution = resolution;
+        return meshRunMemory(voxelGridFor(mesh, voxelize).dims, 1);
+    };
+    options.maxMemoryBytes = (needs(40) + needs(64)) / 2;
+    ProgressReporter progress(ProgressReporter::Display::Quiet);
+    EXPECT_THROW(runSegmentCommand(options, progress), MemoryLimitError);
+    options.outdir = dir / "budget";
+    options.timeBudgetSeconds = 600.0;
+    segment(options);
+    const auto report = nlohmann::json::parse(fileBytes(dir / "budget" / "report.json"));
+    const auto& budget = report["time_budget"];
+    const int cap = budget["memory_cap_resolution"].get<int>();
+    EXPECT_GE(cap, 40);
+    EXPECT_LT(cap, 64);
+    EXPECT_LE(needs(cap), options.maxMemoryBytes);
+    EXPECT_GT(needs(cap + 1), options.maxMemoryBytes);
+    EXPECT_EQ(budget["resolution"], cap);
+    EXPECT_EQ(budget["coarsened"], true);
+    EXPECT_LE(report["memory"]["estimated_bytes"].get<std::uint64_t>(), options.maxMemoryBytes);
+}
+
+TEST(SegmentCommand, AFinerPassOverTheMemoryLimitGivesTheFirstPassesOutput) {
+    // A volume's first pass 4x coarser fits the limit; its own grid, which
+    // the finer pass would take with ten minutes left, does not.
+    const test::TempDir dir;
+    const fs::path input = dir / "figure.nrrd";
+    writeNrrdMask(input, rasterise(makeShape("figure"), {96, 2}));
+    SegmentCommandOptions first = optionsFor(input, dir / "first", 1);
+    first.timeBudgetSeconds = 600.0;
+    first.budgetChoice = coarsenedVolumeChoice(4, 600.0);
+    first.budgetPasses = 1;
+    segment(first);
+    segment(optionsFor(input, dir / "whole", 1));
+    const auto estimated = [&](const char* run) {
+        return nlohmann::json::parse(
+                   fileBytes(dir / run / "report.json"))["memory"]["estimated_bytes"]
+            .get<std::uint64_t>();
+    };
+    ASSERT_LT(estimated("first"), estimated("whole"));
+    SegmentCommandOptions options = first;
+    options.outdir = dir / "capped";
+    options.budgetPasses = 2;
+    options.maxMemoryBytes = estimated("first") + (estimated("whole") - estimated("first")) / 8;
+    segment(options);
+    EXPECT_EQ(fileBytes(dir / "capped" / "labels.nrrd"), fileBytes(dir / "first" / "labels.nrrd"));
+    const auto report = nlohmann::json::parse(fileBytes(dir / "capped" / "report.json"));
+    const auto& refinement = report["time_budget"]["refinement"];
+    EXPECT_EQ(refinement["tried"], true);
+    EXPECT_EQ(refinement["kept"], false);
+    EXPECT_EQ(refinement["over_memory"], true);
+    EXPECT_EQ(refinement["outcome"],
+              "needed more than --max-memory; the first pass's output is given");
+    for (const auto& entry : fs::directory_iterator(dir / "capped"))
+        EXPECT_NE(entry.path().filename().string().rfind(".skelseg", 0), 0u) << entry.path();
+}
+
 TEST(SegmentCommand, AFinerPassStoppedAtItsDeadlineGivesTheFirstPassesOutput) {
     // The caller's time limit is the finer pass's deadline when it comes
     // before the budget's. Set between what the first pass (the figure 4x
     // coarser) and a whole run take, it stops the finer pass only.
     const test::TempDir dir;
     const fs::path input = dir / "figure.nrrd";
-    writeNrrdMask(input, rasterise(makeShape("figure"), {256, 2}));
+    writeNrrdMask(input, rasterise(makeShape("figure"), {160, 2}));
     using Clock = std::chrono::steady_clock;
     const auto timed = [](const SegmentCommandOptions& options) {
         const auto start = Clock::now();

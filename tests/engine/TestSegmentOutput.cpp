@@ -76,8 +76,15 @@ TEST(SegmentOutput, VolumeSegmentsPlyHoldsTheLabelsOfLabelsNrrd) {
 
 TEST(SegmentOutput, MeshSegmentsPlyHoldsFaceLabelPlusOne) {
     const test::TempDir dir;
-    const fs::path input = dir / "figure.off";
-    writeOff(input, test::figureMesh(false));
+    // A ball with three limbs, meshed on voxel faces: several segments from a
+    // mesh a tenth of the generated figure's size.
+    Shape star;
+    star.sphere({0, 0, 0}, 18);
+    for (const std::array<double, 3>& end :
+         {std::array<double, 3>{44, 0, 0}, {-22, 38, 0}, {-22, -38, 0}})
+        star.capsule({0, 0, 0}, end, 8);
+    const fs::path input = dir / "star.off";
+    writeOff(input, test::meshOfShape(star, {-54, -50, -20}, {54, 50, 20}));
     segment(input, dir / "out", 48);
 
     std::vector<int> faceLabels;

@@ -169,6 +169,24 @@ TEST(BudgetRefinement, NoFinerPassWhereNothingFinerFitsOrNothingWasCoarsened) {
     EXPECT_FALSE(planBudgetRefinement(over, 400, times, 90.0).tried);
 }
 
+TEST(BudgetRefinement, AFinerPassStaysWithinTheMemoryCap) {
+    // --max-memory allowed 300 of the 400 asked: with time for 400, the
+    // finer pass takes 300, still below what was asked.
+    BudgetChoice capped = coarsenedMeshChoice(100, 1000.0);
+    capped.memoryCapResolution = 300;
+    const BudgetRefinement plan =
+        planFinerPass(capped, true, 400, {}, std::chrono::steady_clock::now());
+    ASSERT_TRUE(plan.tried);
+    EXPECT_EQ(plan.choice.resolution, 300);
+    EXPECT_TRUE(plan.choice.coarsened);
+    // A cap under 1.25 times the first choice leaves nothing finer to try.
+    capped.memoryCapResolution = 120;
+    const BudgetRefinement none =
+        planFinerPass(capped, true, 400, {}, std::chrono::steady_clock::now());
+    EXPECT_FALSE(none.tried);
+    EXPECT_EQ(none.reason, "--max-memory allows nothing finer");
+}
+
 TEST(BudgetRefinement, AVolumeGoesToTheSmallestCoarseningThatFits) {
     BudgetChoice first;
     first.budgetSeconds = 20.0;

@@ -282,3 +282,25 @@ def test_mesh_keywords_reach_the_report():
     assert plain.report["input"]["contact_patch_seams"] is False
     assert plain.report["input"]["grown_contact_seams"] is True
     assert "time_budget" not in plain.report
+
+
+@pytest.mark.filterwarnings("ignore::skelseg.SkelsegWarning")
+def test_a_time_budget_chooses_within_max_memory_as_the_cli_does():
+    # A limit between what resolutions 40 and 64 are estimated to need: 64
+    # alone is refused; under a budget the largest resolution within the
+    # limit is chosen, and report names the cap.
+    vertices, faces = box_pair()
+
+    def estimated(resolution):
+        return skelseg.segment_mesh(vertices, faces, resolution=resolution,
+                                    threads=1).report["memory"]["estimated_bytes"]
+
+    limit = (estimated(40) + estimated(64)) // 2
+    with pytest.raises(MemoryError, match="--max-memory|max_memory"):
+        skelseg.segment_mesh(vertices, faces, resolution=64, threads=1, max_memory=limit)
+    result = skelseg.segment_mesh(vertices, faces, resolution=64, threads=1, max_memory=limit,
+                                  time_budget=600.0)
+    budget = result.report["time_budget"]
+    assert 40 <= budget["memory_cap_resolution"] < 64
+    assert budget["resolution"] == budget["memory_cap_resolution"]
+    assert result.report["memory"]["estimated_bytes"] <= limit
