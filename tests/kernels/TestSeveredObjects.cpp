@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "kernels/VoxelGenus.h"
+#include "tests/support/StopAtOnce.h"
 
 namespace skelseg {
 namespace {
@@ -86,10 +87,7 @@ TEST(SeveredObjects, CountsWithoutSettingBack) {
     EXPECT_EQ(mask.values(), cut.values());
 }
 
-class StopAtOnce final : public Interrupter {
-public:
-    bool wasInterrupted(double) override { return true; }
-};
+using test::StopAtOnce;
 
 TEST(SeveredObjects, StopsWhenInterrupted) {
     MaskVolume mask = bar(12);
