@@ -22,6 +22,13 @@
 
 namespace skelseg::test {
 
+/// The smallest closed mesh, a tetrahedron, as OFF text: its vertex and face
+/// lines, and the whole file. The input of tests that need any valid mesh,
+/// and the file the bad cases damage.
+inline const std::string kTetraBody =
+    "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+inline const std::string kTetraOff = "OFF\n4 4 0\n" + kTetraBody;
+
 /// zlib-compresses `bytes` with a gzip wrapper (windowBits 15 + 16).
 inline std::string gzipBytes(const std::string& bytes) {
     z_stream stream{};

@@ -43,7 +43,7 @@ TEST(SceneIslands, StrayVoxelsInAVolumeAddNoSegments) {
 }
 
 /// Appends a closed axis-aligned box [lo, hi] (12 triangles, one face each).
-void addBox(TriangleMesh& mesh, std::array<double, 3> lo, std::array<double, 3> hi) {
+void addAxisAlignedBox(TriangleMesh& mesh, std::array<double, 3> lo, std::array<double, 3> hi) {
     const auto base = std::uint32_t(mesh.vertices.size());
     for (int k = 0; k < 8; ++k)
         mesh.vertices.push_back({(k & 1) ^ ((k >> 1) & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1],
@@ -76,14 +76,14 @@ TEST(SceneIslands, SmallPiecesOfAMeshTakeTheLabelOfARealPart) {
     // A body with a limb, then three boxes of 1.5 voxels a side away from
     // them (inside the bounding box, so the grid does not change).
     TriangleMesh mesh;
-    addBox(mesh, {-0.5, -0.15, -0.15}, {0.5, 0.15, 0.15});
-    addBox(mesh, {-0.05, 0.1, -0.05}, {0.05, 0.6, 0.05});
+    addAxisAlignedBox(mesh, {-0.5, -0.15, -0.15}, {0.5, 0.15, 0.15});
+    addAxisAlignedBox(mesh, {-0.05, 0.1, -0.05}, {0.05, 0.6, 0.05});
     const std::size_t shapeFaces = mesh.faceCount;
     const MeshRun clean = segmentMesh(mesh);
     const double side = 1.5 / 96.0;
     for (const std::array<double, 3>& at :
          {std::array<double, 3>{0.35, 0.4, 0.0}, {-0.35, 0.45, 0.05}, {0.2, 0.3, -0.1}})
-        addBox(mesh, at, {at[0] + side, at[1] + side, at[2] + side});
+        addAxisAlignedBox(mesh, at, {at[0] + side, at[1] + side, at[2] + side});
     const MeshRun noisy = segmentMesh(mesh);
 
     EXPECT_EQ(noisy.result.islands.count, 3u);

@@ -16,8 +16,6 @@ namespace {
 
 using json = nlohmann::json;
 
-constexpr int kSize = 112;
-
 bool sameLabels(const LabelVolume& a, const LabelVolume& b) {
     return a.dims() == b.dims() && std::equal(a.data(), a.data() + a.size(), b.data());
 }
@@ -25,7 +23,7 @@ bool sameLabels(const LabelVolume& a, const LabelVolume& b) {
 TEST(SceneJointLevels, CapsuleChainJointLevelNestsInTheJunctionLevel) {
     SegmentationParameters p;
     p.joints = true;
-    const SceneRun run = segmentShape("capsule-chain", kSize, p);
+    const SceneRun run = segmentShape("capsule-chain", kSceneSize, p);
     const SegmentationResult& r = run.result;
     ASSERT_FALSE(r.topIsCoarsestLevel);
     ASSERT_EQ(r.levelCount(), 2u);
@@ -35,7 +33,7 @@ TEST(SceneJointLevels, CapsuleChainJointLevelNestsInTheJunctionLevel) {
     EXPECT_EQ(r.levelSegments(1).size(), 1u);
     expectResultLevelsNest(r, "capsule-chain");
     // The junction-rule level is the run without --joints.
-    const SceneRun plain = segmentShape("capsule-chain", kSize);
+    const SceneRun plain = segmentShape("capsule-chain", kSceneSize);
     EXPECT_TRUE(sameLabels(r.levelLabels(1), plain.result.labels));
     // The top level is the joint level: the chain's three capsules.
     EXPECT_EQ(r.segments.size(), 3u);
@@ -51,7 +49,7 @@ TEST(SceneJointLevels, CapsuleChainWithATauListAddsTheJointLevelBelowTheFinest) 
     p.joints = true;
     p.finerTaus = {TauSpec::parse("1%")};
     p.tau = TauSpec::parse("3%");
-    const SceneRun run = segmentShape("capsule-chain", kSize, p);
+    const SceneRun run = segmentShape("capsule-chain", kSceneSize, p);
     const SegmentationResult& r = run.result;
     ASSERT_TRUE(r.topIsCoarsestLevel);
     ASSERT_EQ(r.levelCount(), 3u);
@@ -74,8 +72,8 @@ TEST(SceneJointLevels, FigureJointLevelNestsAndKeepsTheJunctionLevels) {
     plain.tau = TauSpec::parse("9%");
     SegmentationParameters joints = plain;
     joints.joints = true;
-    const SceneRun a = segmentShape("figure", kSize, plain, 1);
-    const SceneRun b = segmentShape("figure", kSize, joints, 1);
+    const SceneRun a = segmentShape("figure", kSceneSize, plain, 1);
+    const SceneRun b = segmentShape("figure", kSceneSize, joints, 1);
     ASSERT_EQ(b.result.levelCount(), a.result.levelCount() + 1);
     expectResultLevelsNest(b.result, "figure");
     for (std::size_t k = 0; k < a.result.levelCount(); ++k)

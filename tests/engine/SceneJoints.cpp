@@ -9,16 +9,10 @@
 namespace skelseg::test {
 namespace {
 
-constexpr int kSize = 112;
-
 SegmentationParameters withJoints() {
     SegmentationParameters p;
     p.joints = true;
     return p;
-}
-
-std::size_t parts(const SceneRun& run) {
-    return run.result.segments.size();
 }
 
 std::size_t cutsOfKind(const SceneRun& run, CutKind kind) {
@@ -31,10 +25,10 @@ std::size_t cutsOfKind(const SceneRun& run, CutKind kind) {
 }
 
 TEST(SceneJoints, CapsuleChainHasThreePartsWithJointsAndOneWithout) {
-    const SceneRun plain = segmentShape("capsule-chain", kSize);
-    EXPECT_EQ(parts(plain), 1u);
-    const SceneRun joints = segmentShape("capsule-chain", kSize, withJoints());
-    ASSERT_EQ(parts(joints), 3u);
+    const SceneRun plain = segmentShape("capsule-chain", kSceneSize);
+    EXPECT_EQ(partCount(plain), 1u);
+    const SceneRun joints = segmentShape("capsule-chain", kSceneSize, withJoints());
+    ASSERT_EQ(partCount(joints), 3u);
     EXPECT_EQ(cutsOfKind(joints, CutKind::Joint), 2u);
     EXPECT_EQ(cutsOfKind(joints, CutKind::Junction), 0u);
     // The three capsules are the parts: the outer two alike, the middle one
@@ -47,9 +41,9 @@ TEST(SceneJoints, CapsuleChainHasThreePartsWithJointsAndOneWithout) {
 
 TEST(SceneJoints, CapsuleChainAtOtherOrientationsAndSizes) {
     for (int pose : {1, 2})
-        EXPECT_EQ(parts(segmentShape("capsule-chain", kSize, withJoints(), pose)), 3u)
+        EXPECT_EQ(partCount(segmentShape("capsule-chain", kSceneSize, withJoints(), pose)), 3u)
             << "orientation " << pose;
-    EXPECT_EQ(parts(segmentShape("capsule-chain", 160, withJoints(), 1)), 3u) << "size 160";
+    EXPECT_EQ(partCount(segmentShape("capsule-chain", 160, withJoints(), 1)), 3u) << "size 160";
 }
 
 TEST(SceneJoints, FlexedCapsuleChainKeepsItsJoints) {
@@ -57,10 +51,10 @@ TEST(SceneJoints, FlexedCapsuleChainKeepsItsJoints) {
     // flexing): the joints are measured against the limb on each side, which
     // the flexing leaves as it was, so the same two cuts part the capsules.
     for (int pose : {0, 1, 2}) {
-        EXPECT_EQ(parts(segmentShape("bent-capsule-chain", kSize, {}, pose)), 1u)
+        EXPECT_EQ(partCount(segmentShape("bent-capsule-chain", kSceneSize, {}, pose)), 1u)
             << "orientation " << pose;
-        const SceneRun joints = segmentShape("bent-capsule-chain", kSize, withJoints(), pose);
-        ASSERT_EQ(parts(joints), 3u) << "orientation " << pose;
+        const SceneRun joints = segmentShape("bent-capsule-chain", kSceneSize, withJoints(), pose);
+        ASSERT_EQ(partCount(joints), 3u) << "orientation " << pose;
         EXPECT_EQ(cutsOfKind(joints, CutKind::Joint), 2u) << "orientation " << pose;
         const auto& s = joints.result.segments;
         EXPECT_NEAR(double(s[0].voxelCount), double(s[1].voxelCount),
@@ -73,22 +67,22 @@ TEST(SceneJoints, FlexedCapsuleChainKeepsItsJoints) {
 
 TEST(SceneJoints, StraightUniformTubesStayOnePart) {
     for (const char* name : {"capsule", "cylinder"}) {
-        EXPECT_EQ(parts(segmentShape(name, kSize)), 1u) << name;
-        const SceneRun joints = segmentShape(name, kSize, withJoints());
-        EXPECT_EQ(parts(joints), 1u) << name;
+        EXPECT_EQ(partCount(segmentShape(name, kSceneSize)), 1u) << name;
+        const SceneRun joints = segmentShape(name, kSceneSize, withJoints());
+        EXPECT_EQ(partCount(joints), 1u) << name;
         EXPECT_EQ(cutsOfKind(joints, CutKind::Joint), 0u) << name;
     }
 }
 
 TEST(SceneJoints, BentTubeIsCutAtItsBendWhenBendsAreOn) {
-    EXPECT_EQ(parts(segmentShape("bent-tube", kSize)), 1u);
+    EXPECT_EQ(partCount(segmentShape("bent-tube", kSceneSize)), 1u);
     // Bends are off by default: narrowings alone leave the uniform tube whole.
-    EXPECT_EQ(parts(segmentShape("bent-tube", kSize, withJoints())), 1u);
+    EXPECT_EQ(partCount(segmentShape("bent-tube", kSceneSize, withJoints())), 1u);
     SegmentationParameters bends = withJoints();
     bends.jointOptions.bendAngleDegrees = 30.0;
     for (int pose : {0, 1, 2}) {
-        const SceneRun run = segmentShape("bent-tube", kSize, bends, pose);
-        ASSERT_EQ(parts(run), 2u) << "orientation " << pose;
+        const SceneRun run = segmentShape("bent-tube", kSceneSize, bends, pose);
+        ASSERT_EQ(partCount(run), 2u) << "orientation " << pose;
         // The two legs are equally long: the cut sits at the corner.
         const auto& s = run.result.segments;
         EXPECT_NEAR(double(s[0].voxelCount), double(s[1].voxelCount),
@@ -100,16 +94,16 @@ TEST(SceneJoints, BentTubeIsCutAtItsBendWhenBendsAreOn) {
 TEST(SceneJoints, JunctionShapesKeepTheirPartsWhenLimbsAreStraight) {
     // Straight uniform arms have no joint, and no joint lands on a junction
     // rule cut.
-    const SceneRun run = segmentShape("y-arms", kSize, withJoints());
-    EXPECT_EQ(parts(run), 3u);
+    const SceneRun run = segmentShape("y-arms", kSceneSize, withJoints());
+    EXPECT_EQ(partCount(run), 3u);
     EXPECT_EQ(cutsOfKind(run, CutKind::Joint), 0u);
 }
 
 TEST(SceneJoints, SerialAndParallelAgree) {
     SegmentationParameters serial = withJoints();
     serial.threaded = false;
-    const SceneRun a = segmentShape("capsule-chain", kSize, withJoints(), 2);
-    const SceneRun b = segmentShape("capsule-chain", kSize, serial, 2);
+    const SceneRun a = segmentShape("capsule-chain", kSceneSize, withJoints(), 2);
+    const SceneRun b = segmentShape("capsule-chain", kSceneSize, serial, 2);
     ASSERT_EQ(a.result.labels.size(), b.result.labels.size());
     std::size_t differing = 0;
     for (std::size_t i = 0; i < a.result.labels.size(); ++i)

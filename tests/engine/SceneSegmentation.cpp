@@ -10,15 +10,9 @@
 namespace skelseg::test {
 namespace {
 
-constexpr int kSize = 112;
-
-std::size_t parts(const SceneRun& run) {
-    return run.result.segments.size();
-}
-
 TEST(Scene, DiscWithThreeLimbsHasFourParts) {
-    const SceneRun run = segmentShape("disc-limbs", kSize);
-    EXPECT_EQ(parts(run), 4u);
+    const SceneRun run = segmentShape("disc-limbs", kSceneSize);
+    EXPECT_EQ(partCount(run), 4u);
     // The disc is the largest part and the three limbs are alike.
     ASSERT_EQ(run.result.segments.size(), 4u);
     const auto& s = run.result.segments;
@@ -27,8 +21,8 @@ TEST(Scene, DiscWithThreeLimbsHasFourParts) {
 }
 
 TEST(Scene, ThreeEqualArmsHaveThreeParts) {
-    const SceneRun run = segmentShape("y-arms", kSize);
-    EXPECT_EQ(parts(run), 3u);
+    const SceneRun run = segmentShape("y-arms", kSceneSize);
+    EXPECT_EQ(partCount(run), 3u);
     // A junction with three branches produced exactly two cuts.
     ASSERT_EQ(run.result.objects.size(), 1u);
     std::uint32_t cuts = 0;
@@ -37,8 +31,8 @@ TEST(Scene, ThreeEqualArmsHaveThreeParts) {
 }
 
 TEST(Scene, ThickBodyWithThinLimbHasTwoParts) {
-    const SceneRun run = segmentShape("t-body", kSize);
-    ASSERT_EQ(parts(run), 2u);
+    const SceneRun run = segmentShape("t-body", kSceneSize);
+    ASSERT_EQ(partCount(run), 2u);
     // The limb (along +y from the body) is the small part.
     const auto& s = run.result.segments;
     EXPECT_GT(s[0].voxelCount, 5 * s[1].voxelCount);
@@ -48,7 +42,7 @@ TEST(Scene, FlatSlabIsOnePart) {
     // The skeleton runs into the corners and makes junctions, which must not
     // produce cuts (docs/algorithm.md §8: 0 cuts).
     const SceneRun run = segmentShape("slab", 64);
-    EXPECT_EQ(parts(run), 1u);
+    EXPECT_EQ(partCount(run), 1u);
 }
 
 /// Centre of a cut loop, in voxels.
@@ -61,8 +55,8 @@ std::array<double, 3> loopCentre(const std::vector<std::array<int, 3>>& loop) {
 }
 
 TEST(Scene, BoxWithTubesCutsEachTubeWhereItMeetsTheBox) {
-    const SceneRun run = segmentShape("box-tubes", kSize);
-    ASSERT_EQ(parts(run), 4u);
+    const SceneRun run = segmentShape("box-tubes", kSceneSize);
+    ASSERT_EQ(partCount(run), 4u);
     ASSERT_EQ(run.result.objects.size(), 1u);
     const auto& loops = run.result.objects[0].cutLoops;
     ASSERT_EQ(loops.size(), 3u);
@@ -100,18 +94,18 @@ TEST(Scene, JunctionModeCutsLooserThanTheJunctionRule) {
     // RT07 (docs/algorithm.md §10) uses the junctions' own loops as cuts:
     // they run over the box, so the box loses surface to the tube parts and
     // the shape is over-segmented.
-    const SceneRun rule = segmentShape("box-tubes", kSize);
+    const SceneRun rule = segmentShape("box-tubes", kSceneSize);
     SegmentationParameters p;
     p.mode = CutMode::Junctions;
-    const SceneRun rt07 = segmentShape("box-tubes", kSize, p);
-    EXPECT_GT(parts(rt07), parts(rule));
+    const SceneRun rt07 = segmentShape("box-tubes", kSceneSize, p);
+    EXPECT_GT(partCount(rt07), partCount(rule));
     EXPECT_LT(double(rt07.result.segments[0].boundaryArea),
               0.9 * double(rule.result.segments[0].boundaryArea));
 }
 
 TEST(Scene, TorusWithLimbKeepsItsRingAndSplitsTheLimb) {
-    const SceneRun run = segmentShape("torus-limb", kSize);
-    EXPECT_EQ(parts(run), 2u);
+    const SceneRun run = segmentShape("torus-limb", kSceneSize);
+    EXPECT_EQ(partCount(run), 2u);
     ASSERT_EQ(run.result.objects.size(), 1u);
     // The ring's loop skeleton survives simplification: skeleton points in
     // all eight 45-degree sectors around the ring's centre.
@@ -143,7 +137,7 @@ TEST(Scene, NoisySlabHasNoHandlePointsAndIsOnePart) {
         ASSERT_EQ(run.result.objects.size(), 1u);
         EXPECT_EQ(run.result.objects[0].genus, 0) << "seed " << seed;
         EXPECT_EQ(run.result.objects[0].handlePoints, 0u) << "seed " << seed;
-        EXPECT_EQ(parts(run), 1u) << "seed " << seed;
+        EXPECT_EQ(partCount(run), 1u) << "seed " << seed;
         legacyHandlePoints +=
             segmentShape("slab", 96, legacy, 0, 0.05, seed).result.objects[0].handlePoints;
     }
@@ -154,17 +148,17 @@ TEST(Scene, NoisySlabHasNoHandlePointsAndIsOnePart) {
 TEST(Scene, FigureHasSixParts) {
     // Body, head on a neck (the neck is cut: head and neck one part), two
     // arms, two legs: five cuts.
-    const SceneRun run = segmentShape("figure", kSize);
-    EXPECT_EQ(parts(run), 6u);
+    const SceneRun run = segmentShape("figure", kSceneSize);
+    EXPECT_EQ(partCount(run), 6u);
 }
 
 TEST(Scene, PoseInvariance) {
     std::vector<std::size_t> partCounts;
     std::vector<std::vector<int>> degrees;
     for (int pose = 0; pose < 3; ++pose) {
-        const SceneRun run = segmentShape("figure", kSize, {}, pose);
-        partCounts.push_back(parts(run));
-        degrees.push_back(degreeSequence(segmentAdjacency(run.result.labels), int(parts(run))));
+        const SceneRun run = segmentShape("figure", kSceneSize, {}, pose);
+        partCounts.push_back(partCount(run));
+        degrees.push_back(degreeSequence(segmentAdjacency(run.result.labels), int(partCount(run))));
     }
     EXPECT_EQ(partCounts[0], 6u);
     EXPECT_EQ(partCounts[1], partCounts[0]);
@@ -177,9 +171,9 @@ TEST(Scene, PoseInvariance) {
 
 TEST(Scene, BoundaryNoiseLeavesPartCountsUnchanged) {
     for (const char* name : {"figure", "t-body", "y-arms", "box-tubes"}) {
-        const SceneRun clean = segmentShape(name, kSize);
-        const SceneRun noisy = segmentShape(name, kSize, {}, 0, 0.02, 11);
-        EXPECT_EQ(parts(noisy), parts(clean)) << name;
+        const SceneRun clean = segmentShape(name, kSceneSize);
+        const SceneRun noisy = segmentShape(name, kSceneSize, {}, 0, 0.02, 11);
+        EXPECT_EQ(partCount(noisy), partCount(clean)) << name;
     }
 }
 

@@ -25,7 +25,7 @@
 namespace skelseg::test {
 namespace {
 
-std::vector<int> readSeg(const std::filesystem::path& p) {
+std::vector<int> readFaceLabels(const std::filesystem::path& p) {
     std::ifstream in(p);
     std::vector<int> labels;
     for (int l; in >> l;) labels.push_back(l);
@@ -63,8 +63,8 @@ void compareOn(const std::filesystem::path& mesh) {
     std::ifstream ib(dir / "band" / "report.json"), ie(dir / "exhaustive" / "report.json");
     const nlohmann::json band = nlohmann::json::parse(ib), exhaustive = nlohmann::json::parse(ie);
     EXPECT_EQ(band["segment_count"], exhaustive["segment_count"]) << mesh;
-    EXPECT_LE(randIndexError(readSeg(dir / "band" / "segmentation.seg"),
-                             readSeg(dir / "exhaustive" / "segmentation.seg")),
+    EXPECT_LE(randIndexError(readFaceLabels(dir / "band" / "segmentation.seg"),
+                             readFaceLabels(dir / "exhaustive" / "segmentation.seg")),
               0.005)
         << mesh;
     EXPECT_EQ(fileBytes(dir / "band" / "cuts.ply"), fileBytes(dir / "exhaustive" / "cuts.ply"))

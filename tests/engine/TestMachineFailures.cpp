@@ -17,13 +17,6 @@ namespace fs = std::filesystem;
 using namespace skelseg;
 using namespace skelseg::test;
 
-namespace {
-
-const char* const kTetraOff =
-    "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
-
-}  // namespace
-
 TEST(MachineFailures, FullDiskNamesTheFinalFileAndKeepsTheEarlierOutput) {
     TempDir dir;
     const fs::path input = dir / "tetra.off";

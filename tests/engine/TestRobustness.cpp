@@ -37,11 +37,9 @@ using namespace skelseg::test;
 namespace {
 
 // ---------------------------------------------------------------------------
-// Small valid files the bad cases are derived from
+// Small valid files the bad cases are derived from (and the tetrahedron,
+// kTetraOff, in RobustnessHelpers.h)
 // ---------------------------------------------------------------------------
-
-const std::string kTetraBody = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
-const std::string kTetraOff = "OFF\n4 4 0\n" + kTetraBody;
 
 std::string nrrd(const std::string& fields, const std::string& data) {
     return "NRRD0004\n" + fields + "\n" + data;

@@ -19,10 +19,16 @@
 #include "kernels/SkeletonCandidates.h"
 #include "kernels/SkeletonMeasures.h"
 #include "kernels/base/Volume.h"
+#include "tests/support/Pi.h"
 
 namespace skelseg::test {
 
-constexpr double kPi = 3.14159265358979323846;
+/// Unit direction at `azimuth` degrees from the x axis in the xy plane,
+/// leaning `elevation` degrees out of it: shapes laid at an angle to the grid.
+inline std::array<double, 3> unitDirection(double azimuth, double elevation) {
+    const double a = azimuth * kPi / 180.0, e = elevation * kPi / 180.0;
+    return {std::cos(a) * std::cos(e), std::sin(a) * std::cos(e), std::sin(e)};
+}
 
 /// A voxelised ball: voxel centres within `radius` of `centre`.
 inline MaskVolume ballMask(Dims dims, std::array<double, 3> centre, double radius) {

@@ -11,6 +11,7 @@
 #include <map>
 #include <vector>
 
+#include "io/mesh/Vec3Arithmetic.h"
 #include "kernels/Geodesicness.h"
 #include "kernels/SkeletonMeasures.h"
 #include "tests/kernels/KernelTestSupport.h"
@@ -19,12 +20,10 @@ namespace skelseg {
 namespace {
 
 using Vec3 = std::array<double, 3>;
+using vec3::dot;
 
 Vec3 add(Vec3 a, Vec3 b, double s = 1.0) {
     return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]};
-}
-double dot(Vec3 a, Vec3 b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 /// Distance from p to the segment [a, b] and the segment parameter in [0, 1].
@@ -66,13 +65,6 @@ MaskVolume rasteriseCapsules(const std::vector<Capsule>& capsules, int margin = 
     return mask;
 }
 
-/// Unit direction at `azimuth` degrees from the x axis in the xy plane,
-/// leaning `elevation` degrees out of it.
-Vec3 direction(double azimuth, double elevation) {
-    const double a = azimuth * test::kPi / 180.0, e = elevation * test::kPi / 180.0;
-    return {std::cos(a) * std::cos(e), std::sin(a) * std::cos(e), std::sin(e)};
-}
-
 /// The skeleton of a mask as the engine measures it (tau 1% of the boundary).
 struct MeasuredSkeleton {
     MaskVolume mask;
@@ -106,7 +98,7 @@ double median(std::vector<double> v) {
 /// segment [from, to] falls in its middle third (0 where none).
 double middleThirdSigma(double radius, double azimuth, double elevation) {
     const double length = std::max(12.0 * radius, 48.0);
-    const Vec3 from{0, 0, 0}, to = add(from, direction(azimuth, elevation), length);
+    const Vec3 from{0, 0, 0}, to = add(from, test::unitDirection(azimuth, elevation), length);
     const int margin = 2;
     const MaskVolume mask = rasteriseCapsules({{from, to, radius}}, margin);
     Vec3 lo;

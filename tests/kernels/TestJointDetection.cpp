@@ -8,13 +8,13 @@
 
 #include "kernels/base/Error.h"
 #include "tests/kernels/SkeletonTestPoints.h"
+#include "tests/support/Pi.h"
 
 namespace skelseg {
 namespace {
 
+using test::kPi;
 using test::SkeletonPointSet;
-
-constexpr double kPi = 3.14159265358979323846;
 
 /// A straight profile of `length` one-voxel samples along x with rho_S
 /// given per sample.

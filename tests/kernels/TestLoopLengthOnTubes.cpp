@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "io/mesh/Vec3Arithmetic.h"
 #include "kernels/SkeletonMeasures.h"
 #include "tests/kernels/KernelTestSupport.h"
 
@@ -17,10 +18,8 @@ namespace skelseg {
 namespace {
 
 using Vec3 = std::array<double, 3>;
+using vec3::dot;
 
-double dot(Vec3 a, Vec3 b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 Vec3 cross(Vec3 a, Vec3 b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
@@ -29,32 +28,25 @@ Vec3 unit(Vec3 a) {
     return {a[0] / n, a[1] / n, a[2] / n};
 }
 
-/// Unit direction at `azimuth` degrees from the x axis in the xy plane,
-/// leaning `elevation` degrees out of it.
-Vec3 direction(double azimuth, double elevation) {
-    const double a = azimuth * test::kPi / 180.0, e = elevation * test::kPi / 180.0;
-    return {std::cos(a) * std::cos(e), std::sin(a) * std::cos(e), std::sin(e)};
-}
-
 /// A straight tube of elliptic cross-section (semi-axes `ra`, `rb`) along
 /// `azimuth`/`elevation`, rasterised by voxel centres with its axis off the
 /// voxel centres.
-struct Tube {
+struct EllipticTube {
     double ra, rb, azimuth, elevation;
 };
 
 /// Half the true circumference of the tube's cross-section (Ramanujan).
-double halfPerimeter(const Tube& t) {
+double halfPerimeter(const EllipticTube& t) {
     const double a = t.ra, b = t.rb, h = (a - b) * (a - b) / ((a + b) * (a + b));
     return 0.5 * test::kPi * (a + b) * (1.0 + 3.0 * h / (10.0 + std::sqrt(4.0 - 3.0 * h)));
 }
 
 /// Median surfaceHalfLoop of the skeleton points within a voxel of the
 /// axis in the middle third of the tube.
-double middleThirdHalfLoop(const Tube& t) {
+double middleThirdHalfLoop(const EllipticTube& t) {
     const double widest = std::max(t.ra, t.rb);
     const double length = std::max(10.0 * widest, 40.0);
-    const Vec3 axis = direction(t.azimuth, t.elevation);
+    const Vec3 axis = test::unitDirection(t.azimuth, t.elevation);
     const Vec3 e1 = unit(cross(axis, Vec3{0.1234, 0.3, 1.0})), e2 = cross(axis, e1);
     const Vec3 start{0.37, 0.21, 0.13};  // the axis misses the voxel centres
     const int margin = 2;
@@ -101,9 +93,10 @@ class LoopLengthOnTubes : public ::testing::TestWithParam<double> {};
 // out of it, and along a space diagonal; round and elliptic.
 TEST_P(LoopLengthOnTubes, IsHalfTheCircumferenceAtAnyAngle) {
     const double radius = GetParam();
-    for (const Tube& t : {Tube{radius, radius, 0, 0}, Tube{radius, radius, 30, 0},
-                          Tube{radius, radius, 45, 0}, Tube{radius, radius, 30, 20},
-                          Tube{radius, radius, 45, 35.26}, Tube{radius, 0.6 * radius, 30, 20}}) {
+    for (const EllipticTube& t :
+         {EllipticTube{radius, radius, 0, 0}, EllipticTube{radius, radius, 30, 0},
+          EllipticTube{radius, radius, 45, 0}, EllipticTube{radius, radius, 30, 20},
+          EllipticTube{radius, radius, 45, 35.26}, EllipticTube{radius, 0.6 * radius, 30, 20}}) {
         const double truth = halfPerimeter(t), measured = middleThirdHalfLoop(t);
         std::printf("tube %.1f x %.1f at %.0f / %.0f degrees: half loop %.2f, true %.2f (%.3f)\n",
                     t.ra, t.rb, t.azimuth, t.elevation, measured, truth, measured / truth);
@@ -123,12 +116,14 @@ INSTANTIATE_TEST_SUITE_P(Radius, LoopLengthOnTubes, ::testing::Values(3.0, 5.0, 
 // A thin tube against a thick one lying differently in the grid, at one
 // resolution and at twice it: the measured ratio is the true one at both.
 TEST(LoopLengthRatio, ThinOverThickIsTheSameAtTwoResolutions) {
-    for (const auto& [thin, thick] : {std::pair{Tube{3, 3, 30, 20}, Tube{10, 10, 0, 0}},
-                                      std::pair{Tube{5, 5, 0, 0}, Tube{10, 10, 45, 35.26}}}) {
+    for (const auto& [thin, thick] :
+         {std::pair{EllipticTube{3, 3, 30, 20}, EllipticTube{10, 10, 0, 0}},
+          std::pair{EllipticTube{5, 5, 0, 0}, EllipticTube{10, 10, 45, 35.26}}}) {
         double ratios[2];
         for (int scale = 1; scale <= 2; ++scale) {
-            const Tube a{scale * thin.ra, scale * thin.rb, thin.azimuth, thin.elevation};
-            const Tube b{scale * thick.ra, scale * thick.rb, thick.azimuth, thick.elevation};
+            const EllipticTube a{scale * thin.ra, scale * thin.rb, thin.azimuth, thin.elevation};
+            const EllipticTube b{scale * thick.ra, scale * thick.rb, thick.azimuth,
+                                 thick.elevation};
             ratios[scale - 1] = (middleThirdHalfLoop(a) / middleThirdHalfLoop(b)) /
                                 (halfPerimeter(a) / halfPerimeter(b));
             std::printf("thin %.0f over thick %.0f: measured ratio / true ratio %.3f\n", a.ra, b.ra,

@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include "kernels/VoxelGenus.h"
+#include "tests/support/StopAtOnce.h"
 
 namespace skelseg {
 namespace {
+
+using test::StopAtOnce;
 
 /// Clears the cells of `group` in `mask` and returns them.
 ClearedGroup clear(MaskVolume& mask, const ClearedGroup& group) {
@@ -85,11 +88,6 @@ TEST(SeveredObjects, CountsWithoutSettingBack) {
     EXPECT_EQ(rejoinSeveredObjects(mask, groups, countOnly), std::vector<bool>{true});
     EXPECT_EQ(mask.values(), cut.values());
 }
-
-class StopAtOnce final : public Interrupter {
-public:
-    bool wasInterrupted(double) override { return true; }
-};
 
 TEST(SeveredObjects, StopsWhenInterrupted) {
     MaskVolume mask = bar(12);

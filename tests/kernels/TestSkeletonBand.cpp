@@ -17,16 +17,16 @@ namespace skelseg {
 namespace {
 
 /// A rasterised synthetic shape with its candidates and landmarks.
-struct Prepared {
+struct ShapeForBand {
     MaskVolume mask;
     Volume<std::uint32_t> ft;
     BoundaryGraph graph;
     std::vector<SkeletonCandidate> candidates;
     Landmarks landmarks;
 
-    Prepared(const std::string& shape, int size)
-        : Prepared(rasterise(makeShape(shape), {size, 2})) {}
-    explicit Prepared(MaskVolume object) : mask(std::move(object)) {
+    ShapeForBand(const std::string& shape, int size)
+        : ShapeForBand(rasterise(makeShape(shape), {size, 2})) {}
+    explicit ShapeForBand(MaskVolume object) : mask(std::move(object)) {
         ft = featureTransform(boundaryVoxels(mask, {false}), {false});
         graph = buildBoundaryGraph(mask, {false});
         CandidateOptions options;
@@ -45,10 +45,10 @@ struct Prepared {
     }
 };
 
-const Prepared& prepared(const std::string& shape, int size) {
-    static std::map<std::pair<std::string, int>, std::unique_ptr<Prepared>> cache;
+const ShapeForBand& shapeForBand(const std::string& shape, int size) {
+    static std::map<std::pair<std::string, int>, std::unique_ptr<ShapeForBand>> cache;
     auto& slot = cache[{shape, size}];
-    if (!slot) slot = std::make_unique<Prepared>(shape, size);
+    if (!slot) slot = std::make_unique<ShapeForBand>(shape, size);
     return *slot;
 }
 
@@ -78,7 +78,7 @@ SkeletonBandOptions coarseSeedsOnly() {
 }
 
 TEST_P(SkeletonBandShapes, FindsTheExhaustiveSimplifiedSkeleton) {
-    const Prepared& p = prepared(GetParam(), 72);
+    const ShapeForBand& p = shapeForBand(GetParam(), 72);
     const SkeletonMeasureOptions o = p.options(false);
     const auto exhaustive = inTau(measureSkeleton(p.graph, p.candidates, o), o.tau);
     ASSERT_FALSE(exhaustive.empty()) << "every test shape has a simplified skeleton";
@@ -100,7 +100,7 @@ INSTANTIATE_TEST_SUITE_P(GeneratedShapes, SkeletonBandShapes,
                                            "torus-limb", "sphere", "slab", "figure"));
 
 TEST(SkeletonBand, SerialAndParallelGiveIdenticalPoints) {
-    const Prepared& p = prepared("figure", 72);
+    const ShapeForBand& p = shapeForBand("figure", 72);
     // The defaults (thin-wall seeds), and coarse seeds with one more level.
     SkeletonBandOptions recursive = coarseSeedsOnly();
     recursive.exhaustiveBelow = 500;
@@ -126,7 +126,7 @@ TEST(SkeletonBand, SerialAndParallelGiveIdenticalPoints) {
 }
 
 TEST(SkeletonBand, SpacingOneMeasuresEveryCandidateLikeTheExhaustiveSearch) {
-    const Prepared& p = prepared("y-arms", 64);
+    const ShapeForBand& p = shapeForBand("y-arms", 64);
     const SkeletonMeasureOptions o = p.options(false);
     SkeletonBandOptions everything;
     everything.seedSpacing = 1;
@@ -143,7 +143,7 @@ TEST(SkeletonBand, SpacingOneMeasuresEveryCandidateLikeTheExhaustiveSearch) {
 TEST(SkeletonBand, MeasuresFewerCandidatesWhereTheSkeletonIsSmall) {
     // A large ball body with thin limbs: most candidates are medial-surface
     // voxels of the body, far from its skeleton.
-    const Prepared& p = prepared("disc-limbs", 96);
+    const ShapeForBand& p = shapeForBand("disc-limbs", 96);
     SkeletonBandStats stats;
     SkeletonMeasureStats measures;
     measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), coarseSeedsOnly(),
@@ -155,7 +155,7 @@ TEST(SkeletonBand, MeasuresFewerCandidatesWhereTheSkeletonIsSmall) {
 }
 
 TEST(SkeletonBand, RefusesANegativeSpacingOrARadiusBelowOne) {
-    const Prepared& p = prepared("y-arms", 64);
+    const ShapeForBand& p = shapeForBand("y-arms", 64);
     SkeletonBandOptions bad;
     bad.seedSpacing = -1;
     EXPECT_THROW(measureSkeletonInBand(p.graph, p.candidates, p.mask, p.ft, p.options(false), bad),
@@ -173,7 +173,7 @@ TEST(SkeletonBand, RefusesANegativeSpacingOrARadiusBelowOne) {
 TEST(SkeletonBand, ClosureAloneRecoversTheSkeletonFromOneSeedPiece) {
     // Without coarse seeds, plane seeds far apart still find the whole
     // connected skeleton of the figure through the closure.
-    const Prepared& p = prepared("figure", 72);
+    const ShapeForBand& p = shapeForBand("figure", 72);
     const SkeletonMeasureOptions o = p.options(false);
     SkeletonBandOptions planesOnly;
     planesOnly.coarseSeeds = false;
@@ -197,7 +197,7 @@ MaskVolume thinPlate(int side, int thickness) {
 }
 
 TEST(SkeletonBand, ThinWallSeedsFindTheSkeletonOfAThinPlate) {
-    const Prepared p(thinPlate(56, 3));
+    const ShapeForBand p(thinPlate(56, 3));
     const SkeletonMeasureOptions o = p.options(false);
     const auto exhaustive = inTau(measureSkeleton(p.graph, p.candidates, o), o.tau);
     ASSERT_FALSE(exhaustive.empty()) << "a plate has a simplified curve skeleton";
@@ -216,7 +216,7 @@ TEST(SkeletonBand, RecursiveCoarseLevelsFindTheSameSkeleton) {
     // candidates than the threshold, is a band search seeded from a quarter
     // of the resolution. Without the thin-wall seeds, which cover most of a
     // shape this small, the half-resolution level measures only a band.
-    const Prepared& p = prepared("disc-limbs", 96);
+    const ShapeForBand& p = shapeForBand("disc-limbs", 96);
     const SkeletonMeasureOptions o = p.options(false);
     SkeletonBandOptions flat = coarseSeedsOnly();
     flat.exhaustiveBelow = std::numeric_limits<std::size_t>::max();
@@ -242,7 +242,7 @@ TEST(SkeletonBand, ACoarseBandOfOneVoxelSeedsEveryPieceAndNoneDoesNot) {
     // the closure does the rest. On the t-body at 96 the coarse skeleton
     // runs beside the fine one: a band of radius 0 (the coarse voxel's own
     // fine voxels) misses it entirely, the default radius finds all of it.
-    const Prepared& p = prepared("t-body", 96);
+    const ShapeForBand& p = shapeForBand("t-body", 96);
     const SkeletonMeasureOptions o = p.options(false);
     const auto exhaustive = inTau(measureSkeleton(p.graph, p.candidates, o), o.tau);
     ASSERT_FALSE(exhaustive.empty());
@@ -264,7 +264,7 @@ TEST_P(CoarseClosureShapes, ACoarseClosureOfOneVoxelKeepsTheSkeletonAndMeasuresL
     // Two coarser levels (a threshold of 500 candidates), coarse seeds
     // only: the coarse levels follow their skeleton with radius 1 and the
     // full resolution still finds every point of C_tau.
-    const Prepared& p = prepared(GetParam(), 96);
+    const ShapeForBand& p = shapeForBand(GetParam(), 96);
     const SkeletonMeasureOptions o = p.options(false);
     const auto exhaustive = inTau(measureSkeleton(p.graph, p.candidates, o), o.tau);
     ASSERT_FALSE(exhaustive.empty());

@@ -8,12 +8,14 @@
 #include <set>
 
 #include "tests/kernels/SkeletonTestPoints.h"
+#include "tests/support/StopAtOnce.h"
 
 namespace skelseg {
 namespace {
 
 using test::nodeOf;
 using test::SkeletonPointSet;
+using test::StopAtOnce;
 
 /// A Y: a centre voxel with three 12-voxel arms in the z = 1 plane.
 struct YShape {
@@ -499,12 +501,6 @@ TEST(SkeletonGraph, SerialAndParallelForkTestsGiveTheSameGraph) {
         EXPECT_EQ(a.junctions[j].representative, b.junctions[j].representative);
     }
 }
-
-/// Asks to stop at its first poll.
-class StopAtOnce final : public Interrupter {
-public:
-    bool wasInterrupted(double) override { return true; }
-};
 
 TEST(SkeletonGraph, ForkTestsStopWhenAsked) {
     const SkeletonPointSet set = starAndSheet();

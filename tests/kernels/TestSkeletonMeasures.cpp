@@ -17,14 +17,14 @@ namespace skelseg {
 namespace {
 
 /// A rasterised synthetic shape with everything measureSkeleton needs.
-struct Prepared {
+struct ShapeToMeasure {
     MaskVolume mask;
     Volume<std::uint32_t> ft;
     BoundaryGraph graph;
     std::vector<SkeletonCandidate> candidates;
     Landmarks landmarks;  // as the engine uses them
 
-    Prepared(const std::string& shape, int size) {
+    ShapeToMeasure(const std::string& shape, int size) {
         mask = rasterise(makeShape(shape), {size, 2});
         ft = featureTransform(boundaryVoxels(mask, {false}), {false});
         graph = buildBoundaryGraph(mask, {false});
@@ -52,15 +52,15 @@ struct Prepared {
 };
 
 /// Shapes are shared between tests of this file (built on first use).
-const Prepared& prepared(const std::string& shape, int size) {
-    static std::map<std::pair<std::string, int>, std::unique_ptr<Prepared>> cache;
+const ShapeToMeasure& shapeToMeasure(const std::string& shape, int size) {
+    static std::map<std::pair<std::string, int>, std::unique_ptr<ShapeToMeasure>> cache;
     auto& slot = cache[{shape, size}];
-    if (!slot) slot = std::make_unique<Prepared>(shape, size);
+    if (!slot) slot = std::make_unique<ShapeToMeasure>(shape, size);
     return *slot;
 }
 
 TEST(SkeletonMeasures, RhoCGrowsFromTheCapsuleTipsToItsMiddle) {
-    const Prepared& p = prepared("capsule", 80);  // axis along x
+    const ShapeToMeasure& p = shapeToMeasure("capsule", 80);  // axis along x
     const std::vector<SkeletonPoint> points =
         measureSkeleton(p.graph, p.candidates, p.options(0.0, true));
     // Largest rho_C per x along the axis.
@@ -94,7 +94,7 @@ TEST(SkeletonMeasures, RhoCGrowsFromTheCapsuleTipsToItsMiddle) {
 }
 
 TEST(SkeletonMeasures, SigmaIsHighInTheMiddleOfACylinder) {
-    const Prepared& p = prepared("cylinder", 80);
+    const ShapeToMeasure& p = shapeToMeasure("cylinder", 80);
     const std::vector<SkeletonPoint> points =
         measureSkeleton(p.graph, p.candidates, p.options(0.03));
     int xMin = p.mask.dims().x, xMax = 0;
@@ -120,7 +120,7 @@ TEST(SkeletonMeasures, SigmaIsLowNextToTheTJunction) {
     // t-body: a thick capsule along x (radius 0.25) with a thin limb along +y
     // (radius 0.07) starting inside it at y = 0.1. Limb skeleton points next
     // to the body have kinked loops; further out the loops are straight.
-    const Prepared& p = prepared("t-body", 96);
+    const ShapeToMeasure& p = shapeToMeasure("t-body", 96);
     const std::vector<SkeletonPoint> points =
         measureSkeleton(p.graph, p.candidates, p.options(0.03));
     const double voxel = p.mask.geometry.voxelSize();
@@ -143,7 +143,7 @@ TEST(SkeletonMeasures, SigmaIsLowNextToTheTJunction) {
     ASSERT_GT(near, 3);
     ASSERT_GT(far, 3);
     // The cylinder's value (same resolution class) for comparison.
-    const Prepared& cylinder = prepared("cylinder", 80);
+    const ShapeToMeasure& cylinder = shapeToMeasure("cylinder", 80);
     float cylinderSigma = 0.0f;
     for (const SkeletonPoint& s :
          measureSkeleton(cylinder.graph, cylinder.candidates, cylinder.options(0.03)))
@@ -158,7 +158,7 @@ TEST(SkeletonMeasures, SigmaIsLowNextToTheTJunction) {
 
 TEST(SkeletonMeasures, SerialEqualsParallel) {
     for (const char* shape : {"figure", "t-body"}) {
-        const Prepared& p = prepared(shape, 64);
+        const ShapeToMeasure& p = shapeToMeasure(shape, 64);
         SCOPED_TRACE(shape);
         SkeletonMeasureStats serialStats, parallelStats;
         const std::vector<SkeletonPoint> serial =
@@ -185,7 +185,7 @@ TEST(SkeletonMeasures, KeptWorkspacesAnswerAsFreshOnes) {
     // rounds (asked with other sheet bounds, in another order). Every point
     // must be what a fresh, serial measure of the whole list gives.
     for (const char* shape : {"figure", "disc-limbs"}) {
-        const Prepared& p = prepared(shape, 64);
+        const ShapeToMeasure& p = shapeToMeasure(shape, 64);
         SCOPED_TRACE(shape);
         for (bool threaded : {false, true}) {
             const SkeletonMeasureOptions options = p.options(0.03, false, threaded);
@@ -236,7 +236,7 @@ TEST(SkeletonMeasures, KeptWorkspacesAnswerAsFreshOnes) {
 TEST(SkeletonMeasures, WithoutSigmaEverythingElseIsTheSame) {
     // The band's coarser levels skip sigma: the points and every other
     // measure must be those of a run with it, on kept workspaces too.
-    const Prepared& p = prepared("figure", 64);
+    const ShapeToMeasure& p = shapeToMeasure("figure", 64);
     for (bool threaded : {false, true}) {
         SkeletonMeasureStats withStats, withoutStats;
         const std::vector<SkeletonPoint> with =
@@ -262,7 +262,7 @@ TEST(SkeletonMeasures, WithoutSigmaEverythingElseIsTheSame) {
 TEST(SkeletonMeasures, CappedRhoCDecidesTauLikeExact) {
     // The growth cap changes only rho_C's value above tau (a lower bound),
     // never which points are in C, their rims, or the tau decision.
-    const Prepared& p = prepared("figure", 64);
+    const ShapeToMeasure& p = shapeToMeasure("figure", 64);
     const SkeletonMeasureOptions cappedOptions = p.options(0.03),
                                  exactOptions = p.options(0.03, true);
     const std::vector<SkeletonPoint> capped = measureSkeleton(p.graph, p.candidates, cappedOptions);
@@ -293,7 +293,7 @@ TEST(SkeletonMeasures, CappedRhoCDecidesTauLikeExact) {
 TEST(SkeletonMeasures, OneMeasureAtTheCoarsestTauServesFinerTaus) {
     // Hierarchy runs measure once at the largest tau with sigma down to the
     // smallest: every decision of a run at the smaller tau follows from it.
-    const Prepared& p = prepared("figure", 64);
+    const ShapeToMeasure& p = shapeToMeasure("figure", 64);
     SkeletonMeasureOptions coarseOptions = p.options(0.25);
     const SkeletonMeasureOptions fineOptions = p.options(0.01);
     coarseOptions.sigmaTau = fineOptions.tau;
@@ -318,7 +318,7 @@ TEST(SkeletonMeasures, OneMeasureAtTheCoarsestTauServesFinerTaus) {
 }
 
 TEST(SkeletonMeasures, PointsAreConsistent) {
-    const Prepared& p = prepared("figure", 64);
+    const ShapeToMeasure& p = shapeToMeasure("figure", 64);
     const SkeletonMeasureOptions options = p.options(0.03);
     const std::vector<SkeletonPoint> points = measureSkeleton(p.graph, p.candidates, options);
     std::uint32_t previous = 0;
@@ -353,7 +353,7 @@ TEST(SkeletonMeasures, PointsAreConsistent) {
 
 TEST(SkeletonMeasures, TubeOfATorusIsAHandle) {
     // A torus: loops around the tube have two rims bounding one component.
-    const Prepared& p = prepared("torus", 56);
+    const ShapeToMeasure& p = shapeToMeasure("torus", 56);
     const std::vector<SkeletonPoint> points =
         measureSkeleton(p.graph, p.candidates, p.options(0.03, true));
     int handles = 0;
@@ -368,7 +368,7 @@ TEST(SkeletonMeasures, TubeOfATorusIsAHandle) {
 TEST(SkeletonMeasures, HandleLoopsStayInCTauWithTheGrowthCap) {
     // With the engine's growth cap the two fronts of a handle loop may stop
     // before they meet; the point must still be kept, with the same rims.
-    const Prepared& p = prepared("torus", 56);
+    const ShapeToMeasure& p = shapeToMeasure("torus", 56);
     const SkeletonMeasureOptions cappedOptions = p.options(0.03),
                                  exactOptions = p.options(0.03, true);
     const std::vector<SkeletonPoint> capped = measureSkeleton(p.graph, p.candidates, cappedOptions);
@@ -387,7 +387,7 @@ TEST(SkeletonMeasures, HandleFlagIsExactOnlyWithExactAreas) {
     // growth cap (the engine's default) the two fronts of a handle loop stop
     // at the cap before they meet, so the point is not flagged but keeps a
     // rho_C bound >= tau: membership in C_tau is the same either way.
-    const Prepared& p = prepared("torus", 56);
+    const ShapeToMeasure& p = shapeToMeasure("torus", 56);
     const SkeletonMeasureOptions cappedOptions = p.options(0.03);
     const std::vector<SkeletonPoint> capped = measureSkeleton(p.graph, p.candidates, cappedOptions);
     const std::vector<SkeletonPoint> exact =
@@ -410,7 +410,7 @@ TEST(SkeletonMeasures, OnAGenusZeroSurfaceRimsThatMeetCountOnce) {
     // On the torus (where the caller would not set it) this turns every
     // handle point into a point with one side, which is not in C, and
     // leaves every other point as it was.
-    const Prepared& p = prepared("torus", 56);
+    const ShapeToMeasure& p = shapeToMeasure("torus", 56);
     const SkeletonMeasureOptions handles = p.options(0.03, true);
     SkeletonMeasureOptions genusZero = handles;
     genusZero.surfaceHasGenusZero = true;
@@ -443,7 +443,7 @@ TEST(SkeletonMeasures, OnAGenusZeroSurfaceRimsThatMeetCountOnce) {
 TEST(SkeletonMeasures, KeptWorkspacesForgetAnswersOfTheOtherGenusReading) {
     // The feature-set memo holds whole answers; one kept from the handle
     // reading must not answer for the genus-0 reading.
-    const Prepared& p = prepared("torus", 56);
+    const ShapeToMeasure& p = shapeToMeasure("torus", 56);
     const SkeletonMeasureOptions handles = p.options(0.03, true);
     SkeletonMeasureOptions genusZero = handles;
     genusZero.surfaceHasGenusZero = true;
@@ -464,7 +464,7 @@ TEST_P(MeasurePointAgreement, MeasurePointEqualsMeasureSkeletonWithExactRhoC) {
     // rho_C of a candidate; it must describe the same Gamma(p) as the
     // measured skeleton point, with or without landmarks (which change the
     // choice among equally short paths).
-    const Prepared& p = prepared("figure", 64);
+    const ShapeToMeasure& p = shapeToMeasure("figure", 64);
     SkeletonMeasureOptions options = p.options(0.03, true);
     if (!GetParam()) options.landmarks = nullptr;
     const std::vector<SkeletonPoint> points = measureSkeleton(p.graph, p.candidates, options);

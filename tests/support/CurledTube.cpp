@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tests/support/Pi.h"
+
 namespace skelseg::test {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 /// Closed UV-parametrised surface: rings 1..rings-1 between two poles;
 /// point(u, v) with u in [0, pi] from pole to pole and v in [0, 2 pi).

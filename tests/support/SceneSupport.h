@@ -11,10 +11,19 @@
 
 namespace skelseg::test {
 
+/// The size (voxels along the longest side) most scene tests rasterise
+/// their shapes at.
+constexpr int kSceneSize = 112;
+
 struct SceneRun {
     MaskVolume mask;
     SegmentationResult result;
 };
+
+/// Number of parts the segmentation found.
+inline std::size_t partCount(const SceneRun& run) {
+    return run.result.segments.size();
+}
 
 /// Rasterises makeShape(name, pose) at `size` (optionally with boundary
 /// noise) and segments it with `parameters`.

@@ -10,17 +10,17 @@
 #include "io/mesh/MeshCheck.h"
 #include "kernels/base/Error.h"
 #include "tests/io/mesh/SphereTestMeshes.h"
+#include "tests/support/Pi.h"
 #include "tests/support/ShapeMeshes.h"
 
 namespace skelseg {
 namespace {
 
 using test::icosphere;
+using test::kPi;
 using test::solidCount;
 using test::solidShareOfClosed;
 using test::withoutCap;
-
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(MeshVoxelizer, SphereVolumeAndGrid) {
     const double radius = 1.5;

@@ -16,13 +16,16 @@ namespace {
 using test::fileBytes;
 using test::TempDir;
 
-std::vector<std::int64_t> fromText(const std::string& text, const std::string& name = "test.seg") {
+std::vector<std::int64_t> segFromText(const std::string& text,
+                                      const std::string& name = "test.seg") {
     return readSegFromMemory(name, reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
 }
 
-std::string expectInputError(const std::string& text) {
+/// The message of the InputError that reading `text` throws; a test failure
+/// when it is accepted.
+std::string segErrorMessage(const std::string& text) {
     try {
-        fromText(text, "bad.seg");
+        segFromText(text, "bad.seg");
     } catch (const InputError& error) {
         EXPECT_EQ(std::string(error.what()).rfind("bad.seg: ", 0), 0u) << error.what();
         return error.what();
@@ -32,22 +35,22 @@ std::string expectInputError(const std::string& text) {
 }
 
 TEST(SegFile, ParsesOneIntegerPerLine) {
-    EXPECT_EQ(fromText("3\n1\n-2\n+4\n"), (std::vector<std::int64_t>{3, 1, -2, 4}));
-    EXPECT_EQ(fromText("0\r\n5\r\n\r\n"),
-              (std::vector<std::int64_t>{0, 5}));              // CRLF, blank trailing line
-    EXPECT_EQ(fromText("7"), (std::vector<std::int64_t>{7}));  // no final newline
-    EXPECT_EQ(fromText("  8  \n"), (std::vector<std::int64_t>{8}));
+    EXPECT_EQ(segFromText("3\n1\n-2\n+4\n"), (std::vector<std::int64_t>{3, 1, -2, 4}));
+    EXPECT_EQ(segFromText("0\r\n5\r\n\r\n"),
+              (std::vector<std::int64_t>{0, 5}));                 // CRLF, blank trailing line
+    EXPECT_EQ(segFromText("7"), (std::vector<std::int64_t>{7}));  // no final newline
+    EXPECT_EQ(segFromText("  8  \n"), (std::vector<std::int64_t>{8}));
 }
 
 TEST(SegFile, RejectsMalformedFilesWithTheLineNumber) {
-    EXPECT_NE(expectInputError("1\nabc\n").find("line 2 is not an integer"), std::string::npos);
-    EXPECT_NE(expectInputError("1\n2\n1.5\n").find("line 3"), std::string::npos);
-    EXPECT_NE(expectInputError("1 2\n").find("line 1"), std::string::npos);
-    EXPECT_NE(expectInputError("1\n\n2\n").find("line 2 is blank"), std::string::npos);
-    EXPECT_NE(expectInputError("99999999999999999999\n").find("line 1"), std::string::npos);
-    EXPECT_NE(expectInputError("").find("no labels"), std::string::npos);
-    EXPECT_NE(expectInputError("\n\n").find("no labels"), std::string::npos);
-    EXPECT_NE(expectInputError(std::string("\x1f\x8b\x08\x00garbage", 11)).find("gzip"),
+    EXPECT_NE(segErrorMessage("1\nabc\n").find("line 2 is not an integer"), std::string::npos);
+    EXPECT_NE(segErrorMessage("1\n2\n1.5\n").find("line 3"), std::string::npos);
+    EXPECT_NE(segErrorMessage("1 2\n").find("line 1"), std::string::npos);
+    EXPECT_NE(segErrorMessage("1\n\n2\n").find("line 2 is blank"), std::string::npos);
+    EXPECT_NE(segErrorMessage("99999999999999999999\n").find("line 1"), std::string::npos);
+    EXPECT_NE(segErrorMessage("").find("no labels"), std::string::npos);
+    EXPECT_NE(segErrorMessage("\n\n").find("no labels"), std::string::npos);
+    EXPECT_NE(segErrorMessage(std::string("\x1f\x8b\x08\x00garbage", 11)).find("gzip"),
               std::string::npos);
 }
 
@@ -65,13 +68,13 @@ TEST(SegFile, WritesAndReadsPlainAndGzip) {
     EXPECT_EQ(std::uint8_t(gz[0]), 0x1f);  // really gzip
     EXPECT_EQ(std::uint8_t(gz[1]), 0x8b);
     // Gzip detected by content, whatever the name; two members concatenated read as one.
-    EXPECT_EQ(fromText(gz, "no-extension"), expected);
+    EXPECT_EQ(segFromText(gz, "no-extension"), expected);
     std::vector<std::int64_t> twice = expected;
     twice.insert(twice.end(), expected.begin(), expected.end());
-    EXPECT_EQ(fromText(gz + gz), twice);
+    EXPECT_EQ(segFromText(gz + gz), twice);
     // Truncated gzip data is an error, not a short label list.
     try {
-        fromText(gz.substr(0, gz.size() - 10), "cut.seg.gz");
+        segFromText(gz.substr(0, gz.size() - 10), "cut.seg.gz");
         ADD_FAILURE() << "truncated gzip accepted";
     } catch (const InputError& error) {
         EXPECT_NE(std::string(error.what()).find("cut.seg.gz"), std::string::npos);

@@ -12,11 +12,12 @@
 #include "kernels/ConnectedObjects.h"
 #include "kernels/VoxelGenus.h"
 #include "tests/support/CurledTube.h"
+#include "tests/support/Pi.h"
 
 namespace skelseg {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using test::kPi;
 
 VoxelizeOptions atResolution(int resolution, bool keepTopology = true, bool threaded = true) {
     VoxelizeOptions options;

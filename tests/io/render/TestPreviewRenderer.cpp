@@ -15,15 +15,16 @@
 #include "io/render/Palette.h"
 #include "kernels/base/Error.h"
 #include "tests/support/FileBytes.h"
+#include "tests/support/Pi.h"
 #include "tests/support/TempDir.h"
 
 namespace skelseg {
 namespace {
 
 using test::fileBytes;
+using test::kPi;
 
 using Vec3 = std::array<double, 3>;
-constexpr double kPi = 3.14159265358979323846;
 
 /// Appends a UV sphere (closed, outward winding) with the given label.
 void addSphere(PreviewScene& scene, const Vec3& centre, double radius, std::uint32_t label,

@@ -7,11 +7,13 @@
 #include <map>
 #include <set>
 
+#include "tests/support/Pi.h"
+
 namespace skelseg {
 namespace {
 
 using Vec3 = std::array<double, 3>;
-constexpr double kPi = 3.14159265358979323846;
+using test::kPi;
 
 struct Box {
     int lo[3], hi[3];  // inclusive voxel ranges
