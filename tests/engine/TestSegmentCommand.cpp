@@ -313,8 +313,6 @@ TEST(SegmentCommand, ABudgetChoosesOnlyResolutionsTheMemoryLimitAllows) {
     writeOff(input, test::sphereMesh({0, 0, 0}, 1.0));
     SegmentCommandOptions options = optionsFor(input, dir / "plain", 1);
     options.resolution = 64;
-    SegmentInputOptions probe;
-    probe.threads = 1;
     const TriangleMesh mesh = readMesh(input);
     const auto needs = [&](int resolution) {
         VoxelizeOptions voxelize;

@@ -8,6 +8,8 @@
 namespace skelseg {
 namespace {
 
+using test::StopAtOnce;
+
 /// Clears the cells of `group` in `mask` and returns them.
 ClearedGroup clear(MaskVolume& mask, const ClearedGroup& group) {
     for (const auto& c : group) mask(c[0], c[1], c[2]) = 0;
@@ -86,8 +88,6 @@ TEST(SeveredObjects, CountsWithoutSettingBack) {
     EXPECT_EQ(rejoinSeveredObjects(mask, groups, countOnly), std::vector<bool>{true});
     EXPECT_EQ(mask.values(), cut.values());
 }
-
-using test::StopAtOnce;
 
 TEST(SeveredObjects, StopsWhenInterrupted) {
     MaskVolume mask = bar(12);

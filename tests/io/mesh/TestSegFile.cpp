@@ -21,8 +21,8 @@ std::vector<std::int64_t> segFromText(const std::string& text,
     return readSegFromMemory(name, reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
 }
 
-/// The message of the InputError that reading `text` throws (a failure when
-/// it reads).
+/// The message of the InputError that reading `text` throws; a test failure
+/// when it is accepted.
 std::string segErrorMessage(const std::string& text) {
     try {
         segFromText(text, "bad.seg");
