@@ -226,8 +226,7 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
     // (assembleLevelLabels checks the count of segments itself).
     if (found.objects.size() > kMaxLabelSegments)
         throw InputError("", "the volume has " + std::to_string(found.objects.size()) +
-                                 " objects, so at least " +
-                                 std::to_string(found.objects.size()) +
+                                 " objects, so at least " + std::to_string(found.objects.size()) +
                                  " segments, more than a 16-bit label volume can hold");
 
     std::vector<ObjectLabels> objectLabels;
