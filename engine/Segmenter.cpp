@@ -124,6 +124,9 @@ std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectV
 
 namespace {
 
+/// Labels 1..65535 of a 16-bit label volume.
+constexpr std::size_t kMaxLabelSegments = 65535;
+
 /// One object's segments at one level, before global ids exist.
 struct ObjectLabels {
     std::array<int, 3> origin;
@@ -148,7 +151,7 @@ std::vector<std::vector<std::uint16_t>> assembleLevelLabels(
             localSegments.push_back({std::uint32_t(o), std::uint32_t(s), objectLabels[o].area[s]});
     // The input's doing: bad input (exit 2). The file is unknown here:
     // segmentMaskStep() names it (an InputError with an empty file).
-    if (localSegments.size() > 65535)
+    if (localSegments.size() > kMaxLabelSegments)
         throw InputError("", "the volume has " + std::to_string(localSegments.size()) +
                                  " segments, more than a 16-bit label volume can hold");
     std::vector<std::size_t> order(localSegments.size());
@@ -219,6 +222,12 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
     }
     if (found.objects.empty())
         result.warnings.push_back("the volume holds no object voxels: no segments");
+    // Every object is at least one segment: refused before any is segmented
+    // (assembleLevelLabels checks the count of segments itself).
+    if (found.objects.size() > kMaxLabelSegments)
+        throw InputError("", "the volume has " + std::to_string(found.objects.size()) +
+                                 " objects, so at least " + std::to_string(found.objects.size()) +
+                                 " segments, more than a 16-bit label volume can hold");
 
     std::vector<ObjectLabels> objectLabels;
     // Per level below the top (finest first), per object: the same for that

@@ -7,6 +7,7 @@
 #include <exception>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -34,21 +35,69 @@ bool interpreterFinalizing() {
 #endif
 }
 
-/// The calling thread of a call in a daemon thread once the interpreter
-/// shuts down: it may never take the GIL again (CPython before 3.14 ends a
-/// thread that asks for it with pthread_exit, whose unwinding would destroy
-/// the running worker's std::thread and abort the process). So the engine
-/// is stopped and waited for, and the thread is parked, as CPython 3.14
-/// parks its own daemon threads; the process is exiting.
-[[noreturn]] void parkForShutdown(CallerPolledInterrupter& interrupter, std::thread& worker,
-                                  py::gil_scoped_release& release) {
-    interrupter.cancel();
-    if (worker.joinable()) worker.join();
+/// Parks the calling thread for good without the GIL: the process is
+/// exiting, and a daemon thread may never take the GIL again (CPython before
+/// 3.14 ends a thread that asks for it with pthread_exit, whose unwinding
+/// would destroy a running worker's std::thread and abort the process).
+/// CPython 3.14 parks its own daemon threads in the same way.
+[[noreturn]] void parkForExit(py::gil_scoped_release& release) {
     release.disarm();
     for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
 }
 
+/// The engine calls under way, so that the interpreter's exit can stop them
+/// and wait for their workers before it tears down what they use. Without
+/// that wait, exit() ran the static destructors (oneTBB's among them) while
+/// a cancelled worker was still unwinding through them: "pure virtual
+/// method called", SIGABRT. Never destroyed: parked threads outlive every
+/// static destructor.
+struct RunningCalls {
+    std::mutex mutex;
+    std::condition_variable workerStopped;
+    std::set<CallerPolledInterrupter*> interrupters;
+    bool exiting = false;
+};
+
+RunningCalls& runningCalls() {
+    static RunningCalls* calls = new RunningCalls;
+    return *calls;
+}
+
+/// Registers a call; false when the interpreter is exiting and the caller
+/// is not the main thread (which is then running the exit handlers itself,
+/// so its calls finish before anything is torn down).
+bool registerCall(CallerPolledInterrupter& interrupter, bool mainThread) {
+    RunningCalls& calls = runningCalls();
+    std::lock_guard<std::mutex> lock(calls.mutex);
+    if (calls.exiting && !mainThread) return false;
+    calls.interrupters.insert(&interrupter);
+    return true;
+}
+
+/// Called once the call's worker has been joined.
+void unregisterCall(CallerPolledInterrupter& interrupter) {
+    RunningCalls& calls = runningCalls();
+    std::lock_guard<std::mutex> lock(calls.mutex);
+    calls.interrupters.erase(&interrupter);
+    calls.workerStopped.notify_all();
+}
+
+bool exiting() {
+    RunningCalls& calls = runningCalls();
+    std::lock_guard<std::mutex> lock(calls.mutex);
+    return calls.exiting;
+}
+
 }  // namespace
+
+void stopEngineCallsForExit() {
+    RunningCalls& calls = runningCalls();
+    py::gil_scoped_release release;  // the callers may need it to notice
+    std::unique_lock<std::mutex> lock(calls.mutex);
+    calls.exiting = true;
+    for (CallerPolledInterrupter* interrupter : calls.interrupters) interrupter->cancel();
+    calls.workerStopped.wait(lock, [&] { return calls.interrupters.empty(); });
+}
 
 void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& interrupter,
                    int threads, const py::object& progress) {
@@ -91,8 +140,10 @@ void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& i
         reportedFraction = pCurrent ? p.fraction : -1.0;
         lastReport = now;
     };
+    const bool mainThread = _PyOS_IsMainThread() != 0;
     {
         py::gil_scoped_release release;
+        if (!registerCall(interrupter, mainThread)) parkForExit(release);
         std::thread worker([&] {
             try {
                 if (threads > 0) {
@@ -119,6 +170,7 @@ void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& i
                 if (!worker.joinable()) return;
                 interrupter.cancel();
                 worker.join();
+                unregisterCall(interrupter);
                 if (interpreterFinalizing()) release.disarm();
             }
         } stopAtUnwind{interrupter, worker, release};
@@ -131,7 +183,12 @@ void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& i
             if (pythonError) continue;  // cancelled: wait for the worker to stop
             // (A shutdown that starts between this check and the GIL is rare;
             // stopAtUnwind below keeps even that from aborting.)
-            if (interpreterFinalizing()) parkForShutdown(interrupter, worker, release);
+            if (interpreterFinalizing()) {
+                interrupter.cancel();
+                worker.join();
+                unregisterCall(interrupter);
+                parkForExit(release);
+            }
             py::gil_scoped_acquire acquire;
             if (PyErr_CheckSignals() != 0) {
                 pythonError.emplace();
@@ -141,6 +198,10 @@ void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& i
             if (reportProgress) report(false);
         }
         worker.join();
+        unregisterCall(interrupter);
+        // The interpreter began to exit during the call (stopEngineCallsForExit
+        // cancelled it): a thread other than the main one never returns.
+        if (!mainThread && exiting()) parkForExit(release);
     }
     if (pythonError) throw std::move(*pythonError);
     if (engineError) std::rethrow_exception(engineError);

@@ -35,4 +35,12 @@ namespace skelseg {
 void runEngineCall(const std::function<void()>& work, CallerPolledInterrupter& interrupter,
                    int threads, const pybind11::object& progress);
 
+/// Registered with Python's atexit (Module.cpp), so it runs while the
+/// interpreter ends, before anything is torn down: cancels every call under
+/// way and waits until their workers have stopped. From then on a call from
+/// a thread other than the main one (a daemon thread) parks that thread
+/// without the GIL and never returns, as CPython parks daemon threads; the
+/// main thread's calls run as before. Call with the GIL held.
+void stopEngineCallsForExit();
+
 }  // namespace skelseg

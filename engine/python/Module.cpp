@@ -15,6 +15,7 @@
 #include "engine/SegmentOptions.h"
 #include "engine/Version.h"
 #include "engine/python/Bindings.h"
+#include "engine/python/EngineCall.h"
 #include "kernels/base/Error.h"
 
 namespace py = pybind11;
@@ -68,6 +69,8 @@ PYBIND11_MODULE(_skelseg, m) {
     m.doc() = "skelseg's engine; use the package skelseg, which documents this API.";
     m.attr("version") = versionString();
     py::register_exception_translator(&translateEngineErrors);
+    // Daemon threads may be inside the engine when the program ends.
+    py::module_::import("atexit").attr("register")(py::cpp_function(&stopEngineCallsForExit));
 
     m.def(
         "segment_array",

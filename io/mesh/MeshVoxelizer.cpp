@@ -30,33 +30,40 @@ namespace {
 /// cross. The small excess absorbs float rounding of the distances.
 constexpr double kSurfaceLayer = 0.501;
 
-/// OpenVDB's MeshDataAdapter over a TriangleMesh: index-space points computed
-/// in double precision (OpenVDB's own adapters take float world points).
+/// A TriangleMesh as OpenVDB's own adapter holds it: index-space points in
+/// float and triangles, so that meshToVolume is the instantiation libopenvdb
+/// already holds (OpenVDB declares it `extern template`). Instantiating it
+/// for an adapter of our own took about 50 s of compile time in every build
+/// (twice that under the sanitizers) for the same computation; the float
+/// points round positions by at most 2^-24 of the grid's extent (3e-5 voxel
+/// at 400), below the precision of the float vertices most mesh files store.
 ///
 /// OpenVDB's answer depends on the order of the triangles it is given: where
 /// a voxel centre is as near to two triangles, its nearest-triangle index is
 /// the lower one, and the sign of a voxel on or halfway between surfaces is
 /// taken from that triangle; a triangle's distances are rounded differently
-/// when it starts at another corner. So the adapter hands the triangles over
-/// in an order of their geometry alone, each from its corner with the
-/// smallest position (x, then y, then z) with its winding kept, and sorted by
-/// those corners: the same surface in another face order, or with its faces
+/// when it starts at another corner. So the triangles are handed over in an
+/// order of their geometry alone, each from its corner with the smallest
+/// position (x, then y, then z) with its winding kept, and sorted by those
+/// corners: the same surface in another face order, or with its faces
 /// started at other corners, is then the same input to OpenVDB
 /// (docs/meshes.md, "The same mesh in another face order").
 class MeshAdapter {
 public:
     MeshAdapter(const TriangleMesh& mesh, const VolumeGeometry& geometry)
-        : mMesh(mesh),
-          mOrigin(geometry.origin),
-          mInverseVoxelSize(1.0 / geometry.voxelSize()),
-          mFirstCorner(mesh.triangles.size()),
-          mTriangle(mesh.triangles.size()) {
+        : mPoints(mesh.vertices.size()), mTriangle(mesh.triangles.size()) {
         const auto& v = mesh.vertices;
+        const double inverseVoxelSize = 1.0 / geometry.voxelSize();
+        for (std::size_t i = 0; i < v.size(); ++i)
+            mPoints[i] = openvdb::Vec3s(float((v[i][0] - geometry.origin[0]) * inverseVoxelSize),
+                                        float((v[i][1] - geometry.origin[1]) * inverseVoxelSize),
+                                        float((v[i][2] - geometry.origin[2]) * inverseVoxelSize));
+        std::vector<std::uint8_t> firstCorner(mesh.triangles.size());
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-            mFirstCorner[t] = std::uint8_t(smallestCorner(mesh, t));
+            firstCorner[t] = std::uint8_t(smallestCorner(mesh, t));
         std::iota(mTriangle.begin(), mTriangle.end(), 0u);
         auto corner = [&](std::uint32_t t, std::size_t k) -> const std::array<double, 3>& {
-            return v[mesh.triangles[t][(k + mFirstCorner[t]) % 3]];
+            return v[mesh.triangles[t][(k + firstCorner[t]) % 3]];
         };
         // Stable: triangles with the same corners in the same winding are
         // the same input to OpenVDB whichever comes first.
@@ -65,27 +72,25 @@ public:
                 if (corner(a, k) != corner(b, k)) return corner(a, k) < corner(b, k);
             return false;
         });
+        mPolygons.resize(mTriangle.size());
+        for (std::size_t p = 0; p < mTriangle.size(); ++p) {
+            const std::uint32_t t = mTriangle[p];
+            const auto& tri = mesh.triangles[t];
+            mPolygons[p] = openvdb::Vec3I(tri[firstCorner[t]], tri[(firstCorner[t] + 1) % 3],
+                                          tri[(firstCorner[t] + 2) % 3]);
+        }
     }
-    std::size_t polygonCount() const { return mMesh.triangles.size(); }
-    std::size_t pointCount() const { return mMesh.vertices.size(); }
-    std::size_t vertexCount(std::size_t) const { return 3; }
-    void getIndexSpacePoint(std::size_t polygon, std::size_t corner,
-                            openvdb::Vec3d& position) const {
-        const std::uint32_t t = mTriangle[polygon];
-        const auto& p = mMesh.vertices[mMesh.triangles[t][(corner + mFirstCorner[t]) % 3]];
-        position = openvdb::Vec3d((p[0] - mOrigin[0]) * mInverseVoxelSize,
-                                  (p[1] - mOrigin[1]) * mInverseVoxelSize,
-                                  (p[2] - mOrigin[2]) * mInverseVoxelSize);
+    /// What meshToVolume reads (it keeps references to this object's arrays).
+    openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> vdbAdapter() const {
+        return {mPoints, mPolygons};
     }
     /// The mesh's index of the triangle handed over as `polygon`.
     std::uint32_t triangleOf(std::size_t polygon) const { return mTriangle[polygon]; }
 
 private:
-    const TriangleMesh& mMesh;
-    std::array<double, 3> mOrigin;
-    double mInverseVoxelSize;
-    std::vector<std::uint8_t> mFirstCorner;  // per triangle of the mesh
-    std::vector<std::uint32_t> mTriangle;    // per polygon handed over
+    std::vector<openvdb::Vec3s> mPoints;    // per vertex of the mesh, index space
+    std::vector<openvdb::Vec3I> mPolygons;  // per polygon handed over
+    std::vector<std::uint32_t> mTriangle;   // per polygon handed over: the mesh's triangle
 };
 
 /// Forwards OpenVDB's interrupter calls to ours (stage names are ours).
@@ -173,7 +178,8 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, d
     // outside) read as "unknown" rather than as triangle 0.
     openvdb::Int32Grid polygonIndex(-1);
     auto distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        vdbInterrupter, adapter, *transformFor(grid), float(bandWidth), float(bandWidth), 0,
+        static_cast<openvdb::util::NullInterrupter&>(vdbInterrupter), adapter.vdbAdapter(),
+        *transformFor(grid), float(bandWidth), float(bandWidth), 0,
         nearestTriangle ? &polygonIndex : nullptr);
     throwIfInterrupted(interrupter);
     if (nearestTriangle) {
@@ -229,7 +235,8 @@ MaskVolume shellVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, do
     const MeshAdapter adapter(mesh, grid.geometry);
     const double shellWidth = holeClosing + kSurfaceLayer;
     auto distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        vdbInterrupter, adapter, *transformFor(grid), float(shellWidth + 1.5), 0.0f,
+        static_cast<openvdb::util::NullInterrupter&>(vdbInterrupter), adapter.vdbAdapter(),
+        *transformFor(grid), float(shellWidth + 1.5), 0.0f,
         openvdb::tools::UNSIGNED_DISTANCE_FIELD);
     throwIfInterrupted(interrupter);
 

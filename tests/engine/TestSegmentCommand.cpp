@@ -175,7 +175,8 @@ TEST(SegmentCommand, ForceLeavesNoOutputOfTheEarlierRunThatThisRunDoesNotWrite) 
 
 TEST(SegmentCommand, MoreSegmentsThanALabelVolumeHoldsIsABadInputNamingIt) {
     // 41^3 separate voxels: one segment each, more than uint16 labels hold.
-    // Was a plain Error (exit 1, "internal error") naming no file.
+    // Was a plain Error (exit 1, "internal error") naming no file. Refused
+    // from the count of objects, before any is segmented.
     const test::TempDir dir;
     MaskVolume dots(Dims{82, 82, 82});
     for (int z = 0; z < 82; z += 2)
