@@ -313,8 +313,10 @@ def test_spacing_vertices_and_mask_of_the_wrong_kind_are_refused(capfd):
 
 def test_more_segments_than_uint16_labels_hold_is_a_value_error():
     # 41^3 separate voxels, one segment each: the CLI's exit 2 naming the
-    # input (was RuntimeError, the CLI's exit 1 "internal error").
+    # input (was RuntimeError, the CLI's exit 1 "internal error"); refused
+    # from the count of objects, before any is segmented.
     mask = np.zeros((82, 82, 82), dtype=bool)
     mask[::2, ::2, ::2] = True
-    with pytest.raises(ValueError, match=r"^mask: the volume has 68921 segments, more than"):
+    with pytest.raises(ValueError, match=r"^mask: the volume has 68921 objects, so at least "
+                                         r"68921 segments, more than a 16-bit label volume"):
         skelseg.segment(mask, threads=1)
