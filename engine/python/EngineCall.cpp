@@ -2,6 +2,9 @@
 
 #include <tbb/task_arena.h>
 
+#include <pthread.h>
+
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <exception>
@@ -58,9 +61,25 @@ struct RunningCalls {
     bool exiting = false;
 };
 
+std::atomic<RunningCalls*> gRunningCalls{nullptr};
+
+/// A child of fork() has none of its parent's other threads, so none of
+/// their calls: it starts with an empty list (the parent's may hold calls
+/// that will never end in the child, and its mutex may be locked by a
+/// thread the child does not have; without this, a child ending normally
+/// waited for those calls forever). The parent's list is left as it is.
+void forgetCallsInForkedChild() {
+    gRunningCalls.store(new RunningCalls);
+}
+
 RunningCalls& runningCalls() {
-    static RunningCalls* calls = new RunningCalls;
-    return *calls;
+    static const bool created = [] {
+        gRunningCalls.store(new RunningCalls);
+        pthread_atfork(nullptr, nullptr, &forgetCallsInForkedChild);
+        return true;
+    }();
+    (void)created;
+    return *gRunningCalls.load();
 }
 
 /// Registers a call; false when the interpreter is exiting and the caller

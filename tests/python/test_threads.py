@@ -144,3 +144,56 @@ def test_the_programs_exit_stops_the_calls_of_daemon_threads_before_its_teardown
     before, after = (int(n) for n in done.stdout.split())
     assert before >= 2
     assert after == before, "a call of the daemon thread returned while the program ended"
+
+
+# A child of fork() has only the thread that forked: a call another thread of
+# the parent had under way is not the child's to wait for when it ends. The
+# child runs its Python exit handlers (skelseg's among them) and leaves with
+# os._exit, as multiprocessing's children do: a forked child that ends
+# through exit() hangs in liblog4cplus's exit handler, OpenVDB's logging
+# library, whatever skelseg does (docs/python.md, "Threads").
+FORK_DURING_A_CALL = """
+import os, sys, threading, time
+import skelseg
+mask = skelseg.read_volume(sys.argv[1])
+in_callback = threading.Event()
+go_on = threading.Event()
+
+def progress(stage, fraction):
+    in_callback.set()
+    go_on.wait()  # the call stays under way while the main thread forks
+
+worker = threading.Thread(target=lambda: skelseg.segment(mask, threads=1, progress=progress))
+worker.start()
+in_callback.wait()
+child = os.fork()
+if child == 0:
+    import atexit
+    atexit._run_exitfuncs()
+    os._exit(0)
+deadline = time.monotonic() + 30
+while True:
+    ended, status = os.waitpid(child, os.WNOHANG)
+    if ended:
+        break
+    if time.monotonic() > deadline:
+        os.kill(child, 9)
+        os.waitpid(child, 0)
+        status = None
+        break
+    time.sleep(0.05)
+go_on.set()
+worker.join()
+print("hung" if status is None else os.waitstatus_to_exitcode(status), flush=True)
+"""
+
+
+def test_a_forked_child_ends_without_waiting_for_its_parents_calls(shapes):
+    import subprocess
+    import sys
+
+    path = shapes.nrrd("figure", 128, 1)
+    done = subprocess.run([sys.executable, "-c", FORK_DURING_A_CALL, str(path)],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-500:]
+    assert done.stdout.split() == ["0"], done.stdout
