@@ -313,6 +313,7 @@ void refineWithinBudget(const RunContext& run, const SegmentedShape& first,
     plan.kept = true;  // what the finer pass's own report says if it finishes
     RunContext finer = run;
     finer.inputOptions.budgetChoice = plan.choice;
+    finer.inputOptions.heldBytes = heldResultBytes(*first.input, run.inputOptions.levels);
     finer.budgetDeadlineSeconds = plan.deadlineSeconds;
     finer.refinement = &plan;
     run.out.setAside();

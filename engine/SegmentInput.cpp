@@ -96,16 +96,20 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
     return source;
 }
 
-std::uint64_t meshRunMemory(const Dims& grid, int threads) {
+std::uint64_t meshRunMemory(const Dims& grid, int threads, bool meshIsClosed) {
     return estimateSegmentationMemory(grid, grid.voxelCount() / 4, threads) +
-           grid.voxelCount() * 12;  // level set, dense copy, nearest-triangle grid
+           grid.voxelCount() * (meshIsClosed ? 13 : 12);  // level set, dense copy,
+                                                          // nearest-triangle grid
 }
 
-int largestResolutionWithinMemory(const TriangleMesh& mesh, const SegmentInputOptions& options) {
+int largestResolutionWithinMemory(const TriangleMesh& mesh, bool meshIsClosed,
+                                  const SegmentInputOptions& options) {
     VoxelizeOptions voxelizeOptions;
     const auto fits = [&](int resolution) {
         voxelizeOptions.resolution = resolution;
-        return meshRunMemory(voxelGridFor(mesh, voxelizeOptions).dims, options.threads) <=
+        return meshRunMemory(voxelGridFor(mesh, voxelizeOptions).dims, options.threads,
+                             meshIsClosed) +
+                   options.heldBytes <=
                options.memoryLimit;
     };
     if (options.resolution < kSmallestBudgetResolution || !fits(kSmallestBudgetResolution))
@@ -118,6 +122,56 @@ int largestResolutionWithinMemory(const TriangleMesh& mesh, const SegmentInputOp
         (fits(middle) ? fitting : over) = middle;
     }
     return fitting;
+}
+
+std::uint64_t volumeRunMemory(const Dims& grid, std::uint64_t objectVoxels, const Dims& fine,
+                              const SegmentInputOptions& options) {
+    std::uint64_t bytes =
+        estimateSegmentationMemory(grid, objectVoxels, options.threads, options.levels);
+    if (grid.voxelCount() < fine.voxelCount())
+        bytes += fine.voxelCount() * (1 + 2 * std::uint64_t(std::max(options.levels, 1)));
+    return bytes;
+}
+
+std::uint64_t heldResultBytes(const Dims& grid, int levels, bool coarsened) {
+    const std::uint64_t voxels = grid.voxelCount();
+    return voxels * (1 + 2 * std::uint64_t(std::max(levels, 1))) + (coarsened ? voxels / 8 : 0);
+}
+
+std::uint64_t heldResultBytes(const SegmentMask& pass, int levels) {
+    const bool coarsened = pass.fineMask.dims().voxelCount() > 0;
+    return heldResultBytes(coarsened ? pass.fineMask.dims() : pass.mask.dims(), levels, coarsened);
+}
+
+namespace {
+std::uint64_t objectVoxelCount(const MaskVolume& mask) {
+    std::uint64_t count = 0;
+    for (std::uint8_t v : mask.values()) count += v != 0;
+    return count;
+}
+}  // namespace
+
+CoarseningMemoryCaps finestCoarseningsWithinMemory(const MaskVolume& mask,
+                                                   const SegmentInputOptions& options,
+                                                   Interrupter& interrupter) {
+    CoarseningMemoryCaps caps;
+    const std::uint64_t held = heldResultBytes(mask.dims(), options.levels, true);
+    for (int factor : {1, 2, 4}) {
+        throwIfInterrupted(interrupter);
+        // The coarse grid's object voxels decide the rest of the estimate; the
+        // grid alone is the larger part, so a grid that cannot fit is not
+        // coarsened to count them.
+        const Dims grid{(mask.dims().x + factor - 1) / factor,
+                        (mask.dims().y + factor - 1) / factor,
+                        (mask.dims().z + factor - 1) / factor};
+        if (volumeRunMemory(grid, 0, mask.dims(), options) > options.memoryLimit) continue;
+        const std::uint64_t objects =
+            objectVoxelCount(factor == 1 ? mask : coarsenMask(mask, factor));
+        const std::uint64_t bytes = volumeRunMemory(grid, objects, mask.dims(), options);
+        if (caps.firstPass == 0 && bytes <= options.memoryLimit) caps.firstPass = factor;
+        if (caps.finerPass == 0 && bytes + held <= options.memoryLimit) caps.finerPass = factor;
+    }
+    return caps;
 }
 
 namespace {
@@ -163,7 +217,7 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
         throw InputError(source.file.string(),
                          "the mesh is flat (every vertex of its faces lies in one plane): it "
                          "encloses no volume to segment");
-    estimatedMemory = meshRunMemory(grid.dims, options.threads) + heldBytes;
+    estimatedMemory = meshRunMemory(grid.dims, options.threads) + heldBytes + options.heldBytes;
     if (estimatedMemory > options.memoryLimit)
         throw MemoryLimitError(source.file.string() + ": needs about " +
                                formatBytes(estimatedMemory) + " at resolution " +
@@ -222,7 +276,8 @@ BudgetChoice planMeshBudget(const SegmentSource& source, const SegmentInputOptio
     voxelizeOptions.meshIsClosed = source.meshDiagnostics.closed;
     // Only what --max-memory allows is a choice; with none, the requested
     // resolution stays and its refusal names the limit.
-    const int memoryCap = largestResolutionWithinMemory(*source.mesh, options);
+    const int memoryCap =
+        largestResolutionWithinMemory(*source.mesh, source.meshDiagnostics.closed, options);
     if (memoryCap > 0) voxelizeOptions.resolution = memoryCap;
     const ProbeCostModel probeModel = ProbeCostModel::fitted();
     BudgetChoice choice =
@@ -231,6 +286,18 @@ BudgetChoice planMeshBudget(const SegmentSource& source, const SegmentInputOptio
     choice.budgetSeconds = options.timeBudgetSeconds;
     choice.memoryCapResolution = memoryCap < options.resolution ? memoryCap : 0;
     if (choice.memoryCapResolution > 0) choice.coarsened = true;
+    // A finer pass runs beside the first pass's result: only what fits with
+    // it (none above the first choice when nothing does).
+    if (choice.fits && choice.coarsened) {
+        SegmentInputOptions finer = options;
+        voxelizeOptions.resolution = choice.resolution;
+        finer.heldBytes += heldResultBytes(voxelGridFor(*source.mesh, voxelizeOptions).dims,
+                                           options.levels, false);
+        const int finerCap =
+            largestResolutionWithinMemory(*source.mesh, source.meshDiagnostics.closed, finer);
+        if (finerCap < options.resolution)
+            choice.finerMemoryCapResolution = std::max(finerCap, choice.resolution);
+    }
     return choice;
 }
 
@@ -242,9 +309,18 @@ void planVolumeBudget(SegmentMask& result, const SegmentInputOptions& options, S
     if (options.budgetChoice) {
         result.budget = options.budgetChoice;
     } else {
-        result.budget =
-            planVolumeRun(result.mask, secondsLeft(options), CostModel::fitted(), interrupter);
+        // Only what --max-memory allows is a choice; with nothing, the time
+        // alone chooses and the memory check refuses it, naming the limit.
+        const CoarseningMemoryCaps caps =
+            finestCoarseningsWithinMemory(result.mask, options, interrupter);
+        result.budget = planVolumeRun(result.mask, secondsLeft(options), CostModel::fitted(),
+                                      std::max(caps.firstPass, 1), interrupter);
         result.budget->budgetSeconds = options.timeBudgetSeconds;
+        result.budget->memoryCapCoarsening = caps.firstPass > 1 ? caps.firstPass : 0;
+        // No finer pass where nothing fits beside the first pass's result.
+        result.budget->finerMemoryCapCoarsening = caps.finerPass == 0  ? 8
+                                                  : caps.finerPass > 1 ? caps.finerPass
+                                                                       : 0;
     }
     if (result.budget->coarsening > 1) {
         result.fineMask = std::move(result.mask);
@@ -325,11 +401,13 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
             if (result.budget->fits) budgetStop.release();
         }
     }
-    std::uint64_t objectVoxels = 0;
-    for (std::uint8_t v : result.mask.values()) objectVoxels += v != 0;
-    result.estimatedMemory = std::max(result.estimatedMemory,
-                                      estimateSegmentationMemory(result.mask.dims(), objectVoxels,
-                                                                 options.threads, options.levels));
+    const Dims fine = source->isMesh() || result.fineMask.dims().voxelCount() == 0
+                          ? result.mask.dims()
+                          : result.fineMask.dims();
+    result.estimatedMemory =
+        std::max(result.estimatedMemory,
+                 volumeRunMemory(result.mask.dims(), objectVoxelCount(result.mask), fine, options) +
+                     options.heldBytes);
     if (result.estimatedMemory > options.memoryLimit)
         throw MemoryLimitError(source->file.string() + ": needs about " +
                                formatBytes(result.estimatedMemory) + ", over the limit of " +

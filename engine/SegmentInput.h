@@ -90,18 +90,55 @@ struct SegmentInputOptions {
     /// Set: take this choice instead of probing and planning one (the finer
     /// pass of a budget run, engine/TimeBudget.h BudgetRefinement).
     std::optional<BudgetChoice> budgetChoice;
+    /// Memory the caller keeps alive during this run, counted in the memory
+    /// check: the first pass's result while the finer pass of a budget run
+    /// runs (heldResultBytes).
+    std::uint64_t heldBytes = 0;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 };
 
 /// The memory a mesh run on a grid of `grid` voxels is estimated to need
 /// (segmentation, level set, dense copy, nearest-triangle grid), the
 /// estimate checked against --max-memory before voxelising.
-std::uint64_t meshRunMemory(const Dims& grid, int threads);
+/// `meshIsClosed`: also the first voxelisation's mask, which a closed mesh
+/// whose voxel genus comes out too high holds while a second voxelisation
+/// fills its thin parts (what a budget's choice must leave room for).
+std::uint64_t meshRunMemory(const Dims& grid, int threads, bool meshIsClosed = false);
 
-/// The largest resolution up to options.resolution whose meshRunMemory fits
-/// options.memoryLimit; 0 when not even kSmallestBudgetResolution fits. What
-/// --time-budget may choose from, first pass and finer pass alike.
-int largestResolutionWithinMemory(const TriangleMesh& mesh, const SegmentInputOptions& options);
+/// The largest resolution up to options.resolution whose meshRunMemory, plus
+/// options.heldBytes, fits options.memoryLimit; 0 when not even
+/// kSmallestBudgetResolution fits. What --time-budget may choose from: the
+/// first pass, and with the first pass's result held, the finer pass.
+int largestResolutionWithinMemory(const TriangleMesh& mesh, bool meshIsClosed,
+                                  const SegmentInputOptions& options);
+
+/// The memory a volume run is estimated to need, the estimate checked
+/// against --max-memory: the segmentation of its grid `grid` holding
+/// `objectVoxels`, and when that grid is the input `fine` coarsened (by
+/// --time-budget) the input mask kept beside it and the labels brought back
+/// to it (one label volume per level).
+std::uint64_t volumeRunMemory(const Dims& grid, std::uint64_t objectVoxels, const Dims& fine,
+                              const SegmentInputOptions& options);
+
+/// What a finished pass whose labels are on a grid of `grid` voxels keeps in
+/// memory: its mask and, per level, its labels. A coarsened volume's result
+/// holds those on the input's grid (plus the coarse mask, at most 1/8 of
+/// it, which this counts too); a mesh's on the grid it was voxelised on.
+std::uint64_t heldResultBytes(const Dims& grid, int levels, bool coarsened);
+/// The same for the result of the pass that segmented `pass`.
+std::uint64_t heldResultBytes(const SegmentMask& pass, int levels);
+
+/// The finest coarsenings of a volume --max-memory allows (1, 2 or 4; 0 when
+/// not even 4 fits): `firstPass` by volumeRunMemory, `finerPass` with the
+/// result of a coarsened first pass held beside it (heldResultBytes). What
+/// --time-budget may choose from, as largestResolutionWithinMemory for meshes.
+struct CoarseningMemoryCaps {
+    int firstPass = 0;
+    int finerPass = 0;
+};
+CoarseningMemoryCaps finestCoarseningsWithinMemory(const MaskVolume& mask,
+                                                   const SegmentInputOptions& options,
+                                                   Interrupter& interrupter = nullInterrupter());
 
 /// @throw MemoryLimitError when `file` is larger than `memoryLimit` (and
 /// small enough for the readers, which refuse larger files themselves).

@@ -108,6 +108,8 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
             {"chosen", describeBudgetChoice(*budget)}};
         if (budget->memoryCapResolution > 0)
             report["time_budget"]["memory_cap_resolution"] = budget->memoryCapResolution;
+        if (budget->memoryCapCoarsening > 0)
+            report["time_budget"]["memory_cap_coarsening"] = budget->memoryCapCoarsening;
     }
     if (figures.budgetRefinement) {
         const BudgetRefinement& refinement = *figures.budgetRefinement;

@@ -95,10 +95,11 @@ BudgetChoice chooseMeshResolution(const CostModel& model, const WorkCounts& prob
 }
 
 BudgetChoice chooseVolumeCoarsening(const CostModel& model, const WorkCounts& probe,
-                                    int probeCoarsening, double seconds) {
+                                    int probeCoarsening, double seconds, int finestCoarsening) {
     BudgetChoice choice;
     choice.budgetSeconds = seconds;
     for (int factor : {1, 2, 4}) {
+        if (factor < finestCoarsening && factor < 4) continue;
         choice.coarsening = factor;
         choice.predictedSeconds =
             model.predictSeconds(model.scale(probe, double(probeCoarsening) / double(factor)));
@@ -173,22 +174,29 @@ BudgetRefinement planBudgetRefinement(const BudgetChoice& first, int maximumReso
     BudgetChoice finer = first;
     bool found = false;
     if (mesh) {
+        const bool memoryCapped =
+            first.memoryCapResolution > 0 || first.finerMemoryCapResolution > 0;
         const int least = int(std::ceil(kRefinementMinimumGain * first.resolution));
         if (maximumResolution < least) {
-            plan.reason = first.memoryCapResolution > 0 ? "--max-memory allows nothing finer"
-                                                        : "--resolution allows nothing finer";
+            plan.reason = memoryCapped ? "--max-memory allows nothing finer"
+                                       : "--resolution allows nothing finer";
             return plan;
         }
         for (int r = maximumResolution; r >= least && !found; r = int(std::floor(r * 0.9))) {
             if (fits(double(r) / double(first.resolution))) {
                 finer.resolution = r;
                 // Below --resolution when --max-memory capped it.
-                finer.coarsened = r < maximumResolution || first.memoryCapResolution > 0;
+                finer.coarsened = r < maximumResolution || memoryCapped;
                 found = true;
             }
         }
     } else {
-        for (int factor = 1; factor < first.coarsening && !found; factor *= 2) {
+        const int finest = std::max(1, first.finerMemoryCapCoarsening);
+        if (finest >= first.coarsening) {
+            plan.reason = "--max-memory allows nothing finer";
+            return plan;
+        }
+        for (int factor = finest; factor < first.coarsening && !found; factor *= 2) {
             if (fits(double(first.coarsening) / double(factor))) {
                 finer.coarsening = factor;
                 finer.coarsened = factor > 1;
@@ -264,8 +272,8 @@ BudgetRefinement planFinerPass(const BudgetChoice& first, bool mesh, int maximum
     const double elapsed = secondsSince(budgetStart);
     // first.secondsLeft is what the budget had left when the probe ended.
     const double firstPass = elapsed - (first.budgetSeconds - first.secondsLeft);
-    if (first.memoryCapResolution > 0)
-        maximumResolution = std::min(maximumResolution, first.memoryCapResolution);
+    for (int cap : {first.memoryCapResolution, first.finerMemoryCapResolution})
+        if (cap > 0) maximumResolution = std::min(maximumResolution, cap);
     BudgetRefinement plan =
         planBudgetRefinement(first, maximumResolution, firstPassTimes(stages, mesh, firstPass),
                              first.budgetSeconds - elapsed);
@@ -311,7 +319,7 @@ BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxeli
 }
 
 BudgetChoice planVolumeRun(const MaskVolume& mask, double seconds, const CostModel& model,
-                           Interrupter& interrupter) {
+                           int finestCoarsening, Interrupter& interrupter) {
     const auto start = std::chrono::steady_clock::now();
     const bool small = mask.dims().voxelCount() <= std::uint64_t(64) * 64 * 64;
     const int probeCoarsening = small ? 1 : 2;
@@ -323,7 +331,8 @@ BudgetChoice planVolumeRun(const MaskVolume& mask, double seconds, const CostMod
     const double left =
         planPreview(model, 2.0 * model.scale(probe, double(probeCoarsening)).boundaryVoxels,
                     seconds - spent, preview);
-    BudgetChoice choice = chooseVolumeCoarsening(model, probe, probeCoarsening, left);
+    BudgetChoice choice =
+        chooseVolumeCoarsening(model, probe, probeCoarsening, left, finestCoarsening);
     choice.budgetSeconds = seconds;
     choice.probeSeconds = spent;
     choice.secondsLeft = seconds - spent;

@@ -11,7 +11,8 @@
 // the start of the process, is compared with, with a safety margin chosen
 // from the fit's residuals; the engine then takes
 //   - for meshes: the largest resolution up to --resolution that fits;
-//   - for volumes: the finest of 1, 2 or 4 times coarser grids that fits
+//   - for volumes: the finest of 1, 2 or 4 times coarser grids that fits,
+//     none finer than --max-memory allows
 //     (coarsenMask: a coarse voxel is object when any of its fine voxels is;
 //     refineLabels gives each fine object voxel its coarse voxel's label).
 // preview.png costs about as much as a small run on a large mesh, so it is
@@ -103,6 +104,15 @@ struct BudgetChoice {
     /// Meshes: the largest resolution --max-memory allows when below
     /// --resolution (no choice, first or finer, goes above it); 0: no cap.
     int memoryCapResolution = 0;
+    /// Meshes: the same for a finer pass, which runs beside the first pass's
+    /// result (SegmentInput.h heldResultBytes); 0: no cap.
+    int finerMemoryCapResolution = 0;
+    /// Volumes: the finest coarsening --max-memory allows when above 1, for
+    /// the first pass and for a finer pass that runs beside the first
+    /// pass's result (SegmentInput.h CoarseningMemoryCaps); 0: no cap, above
+    /// 4: no finer pass fits.
+    int memoryCapCoarsening = 0;
+    int finerMemoryCapCoarsening = 0;
     WorkCounts probeWork;           // the probe's counters
     BudgetCalibration calibration;  // meshes: from the probe; volumes: not enabled
 };
@@ -182,7 +192,8 @@ double refinementReserve(double budgetSeconds);
 /// pass's times and what is left now, with the deadline (the budget less
 /// refinementReserve()) when a finer pass is tried. A caller with an earlier
 /// limit of its own lowers the deadline to it. `maximumResolution` is
-/// lowered to first.memoryCapResolution when that is set.
+/// lowered to first.memoryCapResolution and first.finerMemoryCapResolution
+/// when they are set.
 BudgetRefinement planFinerPass(const BudgetChoice& first, bool mesh, int maximumResolution,
                                const std::vector<StageTiming>& stages,
                                std::chrono::steady_clock::time_point budgetStart);
@@ -191,9 +202,9 @@ BudgetRefinement planFinerPass(const BudgetChoice& first, bool mesh, int maximum
 /// with `secondsLeft` of the budget left; `maximumResolution` is the mesh's
 /// --resolution. The finer choice is the largest resolution (meshes, from
 /// the maximum down in steps of about 10%, at least kRefinementMinimumGain
-/// times the first) or the smallest coarsening (volumes) whose prediction
-/// fits; none when the first choice was not coarsened, did not fit, or
-/// nothing finer fits (refinement.reason says which).
+/// times the first) or the smallest coarsening (volumes, none below
+/// first.finerMemoryCapCoarsening) whose prediction fits; none when the first choice was not
+/// coarsened, did not fit, or nothing finer fits (refinement.reason says which).
 BudgetRefinement planBudgetRefinement(const BudgetChoice& first, int maximumResolution,
                                       const FirstPassTimes& times, double secondsLeft);
 
@@ -209,10 +220,11 @@ double planPreview(const CostModel& model, double triangles, double secondsLeft,
 BudgetChoice chooseMeshResolution(const CostModel& model, const WorkCounts& probe,
                                   int probeResolution, int maximum, int minimum, double seconds);
 
-/// Volumes: the smallest coarsening of {1, 2, 4} that fits, from counters of
-/// the volume coarsened `probeCoarsening` times.
+/// Volumes: the smallest coarsening of {1, 2, 4}, none below
+/// `finestCoarsening`, that fits, from counters of the volume coarsened
+/// `probeCoarsening` times.
 BudgetChoice chooseVolumeCoarsening(const CostModel& model, const WorkCounts& probe,
-                                    int probeCoarsening, double seconds);
+                                    int probeCoarsening, double seconds, int finestCoarsening = 1);
 
 /// `factor` times coarser mask: a coarse voxel is object when any of its
 /// factor^3 fine voxels is. Geometry: voxels `factor` times larger.
@@ -253,8 +265,9 @@ BudgetChoice planMeshRun(const TriangleMesh& mesh, const VoxelizeOptions& voxeli
                          Interrupter& interrupter = nullInterrupter());
 
 /// The whole plan for a volume: counts the work on the volume coarsened 2
-/// times (or on the volume itself when it is small) and chooses a coarsening.
+/// times (or on the volume itself when it is small) and chooses a
+/// coarsening, none finer than `finestCoarsening` (what --max-memory allows).
 BudgetChoice planVolumeRun(const MaskVolume& mask, double seconds, const CostModel& model,
-                           Interrupter& interrupter = nullInterrupter());
+                           int finestCoarsening = 1, Interrupter& interrupter = nullInterrupter());
 
 }  // namespace skelseg

@@ -62,6 +62,7 @@ struct CallRecord {
         interrupter.setTimeLimit(refinement->deadlineSeconds);
         SegmentInputOptions finer = inputOptions;
         finer.budgetChoice = refinement->choice;
+        finer.heldBytes = heldResultBytes(*first->input, inputOptions.levels);
         try {
             std::shared_ptr<SegmentedShape> second = onePass(std::move(again), finer);
             refinement->kept = true;
@@ -236,8 +237,16 @@ py::dict segmentArray(const py::array& array, const std::array<double, 3>& spaci
             // counts the mask's object voxels): refuse first what cannot fit.
             // Counting costs a pass over the array; it is only needed when
             // the bound that counts every voxel as object is too high.
+            // Under a time budget, which may coarsen the volume to fit, only
+            // the mask itself must fit (the CLI's refuseVolumeGridOverMemory).
             const SegmentInputOptions& in = call.inputOptions;
-            if (estimateSegmentationMemory(dims, dims.voxelCount(), in.threads) > in.memoryLimit) {
+            if (in.timeBudgetSeconds > 0) {
+                if (dims.voxelCount() > in.memoryLimit)
+                    throw MemoryLimitError(kMaskName + ": its mask needs " +
+                                           formatBytes(dims.voxelCount()) + ", over the limit of " +
+                                           formatBytes(in.memoryLimit) + " (--max-memory)");
+            } else if (estimateSegmentationMemory(dims, dims.voxelCount(), in.threads) >
+                       in.memoryLimit) {
                 const std::uint64_t estimate = estimateSegmentationMemory(
                     dims, countObjectVoxels(view, kMaskName), in.threads, in.levels);
                 if (estimate > in.memoryLimit)

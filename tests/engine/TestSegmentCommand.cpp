@@ -267,6 +267,19 @@ BudgetChoice coarsenedVolumeChoice(int coarsening, double budget) {
     return first;
 }
 
+/// With `limit` as --max-memory: `options` without a budget are refused;
+/// with an ample budget, into `outdir`, they finish. That run's report.
+nlohmann::json reportOfAnAmpleBudgetWithin(SegmentCommandOptions options, std::uint64_t limit,
+                                           const fs::path& outdir) {
+    options.maxMemoryBytes = limit;
+    ProgressReporter progress(ProgressReporter::Display::Quiet);
+    EXPECT_THROW(runSegmentCommand(options, progress), MemoryLimitError);
+    options.outdir = outdir;
+    options.timeBudgetSeconds = 600.0;
+    segment(options);
+    return nlohmann::json::parse(fileBytes(outdir / "report.json"));
+}
+
 }  // namespace
 
 TEST(SegmentCommand, AFinerPassThatFinishesGivesTheFinerChoicesOutput) {
@@ -318,24 +331,19 @@ TEST(SegmentCommand, ABudgetChoosesOnlyResolutionsTheMemoryLimitAllows) {
     const auto needs = [&](int resolution) {
         VoxelizeOptions voxelize;
         voxelize.resolution = resolution;
-        return meshRunMemory(voxelGridFor(mesh, voxelize).dims, 1);
+        return meshRunMemory(voxelGridFor(mesh, voxelize).dims, 1, true);
     };
-    options.maxMemoryBytes = (needs(40) + needs(64)) / 2;
-    ProgressReporter progress(ProgressReporter::Display::Quiet);
-    EXPECT_THROW(runSegmentCommand(options, progress), MemoryLimitError);
-    options.outdir = dir / "budget";
-    options.timeBudgetSeconds = 600.0;
-    segment(options);
-    const auto report = nlohmann::json::parse(fileBytes(dir / "budget" / "report.json"));
+    const std::uint64_t limit = (needs(40) + needs(64)) / 2;
+    const auto report = reportOfAnAmpleBudgetWithin(options, limit, dir / "budget");
     const auto& budget = report["time_budget"];
     const int cap = budget["memory_cap_resolution"].get<int>();
     EXPECT_GE(cap, 40);
     EXPECT_LT(cap, 64);
-    EXPECT_LE(needs(cap), options.maxMemoryBytes);
-    EXPECT_GT(needs(cap + 1), options.maxMemoryBytes);
+    EXPECT_LE(needs(cap), limit);
+    EXPECT_GT(needs(cap + 1), limit);
     EXPECT_EQ(budget["resolution"], cap);
     EXPECT_EQ(budget["coarsened"], true);
-    EXPECT_LE(report["memory"]["estimated_bytes"].get<std::uint64_t>(), options.maxMemoryBytes);
+    EXPECT_LE(report["memory"]["estimated_bytes"].get<std::uint64_t>(), limit);
 }
 
 TEST(SegmentCommand, AFinerPassOverTheMemoryLimitGivesTheFirstPassesOutput) {
@@ -371,6 +379,75 @@ TEST(SegmentCommand, AFinerPassOverTheMemoryLimitGivesTheFirstPassesOutput) {
               "needed more than --max-memory; the first pass's output is given");
     for (const auto& entry : fs::directory_iterator(dir / "capped"))
         EXPECT_NE(entry.path().filename().string().rfind(".skelseg", 0), 0u) << entry.path();
+}
+
+TEST(SegmentCommand, ABudgetCoarsensAVolumeAsFarAsTheMemoryLimitRequires) {
+    // A limit between what the volume 2x coarser and its own grid are
+    // estimated to need: without a budget the volume is refused; with an
+    // ample one the budget takes the finest coarsening the limit allows,
+    // and no finer pass goes below it.
+    const test::TempDir dir;
+    const fs::path input = dir / "figure.nrrd";
+    const MaskVolume mask = rasterise(makeShape("figure"), {96, 2});
+    writeNrrdMask(input, mask);
+    SegmentInputOptions estimate;
+    estimate.threads = 1;
+    const auto needs = [&](int factor) {
+        const MaskVolume coarse = factor == 1 ? mask : coarsenMask(mask, factor);
+        const auto objects = std::uint64_t(std::count_if(
+            coarse.values().begin(), coarse.values().end(), [](auto v) { return v; }));
+        return volumeRunMemory(coarse.dims(), objects, mask.dims(), estimate);
+    };
+    const auto report = reportOfAnAmpleBudgetWithin(optionsFor(input, dir / "plain", 1),
+                                                    (needs(1) + needs(2)) / 2, dir / "budget");
+    const auto& budget = report["time_budget"];
+    EXPECT_EQ(budget["memory_cap_coarsening"], 2);
+    EXPECT_EQ(budget["coarsening"], 2);
+    EXPECT_EQ(budget["coarsened"], true);
+    // The estimate the cap chose by is the one the run was checked with.
+    EXPECT_EQ(report["memory"]["estimated_bytes"].get<std::uint64_t>(), needs(2));
+    EXPECT_EQ(budget["refinement"]["tried"], false);
+    EXPECT_EQ(budget["refinement"]["outcome"], "not tried: --max-memory allows nothing finer");
+    const LabelVolume labels = readNrrdLabels(dir / "budget" / "labels.nrrd");
+    EXPECT_EQ(labels.dims(), mask.dims());
+}
+
+TEST(SegmentCommand, AFinerPassCountsTheFirstPassesResultInItsMemory) {
+    // The first pass 4x coarser; the volume's own grid fits the limit by
+    // itself, but not beside the first pass's result, which stays in
+    // memory until the finer pass has finished.
+    const test::TempDir dir;
+    const fs::path input = dir / "figure.nrrd";
+    const MaskVolume mask = rasterise(makeShape("figure"), {96, 2});
+    writeNrrdMask(input, mask);
+    segment(optionsFor(input, dir / "whole", 1));
+    const auto whole =
+        nlohmann::json::parse(fileBytes(dir / "whole" / "report.json"))["memory"]["estimated_bytes"]
+            .get<std::uint64_t>();
+    const std::uint64_t held = heldResultBytes(mask.dims(), 1, true);
+    SegmentCommandOptions first = optionsFor(input, dir / "first", 1);
+    first.timeBudgetSeconds = 600.0;
+    first.budgetChoice = coarsenedVolumeChoice(4, 600.0);
+    first.budgetPasses = 1;
+    first.maxMemoryBytes = whole + held / 2;
+    segment(first);
+    SegmentCommandOptions options = first;
+    options.outdir = dir / "capped";
+    options.budgetPasses = 2;
+    segment(options);
+    EXPECT_EQ(fileBytes(dir / "capped" / "labels.nrrd"), fileBytes(dir / "first" / "labels.nrrd"));
+    const auto report = nlohmann::json::parse(fileBytes(dir / "capped" / "report.json"));
+    const auto& refinement = report["time_budget"]["refinement"];
+    EXPECT_EQ(refinement["tried"], true);
+    EXPECT_EQ(refinement["coarsening"], 1);
+    EXPECT_EQ(refinement["over_memory"], true);
+    // With room for both, the finer pass is kept.
+    options.outdir = dir / "roomy";
+    options.maxMemoryBytes = whole + held;
+    segment(options);
+    const auto roomy = nlohmann::json::parse(fileBytes(dir / "roomy" / "report.json"));
+    EXPECT_EQ(roomy["time_budget"]["refinement"]["kept"], true);
+    EXPECT_EQ(roomy["memory"]["estimated_bytes"].get<std::uint64_t>(), whole + held);
 }
 
 TEST(SegmentCommand, AFinerPassStoppedAtItsDeadlineGivesTheFirstPassesOutput) {

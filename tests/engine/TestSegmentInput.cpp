@@ -8,6 +8,7 @@
 #include "engine/SegmentInput.h"
 #include "engine/StageTimer.h"
 #include "io/mesh/MeshCheck.h"
+#include "io/shapes/SyntheticShapes.h"
 #include "tests/support/CurledTube.h"
 
 namespace skelseg {
@@ -67,6 +68,38 @@ TEST(SegmentInput, AnAmpleBudgetGivesTheMaskOfTheChosenResolution) {
     EXPECT_EQ(mask.resolution, 64);
     EXPECT_TRUE(hasStage(timer, "voxelise"));
     EXPECT_GT(mask.mask.dims().voxelCount(), 0u);
+}
+
+TEST(SegmentInput, AVolumesMemoryCapsAreTheFinestCoarseningsWhoseEstimatesFit) {
+    const MaskVolume mask = rasterise(makeShape("figure"), {64, 2});
+    SegmentInputOptions options;
+    options.threads = 1;
+    std::uint64_t needs[3];  // the volume 1, 2 and 4 times coarser
+    for (int i = 0; i < 3; ++i) {
+        const MaskVolume coarse = i == 0 ? mask : coarsenMask(mask, 1 << i);
+        const auto objects = std::uint64_t(std::count_if(
+            coarse.values().begin(), coarse.values().end(), [](auto v) { return v; }));
+        needs[i] = volumeRunMemory(coarse.dims(), objects, mask.dims(), options);
+    }
+    ASSERT_GT(needs[0], needs[1]);
+    ASSERT_GT(needs[1], needs[2]);
+    const auto capsAt = [&](std::uint64_t limit) {
+        options.memoryLimit = limit;
+        return finestCoarseningsWithinMemory(mask, options);
+    };
+    // Each estimate is the least limit of its coarsening.
+    EXPECT_EQ(capsAt(needs[0]).firstPass, 1);
+    EXPECT_EQ(capsAt(needs[0] - 1).firstPass, 2);
+    EXPECT_EQ(capsAt(needs[1]).firstPass, 2);
+    EXPECT_EQ(capsAt(needs[1] - 1).firstPass, 4);
+    EXPECT_EQ(capsAt(needs[2]).firstPass, 4);
+    EXPECT_EQ(capsAt(needs[2] - 1).firstPass, 0);
+    // A finer pass runs beside a coarsened first pass's result.
+    const std::uint64_t held = heldResultBytes(mask.dims(), 1, true);
+    EXPECT_EQ(capsAt(needs[0] + held).finerPass, 1);
+    EXPECT_EQ(capsAt(needs[0] + held - 1).finerPass, 2);
+    EXPECT_EQ(capsAt(needs[0]).finerPass, needs[1] + held <= needs[0] ? 2 : 4);
+    EXPECT_EQ(capsAt(needs[2] + held - 1).finerPass, 0);
 }
 
 }  // namespace

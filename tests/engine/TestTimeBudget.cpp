@@ -187,6 +187,55 @@ TEST(BudgetRefinement, AFinerPassStaysWithinTheMemoryCap) {
     EXPECT_EQ(none.reason, "--max-memory allows nothing finer");
 }
 
+TEST(TimeBudget, AVolumeIsNotCoarsenedLessThanTheMemoryLimitAllows) {
+    const CostModel model = CostModel::fitted();
+    for (int finest : {1, 2, 4}) {
+        const BudgetChoice ample = chooseVolumeCoarsening(model, someWork(), 2, 1e6, finest);
+        EXPECT_TRUE(ample.fits);
+        EXPECT_EQ(ample.coarsening, finest);
+        EXPECT_EQ(ample.coarsened, finest > 1);
+    }
+    // With no time, still the coarsest.
+    EXPECT_EQ(chooseVolumeCoarsening(model, someWork(), 1, 1e-6, 2).coarsening, 4);
+}
+
+TEST(BudgetRefinement, AFinerPassBesideTheFirstPassesResultStaysWithinTheMemoryCap) {
+    // Meshes: --max-memory allowed 400 alone, 250 beside the first pass's
+    // result; with time for 400 the finer pass takes 250.
+    BudgetChoice mesh = coarsenedMeshChoice(100, 1000.0);
+    mesh.finerMemoryCapResolution = 250;
+    const BudgetRefinement meshPlan =
+        planFinerPass(mesh, true, 400, {}, std::chrono::steady_clock::now());
+    ASSERT_TRUE(meshPlan.tried);
+    EXPECT_EQ(meshPlan.choice.resolution, 250);
+    EXPECT_TRUE(meshPlan.choice.coarsened);
+    mesh.finerMemoryCapResolution = 100;  // nothing beside it
+    const BudgetRefinement meshNone =
+        planFinerPass(mesh, true, 400, {}, std::chrono::steady_clock::now());
+    EXPECT_FALSE(meshNone.tried);
+    EXPECT_EQ(meshNone.reason, "--max-memory allows nothing finer");
+    // Volumes: the first pass 4x coarser, time for the volume's own grid.
+    BudgetChoice volume;
+    volume.budgetSeconds = 1000.0;
+    volume.coarsening = 4;
+    volume.coarsened = true;
+    FirstPassTimes times;
+    times.seconds = 0.5;
+    times.stages = {{0.5, 3.0}};
+    ASSERT_EQ(planBudgetRefinement(volume, 0, times, 900.0).choice.coarsening, 1);
+    volume.finerMemoryCapCoarsening = 2;
+    const BudgetRefinement volumePlan = planBudgetRefinement(volume, 0, times, 900.0);
+    ASSERT_TRUE(volumePlan.tried);
+    EXPECT_EQ(volumePlan.choice.coarsening, 2);
+    EXPECT_TRUE(volumePlan.choice.coarsened);
+    for (int cap : {4, 8}) {
+        volume.finerMemoryCapCoarsening = cap;
+        const BudgetRefinement volumeNone = planBudgetRefinement(volume, 0, times, 900.0);
+        EXPECT_FALSE(volumeNone.tried);
+        EXPECT_EQ(volumeNone.reason, "--max-memory allows nothing finer");
+    }
+}
+
 TEST(BudgetRefinement, AVolumeGoesToTheSmallestCoarseningThatFits) {
     BudgetChoice first;
     first.budgetSeconds = 20.0;

@@ -304,3 +304,19 @@ def test_a_time_budget_chooses_within_max_memory_as_the_cli_does():
     assert 40 <= budget["memory_cap_resolution"] < 64
     assert budget["resolution"] == budget["memory_cap_resolution"]
     assert result.report["memory"]["estimated_bytes"] <= limit
+
+
+def test_a_time_budget_coarsens_a_volume_as_far_as_max_memory_requires(figure_mask):
+    # Six tenths of what the volume's own grid is estimated to need: the
+    # volume 2x coarser (about a third, with the input mask and the labels
+    # kept on the input's grid) fits, the grid itself does not.
+    whole = skelseg.segment(figure_mask, threads=1).report["memory"]["estimated_bytes"]
+    limit = whole * 6 // 10
+    with pytest.raises(MemoryError, match="--max-memory|max_memory"):
+        skelseg.segment(figure_mask, threads=1, max_memory=limit)
+    result = skelseg.segment(figure_mask, threads=1, max_memory=limit, time_budget=600.0)
+    budget = result.report["time_budget"]
+    assert budget["memory_cap_coarsening"] == budget["coarsening"] == 2
+    assert budget["refinement"]["outcome"] == "not tried: --max-memory allows nothing finer"
+    assert result.report["memory"]["estimated_bytes"] <= limit
+    assert result.labels.shape == figure_mask.shape
