@@ -95,6 +95,13 @@ void boundaryVoxelsBench(benchmark::State& state, const std::string& shape) {
     state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(in.mask.size()));
 }
 
+void countBoundaryVoxelsBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    for (auto _ : state) benchmark::DoNotOptimize(countBoundaryVoxels(in.mask, {false}));
+    state.counters["voxels"] = double(in.mask.size());
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(in.mask.size()));
+}
+
 void boundaryGraphBench(benchmark::State& state, const std::string& shape) {
     const ShapeInput& in = shapeInput(shape, int(state.range(0)));
     for (auto _ : state) {
@@ -385,6 +392,7 @@ void skeletonGraphSheetBench(benchmark::State& state) {
 [[maybe_unused]] const bool kRegistered = [] {
     registerForShapes("FeatureTransform", kLinearSizes, featureTransformBench);
     registerForShapes("BoundaryVoxels", kLinearSizes, boundaryVoxelsBench);
+    registerForShapes("CountBoundaryVoxels", kLinearSizes, countBoundaryVoxelsBench);
     registerForShapes("BoundaryGraph", kLinearSizes, boundaryGraphBench);
     registerForShapes("SkeletonCandidates", kLinearSizes, skeletonCandidatesBench);
     registerForShapes("ConnectedObjects", kLinearSizes, connectedObjectsBench);

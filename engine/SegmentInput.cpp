@@ -11,6 +11,7 @@
 #include "io/files/TextFile.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "io/volume/VolumeReader.h"
+#include "kernels/BoundaryGraph.h"
 
 namespace fs = std::filesystem;
 
@@ -125,12 +126,17 @@ int largestResolutionWithinMemory(const TriangleMesh& mesh, bool meshIsClosed,
 }
 
 std::uint64_t volumeRunMemory(const Dims& grid, std::uint64_t objectVoxels, const Dims& fine,
+                              std::uint64_t fineBoundaryVoxels,
                               const SegmentInputOptions& options) {
-    std::uint64_t bytes =
-        estimateSegmentationMemory(grid, objectVoxels, options.threads, options.levels);
-    if (grid.voxelCount() < fine.voxelCount())
-        bytes += fine.voxelCount() * (1 + 2 * std::uint64_t(std::max(options.levels, 1)));
-    return bytes;
+    const bool coarsened = grid.voxelCount() < fine.voxelCount();
+    const std::uint64_t perLabelledVoxel = 1 + 2 * std::uint64_t(std::max(options.levels, 1));
+    const std::uint64_t segmenting =
+        estimateSegmentationMemory(grid, objectVoxels, options.threads, options.levels) +
+        (coarsened ? fine.voxelCount() : 0);
+    const std::uint64_t writing =
+        (fine.voxelCount() + (coarsened ? grid.voxelCount() : 0)) * perLabelledVoxel +
+        fineBoundaryVoxels * kOutputBytesPerBoundaryVoxel;
+    return std::max(segmenting, writing);
 }
 
 std::uint64_t heldResultBytes(const Dims& grid, int levels, bool coarsened) {
@@ -152,6 +158,7 @@ std::uint64_t objectVoxelCount(const MaskVolume& mask) {
 }  // namespace
 
 CoarseningMemoryCaps finestCoarseningsWithinMemory(const MaskVolume& mask,
+                                                   std::uint64_t boundaryVoxels,
                                                    const SegmentInputOptions& options,
                                                    Interrupter& interrupter) {
     CoarseningMemoryCaps caps;
@@ -164,10 +171,12 @@ CoarseningMemoryCaps finestCoarseningsWithinMemory(const MaskVolume& mask,
         const Dims grid{(mask.dims().x + factor - 1) / factor,
                         (mask.dims().y + factor - 1) / factor,
                         (mask.dims().z + factor - 1) / factor};
-        if (volumeRunMemory(grid, 0, mask.dims(), options) > options.memoryLimit) continue;
+        if (volumeRunMemory(grid, 0, mask.dims(), boundaryVoxels, options) > options.memoryLimit)
+            continue;
         const std::uint64_t objects =
             objectVoxelCount(factor == 1 ? mask : coarsenMask(mask, factor));
-        const std::uint64_t bytes = volumeRunMemory(grid, objects, mask.dims(), options);
+        const std::uint64_t bytes =
+            volumeRunMemory(grid, objects, mask.dims(), boundaryVoxels, options);
         if (caps.firstPass == 0 && bytes <= options.memoryLimit) caps.firstPass = factor;
         if (caps.finerPass == 0 && bytes + held <= options.memoryLimit) caps.finerPass = factor;
     }
@@ -303,18 +312,20 @@ BudgetChoice planMeshBudget(const SegmentSource& source, const SegmentInputOptio
 
 /// Chooses the coarsening (volumes) and coarsens `result.mask`, keeping the
 /// input mask for the refinement.
-void planVolumeBudget(SegmentMask& result, const SegmentInputOptions& options, StageTimer& timer,
+void planVolumeBudget(SegmentMask& result, std::uint64_t boundaryVoxels,
+                      const SegmentInputOptions& options, StageTimer& timer,
                       Interrupter& interrupter) {
     Stage stage(timer, interrupter, "time budget probe", true);
     if (options.budgetChoice) {
         result.budget = options.budgetChoice;
     } else {
-        // Only what --max-memory allows is a choice; with nothing, the time
-        // alone chooses and the memory check refuses it, naming the limit.
+        // Only what --max-memory allows is a choice. With nothing, the
+        // coarsest runs into the memory check, whose refusal names the least
+        // a run of this volume needs.
         const CoarseningMemoryCaps caps =
-            finestCoarseningsWithinMemory(result.mask, options, interrupter);
+            finestCoarseningsWithinMemory(result.mask, boundaryVoxels, options, interrupter);
         result.budget = planVolumeRun(result.mask, secondsLeft(options), CostModel::fitted(),
-                                      std::max(caps.firstPass, 1), interrupter);
+                                      caps.firstPass == 0 ? 4 : caps.firstPass, interrupter);
         result.budget->budgetSeconds = options.timeBudgetSeconds;
         result.budget->memoryCapCoarsening = caps.firstPass > 1 ? caps.firstPass : 0;
         // No finer pass where nothing fits beside the first pass's result.
@@ -394,20 +405,25 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
             result.warnings.push_back(w);
             warn(w);
         }
-    } else {
+    }
+    // Volumes: the outputs' surfaces are drawn on the input's grid, however
+    // coarse the grid segmented; their memory grows with its boundary.
+    std::uint64_t inputBoundaryVoxels = 0;
+    if (!source->isMesh()) {
         result.mask = std::move(source->volumeMask);
+        inputBoundaryVoxels = countBoundaryVoxels(result.mask);
         if (options.budgetChoice || options.timeBudgetSeconds > 0) {
-            planVolumeBudget(result, options, timer, stop);
+            planVolumeBudget(result, inputBoundaryVoxels, options, timer, stop);
             if (result.budget->fits) budgetStop.release();
         }
     }
     const Dims fine = source->isMesh() || result.fineMask.dims().voxelCount() == 0
                           ? result.mask.dims()
                           : result.fineMask.dims();
-    result.estimatedMemory =
-        std::max(result.estimatedMemory,
-                 volumeRunMemory(result.mask.dims(), objectVoxelCount(result.mask), fine, options) +
-                     options.heldBytes);
+    result.estimatedMemory = std::max(
+        result.estimatedMemory, volumeRunMemory(result.mask.dims(), objectVoxelCount(result.mask),
+                                                fine, inputBoundaryVoxels, options) +
+                                    options.heldBytes);
     if (result.estimatedMemory > options.memoryLimit)
         throw MemoryLimitError(source->file.string() + ": needs about " +
                                formatBytes(result.estimatedMemory) + ", over the limit of " +

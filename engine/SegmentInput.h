@@ -112,13 +112,23 @@ std::uint64_t meshRunMemory(const Dims& grid, int threads, bool meshIsClosed = f
 int largestResolutionWithinMemory(const TriangleMesh& mesh, bool meshIsClosed,
                                   const SegmentInputOptions& options);
 
+/// Bytes the outputs hold per boundary voxel of the input's grid while they
+/// are written (the segment surfaces, their simplification for display,
+/// segments.glb and viewer.html): measured 720 to 880 on four volumes at
+/// 400, rounded up (docs/performance.md, "What the writers hold").
+constexpr std::uint64_t kOutputBytesPerBoundaryVoxel = 1000;
+
 /// The memory a volume run is estimated to need, the estimate checked
-/// against --max-memory: the segmentation of its grid `grid` holding
-/// `objectVoxels`, and when that grid is the input `fine` coarsened (by
-/// --time-budget) the input mask kept beside it and the labels brought back
-/// to it (one label volume per level).
+/// against --max-memory: the larger of its two phases. Segmenting: the
+/// segmentation of its grid `grid` holding `objectVoxels`, and when that
+/// grid is the input `fine` coarsened (by --time-budget) the input mask kept
+/// beside it. Writing: the input's mask and labels (one label volume per
+/// level; the coarse grid's too when coarsened) and the outputs' surfaces,
+/// kOutputBytesPerBoundaryVoxel per boundary voxel of the input
+/// (`fineBoundaryVoxels`; 0 for meshes, whose voxelisation's estimate
+/// covers their outputs).
 std::uint64_t volumeRunMemory(const Dims& grid, std::uint64_t objectVoxels, const Dims& fine,
-                              const SegmentInputOptions& options);
+                              std::uint64_t fineBoundaryVoxels, const SegmentInputOptions& options);
 
 /// What a finished pass whose labels are on a grid of `grid` voxels keeps in
 /// memory: its mask and, per level, its labels. A coarsened volume's result
@@ -129,14 +139,15 @@ std::uint64_t heldResultBytes(const Dims& grid, int levels, bool coarsened);
 std::uint64_t heldResultBytes(const SegmentMask& pass, int levels);
 
 /// The finest coarsenings of a volume --max-memory allows (1, 2 or 4; 0 when
-/// not even 4 fits): `firstPass` by volumeRunMemory, `finerPass` with the
-/// result of a coarsened first pass held beside it (heldResultBytes). What
+/// not even 4 fits; `boundaryVoxels` its boundary voxels): `firstPass` by volumeRunMemory,
+/// `finerPass` with the result of a coarsened first pass held beside it (heldResultBytes). What
 /// --time-budget may choose from, as largestResolutionWithinMemory for meshes.
 struct CoarseningMemoryCaps {
     int firstPass = 0;
     int finerPass = 0;
 };
 CoarseningMemoryCaps finestCoarseningsWithinMemory(const MaskVolume& mask,
+                                                   std::uint64_t boundaryVoxels,
                                                    const SegmentInputOptions& options,
                                                    Interrupter& interrupter = nullInterrupter());
 

@@ -22,39 +22,66 @@ bool isBoundary(const MaskVolume& mask, int x, int y, int z) {
 
 }  // namespace
 
+namespace {
+
+/// Whether each voxel of row (y, z) is a boundary voxel: flag(x, bool).
+/// Away from the volume's faces all six neighbours exist, so those voxels
+/// read them by fixed offsets without bounds tests; the faces (the first and
+/// last voxel of each row, and the outer rows) take the checked test.
+template <class Flag>
+void forEachBoundaryFlagOfRow(const MaskVolume& mask, int y, int z, Flag&& flag) {
+    const Dims d = mask.dims();
+    const bool innerRow = y > 0 && y < d.y - 1 && z > 0 && z < d.z - 1 && d.x > 2;
+    if (!innerRow) {
+        for (int x = 0; x < d.x; ++x) flag(x, isBoundary(mask, x, y, z));
+        return;
+    }
+    const std::ptrdiff_t strideY = d.x, strideZ = std::ptrdiff_t(d.x) * d.y;
+    const std::uint8_t* in = mask.data() + mask.index(0, y, z);
+    flag(0, isBoundary(mask, 0, y, z));
+    for (int x = 1; x < d.x - 1; ++x) {
+        const std::uint8_t* v = in + x;
+        flag(x, v[0] && (!v[-1] || !v[1] || !v[-strideY] || !v[strideY] || !v[-strideZ] ||
+                         !v[strideZ]));
+    }
+    flag(d.x - 1, isBoundary(mask, d.x - 1, y, z));
+}
+
+}  // namespace
+
 MaskVolume boundaryVoxels(const MaskVolume& mask, const BoundaryGraphOptions& options) {
     const Dims d = mask.dims();
     MaskVolume boundary(d, 0);
     boundary.geometry = mask.geometry;
-    // Away from the volume's faces all six neighbours exist, so those voxels
-    // read them by fixed offsets without bounds tests; the faces (the first
-    // and last voxel of each row, and the outer rows) take the checked test.
-    const std::ptrdiff_t strideY = d.x, strideZ = std::ptrdiff_t(d.x) * d.y;
     parallelForEach(
         d.z,
         [&](int z) {
             for (int y = 0; y < d.y; ++y) {
-                const bool innerRow = y > 0 && y < d.y - 1 && z > 0 && z < d.z - 1 && d.x > 2;
-                if (!innerRow) {
-                    for (int x = 0; x < d.x; ++x)
-                        boundary(x, y, z) = isBoundary(mask, x, y, z) ? 1 : 0;
-                    continue;
-                }
-                const std::uint8_t* in = mask.data() + mask.index(0, y, z);
                 std::uint8_t* out = boundary.data() + boundary.index(0, y, z);
-                out[0] = isBoundary(mask, 0, y, z) ? 1 : 0;
-                for (int x = 1; x < d.x - 1; ++x) {
-                    const std::uint8_t* v = in + x;
-                    out[x] = v[0] && (!v[-1] || !v[1] || !v[-strideY] || !v[strideY] ||
-                                      !v[-strideZ] || !v[strideZ])
-                                 ? 1
-                                 : 0;
-                }
-                out[d.x - 1] = isBoundary(mask, d.x - 1, y, z) ? 1 : 0;
+                forEachBoundaryFlagOfRow(mask, y, z,
+                                         [&](int x, bool isBoundary) { out[x] = isBoundary; });
             }
         },
         options.threaded);
     return boundary;
+}
+
+std::uint64_t countBoundaryVoxels(const MaskVolume& mask, const BoundaryGraphOptions& options) {
+    const Dims d = mask.dims();
+    // Per slice, summed in order afterwards: integers, so any order would
+    // do, but the per-slice counts need no atomics.
+    std::vector<std::uint64_t> perSlice(std::size_t(std::max(d.z, 0)), 0);
+    parallelForEach(
+        d.z,
+        [&](int z) {
+            std::uint64_t count = 0;
+            for (int y = 0; y < d.y; ++y)
+                forEachBoundaryFlagOfRow(mask, y, z,
+                                         [&](int, bool isBoundary) { count += isBoundary; });
+            perSlice[std::size_t(z)] = count;
+        },
+        options.threaded);
+    return std::accumulate(perSlice.begin(), perSlice.end(), std::uint64_t(0));
 }
 
 BoundaryGraph buildBoundaryGraph(const MaskVolume& mask, const BoundaryGraphOptions& options,

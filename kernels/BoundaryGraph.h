@@ -58,6 +58,10 @@ struct BoundaryGraphOptions {
 /// Boundary voxels of `mask` as a mask volume (1 = boundary voxel).
 MaskVolume boundaryVoxels(const MaskVolume& mask, const BoundaryGraphOptions& options = {});
 
+/// The number of boundary voxels of `mask`, without a volume for them: what
+/// the memory estimate of the outputs' surfaces needs (engine/SegmentInput.h).
+std::uint64_t countBoundaryVoxels(const MaskVolume& mask, const BoundaryGraphOptions& options = {});
+
 /// Builds the boundary graph of all objects in `mask` (nonzero = object).
 /// Throws InterruptedError when asked to stop.
 BoundaryGraph buildBoundaryGraph(const MaskVolume& mask, const BoundaryGraphOptions& options = {},

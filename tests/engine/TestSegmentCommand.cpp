@@ -17,13 +17,18 @@
 #include <string>
 #include <thread>
 
+#include "io/files/TextFile.h"
 #include "io/mesh/MeshIO.h"
 #include "io/shapes/SyntheticShapes.h"
 #include "io/volume/NrrdIO.h"
+#include "kernels/BoundaryGraph.h"
 #include "tests/support/BoxMeshes.h"
 #include "tests/support/CurledTube.h"
 #include "tests/support/FileBytes.h"
+#include "tests/support/LargeGridShapes.h"
+#include "tests/support/MaskCounts.h"
 #include "tests/support/TempDir.h"
+#include "tests/support/ThrownMessage.h"
 
 using namespace skelseg;
 using namespace skelseg::test;
@@ -351,7 +356,7 @@ TEST(SegmentCommand, AFinerPassOverTheMemoryLimitGivesTheFirstPassesOutput) {
     // the finer pass would take with ten minutes left, does not.
     const test::TempDir dir;
     const fs::path input = dir / "figure.nrrd";
-    writeNrrdMask(input, rasterise(makeShape("figure"), {96, 2}));
+    writeNrrdMask(input, test::figureInALargeGrid());
     SegmentCommandOptions first = optionsFor(input, dir / "first", 1);
     first.timeBudgetSeconds = 600.0;
     first.budgetChoice = coarsenedVolumeChoice(4, 600.0);
@@ -388,16 +393,16 @@ TEST(SegmentCommand, ABudgetCoarsensAVolumeAsFarAsTheMemoryLimitRequires) {
     // and no finer pass goes below it.
     const test::TempDir dir;
     const fs::path input = dir / "figure.nrrd";
-    const MaskVolume mask = rasterise(makeShape("figure"), {96, 2});
+    const MaskVolume mask = test::figureInALargeGrid();
     writeNrrdMask(input, mask);
     SegmentInputOptions estimate;
     estimate.threads = 1;
     const auto needs = [&](int factor) {
         const MaskVolume coarse = factor == 1 ? mask : coarsenMask(mask, factor);
-        const auto objects = std::uint64_t(std::count_if(
-            coarse.values().begin(), coarse.values().end(), [](auto v) { return v; }));
-        return volumeRunMemory(coarse.dims(), objects, mask.dims(), estimate);
+        return volumeRunMemory(coarse.dims(), test::countNonzero(coarse), mask.dims(),
+                               countBoundaryVoxels(mask), estimate);
     };
+    ASSERT_GT(needs(1), needs(2));
     const auto report = reportOfAnAmpleBudgetWithin(optionsFor(input, dir / "plain", 1),
                                                     (needs(1) + needs(2)) / 2, dir / "budget");
     const auto& budget = report["time_budget"];
@@ -410,6 +415,14 @@ TEST(SegmentCommand, ABudgetCoarsensAVolumeAsFarAsTheMemoryLimitRequires) {
     EXPECT_EQ(budget["refinement"]["outcome"], "not tried: --max-memory allows nothing finer");
     const LabelVolume labels = readNrrdLabels(dir / "budget" / "labels.nrrd");
     EXPECT_EQ(labels.dims(), mask.dims());
+    // Under what even 4x coarser needs: refused, naming that least need.
+    SegmentCommandOptions tight = optionsFor(input, dir / "tight", 1);
+    tight.timeBudgetSeconds = 600.0;
+    tight.maxMemoryBytes = needs(4) - 1;
+    ProgressReporter progress(ProgressReporter::Display::Quiet);
+    EXPECT_EQ(test::thrownMessage<MemoryLimitError>([&] { runSegmentCommand(tight, progress); }),
+              input.string() + ": needs about " + formatBytes(needs(4)) + ", over the limit of " +
+                  formatBytes(tight.maxMemoryBytes) + " (--max-memory)");
 }
 
 TEST(SegmentCommand, AFinerPassCountsTheFirstPassesResultInItsMemory) {
@@ -418,7 +431,7 @@ TEST(SegmentCommand, AFinerPassCountsTheFirstPassesResultInItsMemory) {
     // memory until the finer pass has finished.
     const test::TempDir dir;
     const fs::path input = dir / "figure.nrrd";
-    const MaskVolume mask = rasterise(makeShape("figure"), {96, 2});
+    const MaskVolume mask = test::figureInALargeGrid();
     writeNrrdMask(input, mask);
     segment(optionsFor(input, dir / "whole", 1));
     const auto whole =

@@ -9,7 +9,10 @@
 #include "engine/StageTimer.h"
 #include "io/mesh/MeshCheck.h"
 #include "io/shapes/SyntheticShapes.h"
+#include "kernels/BoundaryGraph.h"
 #include "tests/support/CurledTube.h"
+#include "tests/support/LargeGridShapes.h"
+#include "tests/support/MaskCounts.h"
 
 namespace skelseg {
 namespace {
@@ -71,21 +74,21 @@ TEST(SegmentInput, AnAmpleBudgetGivesTheMaskOfTheChosenResolution) {
 }
 
 TEST(SegmentInput, AVolumesMemoryCapsAreTheFinestCoarseningsWhoseEstimatesFit) {
-    const MaskVolume mask = rasterise(makeShape("figure"), {64, 2});
+    const MaskVolume mask = test::figureInALargeGrid();
     SegmentInputOptions options;
     options.threads = 1;
+    const std::uint64_t boundary = countBoundaryVoxels(mask);
     std::uint64_t needs[3];  // the volume 1, 2 and 4 times coarser
     for (int i = 0; i < 3; ++i) {
         const MaskVolume coarse = i == 0 ? mask : coarsenMask(mask, 1 << i);
-        const auto objects = std::uint64_t(std::count_if(
-            coarse.values().begin(), coarse.values().end(), [](auto v) { return v; }));
-        needs[i] = volumeRunMemory(coarse.dims(), objects, mask.dims(), options);
+        needs[i] = volumeRunMemory(coarse.dims(), test::countNonzero(coarse), mask.dims(), boundary,
+                                   options);
     }
     ASSERT_GT(needs[0], needs[1]);
     ASSERT_GT(needs[1], needs[2]);
     const auto capsAt = [&](std::uint64_t limit) {
         options.memoryLimit = limit;
-        return finestCoarseningsWithinMemory(mask, options);
+        return finestCoarseningsWithinMemory(mask, boundary, options);
     };
     // Each estimate is the least limit of its coarsening.
     EXPECT_EQ(capsAt(needs[0]).firstPass, 1);
@@ -100,6 +103,23 @@ TEST(SegmentInput, AVolumesMemoryCapsAreTheFinestCoarseningsWhoseEstimatesFit) {
     EXPECT_EQ(capsAt(needs[0] + held - 1).finerPass, 2);
     EXPECT_EQ(capsAt(needs[0]).finerPass, needs[1] + held <= needs[0] ? 2 : 4);
     EXPECT_EQ(capsAt(needs[2] + held - 1).finerPass, 0);
+}
+
+TEST(SegmentInput, TheOutputsSurfacesCountInAVolumesEstimate) {
+    // A coarsened grid's segmentation shrinks; the outputs drawn on the
+    // input's grid do not: the estimate never falls below their share.
+    const MaskVolume mask = test::figureInALargeGrid();
+    SegmentInputOptions options;
+    const std::uint64_t boundary = countBoundaryVoxels(mask);
+    const MaskVolume coarse = coarsenMask(mask, 4);
+    const std::uint64_t writing = mask.dims().voxelCount() * 3 + coarse.dims().voxelCount() * 3 +
+                                  boundary * kOutputBytesPerBoundaryVoxel;
+    EXPECT_EQ(
+        volumeRunMemory(coarse.dims(), test::countNonzero(coarse), mask.dims(), boundary, options),
+        writing);
+    // A mesh's grid (no boundary given) keeps the segmentation's estimate.
+    EXPECT_EQ(volumeRunMemory(mask.dims(), test::countNonzero(mask), mask.dims(), 0, options),
+              estimateSegmentationMemory(mask.dims(), test::countNonzero(mask), 1, 1));
 }
 
 }  // namespace

@@ -128,6 +128,9 @@ TEST(BoundaryGraph, BoundaryVoxelsMaskAgreesWithNodes) {
     }
     EXPECT_EQ(count, graph.nodeCount());
     EXPECT_EQ(boundaryVoxels(mask, {true}).values(), boundary.values());
+    // The count without the volume, serial and parallel alike.
+    EXPECT_EQ(countBoundaryVoxels(mask, {false}), count);
+    EXPECT_EQ(countBoundaryVoxels(mask, {true}), count);
 }
 
 TEST(BoundaryGraph, BoundaryVoxelsEqualsReferenceUpToTheGridFaces) {
@@ -149,6 +152,9 @@ TEST(BoundaryGraph, BoundaryVoxelsEqualsReferenceUpToTheGridFaces) {
                         for (int x = 0; x < dims.x; ++x)
                             ASSERT_EQ(boundary(x, y, z) != 0, isBoundaryReference(mask, x, y, z))
                                 << "voxel " << x << "," << y << "," << z << " seed " << seed;
+                const auto flagged = std::uint64_t(
+                    std::count(boundary.values().begin(), boundary.values().end(), 1));
+                EXPECT_EQ(countBoundaryVoxels(mask, {threaded}), flagged);
             }
         }
     }
