@@ -173,12 +173,16 @@ CoarseningMemoryCaps finestCoarseningsWithinMemory(const MaskVolume& mask,
                         (mask.dims().z + factor - 1) / factor};
         if (volumeRunMemory(grid, 0, mask.dims(), boundaryVoxels, options) > options.memoryLimit)
             continue;
+        // Not `factor == 1 ? mask : coarsenMask(...)`: that would copy the mask.
         const std::uint64_t objects =
-            objectVoxelCount(factor == 1 ? mask : coarsenMask(mask, factor));
+            factor == 1 ? objectVoxelCount(mask) : objectVoxelCount(coarsenMask(mask, factor));
         const std::uint64_t bytes =
             volumeRunMemory(grid, objects, mask.dims(), boundaryVoxels, options);
         if (caps.firstPass == 0 && bytes <= options.memoryLimit) caps.firstPass = factor;
         if (caps.finerPass == 0 && bytes + held <= options.memoryLimit) caps.finerPass = factor;
+        // Coarser grids need less: once both caps are known, counting their
+        // object voxels would only cost the budget's time.
+        if (caps.finerPass != 0) break;
     }
     return caps;
 }
