@@ -240,7 +240,8 @@ ShapeMessage runGraph(const RunContext& run) {
         writeSkeletonAndCuts(run.out, shape, run.timer, run.progress);
     });
     auto writeSurfaces = writer([&](const SegmentedShape& shape) {
-        const bool preview = run.options.writePreview && previewFitsBudget(run, shape);
+        const bool preview = run.options.writePreview && !shape.input->previewOverMemory &&
+                             previewFitsBudget(run, shape);
         // What this run does not write must not stay from an earlier run in
         // OUTDIR (--force, a batch redoing an input): another run's picture,
         // a mesh run's face labels beside a volume's results.

@@ -10,6 +10,7 @@
 #include "io/files/CompressedContent.h"
 #include "io/files/TextFile.h"
 #include "io/mesh/MeshVoxelizer.h"
+#include "io/render/PreviewRenderer.h"
 #include "io/volume/VolumeReader.h"
 #include "kernels/BoundaryGraph.h"
 
@@ -97,6 +98,14 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
     return source;
 }
 
+std::uint64_t previewRunMemory(bool preview, std::uint64_t triangles, std::uint64_t vertices,
+                               int threads) {
+    if (!preview) return 0;
+    PreviewOptions options;
+    options.threaded = threads > 1;
+    return previewMemoryBytes(options, triangles, vertices, threads);
+}
+
 std::uint64_t meshRunMemory(const Dims& grid, int threads, bool meshIsClosed) {
     return estimateSegmentationMemory(grid, grid.voxelCount() / 4, threads) +
            grid.voxelCount() * (meshIsClosed ? 13 : 12);  // level set, dense copy,
@@ -135,7 +144,9 @@ std::uint64_t volumeRunMemory(const Dims& grid, std::uint64_t objectVoxels, cons
         (coarsened ? fine.voxelCount() : 0);
     const std::uint64_t writing =
         (fine.voxelCount() + (coarsened ? grid.voxelCount() : 0)) * perLabelledVoxel +
-        fineBoundaryVoxels * kOutputBytesPerBoundaryVoxel;
+        fineBoundaryVoxels * kOutputBytesPerBoundaryVoxel +
+        previewRunMemory(options.preview, 2 * fineBoundaryVoxels, fineBoundaryVoxels,
+                         options.threads);
     return std::max(segmenting, writing);
 }
 
@@ -162,6 +173,10 @@ CoarseningMemoryCaps finestCoarseningsWithinMemory(const MaskVolume& mask,
                                                    const SegmentInputOptions& options,
                                                    Interrupter& interrupter) {
     CoarseningMemoryCaps caps;
+    // A run that fits only without preview.png skips it (maskSegmentSource):
+    // the preview never makes a grid coarser.
+    SegmentInputOptions withoutPreview = options;
+    withoutPreview.preview = false;
     const std::uint64_t held = heldResultBytes(mask.dims(), options.levels, true);
     for (int factor : {1, 2, 4}) {
         throwIfInterrupted(interrupter);
@@ -171,13 +186,14 @@ CoarseningMemoryCaps finestCoarseningsWithinMemory(const MaskVolume& mask,
         const Dims grid{(mask.dims().x + factor - 1) / factor,
                         (mask.dims().y + factor - 1) / factor,
                         (mask.dims().z + factor - 1) / factor};
-        if (volumeRunMemory(grid, 0, mask.dims(), boundaryVoxels, options) > options.memoryLimit)
+        if (volumeRunMemory(grid, 0, mask.dims(), boundaryVoxels, withoutPreview) >
+            options.memoryLimit)
             continue;
         // Not `factor == 1 ? mask : coarsenMask(...)`: that would copy the mask.
         const std::uint64_t objects =
             factor == 1 ? objectVoxelCount(mask) : objectVoxelCount(coarsenMask(mask, factor));
         const std::uint64_t bytes =
-            volumeRunMemory(grid, objects, mask.dims(), boundaryVoxels, options);
+            volumeRunMemory(grid, objects, mask.dims(), boundaryVoxels, withoutPreview);
         if (caps.firstPass == 0 && bytes <= options.memoryLimit) caps.firstPass = factor;
         if (caps.finerPass == 0 && bytes + held <= options.memoryLimit) caps.finerPass = factor;
         // Coarser grids need less: once both caps are known, counting their
@@ -424,14 +440,40 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
     const Dims fine = source->isMesh() || result.fineMask.dims().voxelCount() == 0
                           ? result.mask.dims()
                           : result.fineMask.dims();
+    SegmentInputOptions withoutPreview = options;
+    withoutPreview.preview = false;
+    const std::uint64_t objects = objectVoxelCount(result.mask);
     result.estimatedMemory = std::max(
-        result.estimatedMemory, volumeRunMemory(result.mask.dims(), objectVoxelCount(result.mask),
-                                                fine, inputBoundaryVoxels, options) +
-                                    options.heldBytes);
+        result.estimatedMemory,
+        volumeRunMemory(result.mask.dims(), objects, fine, inputBoundaryVoxels, withoutPreview) +
+            options.heldBytes);
     if (result.estimatedMemory > options.memoryLimit)
         throw MemoryLimitError(source->file.string() + ": needs about " +
                                formatBytes(result.estimatedMemory) + ", over the limit of " +
                                formatBytes(options.memoryLimit) + " (--max-memory)");
+    if (options.preview) {
+        // preview.png is drawn while the outputs are written: beside the
+        // labels (and a volume's surfaces), not beside the segmentation's
+        // workspaces. A run that fits only without it skips it.
+        const std::uint64_t writing =
+            source->isMesh()
+                ? fine.voxelCount() * (1 + 2 * std::uint64_t(std::max(options.levels, 1))) +
+                      previewRunMemory(true, source->mesh->triangles.size(),
+                                       source->mesh->vertices.size(), options.threads)
+                : volumeRunMemory(result.mask.dims(), objects, fine, inputBoundaryVoxels, options);
+        const std::uint64_t withPreview =
+            std::max(result.estimatedMemory, writing + options.heldBytes);
+        if (withPreview <= options.memoryLimit) {
+            result.estimatedMemory = withPreview;
+        } else {
+            result.previewOverMemory = true;
+            const std::string warning =
+                source->file.string() + ": preview.png skipped to fit --max-memory (it needs " +
+                formatBytes(withPreview - result.estimatedMemory) + " more)";
+            result.warnings.push_back(warning);
+            warn(warning);
+        }
+    }
     result.source = std::move(source);
     return result;
 }

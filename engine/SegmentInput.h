@@ -51,8 +51,10 @@ struct SegmentSource {
 struct SegmentMask {
     std::shared_ptr<const SegmentSource> source;
     MaskVolume mask;
-    std::uint64_t estimatedMemory = 0;  // bytes: voxelising and segmenting
-    std::vector<std::string> warnings;  // about the input (mesh check)
+    std::uint64_t estimatedMemory = 0;  // bytes: voxelising, segmenting, writing
+    std::vector<std::string> warnings;  // about the input (mesh check, memory)
+    /// The run fits --max-memory only without preview.png: it is skipped.
+    bool previewOverMemory = false;
     // Mesh inputs: genus of the mesh and of its voxel model, contacts and
     // self-overlaps separated.
     MeshTopology meshGenus{};
@@ -94,8 +96,19 @@ struct SegmentInputOptions {
     /// check: the first pass's result while the finer pass of a budget run
     /// runs (heldResultBytes).
     std::uint64_t heldBytes = 0;
+    /// The run renders preview.png: its memory is counted in the writing
+    /// phase (previewRunMemory). A run that fits --max-memory only without
+    /// it skips it (SegmentMask::previewOverMemory); the memory caps of a
+    /// budget never count it.
+    bool preview = false;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 };
+
+/// What rendering preview.png holds for a scene of `triangles` triangles and
+/// `vertices` vertices on `threads` threads (previewMemoryBytes at the
+/// default picture size); 0 when `preview` is false.
+std::uint64_t previewRunMemory(bool preview, std::uint64_t triangles, std::uint64_t vertices,
+                               int threads);
 
 /// The memory a mesh run on a grid of `grid` voxels is estimated to need
 /// (segmentation, level set, dense copy, nearest-triangle grid), the
@@ -126,7 +139,8 @@ constexpr std::uint64_t kOutputBytesPerBoundaryVoxel = 1000;
 /// level; the coarse grid's too when coarsened) and the outputs' surfaces,
 /// kOutputBytesPerBoundaryVoxel per boundary voxel of the input
 /// (`fineBoundaryVoxels`; 0 for meshes, whose voxelisation's estimate
-/// covers their outputs).
+/// covers their outputs), and with options.preview the preview of a surface
+/// of two triangles per boundary voxel.
 std::uint64_t volumeRunMemory(const Dims& grid, std::uint64_t objectVoxels, const Dims& fine,
                               std::uint64_t fineBoundaryVoxels, const SegmentInputOptions& options);
 

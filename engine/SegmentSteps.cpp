@@ -15,6 +15,7 @@ SegmentInputOptions segmentInputOptions(const SegmentCommandOptions& options, in
     inputOptions.grownContactSeams = options.grownContactSeams;
     inputOptions.threads = threads;
     inputOptions.levels = int(options.parameters.levelCount());
+    inputOptions.preview = options.writePreview;
     inputOptions.timeBudgetSeconds = options.timeBudgetSeconds;
     inputOptions.calibrateTimeBudget = options.calibrateTimeBudget;
     if (options.timeBudgetSeconds > 0) inputOptions.budgetChoice = options.budgetChoice;

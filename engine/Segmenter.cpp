@@ -112,11 +112,12 @@ std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectV
     // crop at most the grid: mask (1) + feature transform (4) + node map (4).
     std::uint64_t bytes = voxels * (1 + 2 + 4) + voxels * (1 + 4 + 4);
     // Boundary graph ~ a sixth of the object voxels at most: ~12 bytes each
-    // of CSR and the node's landmark row, plus per-thread workspaces;
+    // of CSR and the node's landmark row, plus per-thread workspaces (40
+    // bytes per node, and a path cache at its bound whatever the graph);
     // candidates ~ 40 bytes per object voxel.
     const std::uint64_t boundary = std::min<std::uint64_t>(objectVoxels, objectVoxels / 6 + 4096);
     bytes += boundary * (12 + sizeof(float) * Landmarks::kStride) +
-             boundary * 40 * std::uint64_t(std::max(threads, 1));
+             (boundary * 40 + PathCache::maxBytes()) * std::uint64_t(std::max(threads, 1));
     bytes += objectVoxels / 4 * 48;
     bytes += std::uint64_t(std::max(levels, 1) - 1) * voxels * 4;
     return bytes;

@@ -259,10 +259,42 @@ std::vector<float> GeodesicSearch::distancesFrom(std::uint32_t source) const {
     return dist;
 }
 
+namespace {
+
+/// The table's first size, slots.
+constexpr std::size_t kInitialTableSlots = std::size_t(1) << 12;
+
+}  // namespace
+
+std::size_t PathCache::maxBytes(std::size_t maxNodes) noexcept {
+    const std::size_t entries = std::max<std::size_t>(std::max<std::size_t>(maxNodes, 1) / 8, 1);
+    // The table doubles while 2 * entries > slots: its last size is the
+    // smallest power of two of at least 2 * entries (kInitialTableSlots at
+    // least), and while it doubles the old table (half of it) is held too.
+    std::size_t slots = kInitialTableSlots;
+    while (slots < 2 * entries) slots *= 2;
+    return std::max<std::size_t>(maxNodes, 1) * sizeof(std::uint32_t) +
+           (slots + slots / 2) * sizeof(Slot);
+}
+
 void PathCache::clearTable() {
-    if (mTable.empty()) mTable.resize(1u << 12);
+    if (mTable.empty()) mTable.resize(kInitialTableSlots);
     for (Slot& slot : mTable) slot.key = 0;
     mUsed = 0;
+}
+
+void PathCache::makeRoomFor(std::size_t nodes) {
+    if (mPool.size() + nodes > mMaxNodes || mUsed + 1 > mMaxEntries) {
+        mPool.clear();
+        clearTable();
+    }
+}
+
+void PathCache::appendToPool(const std::uint32_t* nodes, std::size_t count) {
+    const std::size_t needed = mPool.size() + count;
+    if (needed > mPool.capacity())
+        mPool.reserve(std::max(needed, std::min(2 * mPool.capacity(), mMaxNodes)));
+    mPool.insert(mPool.end(), nodes, nodes + count);
 }
 
 void PathCache::growTable() {
@@ -283,7 +315,11 @@ const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a,
     if (a == b) {  // key 0 marks empty slots; a point pair needs no search anyway
         ++hits;
         mScratch.assign(1, a);
-        mPool.push_back(a);
+        if (mPool.size() + 1 > mMaxNodes) {
+            mPool.clear();
+            clearTable();
+        }
+        appendToPool(&a, 1);
         mSelf = Entry{0.0f, std::uint32_t(mPool.size() - 1), 1, kUnreachable};
         return mSelf;
     }
@@ -320,17 +356,14 @@ const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a,
             }
             e = Entry{length, std::uint32_t(mPool.size()), std::uint32_t(mScratch.size()),
                       kUnreachable};
-            mPool.insert(mPool.end(), mScratch.begin(), mScratch.end());
+            appendToPool(mScratch.data(), mScratch.size());
             return e;
         }
         i = (i + 1) & mask;
     }
     ++misses;
     const float length = search.shortestPath(a, b, &mScratch, bound);
-    if (mPool.size() + mScratch.size() > mMaxNodes) {
-        mPool.clear();
-        clearTable();
-    }
+    makeRoomFor(mScratch.size());
     if (2 * (mUsed + 1) > mTable.size()) growTable();
     mask = mTable.size() - 1;
     i = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
@@ -338,7 +371,7 @@ const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a,
     mTable[i] = Slot{
         key, Entry{length, std::uint32_t(mPool.size()), std::uint32_t(mScratch.size()), bound}};
     ++mUsed;
-    mPool.insert(mPool.end(), mScratch.begin(), mScratch.end());
+    appendToPool(mScratch.data(), mScratch.size());
     return mTable[i].entry;
 }
 

@@ -150,7 +150,11 @@ private:
     std::vector<HeapKey> mHeap;
 };
 
-/// Per-thread cache of pair paths, bounded in memory.
+/// Per-thread cache of pair paths, bounded in memory: its pool of path
+/// nodes and its table are both emptied when either would outgrow its bound,
+/// so what a cache holds is at most maxBytes(), whatever the graph. The
+/// memory estimate of a run (estimateSegmentationMemory) counts that bound
+/// per thread.
 class PathCache {
 public:
     struct Entry {
@@ -158,8 +162,29 @@ public:
         std::uint32_t begin, count;  // range in the node pool
         float bound = kUnreachable;  // for length == kUnreachable: the bound searched up to
     };
-    /// maxNodes: the pool is cleared when it would hold more path nodes.
-    explicit PathCache(std::size_t maxNodes = std::size_t(1) << 22) : mMaxNodes(maxNodes) {}
+    /// 2^20 nodes (4 MB): a fixed bound, so that the memory estimate can
+    /// count it before the graph exists. Four times larger, as before the
+    /// bound, settled 2 to 4% fewer nodes on the largest shared shapes at
+    /// 400 and the same elsewhere (docs/performance.md, "The path caches and
+    /// the preview in the memory estimate").
+    static constexpr std::size_t kDefaultMaxNodes = std::size_t(1) << 20;
+
+    /// maxNodes: the pool is cleared when it would hold more path nodes (one
+    /// path longer than that is still held, alone); the table is cleared
+    /// with it when it holds maxNodes / 8 pairs (pairs searched in vain hold
+    /// no nodes, so the pool alone would not bound it).
+    explicit PathCache(std::size_t maxNodes = kDefaultMaxNodes)
+        : mMaxNodes(std::max<std::size_t>(maxNodes, 1)),
+          mMaxEntries(std::max<std::size_t>(mMaxNodes / 8, 1)) {}
+
+    /// The most a cache of `maxNodes` holds in its pool and table, bytes,
+    /// the old table while the table doubles included (paths no longer than
+    /// maxNodes; a longer one adds its own length).
+    static std::size_t maxBytes(std::size_t maxNodes = kDefaultMaxNodes) noexcept;
+    /// What this cache holds in its pool and table now, bytes (capacities).
+    std::size_t bytesHeld() const noexcept {
+        return mPool.capacity() * sizeof(std::uint32_t) + mTable.capacity() * sizeof(Slot);
+    }
 
     /// Shortest path between a and b (searched from min(a,b) so that the
     /// result does not depend on the order of the arguments). The returned
@@ -184,8 +209,15 @@ private:
     };
     void clearTable();
     void growTable();
+    /// Empties pool and table (every entry) when `nodes` more path nodes or
+    /// one more pair would pass a bound.
+    void makeRoomFor(std::size_t nodes);
+    /// Appends to the pool, growing it by doubling but never past mMaxNodes
+    /// (unless one path alone is longer).
+    void appendToPool(const std::uint32_t* nodes, std::size_t count);
 
     std::size_t mMaxNodes;
+    std::size_t mMaxEntries;
     std::vector<Slot> mTable;
     std::size_t mUsed = 0;
     Entry mSelf{};

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/SegmentInput.h"
 #include "engine/Segmenter.h"
 #include "io/volume/VolumeReader.h"
 
@@ -61,12 +62,15 @@ std::uint64_t estimateInputMemory(const fs::path& input, const SegmentCommandOpt
                                   int threads) {
     std::error_code ec;
     const std::uint64_t fileBytes = fs::is_regular_file(input, ec) ? fs::file_size(input, ec) : 0;
+    // The preview's picture and panels; its triangles are not known before
+    // reading (segment counts them).
+    const std::uint64_t preview = previewRunMemory(options.writePreview, 0, 0, threads);
     if (isMeshPath(input)) {
         const int side = options.resolution + 2;
         const Dims dims{side, side, side};
         return estimateSegmentationMemory(dims, dims.voxelCount() / 4, threads) +
-               dims.voxelCount() * 12 +
-               fileBytes * 4;  // as segment: level set, dense copy, nearest-triangle grid
+               dims.voxelCount() * 12 + fileBytes * 4 +
+               preview;  // as segment: level set, dense copy, nearest-triangle grid
     }
     std::optional<Dims> dims = peekVolumeDims(input);
     if (!dims) {
@@ -74,7 +78,7 @@ std::uint64_t estimateInputMemory(const fs::path& input, const SegmentCommandOpt
             std::max(1, int(std::ceil(std::cbrt(double(std::max<std::uint64_t>(fileBytes, 1))))));
         dims = Dims{side, side, side};
     }
-    return estimateSegmentationMemory(*dims, dims->voxelCount() / 4, threads) + fileBytes;
+    return estimateSegmentationMemory(*dims, dims->voxelCount() / 4, threads) + fileBytes + preview;
 }
 
 }  // namespace skelseg

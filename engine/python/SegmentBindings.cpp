@@ -38,7 +38,9 @@ struct CallRecord {
         : options(callOptions.command),
           threads(usableThreads(options.threads)),
           inputOptions(segmentInputOptions(options, threads, wallStart)),
-          interrupter(options.timeLimitSeconds) {}
+          interrupter(options.timeLimitSeconds) {
+        inputOptions.preview = false;  // the module writes no preview.png
+    }
 
     /// The mask, its segmentation and the face labels, as the CLI's graph
     /// makes them. The time budget counts from the start of the call.

@@ -114,6 +114,35 @@ void drawTitleBar(Canvas& canvas, const std::string& title,
 
 }  // namespace
 
+std::uint64_t previewMemoryBytes(const PreviewOptions& options, std::uint64_t triangles,
+                                 std::uint64_t vertices, int threads) {
+    const std::uint64_t pixels =
+        std::uint64_t(std::max(options.width, 0)) * std::uint64_t(std::max(options.height, 0));
+    // The canvas (float RGB), the 8-bit image, and the PNG encoder's
+    // filtered rows and compressed stream (each at most about the image).
+    const std::uint64_t picture = pixels * (sizeof(Colour) + 3 + 3 + 3);
+    // prepareScene: face normals and labels kept, area-weighted normals
+    // while it sums them; vertex normals and framing points kept, vertex
+    // sums and use marks while it sums.
+    const std::uint64_t prepared =
+        triangles * (3 * sizeof(float) + 3 * sizeof(double) + sizeof(std::uint32_t)) +
+        vertices * (3 * sizeof(float) + 3 * sizeof(double) + 3 * sizeof(double) + 1);
+    // One panel: a third of the width (rounded up), the full height (the
+    // title bar is left in, an upper bound), kSupersample^2 samples per
+    // pixel of depth, triangle id, colour and three line layers; per vertex
+    // its projection, per triangle its row range and its entries in the row
+    // bands (a triangle spans a few bands of 32 rows; 4 counted).
+    const std::uint64_t panelPixels = (std::uint64_t(std::max(options.width, 0)) / 3 + 1) *
+                                      std::uint64_t(std::max(options.height, 0));
+    const std::uint64_t samples = panelPixels * std::uint64_t(kSupersample * kSupersample);
+    const std::uint64_t panel =
+        samples * (sizeof(float) + sizeof(std::uint32_t) + sizeof(Colour) + 3 * sizeof(float)) +
+        vertices * 3 * sizeof(double) + triangles * (2 * sizeof(int) + 4 * sizeof(std::uint32_t));
+    const std::uint64_t panelsAtOnce =
+        options.threaded ? std::uint64_t(std::clamp(threads, 1, 3)) : 1;
+    return picture + prepared + panelsAtOnce * panel;
+}
+
 Image renderPreview(const PreviewScene& scene, const PreviewOptions& options) {
     validate(scene, options);
     const PreparedScene prepared = prepareScene(scene, options.threaded);

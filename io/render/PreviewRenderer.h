@@ -79,6 +79,16 @@ struct Image {
 ///        a missing vertex, or triangleLabels has a size other than 0 or T.
 Image renderPreview(const PreviewScene& scene, const PreviewOptions& options = {});
 
+/// The most renderPreviewPng() holds at once while it renders and encodes a
+/// scene of `triangles` triangles and `vertices` vertices with `options`,
+/// bytes (the scene itself is the caller's and not counted): the picture,
+/// the scene's normals, and per panel rendered at once (up to 3, one per
+/// thread of `threads`) its supersampled depth, triangle, colour and line
+/// layers. What --max-memory's estimate counts for preview.png; a test holds
+/// it to the allocations it measures.
+std::uint64_t previewMemoryBytes(const PreviewOptions& options, std::uint64_t triangles,
+                                 std::uint64_t vertices, int threads);
+
 /// PNG encoding of an image (8-bit RGB, no metadata, deterministic bytes).
 std::string encodePng(const Image& image);
 

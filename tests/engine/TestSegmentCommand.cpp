@@ -425,6 +425,34 @@ TEST(SegmentCommand, ABudgetCoarsensAVolumeAsFarAsTheMemoryLimitRequires) {
                   formatBytes(tight.maxMemoryBytes) + " (--max-memory)");
 }
 
+TEST(SegmentCommand, ARunThatFitsOnlyWithoutItsPreviewSkipsIt) {
+    // The estimate with preview.png is the one checked when it fits; one
+    // byte under it the run finishes without the picture, warns, and reports
+    // the estimate without it; the other outputs are those of the run with it.
+    const test::TempDir dir;
+    const fs::path input = writeShape(dir);
+    SegmentCommandOptions options = optionsFor(input, dir / "with", 2);
+    options.writePreview = true;
+    segment(options);
+    ASSERT_TRUE(fs::exists(dir / "with" / "preview.png"));
+    const auto with = nlohmann::json::parse(fileBytes(dir / "with" / "report.json"));
+    const auto needed = with["memory"]["estimated_bytes"].get<std::uint64_t>();
+    options.outdir = dir / "without";
+    options.maxMemoryBytes = needed - 1;
+    segment(options);
+    EXPECT_FALSE(fs::exists(dir / "without" / "preview.png"));
+    EXPECT_EQ(fileBytes(dir / "without" / "labels.nrrd"), fileBytes(dir / "with" / "labels.nrrd"));
+    const auto without = nlohmann::json::parse(fileBytes(dir / "without" / "report.json"));
+    EXPECT_LT(without["memory"]["estimated_bytes"].get<std::uint64_t>(), needed);
+    bool warned = false;
+    for (const auto& w : without["warnings"])
+        warned |= w.get<std::string>().find("preview.png skipped to fit --max-memory") !=
+                  std::string::npos;
+    EXPECT_TRUE(warned) << without["warnings"];
+    for (const auto& w : with["warnings"])
+        EXPECT_EQ(w.get<std::string>().find("preview.png"), std::string::npos) << w;
+}
+
 TEST(SegmentCommand, AFinerPassCountsTheFirstPassesResultInItsMemory) {
     // The first pass 4x coarser; the volume's own grid fits the limit by
     // itself, but not beside the first pass's result, which stays in

@@ -4,9 +4,12 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "engine/SegmentInput.h"
 #include "engine/StageTimer.h"
+#include "io/files/TextFile.h"
 #include "io/mesh/MeshCheck.h"
 #include "io/shapes/SyntheticShapes.h"
 #include "kernels/BoundaryGraph.h"
@@ -112,14 +115,91 @@ TEST(SegmentInput, TheOutputsSurfacesCountInAVolumesEstimate) {
     SegmentInputOptions options;
     const std::uint64_t boundary = countBoundaryVoxels(mask);
     const MaskVolume coarse = coarsenMask(mask, 4);
-    const std::uint64_t writing = mask.dims().voxelCount() * 3 + coarse.dims().voxelCount() * 3 +
-                                  boundary * kOutputBytesPerBoundaryVoxel;
+    const std::uint64_t segmenting =
+        estimateSegmentationMemory(coarse.dims(), test::countNonzero(coarse), 1, 1) +
+        mask.dims().voxelCount();
+    const auto writing = [&](std::uint64_t surfaceVoxels) {
+        return mask.dims().voxelCount() * 3 + coarse.dims().voxelCount() * 3 +
+               surfaceVoxels * kOutputBytesPerBoundaryVoxel;
+    };
     EXPECT_EQ(
         volumeRunMemory(coarse.dims(), test::countNonzero(coarse), mask.dims(), boundary, options),
-        writing);
+        std::max(segmenting, writing(boundary)));
+    // A surface four times larger (a rougher shape on the same grid): the
+    // writing phase is the larger, and the estimate.
+    ASSERT_GT(writing(4 * boundary), segmenting);
+    EXPECT_EQ(volumeRunMemory(coarse.dims(), test::countNonzero(coarse), mask.dims(), 4 * boundary,
+                              options),
+              writing(4 * boundary));
     // A mesh's grid (no boundary given) keeps the segmentation's estimate.
     EXPECT_EQ(volumeRunMemory(mask.dims(), test::countNonzero(mask), mask.dims(), 0, options),
               estimateSegmentationMemory(mask.dims(), test::countNonzero(mask), 1, 1));
+}
+
+TEST(SegmentInput, APreviewCountsInTheEstimateOfAMeshAndOfAVolume) {
+    // preview.png's picture, panels and normals are held while the outputs
+    // are written: with a preview the writing phase counts previewRunMemory,
+    // for a mesh's triangles and for a volume's surface; without one nothing.
+    SegmentInputOptions options = budgetOptions(0.0);
+    options.threads = 2;
+    options.levels = 1;
+    std::vector<std::string> warnings;
+    const auto meshMask = [&](bool preview) {
+        options.preview = preview;
+        StageTimer timer;
+        return maskSegmentSource(sphereSource(), options, timer, nullInterrupter(),
+                                 [&](const std::string& w) { warnings.push_back(w); });
+    };
+    const TriangleMesh sphere = *sphereSource()->mesh;
+    const std::uint64_t meshPreview =
+        previewRunMemory(true, sphere.triangles.size(), sphere.vertices.size(), 2);
+    EXPECT_EQ(previewRunMemory(false, sphere.triangles.size(), sphere.vertices.size(), 2), 0u);
+    EXPECT_GT(meshPreview, std::uint64_t(20) << 20);  // its picture and two panels at least
+    const SegmentMask without = meshMask(false), with = meshMask(true);
+    // The sphere's grid is small: writing with the preview is the larger phase.
+    EXPECT_EQ(with.estimatedMemory, with.mask.dims().voxelCount() * 3 + meshPreview);
+    EXPECT_GT(with.estimatedMemory, without.estimatedMemory);
+    EXPECT_FALSE(with.previewOverMemory);
+    EXPECT_TRUE(warnings.empty());
+
+    // Between the two: the run goes on without its preview, and says so.
+    options.memoryLimit = with.estimatedMemory - 1;
+    const SegmentMask skipped = meshMask(true);
+    EXPECT_TRUE(skipped.previewOverMemory);
+    EXPECT_EQ(skipped.estimatedMemory, without.estimatedMemory);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("preview.png skipped to fit --max-memory"), std::string::npos)
+        << warnings[0];
+    EXPECT_EQ(skipped.warnings, warnings);
+    // Below what the run needs without it: refused, naming that need.
+    options.memoryLimit = without.estimatedMemory - 1;
+    try {
+        meshMask(true);
+        ADD_FAILURE() << "a mesh over the limit without its preview was not refused";
+    } catch (const MemoryLimitError& e) {
+        EXPECT_NE(std::string(e.what()).find(formatBytes(without.estimatedMemory)),
+                  std::string::npos)
+            << e.what();
+    }
+
+    const MaskVolume mask = test::figureInALargeGrid();
+    const MaskVolume coarse = coarsenMask(mask, 4);  // whose writing phase is the larger
+    // A surface of 50,000 voxels on its grid, so that writing is the larger phase.
+    const std::uint64_t surface = 50000;
+    const auto volumeEstimate = [&](bool preview) {
+        options.preview = preview;
+        return volumeRunMemory(coarse.dims(), test::countNonzero(coarse), mask.dims(), surface,
+                               options);
+    };
+    ASSERT_GT(volumeEstimate(false),
+              estimateSegmentationMemory(coarse.dims(), test::countNonzero(coarse), 2, 1) +
+                  mask.dims().voxelCount());
+    EXPECT_EQ(volumeEstimate(true),
+              volumeEstimate(false) + previewRunMemory(true, 2 * surface, surface, 2));
+    // More threads render more panels at once (up to the three views).
+    EXPECT_LT(previewRunMemory(true, 1000, 500, 1), previewRunMemory(true, 1000, 500, 2));
+    EXPECT_LT(previewRunMemory(true, 1000, 500, 2), previewRunMemory(true, 1000, 500, 3));
+    EXPECT_EQ(previewRunMemory(true, 1000, 500, 3), previewRunMemory(true, 1000, 500, 8));
 }
 
 }  // namespace

@@ -459,6 +459,53 @@ TEST_F(PathSearchOnBlob, PathCacheStaysCorrectWhenItOverflows) {
     }
 }
 
+TEST_F(PathSearchOnBlob, PathCacheHoldsNoMoreThanItsBound) {
+    // Three kinds of request grow a cache: paths (pool and table), pairs
+    // searched in vain under a small bound (table only) and point pairs (pool
+    // only). Each kind alone, and all mixed, must stay within maxBytes(),
+    // and the answers must stay those of an uncached search.
+    const std::size_t maxNodes = 64;
+    ASSERT_LT(PathCache::maxBytes(maxNodes), PathCache::maxBytes());
+    GeodesicSearch search(graph), plain(graph);
+    std::vector<std::uint32_t> path;
+    const std::uint32_t n = graph.nodeCount();
+    for (int kind = 0; kind < 4; ++kind) {
+        PathCache cache(maxNodes);
+        std::size_t largest = 0;
+        // More distinct pairs than the table's first size holds at half load.
+        std::mt19937 rng(std::uint32_t(11 + kind));
+        std::uniform_int_distribution<std::uint32_t> pick(0, n - 1);
+        for (std::uint32_t i = 0; i < 5000; ++i) {
+            const std::uint32_t a = pick(rng);
+            const std::uint32_t b = kind == 2 || (kind == 3 && i % 3 == 2) ? a : pick(rng);
+            const float bound = kind == 1 || (kind == 3 && i % 3 == 1) ? 0.5f : kUnreachable;
+            if (a != b && plain.shortestPath(std::min(a, b), std::max(a, b)) > float(maxNodes - 2))
+                continue;  // a path longer than the pool is held alone, beyond the bound
+            const PathCache::Entry& e = cache.path(search, a, b, bound);
+            const float reference =
+                plain.shortestPath(std::min(a, b), std::max(a, b), &path, bound);
+            ASSERT_EQ(e.length, reference) << "kind " << kind << " pair " << a << "-" << b;
+            if (reference != kUnreachable) {
+                ASSERT_EQ(e.count, path.size());
+                ASSERT_TRUE(std::equal(path.begin(), path.end(), cache.nodes(e)));
+            }
+            largest = std::max(largest, cache.bytesHeld());
+        }
+        EXPECT_LE(largest, PathCache::maxBytes(maxNodes)) << "kind " << kind;
+        EXPECT_GT(largest, 0u) << "kind " << kind;
+    }
+    // A cache at the default bound on a graph whose pairs would fill it many
+    // times over (every pair of a 2,000-node sample).
+    PathCache cache;
+    std::size_t largest = 0;
+    for (std::uint32_t i = 0; i < 2000 && i < n; ++i)
+        for (std::uint32_t j = i + 1; j < 2000 && j < n; j += 7) {
+            cache.path(search, i, j);
+            largest = std::max(largest, cache.bytesHeld());
+        }
+    EXPECT_LE(largest, PathCache::maxBytes());
+}
+
 TEST_F(PathSearchOnBlob, PathCacheAnswerDoesNotDependOnEarlierBounds) {
     // Each pair is asked with a bound below, at and above its length, in an
     // order that first caches the path (large bound) and then asks below it:

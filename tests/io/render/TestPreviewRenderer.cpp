@@ -8,15 +8,138 @@
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb_image.h>
 
+#include <malloc.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <new>
 
 #include "io/render/Palette.h"
 #include "kernels/base/Error.h"
 #include "tests/support/FileBytes.h"
 #include "tests/support/Pi.h"
 #include "tests/support/TempDir.h"
+
+// The bytes test_io holds on the C++ heap, and the most it held since a
+// HeapPeak began: this file replaces test_io's global operator new and
+// delete (they count each block's usable size, then call malloc and free),
+// so that a test can hold a memory estimate to the allocations it
+// measures. Blocks C libraries take from malloc directly (zlib, stb) are not
+// counted.
+namespace {
+
+std::atomic<std::int64_t> gHeapHeld{0};
+std::atomic<std::int64_t> gHeapPeak{0};
+
+void countHeapBlock(void* block) noexcept {
+    const auto bytes = std::int64_t(malloc_usable_size(block));
+    const std::int64_t held = gHeapHeld.fetch_add(bytes, std::memory_order_relaxed) + bytes;
+    std::int64_t peak = gHeapPeak.load(std::memory_order_relaxed);
+    while (held > peak && !gHeapPeak.compare_exchange_weak(peak, held, std::memory_order_relaxed)) {
+    }
+}
+
+// As the standard operator new: a failed allocation calls the new-handler
+// (other tests of this binary install one) and tries again, or throws
+// std::bad_alloc when there is none.
+template <typename Allocate>
+void* allocateCountedWith(Allocate allocate) {
+    for (;;) {
+        if (void* block = allocate()) {
+            countHeapBlock(block);
+            return block;
+        }
+        const std::new_handler handler = std::get_new_handler();
+        if (!handler) throw std::bad_alloc();
+        handler();
+    }
+}
+
+void* allocateCounted(std::size_t bytes) {
+    return allocateCountedWith([&] { return std::malloc(bytes ? bytes : 1); });
+}
+
+void* allocateCountedAligned(std::size_t bytes, std::align_val_t alignment) {
+    const auto align = std::max(std::size_t(alignment), sizeof(void*));
+    return allocateCountedWith([&] {
+        return std::aligned_alloc(align, ((bytes ? bytes : 1) + align - 1) / align * align);
+    });
+}
+
+void releaseCounted(void* block) noexcept {
+    if (!block) return;
+    gHeapHeld.fetch_sub(std::int64_t(malloc_usable_size(block)), std::memory_order_relaxed);
+    std::free(block);
+}
+
+/// The most held at once since construction, above what was held then.
+class HeapPeak {
+public:
+    HeapPeak() : mStart(gHeapHeld.load()) { gHeapPeak.store(mStart); }
+    std::int64_t bytesAboveStart() const { return gHeapPeak.load() - mStart; }
+
+private:
+    std::int64_t mStart;
+};
+
+}  // namespace
+
+void* operator new(std::size_t bytes) {
+    return allocateCounted(bytes);
+}
+void* operator new[](std::size_t bytes) {
+    return allocateCounted(bytes);
+}
+void* operator new(std::size_t bytes, std::align_val_t alignment) {
+    return allocateCountedAligned(bytes, alignment);
+}
+void* operator new[](std::size_t bytes, std::align_val_t alignment) {
+    return allocateCountedAligned(bytes, alignment);
+}
+void* operator new(std::size_t bytes, const std::nothrow_t&) noexcept {
+    try {
+        return allocateCounted(bytes);
+    } catch (const std::bad_alloc&) {
+        return nullptr;
+    }
+}
+void* operator new[](std::size_t bytes, const std::nothrow_t& tag) noexcept {
+    return operator new(bytes, tag);
+}
+void operator delete(void* block) noexcept {
+    releaseCounted(block);
+}
+void operator delete[](void* block) noexcept {
+    releaseCounted(block);
+}
+void operator delete(void* block, std::size_t) noexcept {
+    releaseCounted(block);
+}
+void operator delete[](void* block, std::size_t) noexcept {
+    releaseCounted(block);
+}
+void operator delete(void* block, std::align_val_t) noexcept {
+    releaseCounted(block);
+}
+void operator delete[](void* block, std::align_val_t) noexcept {
+    releaseCounted(block);
+}
+void operator delete(void* block, std::size_t, std::align_val_t) noexcept {
+    releaseCounted(block);
+}
+void operator delete[](void* block, std::size_t, std::align_val_t) noexcept {
+    releaseCounted(block);
+}
+void operator delete(void* block, const std::nothrow_t&) noexcept {
+    releaseCounted(block);
+}
+void operator delete[](void* block, const std::nothrow_t&) noexcept {
+    releaseCounted(block);
+}
 
 namespace skelseg {
 namespace {
@@ -168,6 +291,42 @@ TEST(PreviewRenderer, DrawsCutLoopAndSkeleton) {
             if (after + 60 < before) ++differing;
         }
     EXPECT_GT(differing, 300u);
+}
+
+TEST(PreviewRenderer, ItsMemoryEstimateCoversWhatARenderHolds) {
+    // previewMemoryBytes is what --max-memory counts for preview.png: it must
+    // cover what rendering and encoding hold, serial and on every thread,
+    // for few and many triangles and for a larger picture, and stay within
+    // twice that (an estimate far above would refuse runs that fit).
+    const PreviewScene few = twoSpheresScene();
+    PreviewScene manyTriangles = few;
+    addSphere(manyTriangles, {2.5, 0.0, 0.0}, 0.9, 3, 100, 200);  // 40,000 triangles more
+    PreviewOptions large;
+    large.width = 2000;
+    large.height = 800;
+    const int threads = tbb::this_task_arena::max_concurrency();
+    int checked = 0;
+    const PreviewScene& many = manyTriangles;
+    for (const PreviewScene* scene : {&few, &many})
+        for (const PreviewOptions& size : {PreviewOptions{}, large})
+            for (bool threaded : {false, true}) {
+                PreviewOptions options = size;
+                options.threaded = threaded;
+                HeapPeak peak;
+                const std::string png = encodePng(renderPreview(*scene, options));
+                const std::int64_t held = peak.bytesAboveStart();
+                const std::uint64_t estimate = previewMemoryBytes(options, scene->triangles.size(),
+                                                                  scene->vertices.size(), threads);
+                SCOPED_TRACE(::testing::Message()
+                             << scene->triangles.size() << " triangles, " << options.width << "x"
+                             << options.height << (threaded ? ", threaded" : ", serial"));
+                ASSERT_FALSE(png.empty());
+                EXPECT_GT(held, 0);
+                EXPECT_LE(std::uint64_t(held), estimate);
+                EXPECT_LE(estimate, 2 * std::uint64_t(held));
+                ++checked;
+            }
+    EXPECT_EQ(checked, 8);
 }
 
 TEST(PreviewRenderer, SerialAndParallelGiveTheSameBytes) {
