@@ -163,10 +163,10 @@ public:
         float bound = kUnreachable;  // for length == kUnreachable: the bound searched up to
     };
     /// 2^20 nodes (4 MB): a fixed bound, so that the memory estimate can
-    /// count it before the graph exists. Four times larger, as before the
-    /// bound, settled 2 to 4% fewer nodes on the largest shared shapes at
-    /// 400 and the same elsewhere (docs/performance.md, "The path caches and
-    /// the preview in the memory estimate").
+    /// count it before the graph exists. What a larger pool would save on
+    /// large graphs, and what it would cost every estimate, is in
+    /// docs/performance.md, "The path caches and the preview in the memory
+    /// estimate".
     static constexpr std::size_t kDefaultMaxNodes = std::size_t(1) << 20;
 
     /// maxNodes: the pool is cleared when it would hold more path nodes (one
