@@ -98,6 +98,14 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
     return source;
 }
 
+namespace {
+/// Bytes a labelled grid voxel holds while the outputs are written: its
+/// mask byte and a 16-bit label per level.
+std::uint64_t labelledVoxelBytes(int levels) {
+    return 1 + 2 * std::uint64_t(std::max(levels, 1));
+}
+}  // namespace
+
 std::uint64_t previewRunMemory(bool preview, std::uint64_t triangles, std::uint64_t vertices,
                                int threads) {
     if (!preview) return 0;
@@ -138,7 +146,7 @@ std::uint64_t volumeRunMemory(const Dims& grid, std::uint64_t objectVoxels, cons
                               std::uint64_t fineBoundaryVoxels,
                               const SegmentInputOptions& options) {
     const bool coarsened = grid.voxelCount() < fine.voxelCount();
-    const std::uint64_t perLabelledVoxel = 1 + 2 * std::uint64_t(std::max(options.levels, 1));
+    const std::uint64_t perLabelledVoxel = labelledVoxelBytes(options.levels);
     const std::uint64_t segmenting =
         estimateSegmentationMemory(grid, objectVoxels, options.threads, options.levels) +
         (coarsened ? fine.voxelCount() : 0);
@@ -152,7 +160,7 @@ std::uint64_t volumeRunMemory(const Dims& grid, std::uint64_t objectVoxels, cons
 
 std::uint64_t heldResultBytes(const Dims& grid, int levels, bool coarsened) {
     const std::uint64_t voxels = grid.voxelCount();
-    return voxels * (1 + 2 * std::uint64_t(std::max(levels, 1))) + (coarsened ? voxels / 8 : 0);
+    return voxels * labelledVoxelBytes(levels) + (coarsened ? voxels / 8 : 0);
 }
 
 std::uint64_t heldResultBytes(const SegmentMask& pass, int levels) {
@@ -457,7 +465,7 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         // workspaces. A run that fits only without it skips it.
         const std::uint64_t writing =
             source->isMesh()
-                ? fine.voxelCount() * (1 + 2 * std::uint64_t(std::max(options.levels, 1))) +
+                ? fine.voxelCount() * labelledVoxelBytes(options.levels) +
                       previewRunMemory(true, source->mesh->triangles.size(),
                                        source->mesh->vertices.size(), options.threads)
                 : volumeRunMemory(result.mask.dims(), objects, fine, inputBoundaryVoxels, options);
