@@ -66,6 +66,9 @@ struct SegmentCommandOptions {
     /// Meshes: a refused contact seam is retried grown by one voxel
     /// (ContactSeparationOptions::grownSeams).
     bool grownContactSeams = true;
+    /// Volumes of anisotropic voxels: segment the file's own voxels instead
+    /// of cubic ones (SegmentInputOptions::cubicVoxels false).
+    bool keepVoxelAspect = false;
     SegmentationParameters parameters;
     int threads = 0;               // 0: all cores
     double timeLimitSeconds = 0;   // 0: none

@@ -1,5 +1,7 @@
 #include "engine/SegmentInput.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cctype>
@@ -68,6 +70,31 @@ void refuseVolumeGridOverMemory(const fs::path& file, const Dims& dims,
                                " (--max-memory)");
 }
 
+void makeVoxelsCubic(SegmentSource& source, const SegmentInputOptions& options, StageTimer& timer,
+                     Interrupter& interrupter) {
+    if (source.isMesh() || !options.cubicVoxels || source.cubicGrid ||
+        !hasAnisotropicVoxels(source.volumeMask.geometry))
+        return;
+    const CubicGrid grid = cubicGridFor(source.volumeMask.dims(), source.volumeMask.geometry);
+    if (grid.dims[0] > kMaxAxisExtent || grid.dims[1] > kMaxAxisExtent ||
+        grid.dims[2] > kMaxAxisExtent || grid.voxelCount() > kMaxVoxels) {
+        const auto steps = voxelSteps(grid.inputGeometry);
+        throw InputError(source.file.string(),
+                         fmt::format("voxels are anisotropic (steps {:g} x {:g} x {:g}): the "
+                                     "cubic grid of {} x {} x {} voxels they need is over the "
+                                     "limit of {} voxels or {} along an axis; "
+                                     "--keep-voxel-aspect segments the file's own voxels",
+                                     steps[0], steps[1], steps[2], grid.dims[0], grid.dims[1],
+                                     grid.dims[2], kMaxVoxels, kMaxAxisExtent));
+    }
+    // The memory check of a grid read from a file, on the cubic grid.
+    refuseVolumeGridOverMemory(
+        source.file, Dims{int(grid.dims[0]), int(grid.dims[1]), int(grid.dims[2])}, options);
+    Stage stage(timer, interrupter, "cubic voxels", true);
+    source.volumeMask = resampleToCubicVoxels(source.volumeMask, grid, {}, interrupter);
+    source.cubicGrid = grid;
+}
+
 SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions& options,
                                 StageTimer& timer, Interrupter& interrupter) {
     SegmentSource source;
@@ -95,6 +122,7 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
         readOptions.guards.interrupter = &interrupter;
         source.volumeMask = readVolume(file, readOptions);
     }
+    makeVoxelsCubic(source, options, timer, interrupter);
     return source;
 }
 
@@ -455,6 +483,11 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         result.estimatedMemory,
         volumeRunMemory(result.mask.dims(), objects, fine, inputBoundaryVoxels, withoutPreview) +
             options.heldBytes);
+    // Anisotropic voxels: the labels of every level on the input's grid, made
+    // while the cubic grid's are still held.
+    if (source->cubicGrid)
+        result.estimatedMemory += source->cubicGrid->inputDims.voxelCount() * 2 *
+                                  std::uint64_t(std::max(options.levels, 1));
     if (result.estimatedMemory > options.memoryLimit)
         throw MemoryLimitError(source->file.string() + ": needs about " +
                                formatBytes(result.estimatedMemory) + ", over the limit of " +

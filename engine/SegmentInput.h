@@ -32,6 +32,7 @@
 #include "io/mesh/MeshGenus.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/MeshVoxelizer.h"
+#include "kernels/CubicVoxels.h"
 #include "kernels/VoxelGenus.h"
 #include "kernels/base/Interrupter.h"
 #include "kernels/base/Volume.h"
@@ -44,6 +45,10 @@ struct SegmentSource {
     std::optional<TriangleMesh> mesh;   // mesh inputs
     MeshDiagnostics meshDiagnostics{};  // mesh inputs: closedness, pieces
     MaskVolume volumeMask;              // volume inputs: the mask as read (moves on)
+    /// Volume inputs of anisotropic voxels (SegmentInputOptions::cubicVoxels):
+    /// the cubic grid `volumeMask` was resampled to; the result goes back to
+    /// the input's grid (refineStep).
+    std::optional<CubicGrid> cubicGrid;
     bool isMesh() const noexcept { return mesh.has_value(); }
 };
 
@@ -84,8 +89,11 @@ struct SegmentInputOptions {
     // keeps (ContactSeparationOptions::patchSeams).
     bool contactPatchSeams = false;
     bool grownContactSeams = true;  // ContactSeparationOptions::grownSeams
-    int threads = 1;                // for the memory estimate (per-thread workspaces)
-    int levels = 1;                 // for the memory estimate (hierarchy runs: --tau list)
+    /// Volumes of anisotropic voxels: segment them resampled to cubic voxels
+    /// (kernels/CubicVoxels.h); false: in the file's own voxels.
+    bool cubicVoxels = true;
+    int threads = 1;  // for the memory estimate (per-thread workspaces)
+    int levels = 1;   // for the memory estimate (hierarchy runs: --tau list)
     std::uint64_t memoryLimit = 0;
     double timeBudgetSeconds = 0;     // 0: none; counted from `start`
     bool calibrateTimeBudget = true;  // meshes: engine/BudgetCalibration.h
@@ -180,9 +188,18 @@ void checkInputFileSize(const std::filesystem::path& file, std::uint64_t memoryL
 void refuseVolumeGridOverMemory(const std::filesystem::path& file, const Dims& dims,
                                 const SegmentInputOptions& options);
 
+/// A volume of anisotropic voxels (hasAnisotropicVoxels) resampled to cubic
+/// ones in place (stage "cubic voxels"): source.volumeMask becomes the cubic
+/// mask and source.cubicGrid says how. Nothing for meshes, cubic voxels,
+/// options.cubicVoxels false or a source already resampled. @throw
+/// InputError for a cubic grid over kMaxAxisExtent or kMaxVoxels,
+/// MemoryLimitError for one over options.memoryLimit, InterruptedError.
+void makeVoxelsCubic(SegmentSource& source, const SegmentInputOptions& options, StageTimer& timer,
+                     Interrupter& interrupter);
+
 /// Reads a mesh (by extension, isMeshPath()) or a volume; times stage
-/// "read mesh" or "read volume". @throw InputError, and MemoryLimitError from
-/// refuseVolumeGridOverMemory().
+/// "read mesh" or "read volume"; then makeVoxelsCubic(). @throw InputError, and MemoryLimitError
+/// from refuseVolumeGridOverMemory().
 SegmentSource readSegmentSource(const std::filesystem::path& file,
                                 const SegmentInputOptions& options, StageTimer& timer,
                                 Interrupter& interrupter);

@@ -265,6 +265,10 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
     command->add_flag("--no-grown-contact-seams", cli.noGrownContactSeams,
                       "Meshes: do not retry a refused contact seam grown by one voxel "
                       "(kept where it removes a handle of the voxel model)");
+    command->add_flag("--keep-voxel-aspect", seg.keepVoxelAspect,
+                      "Volumes of anisotropic voxels: segment the file's own voxels as if they "
+                      "were cubes (default: resampled to cubic voxels, labels written on the "
+                      "file's grid)");
     command->add_option("--grid", seg.gridName,
                         "VDB input: name of the grid to read (default: the first)");
     command

@@ -32,6 +32,20 @@ std::string previewSkippedWarning(double budgetSeconds) {
            std::to_string(budgetSeconds).substr(0, 5) + " s";
 }
 
+void addVoxelAspect(json& input, const SegmentSource& source) {
+    const auto steps =
+        voxelSteps(source.cubicGrid ? source.cubicGrid->inputGeometry : source.volumeMask.geometry);
+    input["voxel_steps"] = {steps[0], steps[1], steps[2]};
+    if (!source.cubicGrid) {
+        input["cubic_voxels"] = nullptr;
+        return;
+    }
+    const CubicGrid& grid = *source.cubicGrid;
+    input["cubic_voxels"] = {{"grid", {grid.dims[0], grid.dims[1], grid.dims[2]}},
+                             {"voxel_size", grid.geometry.voxelSize()},
+                             {"scale", {grid.scale[0], grid.scale[1], grid.scale[2]}}};
+}
+
 json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& shape,
                    const std::vector<StageTiming>& timings, const SegmentRunFigures& figures) {
     const SegmentSource& source = *shape.input->source;
@@ -39,6 +53,7 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
     ResultReportContext context;
     context.input = {{"file", options.input.string()},
                      {"kind", source.isMesh() ? "mesh" : "volume"}};
+    if (!source.isMesh()) addVoxelAspect(context.input, source);
     if (source.isMesh()) {
         context.input["faces"] = source.mesh->faceCount;
         context.input["vertices"] = source.mesh->vertices.size();

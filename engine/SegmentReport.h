@@ -36,6 +36,12 @@ struct SegmentRunFigures {
 /// report.json "warnings").
 std::string previewSkippedWarning(double budgetSeconds);
 
+/// A volume's voxel shape in report.json's "input": `voxel_steps` (the
+/// length of each voxel step of the input's grid) and `cubic_voxels` (null,
+/// or the cubic grid it was segmented on: `grid`, `voxel_size`, `scale`,
+/// kernels/CubicVoxels.h).
+void addVoxelAspect(nlohmann::json& input, const SegmentSource& source);
+
 /// report.json's content; "input" describes options.input. The Python
 /// module's result holds it too, with its own "input" (ResultReport.h).
 nlohmann::json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& shape,

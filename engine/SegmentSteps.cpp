@@ -1,5 +1,6 @@
 #include "engine/SegmentSteps.h"
 
+#include "engine/ResultOnInputGrid.h"
 #include "engine/Stage.h"
 #include "io/mesh/FaceLabels.h"
 
@@ -13,6 +14,7 @@ SegmentInputOptions segmentInputOptions(const SegmentCommandOptions& options, in
     inputOptions.selfOverlapClearance = options.selfOverlapClearance;
     inputOptions.contactPatchSeams = options.contactPatchSeams;
     inputOptions.grownContactSeams = options.grownContactSeams;
+    inputOptions.cubicVoxels = !options.keepVoxelAspect;
     inputOptions.threads = threads;
     inputOptions.levels = int(options.parameters.levelCount());
     inputOptions.preview = options.writePreview;
@@ -53,6 +55,10 @@ void refineStep(SegmentedShape& shape, StageTimer& timer, Interrupter& interrupt
     if (input.budget && input.budget->coarsening > 1) {
         Stage stage(timer, interrupter, "refine labels", true);
         refineSegmentationResult(shape.result, input.fineMask, input.budget->coarsening);
+    }
+    if (input.source->cubicGrid) {
+        Stage stage(timer, interrupter, "labels on the input grid", true);
+        cubicResultOnInputGrid(shape.result, *input.source->cubicGrid, interrupter);
     }
 }
 

@@ -47,7 +47,9 @@ std::shared_ptr<SegmentedShape> segmentMaskStep(
     const std::function<void(const std::string&)>& warn);
 
 /// A volume coarsened for --time-budget: its result back on the input grid
-/// (stage "refine labels"); nothing otherwise.
+/// (stage "refine labels"); a volume of anisotropic voxels segmented on cubic
+/// ones: its result back on the input grid (stage "labels on the input
+/// grid"); nothing otherwise.
 void refineStep(SegmentedShape& shape, StageTimer& timer, Interrupter& interrupter);
 
 /// Meshes: the face labels (stage "face labels") and, in hierarchy runs,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engine/ResultOnInputGrid.h"
 #include "engine/StageTimer.h"
 #include "kernels/BoundaryGraph.h"
 #include "kernels/FeatureTransform.h"
@@ -344,33 +345,14 @@ BudgetChoice planVolumeRun(const MaskVolume& mask, double seconds, const CostMod
 }
 
 void refineSegmentationResult(SegmentationResult& result, const MaskVolume& fine, int factor) {
-    result.labels = refineLabels(result.labels, fine, factor);
-    auto scale = [&](std::array<int, 3>& v) {
-        for (int& c : v) c = c * factor + factor / 2;
-    };
-    for (ObjectSegmentation& o : result.objects) {
-        for (auto& v : o.skeleton) scale(v.voxel);
-        for (auto& j : o.junctions) scale(j.voxel);
-        for (auto& c : o.criticalPoints) scale(c.voxel);
-        for (auto& loop : o.cutLoops)
-            for (auto& v : loop) scale(v);
-        for (ObjectLevel& level : o.finerLevels)
-            for (auto& loop : level.cutLoops)
-                for (auto& v : loop) scale(v);
-        scale(o.bboxMin);
-        scale(o.bboxMax);
-    }
-    for (SegmentInfo& s : result.segments) s.voxelCount = 0;
-    for (std::uint16_t l : result.labels.values())
-        if (l) ++result.segments[l - 1u].voxelCount;
-    // Hierarchy runs: every level the same way, so the levels still nest
-    // (each fine voxel takes its coarse voxel's label at every level).
-    for (SegmentationLevel& level : result.finerLevels) {
-        level.labels = refineLabels(level.labels, fine, factor);
-        for (SegmentInfo& s : level.segments) s.voxelCount = 0;
-        for (std::uint16_t l : level.labels.values())
-            if (l) ++level.segments[l - 1u].voxelCount;
-    }
+    // Every level the same way, so the levels still nest (each fine voxel
+    // takes its coarse voxel's label at every level).
+    moveResultToInputGrid(
+        result, [&](const LabelVolume& labels) { return refineLabels(labels, fine, factor); },
+        [&](const std::array<int, 3>& v) {
+            return std::array<int, 3>{v[0] * factor + factor / 2, v[1] * factor + factor / 2,
+                                      v[2] * factor + factor / 2};
+        });
 }
 
 std::string describeBudgetChoice(const BudgetChoice& choice) {

@@ -260,6 +260,8 @@ py::dict segmentArray(const py::array& array, const std::array<double, 3>& spaci
             source->file = kMaskName;
             source->volumeMask = maskFromArray(view, kMaskName);
             source->volumeMask.geometry = geometry;
+            // Anisotropic spacing: cubic voxels, as the CLI reads a file.
+            makeVoxelsCubic(*source, call.inputOptions, call.timer, call.interrupter);
             shape = call.segment(std::move(source));
         },
         call.interrupter, call.options.threads, options.progress);
@@ -268,6 +270,7 @@ py::dict segmentArray(const py::array& array, const std::array<double, 3>& spaci
                             {"shape", {view.shape[0], view.shape[1], view.shape[2]}},
                             {"dtype", dtypeName(array.dtype())},
                             {"spacing", {spacing[0], spacing[1], spacing[2]}}};
+    addVoxelAspect(input, *shape->input->source);
     return call.finish(*shape, input);
 }
 

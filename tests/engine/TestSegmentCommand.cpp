@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -535,4 +536,77 @@ TEST(SegmentCommand, AFinerPassStoppedAtItsDeadlineGivesTheFirstPassesOutput) {
     // Nothing of the finer pass is left beside the outputs.
     for (const auto& entry : fs::directory_iterator(dir / "stopped"))
         EXPECT_NE(entry.path().filename().string().rfind(".skelseg", 0), 0u) << entry.path();
+}
+
+namespace {
+
+/// The generated figure sampled at voxel centres of steps (1, 1, zStep) times
+/// `step`: a voxel is object when its centre lies in the figure.
+MaskVolume figureWithSteps(double step, double zStep) {
+    const Shape figure = makeShape("figure");
+    MaskVolume reference = rasterise(figure, {64, 3});
+    const double h = reference.geometry.voxelSize();
+    const Dims input = reference.dims();
+    const Dims dims{input.x, input.y, int(std::ceil(input.z / zStep))};
+    MaskVolume mask(dims, 0);
+    mask.geometry = reference.geometry;
+    mask.geometry.directions = {{{h * step, 0, 0}, {0, h * step, 0}, {0, 0, h * step * zStep}}};
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x)
+                mask(x, y, z) = figure.contains(mask.geometry.indexToWorld(x, y, z)) ? 1 : 0;
+    return mask;
+}
+
+}  // namespace
+
+// A volume of voxels 2.5 times as deep as wide is segmented on cubic voxels
+// and labelled on its own grid: the parts of the figure sampled with cubic
+// voxels, every object voxel of the file labelled; --keep-voxel-aspect
+// segments the file's own voxels.
+TEST(SegmentCommand, AnisotropicVoxelsAreSegmentedAsCubicOnes) {
+    const test::TempDir dir;
+    const MaskVolume cubicFigure = figureWithSteps(1.0, 1.0);
+    const MaskVolume deepFigure = figureWithSteps(1.0, 2.5);
+    writeNrrdMask(dir / "cubic.nrrd", cubicFigure);
+    writeNrrdMask(dir / "deep.nrrd", deepFigure);
+    segment(optionsFor(dir / "cubic.nrrd", dir / "cubic", 2));
+    segment(optionsFor(dir / "deep.nrrd", dir / "deep", 2));
+    SegmentCommandOptions keep = optionsFor(dir / "deep.nrrd", dir / "keep", 2);
+    keep.keepVoxelAspect = true;
+    segment(keep);
+
+    const auto cubicReport = nlohmann::json::parse(fileBytes(dir / "cubic" / "report.json"));
+    const auto deepReport = nlohmann::json::parse(fileBytes(dir / "deep" / "report.json"));
+    const auto keepReport = nlohmann::json::parse(fileBytes(dir / "keep" / "report.json"));
+    EXPECT_TRUE(cubicReport["input"]["cubic_voxels"].is_null());
+    EXPECT_TRUE(keepReport["input"]["cubic_voxels"].is_null());
+    ASSERT_TRUE(deepReport["input"]["cubic_voxels"].is_object());
+    EXPECT_EQ(deepReport["input"]["cubic_voxels"]["grid"][2].get<int>(),
+              int(std::lround(deepFigure.dims().z * 2.5)));
+    EXPECT_NEAR(deepReport["input"]["voxel_steps"][2].get<double>() /
+                    deepReport["input"]["voxel_steps"][0].get<double>(),
+                2.5, 1e-9);
+    std::set<std::string> stages;
+    for (const auto& stage : deepReport["stages"]) stages.insert(stage["name"].get<std::string>());
+    EXPECT_TRUE(stages.count("cubic voxels"));
+    EXPECT_TRUE(stages.count("labels on the input grid"));
+
+    EXPECT_EQ(deepReport["segment_count"], cubicReport["segment_count"]);
+    const LabelVolume labels = readNrrdLabels(dir / "deep" / "labels.nrrd");
+    ASSERT_EQ(labels.dims(), deepFigure.dims());
+    for (std::size_t a = 0; a < 3; ++a)
+        for (std::size_t c = 0; c < 3; ++c)
+            EXPECT_NEAR(labels.geometry.directions[a][c], deepFigure.geometry.directions[a][c],
+                        1e-9);
+    std::uint64_t unlabelled = 0, labelledBackground = 0;
+    for (std::size_t i = 0; i < labels.size(); ++i) {
+        unlabelled += deepFigure[i] && !labels[i];
+        labelledBackground += !deepFigure[i] && labels[i];
+    }
+    EXPECT_EQ(unlabelled, 0u);
+    EXPECT_EQ(labelledBackground, 0u);
+    // The report's voxel positions are voxels of the file's grid.
+    for (const auto& cut : deepReport["cuts"])
+        EXPECT_LT(cut["voxel"][2].get<int>(), deepFigure.dims().z);
 }

@@ -353,7 +353,19 @@ TEST(TimeBudget, ARefinedResultDescribesTheInputGrid) {
         return voxels;
     }();
     ASSERT_FALSE(coarseSkeleton.empty());
+    // The cuts' voxels too (report.json "cuts"): they are placed from them.
+    std::vector<std::array<int, 3>> coarseCuts;
+    for (const auto& o : result.objects)
+        for (const auto& c : o.cuts) coarseCuts.push_back(c.voxel);
+    ASSERT_FALSE(coarseCuts.empty());
     refineSegmentationResult(result, fine, factor);
+    std::size_t cut = 0;
+    for (const auto& o : result.objects)
+        for (const auto& c : o.cuts) {
+            for (int a = 0; a < 3; ++a)
+                EXPECT_EQ(c.voxel[a], coarseCuts[cut][a] * factor + factor / 2);
+            ++cut;
+        }
     EXPECT_EQ(result.labels.dims(), fine.dims());
     std::vector<std::uint64_t> counted(result.segments.size(), 0);
     std::uint64_t objectVoxels = 0;

@@ -16,6 +16,7 @@ from conftest import REPO, cli_binary, read_nrrd
 # The keywords the module does not take: they name files it does not write,
 # or pick a .vdb grid (read_volume's `grid`).
 NOT_KEYWORDS = {"force", "quiet", "no_preview", "level_previews", "grid"}
+VOLUME_ONLY = {"keep_voxel_aspect"}
 MESH_ONLY = {"resolution", "self_overlap_clearance", "contact_patch_seams", "no_grown_contact_seams",
              "budget_calibration"}
 # Python defaults where the CLI shows none: None leaves the option out.
@@ -42,7 +43,7 @@ def stub_defaults(name):
 
 
 @pytest.mark.parametrize("function,excluded", [(skelseg.segment, NOT_KEYWORDS | MESH_ONLY),
-                                               (skelseg.segment_mesh, NOT_KEYWORDS)])
+                                               (skelseg.segment_mesh, NOT_KEYWORDS | VOLUME_ONLY)])
 def test_every_segment_option_is_a_keyword_with_the_cli_default(function, excluded):
     defaults = keyword_defaults(function)
     options = cli_options()

@@ -1,11 +1,12 @@
 """skelseg.segment on numpy arrays: equal to the CLI, any layout and dtype."""
 import json
+import subprocess
 
 import numpy as np
 import pytest
 
 import skelseg
-from conftest import read_nrrd
+from conftest import cli_binary, read_nrrd
 
 # Generated shapes and sizes: small enough for a quick suite, each with parts.
 CLI_CASES = [("figure", 96, 1), ("figure", 96, 2), ("y-arms", 48, 0), ("box-tubes", 48, 0)]
@@ -45,7 +46,8 @@ def test_report_has_the_cli_report_content(shapes):
         {k: v for k, v in cli["parameters"].items() if k != "threads"}
     assert {s["name"] for s in result.report["stages"]} <= {s["name"] for s in cli["stages"]}
     assert result.report["input"] == {"kind": "array", "shape": list(mask.shape), "dtype": "bool",
-                                      "spacing": [1.0, 1.0, 1.0]}
+                                      "spacing": [1.0, 1.0, 1.0], "voxel_steps": [1.0, 1.0, 1.0],
+                                      "cubic_voxels": None}
     assert result.n_segments == cli["segment_count"] == len(np.unique(result.labels)) - 1
 
 
@@ -109,11 +111,43 @@ def test_big_endian_integers_and_floats_agree(figure_mask):
 
 def test_spacing_scales_world_coordinates_only(figure_mask):
     plain = skelseg.segment(figure_mask)
-    spaced = skelseg.segment(figure_mask, spacing=(0.5, 2.0, 1.5))
+    spaced = skelseg.segment(figure_mask, spacing=(0.5, 2.0, 1.5), keep_voxel_aspect=True)
     np.testing.assert_array_equal(spaced.labels, plain.labels)
     np.testing.assert_allclose(spaced.skeleton.points,
                                plain.skeleton.voxels * np.array([0.5, 2.0, 1.5]))
     assert spaced.report["input"]["spacing"] == [0.5, 2.0, 1.5]
+    assert spaced.report["input"]["cubic_voxels"] is None
+    # Equal steps, whatever their size, are cubic voxels.
+    uniform = skelseg.segment(figure_mask, spacing=(0.3, 0.3, 0.3))
+    np.testing.assert_array_equal(uniform.labels, plain.labels)
+    assert uniform.report["input"]["cubic_voxels"] is None
+
+
+def write_raw_nrrd(path, mask, spacing):
+    header = ("NRRD0004\ntype: uint8\ndimension: 3\nsizes: {} {} {}\n"
+              "spacings: {} {} {}\nencoding: raw\n\n").format(*mask.shape, *spacing)
+    path.write_bytes(header.encode() + mask.astype(np.uint8).tobytes(order="F"))
+
+
+def test_anisotropic_spacing_segments_cubic_voxels_as_the_cli_does(figure_mask, tmp_path):
+    # Every other slice of the figure, 2.5 times as deep: what a scan gives.
+    mask = np.ascontiguousarray(figure_mask[:, :, ::2])
+    spacing = (1.0, 1.0, 2.5)
+    result = skelseg.segment(mask, spacing=spacing)
+    cubic = result.report["input"]["cubic_voxels"]
+    assert cubic["grid"] == [mask.shape[0], mask.shape[1], round(mask.shape[2] * 2.5)]
+    assert result.report["input"]["voxel_steps"] == [1.0, 1.0, 2.5]
+    assert result.labels.shape == mask.shape
+    np.testing.assert_array_equal(result.labels > 0, mask > 0)
+    assert result.n_segments >= 2
+    path = tmp_path / "deep.nrrd"
+    write_raw_nrrd(path, mask, spacing)
+    subprocess.run([str(cli_binary()), "segment", str(path), "-o", str(tmp_path / "out"), "-q",
+                    "--no-preview"], check=True)
+    fields, data = read_nrrd(tmp_path / "out" / "labels.nrrd")
+    assert result.labels.tobytes(order="F") == data
+    cli = json.loads((tmp_path / "out" / "report.json").read_text())
+    assert cli["input"]["cubic_voxels"] == cubic
 
 
 def test_parameters_reach_the_engine(figure_mask):

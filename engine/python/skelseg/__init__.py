@@ -343,6 +343,7 @@ def _result(raw: dict, cls: type = SegmentationResult, **extra: Any) -> Segmenta
 def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, float]]] = "3%",
             sigma_min: float = 0.8, body_ratio: float = 0.6, mode: str = "junction-rule",
             joints: bool = False, spacing: Sequence[float] = (1, 1, 1),
+            keep_voxel_aspect: bool = False,
             threads: Optional[int] = None, time_limit: Optional[float] = None,
             max_memory: Union[None, int, str] = None,
             progress: Optional[ProgressCallback] = None,
@@ -391,7 +392,11 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
             the result is that joint level, as the CLI's top-level files.
             Each cut's kind is in report["cuts"].
         spacing: voxel size along the three axes; scales the skeleton's and
-            the cuts' coordinates (the segmentation works in voxels, as the CLI).
+            the cuts' coordinates. Unequal sizes (more than 1% apart): the mask
+            is segmented resampled to cubic voxels and the labels come back in
+            its own shape, as the CLI does with an anisotropic file.
+        keep_voxel_aspect: segment the mask's own voxels as if they were
+            cubes, whatever the spacing (the CLI's --keep-voxel-aspect).
         threads: worker threads for this call (None: all cores). Results do
             not depend on it.
         time_limit: seconds; past it the call raises TimeoutError.

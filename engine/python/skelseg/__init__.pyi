@@ -77,6 +77,7 @@ def segment(
     mode: Literal["junction-rule", "junctions"] = "junction-rule",
     joints: bool = False,
     spacing: Sequence[float] = (1, 1, 1),
+    keep_voxel_aspect: bool = False,
     threads: Optional[int] = None,
     time_limit: Optional[float] = None,
     max_memory: Union[None, int, str] = None,
