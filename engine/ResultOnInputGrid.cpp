@@ -11,8 +11,7 @@ void recountSegmentVoxels(const LabelVolume& labels, std::vector<SegmentInfo>& s
 }  // namespace
 
 void moveResultToInputGrid(
-    SegmentationResult& result,
-    const std::function<LabelVolume(const LabelVolume&)>& labelsOnInput,
+    SegmentationResult& result, const std::function<LabelVolume(const LabelVolume&)>& labelsOnInput,
     const std::function<std::array<int, 3>(const std::array<int, 3>&)>& voxelOnInput) {
     result.labels = labelsOnInput(result.labels);
     const auto move = [&](std::array<int, 3>& v) { v = voxelOnInput(v); };

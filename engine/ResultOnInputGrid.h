@@ -25,8 +25,7 @@ namespace skelseg {
 /// position with `voxelOnInput`, then recounts the segments' voxels. Levels
 /// are mapped the same way as the top-level labels, so they still nest.
 void moveResultToInputGrid(
-    SegmentationResult& result,
-    const std::function<LabelVolume(const LabelVolume&)>& labelsOnInput,
+    SegmentationResult& result, const std::function<LabelVolume(const LabelVolume&)>& labelsOnInput,
     const std::function<std::array<int, 3>(const std::array<int, 3>&)>& voxelOnInput);
 
 /// A result segmented on `grid`'s cubic voxels, on the input's anisotropic

@@ -74,50 +74,51 @@ CubicGrid cubicGridFor(const Dims& dims, const VolumeGeometry& geometry) {
     return grid;
 }
 
-MaskVolume resampleToCubicVoxels(const MaskVolume& mask, const CubicGrid& grid,
-                                 const CubicVoxelOptions& options, Interrupter& interrupter) {
-    const Dims out{int(grid.dims[0]), int(grid.dims[1]), int(grid.dims[2])};
-    MaskVolume cubic(out, 0);
-    cubic.geometry = grid.geometry;
-    // The input column of every cubic x, once: the inner loop is then a gather.
-    std::vector<int> inputX(std::size_t(out.x));
-    for (int x = 0; x < out.x; ++x) inputX[std::size_t(x)] = grid.inputVoxelOf({x, 0, 0})[0];
+namespace {
+
+/// Each voxel of a `dims` grid takes the value of the voxel `sourceOf(v)`
+/// of `source`. The map is separable (each axis by itself), so a row's
+/// source row is found once and its x columns once for the whole grid.
+template <typename T, typename SourceOf>
+Volume<T> gatherVoxels(const Volume<T>& source, const Dims& dims, const SourceOf& sourceOf,
+                       bool threaded, Interrupter& interrupter) {
+    Volume<T> out(dims, T());
+    std::vector<int> sourceX(std::size_t(dims.x));
+    for (int x = 0; x < dims.x; ++x) sourceX[std::size_t(x)] = sourceOf({x, 0, 0})[0];
     parallelForEach(
-        out.z,
+        dims.z,
         [&](int z) {
             if (interrupter.wasInterrupted()) return;
-            for (int y = 0; y < out.y; ++y) {
-                const auto source = grid.inputVoxelOf({0, y, z});
-                const std::uint8_t* row = &mask(0, source[1], source[2]);
-                std::uint8_t* target = &cubic(0, y, z);
-                for (int x = 0; x < out.x; ++x) target[x] = row[inputX[std::size_t(x)]];
+            for (int y = 0; y < dims.y; ++y) {
+                const auto row = sourceOf({0, y, z});
+                const T* from = &source(0, row[1], row[2]);
+                T* to = &out(0, y, z);
+                for (int x = 0; x < dims.x; ++x) to[x] = from[sourceX[std::size_t(x)]];
             }
         },
-        options.threaded);
+        threaded);
     throwIfInterrupted(interrupter);
+    return out;
+}
+
+}  // namespace
+
+MaskVolume resampleToCubicVoxels(const MaskVolume& mask, const CubicGrid& grid,
+                                 const CubicVoxelOptions& options, Interrupter& interrupter) {
+    const Dims dims{int(grid.dims[0]), int(grid.dims[1]), int(grid.dims[2])};
+    MaskVolume cubic = gatherVoxels(
+        mask, dims, [&](const std::array<int, 3>& v) { return grid.inputVoxelOf(v); },
+        options.threaded, interrupter);
+    cubic.geometry = grid.geometry;
     return cubic;
 }
 
 LabelVolume labelsOnInputGrid(const LabelVolume& cubic, const CubicGrid& grid,
                               const CubicVoxelOptions& options, Interrupter& interrupter) {
-    const Dims in = grid.inputDims;
-    LabelVolume labels(in, 0);
+    LabelVolume labels = gatherVoxels(
+        cubic, grid.inputDims, [&](const std::array<int, 3>& v) { return grid.cubicVoxelOf(v); },
+        options.threaded, interrupter);
     labels.geometry = grid.inputGeometry;
-    std::vector<int> cubicX(std::size_t(in.x));
-    for (int x = 0; x < in.x; ++x) cubicX[std::size_t(x)] = grid.cubicVoxelOf({x, 0, 0})[0];
-    parallelForEach(
-        in.z,
-        [&](int z) {
-            if (interrupter.wasInterrupted()) return;
-            for (int y = 0; y < in.y; ++y) {
-                const auto source = grid.cubicVoxelOf({0, y, z});
-                const std::uint16_t* row = &cubic(0, source[1], source[2]);
-                std::uint16_t* target = &labels(0, y, z);
-                for (int x = 0; x < in.x; ++x) target[x] = row[cubicX[std::size_t(x)]];
-            }
-        },
-        options.threaded);
-    throwIfInterrupted(interrupter);
     return labels;
 }
 

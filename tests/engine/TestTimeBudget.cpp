@@ -346,26 +346,28 @@ TEST(TimeBudget, ARefinedResultDescribesTheInputGrid) {
     const int factor = 2;
     SegmentationResult result = segmentVolume(coarsenMask(fine, factor), {});
     ASSERT_GT(result.segments.size(), 1u);
-    const std::vector<std::array<int, 3>> coarseSkeleton = [&] {
-        std::vector<std::array<int, 3>> voxels;
-        for (const auto& o : result.objects)
-            for (const auto& v : o.skeleton) voxels.push_back(v.voxel);
-        return voxels;
-    }();
+    // The skeleton's voxels, then the cuts' (report.json "cuts" places them).
+    const auto voxelsOf = [](const SegmentationResult& r) {
+        std::vector<std::array<int, 3>> skeleton, cuts;
+        for (const auto& o : r.objects) {
+            for (const auto& v : o.skeleton) skeleton.push_back(v.voxel);
+            for (const auto& c : o.cuts) cuts.push_back(c.voxel);
+        }
+        return std::make_pair(skeleton, cuts);
+    };
+    const auto [coarseSkeleton, coarseCuts] = voxelsOf(result);
     ASSERT_FALSE(coarseSkeleton.empty());
-    // The cuts' voxels too (report.json "cuts"): they are placed from them.
-    std::vector<std::array<int, 3>> coarseCuts;
-    for (const auto& o : result.objects)
-        for (const auto& c : o.cuts) coarseCuts.push_back(c.voxel);
     ASSERT_FALSE(coarseCuts.empty());
     refineSegmentationResult(result, fine, factor);
-    std::size_t cut = 0;
-    for (const auto& o : result.objects)
-        for (const auto& c : o.cuts) {
-            for (int a = 0; a < 3; ++a)
-                EXPECT_EQ(c.voxel[a], coarseCuts[cut][a] * factor + factor / 2);
-            ++cut;
-        }
+    const auto [fineSkeleton, fineCuts] = voxelsOf(result);
+    ASSERT_EQ(fineSkeleton.size(), coarseSkeleton.size());
+    ASSERT_EQ(fineCuts.size(), coarseCuts.size());
+    for (std::size_t k = 0; k < coarseSkeleton.size(); ++k)
+        for (int c = 0; c < 3; ++c)
+            EXPECT_EQ(fineSkeleton[k][c], coarseSkeleton[k][c] * factor + factor / 2);
+    for (std::size_t k = 0; k < coarseCuts.size(); ++k)
+        for (int c = 0; c < 3; ++c)
+            EXPECT_EQ(fineCuts[k][c], coarseCuts[k][c] * factor + factor / 2);
     EXPECT_EQ(result.labels.dims(), fine.dims());
     std::vector<std::uint64_t> counted(result.segments.size(), 0);
     std::uint64_t objectVoxels = 0;
@@ -381,13 +383,6 @@ TEST(TimeBudget, ARefinedResultDescribesTheInputGrid) {
         summed += result.segments[s].voxelCount;
     }
     EXPECT_EQ(summed, objectVoxels);
-    std::size_t k = 0;
-    for (const auto& o : result.objects)
-        for (const auto& v : o.skeleton) {
-            for (int c = 0; c < 3; ++c)
-                EXPECT_EQ(v.voxel[c], coarseSkeleton[k][c] * factor + factor / 2);
-            ++k;
-        }
 }
 
 TEST(TimeBudget, CountWorkSeesTheShape) {

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <random>
 
-
 namespace skelseg {
 namespace {
 
@@ -54,9 +53,8 @@ TEST(CubicVoxels, TheCubicGridSpansTheInputsBoxWithItsShortestStep) {
     // The first and last cubic voxels' cells end where the input's cells end.
     const auto first = grid.geometry.indexToWorld(-0.5, -0.5, -0.5);
     const auto inputFirst = input.indexToWorld(-0.5, -0.5, -0.5);
-    const auto last = grid.geometry.indexToWorld(double(grid.dims[0]) - 0.5,
-                                                 double(grid.dims[1]) - 0.5,
-                                                 double(grid.dims[2]) - 0.5);
+    const auto last = grid.geometry.indexToWorld(
+        double(grid.dims[0]) - 0.5, double(grid.dims[1]) - 0.5, double(grid.dims[2]) - 0.5);
     const auto inputLast = input.indexToWorld(dims.x - 0.5, dims.y - 0.5, dims.z - 0.5);
     for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(first[std::size_t(c)], inputFirst[std::size_t(c)], 1e-9);
