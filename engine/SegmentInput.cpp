@@ -87,9 +87,16 @@ void makeVoxelsCubic(SegmentSource& source, const SegmentInputOptions& options, 
                                      steps[0], steps[1], steps[2], grid.dims[0], grid.dims[1],
                                      grid.dims[2], kMaxVoxels, kMaxAxisExtent));
     }
-    // The memory check of a grid read from a file, on the cubic grid.
-    refuseVolumeGridOverMemory(
-        source.file, Dims{int(grid.dims[0]), int(grid.dims[1]), int(grid.dims[2])}, options);
+    // The memory check of a grid read from a file, on the cubic grid; the
+    // message says which grid, as the file's own grid fitted.
+    try {
+        refuseVolumeGridOverMemory(
+            source.file, Dims{int(grid.dims[0]), int(grid.dims[1]), int(grid.dims[2])}, options);
+    } catch (const MemoryLimitError& error) {
+        throw MemoryLimitError(std::string(error.what()) +
+                               "; that is the cubic grid of its anisotropic voxels, and "
+                               "--keep-voxel-aspect segments the file's own voxels");
+    }
     Stage stage(timer, interrupter, "cubic voxels", true);
     source.volumeMask = resampleToCubicVoxels(source.volumeMask, grid, {}, interrupter);
     source.cubicGrid = grid;

@@ -610,3 +610,56 @@ TEST(SegmentCommand, AnisotropicVoxelsAreSegmentedAsCubicOnes) {
     for (const auto& cut : deepReport["cuts"])
         EXPECT_LT(cut["voxel"][2].get<int>(), deepFigure.dims().z);
 }
+
+// A cubic grid that cannot be made is refused with the way out, naming the
+// file, before anything is written: over the grid caps (an InputError, exit
+// 2) and over --max-memory although the file's own grid fits (exit 4).
+// --keep-voxel-aspect segments such a file in its own voxels.
+TEST(SegmentCommand, ACubicGridThatCannotBeMadeIsRefusedWithTheWayOut) {
+    const test::TempDir dir;
+    MaskVolume flat(Dims{6, 6, 4}, 1);
+    flat.geometry.directions = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 3000}}};  // 12000 cubic slices
+    writeNrrdMask(dir / "flat.nrrd", flat);
+    ProgressReporter progress(ProgressReporter::Display::Quiet);
+    const std::string capped = test::thrownMessage<InputError>(
+        [&] { runSegmentCommand(optionsFor(dir / "flat.nrrd", dir / "out", 1), progress); });
+    EXPECT_NE(capped.find((dir / "flat.nrrd").string() + ": voxels are anisotropic"),
+              std::string::npos)
+        << capped;
+    EXPECT_NE(capped.find("6 x 6 x 12000"), std::string::npos) << capped;
+    EXPECT_NE(capped.find("--keep-voxel-aspect"), std::string::npos) << capped;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+    SegmentCommandOptions keep = optionsFor(dir / "flat.nrrd", dir / "keep", 1);
+    keep.keepVoxelAspect = true;
+    segment(keep);
+    EXPECT_TRUE(fs::exists(dir / "keep" / "labels.nrrd"));
+
+    // 3 times deeper voxels: a limit the file's grid fits and its cubic grid
+    // (three times the voxels) does not.
+    const MaskVolume deep = figureWithSteps(1.0, 3.0);
+    writeNrrdMask(dir / "deep.nrrd", deep);
+    SegmentCommandOptions tight = optionsFor(dir / "deep.nrrd", dir / "tight", 1);
+    const Dims cubic{deep.dims().x, deep.dims().y, deep.dims().z * 3};
+    SegmentInputOptions limits;
+    limits.threads = 1;
+    const auto leastNeed = [&](const Dims& dims) {
+        std::uint64_t low = 0, high = std::uint64_t(1) << 40;
+        while (high - low > 1) {  // the smallest limit refuseVolumeGridOverMemory accepts
+            limits.memoryLimit = low + (high - low) / 2;
+            try {
+                refuseVolumeGridOverMemory("x.nrrd", dims, limits);
+                high = limits.memoryLimit;
+            } catch (const MemoryLimitError&) {
+                low = limits.memoryLimit;
+            }
+        }
+        return high;
+    };
+    ASSERT_LT(leastNeed(deep.dims()), leastNeed(cubic));
+    tight.maxMemoryBytes = leastNeed(cubic) - 1;
+    const std::string over =
+        test::thrownMessage<MemoryLimitError>([&] { runSegmentCommand(tight, progress); });
+    EXPECT_NE(over.find("cubic grid of its anisotropic voxels"), std::string::npos) << over;
+    EXPECT_NE(over.find(std::to_string(cubic.z)), std::string::npos) << over;
+    EXPECT_FALSE(fs::exists(dir / "tight"));
+}
