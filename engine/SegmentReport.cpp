@@ -32,9 +32,10 @@ std::string previewSkippedWarning(double budgetSeconds) {
            std::to_string(budgetSeconds).substr(0, 5) + " s";
 }
 
-void addVoxelAspect(json& input, const SegmentSource& source) {
-    const auto steps =
-        voxelSteps(source.cubicGrid ? source.cubicGrid->inputGeometry : source.volumeMask.geometry);
+void addVoxelAspect(json& input, const SegmentedShape& shape) {
+    // The labels are on the input's grid (refineStep), whatever was segmented.
+    const SegmentSource& source = *shape.input->source;
+    const auto steps = voxelSteps(shape.result.labels.geometry);
     input["voxel_steps"] = {steps[0], steps[1], steps[2]};
     if (!source.cubicGrid) {
         input["cubic_voxels"] = nullptr;
@@ -53,7 +54,7 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
     ResultReportContext context;
     context.input = {{"file", options.input.string()},
                      {"kind", source.isMesh() ? "mesh" : "volume"}};
-    if (!source.isMesh()) addVoxelAspect(context.input, source);
+    if (!source.isMesh()) addVoxelAspect(context.input, shape);
     if (source.isMesh()) {
         context.input["faces"] = source.mesh->faceCount;
         context.input["vertices"] = source.mesh->vertices.size();

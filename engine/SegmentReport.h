@@ -40,7 +40,7 @@ std::string previewSkippedWarning(double budgetSeconds);
 /// length of each voxel step of the input's grid) and `cubic_voxels` (null,
 /// or the cubic grid it was segmented on: `grid`, `voxel_size`, `scale`,
 /// kernels/CubicVoxels.h).
-void addVoxelAspect(nlohmann::json& input, const SegmentSource& source);
+void addVoxelAspect(nlohmann::json& input, const SegmentedShape& shape);
 
 /// report.json's content; "input" describes options.input. The Python
 /// module's result holds it too, with its own "input" (ResultReport.h).

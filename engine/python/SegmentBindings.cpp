@@ -270,7 +270,7 @@ py::dict segmentArray(const py::array& array, const std::array<double, 3>& spaci
                             {"shape", {view.shape[0], view.shape[1], view.shape[2]}},
                             {"dtype", dtypeName(array.dtype())},
                             {"spacing", {spacing[0], spacing[1], spacing[2]}}};
-    addVoxelAspect(input, *shape->input->source);
+    addVoxelAspect(input, *shape);
     return call.finish(*shape, input);
 }
 
