@@ -283,8 +283,8 @@ void PathCache::clearTable() {
     mUsed = 0;
 }
 
-void PathCache::makeRoomFor(std::size_t nodes) {
-    if (mPool.size() + nodes > mMaxNodes || mUsed + 1 > mMaxEntries) {
+void PathCache::makeRoomFor(std::size_t nodes, std::size_t pairs) {
+    if (mPool.size() + nodes > mMaxNodes || mUsed + pairs > mMaxEntries) {
         mPool.clear();
         clearTable();
     }
@@ -315,10 +315,7 @@ const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a,
     if (a == b) {  // key 0 marks empty slots; a point pair needs no search anyway
         ++hits;
         mScratch.assign(1, a);
-        if (mPool.size() + 1 > mMaxNodes) {
-            mPool.clear();
-            clearTable();
-        }
+        makeRoomFor(1, 0);  // a point pair takes no slot of the table
         appendToPool(&a, 1);
         mSelf = Entry{0.0f, std::uint32_t(mPool.size() - 1), 1, kUnreachable};
         return mSelf;
@@ -363,7 +360,7 @@ const PathCache::Entry& PathCache::path(GeodesicSearch& search, std::uint32_t a,
     }
     ++misses;
     const float length = search.shortestPath(a, b, &mScratch, bound);
-    makeRoomFor(mScratch.size());
+    makeRoomFor(mScratch.size(), 1);
     if (2 * (mUsed + 1) > mTable.size()) growTable();
     mask = mTable.size() - 1;
     i = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;

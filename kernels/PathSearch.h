@@ -210,8 +210,8 @@ private:
     void clearTable();
     void growTable();
     /// Empties pool and table (every entry) when `nodes` more path nodes or
-    /// one more pair would pass a bound.
-    void makeRoomFor(std::size_t nodes);
+    /// `pairs` more pairs would pass a bound.
+    void makeRoomFor(std::size_t nodes, std::size_t pairs);
     /// Appends to the pool, growing it by doubling but never past mMaxNodes
     /// (unless one path alone is longer).
     void appendToPool(const std::uint32_t* nodes, std::size_t count);
