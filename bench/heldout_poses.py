@@ -1,0 +1,186 @@
+#!/usr/bin/python3
+"""Lay out pose sequences the shared data lacks, for bench/invariance.py.
+
+Issue 12 asks that parts stay the same across the poses of characters
+nobody tuned on. The shared poses (../shared/data/poses) come from the
+public repository CraGL/Hyperspectral-Inverse-Skinning, whose models/ folder
+holds many more frames and characters. Give this script a copy of that
+repository (a clone with a work tree, or a bare clone: files are then read
+with `git show`) and it writes three sets of frames, each in the layout
+bench/invariance.py and bench/sequence_consensus.py read (`--data OUT/SET`):
+
+    OUT/traced/poses/NAME_FRAME.obj    12 sequences, 4 frames each: the
+                                       frames every rule since the sixth
+                                       session was traced on
+    OUT/untraced/poses/NAME_FRAME.obj  13 sequences of other frames of the
+                                       same characters (first read in the
+                                       tenth session)
+    OUT/third/poses/NAME_FRAME.obj     7 sequences read first on 2026-12-06:
+                                       other frames of the shared characters
+                                       (elephant-gallop, samba, pdance) and
+                                       of four others (horse-collapse, a
+                                       horse squashed flat, is no pose
+                                       sequence and is left out)
+
+The tables of docs/quality.md name the set they were measured on. Files
+are copied byte for byte; nothing is written into the repository, and the
+copy of CraGL's repository is only read. A frame whose bytes equal a shared
+frame's is left out with a line saying so (the shared data is not held
+out), as is a frame missing from the copy. Exit 2 when the copy has no
+models/ folder. Only the standard library (and git, for a bare clone) is
+needed.
+
+    git clone https://github.com/CraGL/Hyperspectral-Inverse-Skinning ~/hyperspectral
+    /usr/bin/python3 bench/heldout_poses.py --repo ~/hyperspectral --out ~/poses-heldout
+    /usr/bin/python3 bench/invariance.py --data ~/poses-heldout/third --shapes '' --jobs 2
+"""
+
+import argparse
+import hashlib
+import subprocess
+import sys
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+def _frames(name, folder, pattern, frames):
+    return [(name, str(frame), f"{folder}/{pattern.format(frame)}") for frame in frames]
+
+
+# (sequence name, frame, path under models/) for every frame of each set.
+SETS = {
+    "traced": (
+        _frames("cat", "cat-poses", "{:04d}.obj", [1, 4, 7, 9])
+        + _frames("cheburashka", "cheburashka", "cheburashka-{}.obj", ["01", "04", "07", "10"])
+        + _frames("chicken", "chickenCrossing", "{}.obj", [1, 100, 200, 300])
+        + _frames("cow", "cow", "cow-{}.obj", [1, 3, 5, 7])
+        + _frames("crane", "crane", "mesh_{:04d}.obj", [0, 50, 100, 150])
+        + _frames("elephantposes", "elephant-poses", "{}.obj", [1, 4, 7, 9])
+        + _frames("horsegallop", "horse-gallop", "{:04d}.obj", [1, 13, 25, 37])
+        + _frames("horseposes", "horse-poses", "{}.obj", [1, 4, 7, 9])
+        + _frames("lion", "lion-poses", "{}.obj", [1, 4, 7, 9])
+        + _frames("pcow", "pcow", "{}.obj", [1, 50, 100, 150])
+        + _frames("pjump", "pjump", "{}.obj", [1, 50, 100, 150])
+        + _frames("wolf", "wolf-all/poses-2", "wolf-{}.obj", [1, 5, 10, 15])
+    ),
+    "untraced": (
+        _frames("cat", "cat-poses", "{:04d}.obj", [2, 3, 5, 6])
+        + _frames("chebu3", "cheburashka-all/poses-3", "cheburashka-{}.obj", [1, 2, 3, 4])
+        + _frames("cheburashka", "cheburashka", "cheburashka-{}.obj", ["02", "05", "08", "11"])
+        + _frames("chicken", "chickenCrossing", "{}.obj", [51, 151, 251, 351])
+        + _frames("cow", "cow", "cow-{}.obj", [2, 4, 6])
+        + _frames("crane", "crane", "mesh_{:04d}.obj", [25, 75, 125])
+        + _frames("elephantposes", "elephant-poses", "{}.obj", [2, 3, 5, 10])
+        + _frames("horsegallop", "horse-gallop", "{:04d}.obj", [7, 19, 31, 43])
+        + _frames("horseposes", "horse-poses", "{}.obj", [2, 3, 5, 10])
+        + _frames("lion", "lion-poses", "{}.obj", [2, 3, 5, 6])
+        + _frames("pcow", "pcow", "{}.obj", [26, 76, 126, 201])
+        + _frames("pjump", "pjump", "{}.obj", [26, 76, 126, 201])
+        + _frames("wolfp1", "wolf-all/poses-1", "wolf-{}.obj", [1, 2, 3, 4])
+    ),
+    "third": (
+        _frames("elephantgallop", "elephant-gallop", "{}.obj", [7, 19, 31, 43])
+        + _frames("samba", "samba", "mesh_{:04d}.obj", [20, 60, 100, 140])
+        + _frames("pdance", "pdance", "{}.obj", [25, 75, 125, 175])
+        + _frames("chicken", "chickenCrossing", "{}.obj", [26, 126, 226, 326])
+        + _frames("pcow", "pcow", "{}.obj", [10, 60, 110, 160])
+        + _frames("pjump", "pjump", "{}.obj", [10, 60, 110, 160])
+        + _frames("crane", "crane", "mesh_{:04d}.obj", [10, 60, 110, 160])
+    ),
+}
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--repo", required=True,
+                   help="a copy of CraGL/Hyperspectral-Inverse-Skinning (work tree or bare clone)")
+    p.add_argument("--out", required=True, help="folder to write the sets into")
+    p.add_argument("--sets", default=",".join(SETS),
+                   help="comma-separated sets to write (default: " + ",".join(SETS) + ")")
+    p.add_argument("--shared", default=str(REPO.parent / "shared" / "data"),
+                   help="the shared data folder, whose poses are never written "
+                        "(default: ../shared/data next to the repository)")
+    return p.parse_args(argv)
+
+
+class Source:
+    """Reads models/... from a work tree, or from a bare clone with git show."""
+
+    def __init__(self, repo):
+        self.repo = Path(repo)
+        self.tree = (self.repo / "models").is_dir()
+        self.bare = not self.tree and subprocess.run(
+            ["git", "--git-dir", str(self.repo), "rev-parse", "--verify", "-q", "HEAD:models"],
+            capture_output=True).returncode == 0
+
+    def usable(self):
+        return self.tree or self.bare
+
+    def read(self, path):
+        """The bytes of models/PATH, or None when the copy lacks it."""
+        if self.tree:
+            file = self.repo / "models" / path
+            return file.read_bytes() if file.is_file() else None
+        shown = subprocess.run(["git", "--git-dir", str(self.repo), "show", f"HEAD:models/{path}"],
+                               capture_output=True)
+        return shown.stdout if shown.returncode == 0 else None
+
+
+def shared_digests(shared):
+    folder = Path(shared) / "poses"
+    if not folder.is_dir():
+        return set()
+    return {hashlib.sha256(p.read_bytes()).hexdigest() for p in folder.glob("*.obj")}
+
+
+def lay_out(source, out, sets, shared, log=print):
+    """Writes the frames of `sets`; returns {set: [file names written]}."""
+    out = Path(out).resolve()
+    if out == REPO or REPO in out.parents:
+        raise ValueError(f"{out} is inside the repository; write the held-out frames elsewhere")
+    held = shared_digests(shared)
+    written = {}
+    for name in sets:
+        if name not in SETS:
+            raise ValueError(f"no set '{name}' (sets: {', '.join(SETS)})")
+        folder = out / name / "poses"
+        folder.mkdir(parents=True, exist_ok=True)
+        written[name] = []
+        for sequence, frame, path in SETS[name]:
+            data = source.read(path)
+            if data is None:
+                log(f"heldout_poses.py: {name}: models/{path} is not in the copy; left out")
+                continue
+            if hashlib.sha256(data).hexdigest() in held:
+                log(f"heldout_poses.py: {name}: models/{path} is a shared frame; left out")
+                continue
+            target = folder / f"{sequence}_{frame}.obj"
+            target.write_bytes(data)
+            written[name].append(target.name)
+    return written
+
+
+def main(argv):
+    args = parse_args(argv)
+    source = Source(args.repo)
+    if not source.usable():
+        print(f"heldout_poses.py: {args.repo}: no models/ folder (a copy of "
+              "CraGL/Hyperspectral-Inverse-Skinning is needed)", file=sys.stderr)
+        return 2
+    try:
+        written = lay_out(source, args.out, [s for s in args.sets.split(",") if s],
+                          args.shared, log=lambda line: print(line, file=sys.stderr))
+    except ValueError as error:
+        print(f"heldout_poses.py: {error}", file=sys.stderr)
+        return 2
+    for name, files in written.items():
+        sequences = sorted({f.rsplit("_", 1)[0] for f in files})
+        print(f"{name}: {len(files)} frames of {len(sequences)} sequences in "
+              f"{Path(args.out) / name / 'poses'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
