@@ -140,11 +140,12 @@ def lay_out(source, out, sets, shared, log=print):
     out = Path(out).resolve()
     if out == REPO or REPO in out.parents:
         raise ValueError(f"{out} is inside the repository; write the held-out frames elsewhere")
-    held = shared_digests(shared)
-    written = {}
     for name in sets:
         if name not in SETS:
             raise ValueError(f"no set '{name}' (sets: {', '.join(SETS)})")
+    held = shared_digests(shared)
+    written = {}
+    for name in sets:
         folder = out / name / "poses"
         folder.mkdir(parents=True, exist_ok=True)
         written[name] = []
