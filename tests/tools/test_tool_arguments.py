@@ -27,6 +27,7 @@ POSITIONALS = {
     "bench/compare_search.py": ["mesh.off"],
     "bench/cut_separation.py": ["out"],
     "bench/fit_budget_calibration.py": ["out"],
+    "bench/heldout_poses.py": ["--repo", "repo", "--out", "out"],
     "bench/heldout_psb.py": ["--benchmark", "benchmark", "--out", "out"],
     "bench/joint_candidates.py": ["out"],
     "bench/merge_measures.py": ["out"],
