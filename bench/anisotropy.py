@@ -45,7 +45,7 @@ def parse_args(argv):
 
 
 def write_mask(path, mask, spacing):
-    """mask indexed (x, y, z) as a raw NRRD with `spacings`."""
+    """mask indexed (x, y, z) as a raw NRRD with `spacing`."""
     header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: {} {} {}\n" \
              "spacings: {} {} {}\nencoding: raw\n\n".format(*mask.shape, *spacing)
     path.write_bytes(header.encode() + mask.astype(np.uint8).tobytes(order="F"))

@@ -44,51 +44,60 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 
 
-def _frames(name, folder, pattern, frames):
-    return [(name, str(frame), f"{folder}/{pattern.format(frame)}") for frame in frames]
+# Where each sequence's frames lie under models/: folder and file name.
+SEQUENCES = {
+    "cat": ("cat-poses", "{:04d}.obj"),
+    "chebu3": ("cheburashka-all/poses-3", "cheburashka-{}.obj"),
+    "cheburashka": ("cheburashka", "cheburashka-{}.obj"),
+    "chicken": ("chickenCrossing", "{}.obj"),
+    "cow": ("cow", "cow-{}.obj"),
+    "crane": ("crane", "mesh_{:04d}.obj"),
+    "elephantgallop": ("elephant-gallop", "{}.obj"),
+    "elephantposes": ("elephant-poses", "{}.obj"),
+    "horsegallop": ("horse-gallop", "{:04d}.obj"),
+    "horseposes": ("horse-poses", "{}.obj"),
+    "lion": ("lion-poses", "{}.obj"),
+    "pcow": ("pcow", "{}.obj"),
+    "pdance": ("pdance", "{}.obj"),
+    "pjump": ("pjump", "{}.obj"),
+    "samba": ("samba", "mesh_{:04d}.obj"),
+    "wolf": ("wolf-all/poses-2", "wolf-{}.obj"),
+    "wolfp1": ("wolf-all/poses-1", "wolf-{}.obj"),
+}
 
+# The frames of each sequence in each set.
+FRAMES = {
+    "traced": {
+        "cat": [1, 4, 7, 9], "cheburashka": ["01", "04", "07", "10"],
+        "chicken": [1, 100, 200, 300], "cow": [1, 3, 5, 7], "crane": [0, 50, 100, 150],
+        "elephantposes": [1, 4, 7, 9], "horsegallop": [1, 13, 25, 37],
+        "horseposes": [1, 4, 7, 9], "lion": [1, 4, 7, 9], "pcow": [1, 50, 100, 150],
+        "pjump": [1, 50, 100, 150], "wolf": [1, 5, 10, 15],
+    },
+    "untraced": {
+        "cat": [2, 3, 5, 6], "chebu3": [1, 2, 3, 4], "cheburashka": ["02", "05", "08", "11"],
+        "chicken": [51, 151, 251, 351], "cow": [2, 4, 6], "crane": [25, 75, 125],
+        "elephantposes": [2, 3, 5, 10], "horsegallop": [7, 19, 31, 43],
+        "horseposes": [2, 3, 5, 10], "lion": [2, 3, 5, 6], "pcow": [26, 76, 126, 201],
+        "pjump": [26, 76, 126, 201], "wolfp1": [1, 2, 3, 4],
+    },
+    "third": {
+        "elephantgallop": [7, 19, 31, 43], "samba": [20, 60, 100, 140],
+        "pdance": [25, 75, 125, 175], "chicken": [26, 126, 226, 326],
+        "pcow": [10, 60, 110, 160], "pjump": [10, 60, 110, 160], "crane": [10, 60, 110, 160],
+    },
+}
 
 # (sequence name, frame, path under models/) for every frame of each set.
-SETS = {
-    "traced": (
-        _frames("cat", "cat-poses", "{:04d}.obj", [1, 4, 7, 9])
-        + _frames("cheburashka", "cheburashka", "cheburashka-{}.obj", ["01", "04", "07", "10"])
-        + _frames("chicken", "chickenCrossing", "{}.obj", [1, 100, 200, 300])
-        + _frames("cow", "cow", "cow-{}.obj", [1, 3, 5, 7])
-        + _frames("crane", "crane", "mesh_{:04d}.obj", [0, 50, 100, 150])
-        + _frames("elephantposes", "elephant-poses", "{}.obj", [1, 4, 7, 9])
-        + _frames("horsegallop", "horse-gallop", "{:04d}.obj", [1, 13, 25, 37])
-        + _frames("horseposes", "horse-poses", "{}.obj", [1, 4, 7, 9])
-        + _frames("lion", "lion-poses", "{}.obj", [1, 4, 7, 9])
-        + _frames("pcow", "pcow", "{}.obj", [1, 50, 100, 150])
-        + _frames("pjump", "pjump", "{}.obj", [1, 50, 100, 150])
-        + _frames("wolf", "wolf-all/poses-2", "wolf-{}.obj", [1, 5, 10, 15])
-    ),
-    "untraced": (
-        _frames("cat", "cat-poses", "{:04d}.obj", [2, 3, 5, 6])
-        + _frames("chebu3", "cheburashka-all/poses-3", "cheburashka-{}.obj", [1, 2, 3, 4])
-        + _frames("cheburashka", "cheburashka", "cheburashka-{}.obj", ["02", "05", "08", "11"])
-        + _frames("chicken", "chickenCrossing", "{}.obj", [51, 151, 251, 351])
-        + _frames("cow", "cow", "cow-{}.obj", [2, 4, 6])
-        + _frames("crane", "crane", "mesh_{:04d}.obj", [25, 75, 125])
-        + _frames("elephantposes", "elephant-poses", "{}.obj", [2, 3, 5, 10])
-        + _frames("horsegallop", "horse-gallop", "{:04d}.obj", [7, 19, 31, 43])
-        + _frames("horseposes", "horse-poses", "{}.obj", [2, 3, 5, 10])
-        + _frames("lion", "lion-poses", "{}.obj", [2, 3, 5, 6])
-        + _frames("pcow", "pcow", "{}.obj", [26, 76, 126, 201])
-        + _frames("pjump", "pjump", "{}.obj", [26, 76, 126, 201])
-        + _frames("wolfp1", "wolf-all/poses-1", "wolf-{}.obj", [1, 2, 3, 4])
-    ),
-    "third": (
-        _frames("elephantgallop", "elephant-gallop", "{}.obj", [7, 19, 31, 43])
-        + _frames("samba", "samba", "mesh_{:04d}.obj", [20, 60, 100, 140])
-        + _frames("pdance", "pdance", "{}.obj", [25, 75, 125, 175])
-        + _frames("chicken", "chickenCrossing", "{}.obj", [26, 126, 226, 326])
-        + _frames("pcow", "pcow", "{}.obj", [10, 60, 110, 160])
-        + _frames("pjump", "pjump", "{}.obj", [10, 60, 110, 160])
-        + _frames("crane", "crane", "mesh_{:04d}.obj", [10, 60, 110, 160])
-    ),
-}
+def _paths(sequences):
+    paths = []
+    for sequence, frames in sequences.items():
+        folder, name = SEQUENCES[sequence]
+        paths += [(sequence, str(frame), f"{folder}/{name.format(frame)}") for frame in frames]
+    return paths
+
+
+SETS = {name: _paths(sequences) for name, sequences in FRAMES.items()}
 
 
 def parse_args(argv):
