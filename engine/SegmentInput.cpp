@@ -303,6 +303,23 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
     }
 }
 
+/// A closed mesh whose voxel model has handles the mesh lacks: surfaces
+/// closer than about a voxel (an ear lying on the head, a leg folded against
+/// the body) or passing through each other stayed joined, and the skeleton
+/// runs round the joint. The cuts near such a place can differ from pose to
+/// pose, and no resolution is sure to remove it (docs/meshes.md, "Handles
+/// the voxel model keeps"), so the user is told rather than left to find it
+/// in report.json.
+std::string extraHandlesWarning(const std::string& file, std::int64_t voxelGenus,
+                                std::int64_t meshGenus, int resolution) {
+    const std::int64_t extra = voxelGenus - meshGenus;
+    return fmt::format(
+        "{}: the voxel model at resolution {} has {} handle{} the mesh lacks (voxel genus {}, "
+        "mesh genus {}): surfaces closer than a voxel or passing through each other stay "
+        "joined there, and the parts near them may differ from pose to pose",
+        file, resolution, extra, extra == 1 ? "" : "s", voxelGenus, meshGenus);
+}
+
 double secondsLeft(const SegmentInputOptions& options) {
     return options.timeBudgetSeconds -
            std::chrono::duration<double>(std::chrono::steady_clock::now() - options.start).count();
@@ -464,7 +481,12 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         result.contacts = voxelised.contacts;
         result.selfOverlaps = voxelised.selfOverlaps;
         result.thinParts = voxelised.thinParts;
-        for (const auto& w : meshWarnings(source->meshDiagnostics, source->file.string())) {
+        std::vector<std::string> warnings =
+            meshWarnings(source->meshDiagnostics, source->file.string());
+        if (source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus)
+            warnings.push_back(extraHandlesWarning(source->file.string(), result.voxelGenus.genus,
+                                                   result.meshGenus.genus, chosen.resolution));
+        for (const auto& w : warnings) {
             result.warnings.push_back(w);
             warn(w);
         }
