@@ -61,8 +61,15 @@ public:
             if (index < 0)
                 fail("face " + std::to_string(face) + " references vertex " +
                      std::to_string(index + mIndexBase) + ", which does not exist");
-            const std::uint64_t limit = vertexLimit == kCheckLater ? kMaxElementCount : vertexLimit;
-            if (std::uint64_t(index) >= limit) failIndex(face, std::uint64_t(index), limit);
+            // Checked later: only an index no mesh can reach is refused here,
+            // and the count the vertices will have is not known yet.
+            if (vertexLimit == kCheckLater && std::uint64_t(index) >= kMaxElementCount)
+                fail("face " + std::to_string(face) + " references vertex " +
+                     std::to_string(std::uint64_t(index) + std::uint64_t(mIndexBase)) +
+                     ", beyond the " + std::to_string(kMaxElementCount) +
+                     " vertices a mesh may have");
+            if (vertexLimit != kCheckLater && std::uint64_t(index) >= vertexLimit)
+                failIndex(face, std::uint64_t(index), vertexLimit);
         }
         for (std::size_t corner = 1; corner + 1 < polygon.size(); ++corner) {
             mMesh.triangles.push_back({std::uint32_t(polygon[0]), std::uint32_t(polygon[corner]),

@@ -443,6 +443,10 @@ TEST(MeshIO, MalformedInputThrowsInputErrorNamingTheFile) {
         {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"},
         {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n",
          "face 0 references vertex 9 but there are 3 vertices"},
+        // An index beyond any mesh's size was reported with that size as
+        // the vertex count ("but there are 4294967294 vertices").
+        {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999\n",
+         "face 0 references vertex 99999999999, beyond the 4294967294 vertices a mesh may have"},
         {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nf 1 2\n", "face 0 has 2 vertices"},
         // trimesh's notenoughindices.obj; the line said "face 0" but not where.
         {MeshFormat::Obj,
