@@ -33,6 +33,24 @@ std::string trim(const std::string& text) {
     return text.substr(first, last - first + 1);
 }
 
+/// A listed path as the batch opens it. A path in matching quotes ("my
+/// shapes/a.off" or 'a.off', as a shell or a script writing paths with
+/// spaces quotes them) means the path inside them, unless a file of that
+/// name, quotes included, exists.
+fs::path resolveListedPath(const fs::path& base, const std::string& listed) {
+    const auto resolved = [&](const std::string& text) {
+        const fs::path path(text);
+        return path.is_absolute() ? path : base / path;
+    };
+    const bool quoted = listed.size() >= 3 && (listed.front() == '"' || listed.front() == '\'') &&
+                        listed.back() == listed.front();
+    if (!quoted) return resolved(listed);
+    std::error_code ec;
+    const fs::path literal = resolved(listed);
+    if (fs::exists(literal, ec)) return literal;
+    return resolved(listed.substr(1, listed.size() - 2));
+}
+
 /// The identity of a file for duplicate detection: the canonical path when
 /// the file exists (links and "a/../b" spellings agree), the lexically
 /// normal absolute path otherwise.
@@ -164,8 +182,7 @@ Manifest readManifest(const fs::path& source) {
                                                       " holds a NUL byte: not a text manifest");
             const std::string path = trim(std::string(rawLine));
             if (path.empty() || path[0] == '#') continue;
-            const fs::path input(path);
-            listed.emplace_back(input.is_absolute() ? input : base / input, line);
+            listed.emplace_back(resolveListedPath(base, path), line);
         }
     }
     std::map<std::string, int> firstLine;

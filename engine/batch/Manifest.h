@@ -3,8 +3,10 @@
 // A manifest is a text file with one input path per line. Blank lines and
 // lines whose first non-blank character is '#' are skipped (a '#' later in a
 // line is part of the path: file names may hold one); surrounding blanks are
-// trimmed; relative paths are relative to the manifest's folder, so a
-// manifest can travel with its data. A directory instead of a file means every
+// trimmed; a path in matching quotes ("my shapes/a.off", 'a.off') is the
+// path inside them unless a file named with the quotes exists; relative paths
+// are relative to the manifest's folder, so a manifest can travel with its
+// data. A directory instead of a file means every
 // supported input file directly in it (not its subfolders), by name.
 //
 // Each input gets an output name, the folder OUTROOT/<name>/: the file name

@@ -40,6 +40,35 @@ TEST(Manifest, SkipsCommentsAndBlankLinesAndTrims) {
     EXPECT_TRUE(m.warnings.empty());
 }
 
+// Paths quoted as a shell or a script quotes paths with spaces: the quotes
+// are not part of the name, unless a file is named with them.
+TEST(Manifest, QuotedPathsAreThePathsInsideTheQuotes) {
+    TempDir dir;
+    touch(dir / "my shapes" / "a.off");
+    touch(dir / "b.nrrd");
+    touch(dir / "\"c.off\"");
+    writeBytes(dir / "list.txt", "\"my shapes/a.off\"\n  'b.nrrd'  \n\"c.off\"\n\"d.off'\n\"\"\n" +
+                                     ("\"" + (dir / "b.nrrd").string() + "\"\n"));
+    const Manifest m = readManifest(dir / "list.txt");
+    ASSERT_EQ(m.entries.size(), 5u);
+    EXPECT_EQ(m.entries[0].input, dir / "my shapes" / "a.off");
+    EXPECT_TRUE(m.entries[0].exists);
+    EXPECT_EQ(m.entries[0].name, "a");
+    EXPECT_EQ(m.entries[1].input, dir / "b.nrrd");
+    EXPECT_TRUE(m.entries[1].exists);
+    // A file whose name holds the quotes is that file.
+    EXPECT_EQ(m.entries[2].input, dir / "\"c.off\"");
+    EXPECT_TRUE(m.entries[2].exists);
+    // Quotes that do not match, and a pair of quotes alone, stay as written.
+    EXPECT_EQ(m.entries[3].input, dir / "\"d.off'");
+    EXPECT_FALSE(m.entries[3].exists);
+    EXPECT_EQ(m.entries[4].input, dir / "\"\"");
+    EXPECT_FALSE(m.entries[4].exists);
+    // The absolute path in quotes is b.nrrd again: kept once.
+    ASSERT_EQ(m.warnings.size(), 1u);
+    EXPECT_NE(m.warnings[0].find("first on line 2"), std::string::npos) << m.warnings[0];
+}
+
 TEST(Manifest, RelativePathsAreRelativeToTheManifest) {
     TempDir dir;
     touch(dir / "data" / "shapes" / "x.binvox", 33);
