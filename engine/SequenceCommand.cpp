@@ -99,6 +99,16 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
     return names;
 }
 
+/// How many handles more than its mesh the voxel model of a frame has (the
+/// frame's report.json; 0 for an open mesh, which has no genus to compare).
+std::int64_t handlesBeyondTheMesh(const fs::path& report) {
+    const nlohmann::json document = nlohmann::json::parse(readFileBytes(report));
+    const nlohmann::json& input = document.at("input");
+    if (!input.value("mesh_closed", false)) return 0;
+    return std::max<std::int64_t>(0, input.at("voxel_genus").get<std::int64_t>() -
+                                         input.at("mesh_genus").get<std::int64_t>());
+}
+
 }  // namespace
 
 void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter& progress) {
@@ -115,6 +125,7 @@ void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter&
                               ": cannot create directory: " + describeErrno(ec.value()));
 
         std::vector<std::vector<std::int64_t>> labels;
+        std::vector<std::int64_t> extraHandles;
         for (std::size_t f = 0; f < options.frames.size(); ++f) {
             SegmentCommandOptions frame = options.segment;
             frame.input = options.frames[f];
@@ -128,8 +139,11 @@ void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter&
             ProgressReporter frameProgress(options.display, frame.timeLimitSeconds);
             runSegmentCommand(frame, frameProgress);
             labels.push_back(readSeg(frame.outdir / "segmentation.seg"));
+            extraHandles.push_back(handlesBeyondTheMesh(frame.outdir / "report.json"));
         }
-        const SequenceConsensus consensus = chooseSequenceConsensus(labels);
+        std::vector<bool> trusted;
+        for (std::int64_t extra : extraHandles) trusted.push_back(extra == 0);
+        const SequenceConsensus consensus = chooseSequenceConsensus(labels, trusted);
 
         const std::vector<std::int64_t>& chosen = labels[consensus.reference];
         writeSeg(out.stagingPath("segmentation.seg"),
@@ -143,7 +157,8 @@ void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter&
         document["mean_rand_index_error"] = consensus.meanPairError;
         document["rule"] =
             "the frame with the least mean Rand Index error to the others, among the frames "
-            "with the part count most frames have";
+            "with the part count most frames have; frames whose voxel model has handles their "
+            "mesh lacks neither vote nor are chosen, unless every frame has such handles";
         nlohmann::json frames = nlohmann::json::array();
         for (std::size_t f = 0; f < options.frames.size(); ++f) {
             nlohmann::json errors = nlohmann::json::array();
@@ -153,6 +168,8 @@ void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter&
                 {{"input", options.frames[f].string()},
                  {"outputs", "frames/" + names[f]},
                  {"parts", consensus.parts[f]},
+                 {"voxel_handles_beyond_mesh", extraHandles[f]},
+                 {"voted", bool(consensus.voted[f])},
                  {"mean_rand_index_error_to_others", consensus.meanErrorToOthers[f]},
                  {"rand_index_error_to_consensus",
                   consensus.pairErrors[f * options.frames.size() + consensus.reference]},

@@ -10,8 +10,8 @@
 
 namespace skelseg {
 
-SequenceConsensus chooseSequenceConsensus(
-    const std::vector<std::vector<std::int64_t>>& frameLabels) {
+SequenceConsensus chooseSequenceConsensus(const std::vector<std::vector<std::int64_t>>& frameLabels,
+                                          const std::vector<bool>& trusted) {
     const std::size_t frames = frameLabels.size();
     if (frames < 2) throw UsageError("a pose sequence needs at least two frames");
     const std::size_t faces = frameLabels.front().size();
@@ -21,8 +21,14 @@ SequenceConsensus chooseSequenceConsensus(
             throw UsageError("frame " + std::to_string(f + 1) + " has " +
                              std::to_string(frameLabels[f].size()) + " faces, frame 1 has " +
                              std::to_string(faces));
+    if (!trusted.empty() && trusted.size() != frames)
+        throw UsageError("trust is given for " + std::to_string(trusted.size()) +
+                         " frames, the sequence has " + std::to_string(frames));
 
     SequenceConsensus result;
+    const bool anyTrusted = std::find(trusted.begin(), trusted.end(), true) != trusted.end();
+    result.voted.assign(frames, true);
+    if (anyTrusted) result.voted = trusted;
     result.parts.resize(frames);
     for (std::size_t f = 0; f < frames; ++f)
         result.parts[f] =
@@ -47,12 +53,13 @@ SequenceConsensus chooseSequenceConsensus(
     }
 
     std::map<std::size_t, std::size_t> framesWithParts;
-    for (std::size_t p : result.parts) ++framesWithParts[p];
+    for (std::size_t f = 0; f < frames; ++f)
+        if (result.voted[f]) ++framesWithParts[result.parts[f]];
     std::size_t mostFrames = 0;
     for (const auto& [parts, count] : framesWithParts) mostFrames = std::max(mostFrames, count);
     bool chosen = false;
     for (std::size_t f = 0; f < frames; ++f) {
-        if (framesWithParts[result.parts[f]] != mostFrames) continue;
+        if (!result.voted[f] || framesWithParts[result.parts[f]] != mostFrames) continue;
         if (!chosen || result.meanErrorToOthers[f] < result.meanErrorToOthers[result.reference]) {
             result.reference = f;
             chosen = true;

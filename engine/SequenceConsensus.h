@@ -11,6 +11,11 @@
 //   2. among the frames with that count, the one whose labels are closest to
 //      all frames' (least mean Rand Index error to the others, faces counted
 //      once each); a tie goes to the earlier frame.
+// Frames the caller does not trust (`skelseg sequence`: a frame whose voxel
+// model has handles its mesh lacks, where touching or interpenetrating
+// surfaces stayed joined and parts come out wrong) neither vote in 1 nor are
+// chosen in 2, unless no frame is trusted; their errors still count in every
+// frame's mean.
 // A medoid, not a merge of cut places: a cut lies a few faces apart in two
 // poses, so a vote per face edge would drop cuts every frame has.
 #pragma once
@@ -28,6 +33,9 @@ struct SequenceConsensus {
     std::size_t modalParts = 0;
     /// Per frame: distinct labels.
     std::vector<std::size_t> parts;
+    /// Per frame: whether it voted for the part count and could be chosen
+    /// (every frame when none is trusted).
+    std::vector<bool> voted;
     /// Per frame: mean Rand Index error to the other frames.
     std::vector<double> meanErrorToOthers;
     /// Rand Index error of every pair of frames, row-major (frames x frames).
@@ -37,10 +45,11 @@ struct SequenceConsensus {
 };
 
 /// Chooses the consensus of `frameLabels` (one label per face, any integers;
-/// every frame the same number of faces).
-/// @throw UsageError with fewer than two frames, no faces, or frames of
-/// different face counts.
-SequenceConsensus chooseSequenceConsensus(
-    const std::vector<std::vector<std::int64_t>>& frameLabels);
+/// every frame the same number of faces). `trusted`: per frame, or empty for
+/// every frame trusted.
+/// @throw UsageError with fewer than two frames, no faces, frames of
+/// different face counts, or a `trusted` of another size than the frames.
+SequenceConsensus chooseSequenceConsensus(const std::vector<std::vector<std::int64_t>>& frameLabels,
+                                          const std::vector<bool>& trusted = {});
 
 }  // namespace skelseg

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "engine/SegmentCommand.h"
 
@@ -84,6 +85,6 @@ pybind11::dict scoreLabels(const pybind11::array_t<std::int64_t>& labels,
 /// The consensus of a pose sequence's face labels (engine/SequenceConsensus.h):
 /// {"reference", "modal_parts", "parts", "mean_error_to_others",
 ///  "pair_errors" (frames x frames), "mean_pair_error"}.
-pybind11::dict sequenceConsensusOf(const pybind11::list& frames);
+pybind11::dict sequenceConsensusOf(const pybind11::list& frames, const std::vector<bool>& trusted);
 
 }  // namespace skelseg

@@ -179,16 +179,17 @@ py::dict scoreLabels(const py::array_t<std::int64_t>& labels, const py::list& hu
     return out;
 }
 
-py::dict sequenceConsensusOf(const py::list& frames) {
+py::dict sequenceConsensusOf(const py::list& frames, const std::vector<bool>& trusted) {
     std::vector<std::vector<std::int64_t>> labels;
     for (const auto& frame : frames)
         labels.push_back(labelVector(frame.cast<py::array_t<std::int64_t>>(), "frame_labels"));
-    const SequenceConsensus c = chooseSequenceConsensus(labels);
+    const SequenceConsensus c = chooseSequenceConsensus(labels, trusted);
     const auto n = py::ssize_t(labels.size());
     py::dict out;
     out["reference"] = c.reference;
     out["modal_parts"] = c.modalParts;
     out["parts"] = c.parts;
+    out["voted"] = c.voted;
     out["mean_error_to_others"] = c.meanErrorToOthers;
     out["pair_errors"] = arrayOwning(std::vector<double>(c.pairErrors), {n, n});
     out["mean_pair_error"] = c.meanPairError;

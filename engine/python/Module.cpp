@@ -97,5 +97,5 @@ PYBIND11_MODULE(_skelseg, m) {
     m.def("face_areas", &faceAreaArray, py::arg("vertices"), py::arg("faces"),
           py::arg("triangle_face"));
     m.def("score", &scoreLabels, py::arg("labels"), py::arg("humans"), py::arg("face_areas"));
-    m.def("sequence_consensus", &sequenceConsensusOf, py::arg("frames"));
+    m.def("sequence_consensus", &sequenceConsensusOf, py::arg("frames"), py::arg("trusted"));
 }

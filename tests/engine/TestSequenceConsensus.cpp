@@ -53,6 +53,34 @@ TEST(SequenceConsensus, ATieGoesToTheEarlierFrame) {
     EXPECT_EQ(chooseSequenceConsensus({{0, 1}, {0, 1}, {0, 1}}).reference, 0u);
 }
 
+TEST(SequenceConsensus, FramesNotTrustedNeitherVoteNorAreChosen) {
+    // Frames 0 and 1 have 3 parts and are not trusted; frame 2, the only
+    // trusted one, has 2: its count is the vote and it is the reference,
+    // though the untrusted frames are the majority and nearer each other.
+    const std::vector<Labels> frames = {
+        {0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2},
+        {0, 0, 0, 1, 1, 1, 1, 1, 2, 2, 2, 2},
+        {5, 5, 5, 5, 5, 5, 5, 5, 7, 7, 7, 7},
+    };
+    const SequenceConsensus everyFrame = chooseSequenceConsensus(frames);
+    EXPECT_EQ(everyFrame.reference, 1u);
+    EXPECT_EQ(everyFrame.modalParts, 3u);
+    const SequenceConsensus c = chooseSequenceConsensus(frames, {false, false, true});
+    EXPECT_EQ(c.reference, 2u);
+    EXPECT_EQ(c.modalParts, 2u);
+    EXPECT_EQ(c.voted, (std::vector<bool>{false, false, true}));
+    // The errors are every frame's, whoever votes.
+    EXPECT_EQ(c.pairErrors, everyFrame.pairErrors);
+    EXPECT_EQ(c.meanErrorToOthers, everyFrame.meanErrorToOthers);
+    // Of two trusted frames with 3 parts, the nearer to all frames is chosen.
+    EXPECT_EQ(chooseSequenceConsensus(frames, {true, true, false}).reference, everyFrame.reference);
+    // No frame trusted: every frame votes, as without trust.
+    const SequenceConsensus none = chooseSequenceConsensus(frames, {false, false, false});
+    EXPECT_EQ(none.reference, everyFrame.reference);
+    EXPECT_EQ(none.voted, (std::vector<bool>{true, true, true}));
+    EXPECT_THROW(chooseSequenceConsensus(frames, {true, false}), UsageError);
+}
+
 TEST(SequenceConsensus, RefusesFewerThanTwoFramesNoFacesAndFramesOfDifferentSizes) {
     EXPECT_THROW(chooseSequenceConsensus({}), UsageError);
     EXPECT_THROW(chooseSequenceConsensus({{0, 1}}), UsageError);

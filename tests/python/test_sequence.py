@@ -56,3 +56,21 @@ def test_a_scalar_instead_of_frames_is_a_value_error(scalar):
 def test_integer_valued_float_frames_are_type_errors_not_cast():
     with pytest.raises(TypeError, match=r"^frame_labels must be integers, not float64 "):
         skelseg.sequence_consensus([np.array([0.0, 0.0, 1.0, 1.0]), np.array([0, 1, 1, 2])])
+
+
+def test_frames_not_trusted_neither_vote_nor_are_chosen():
+    # Frames 0 and 1 have 3 parts but are not trusted; frame 2 is the only
+    # trusted frame: its 2 parts are the vote and it is the reference.
+    frames = [np.array([0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2]),
+              np.array([0, 0, 0, 1, 1, 1, 1, 1, 2, 2, 2, 2]),
+              np.array([5, 5, 5, 5, 5, 5, 5, 5, 7, 7, 7, 7])]
+    every = skelseg.sequence_consensus(frames)
+    assert (every.reference, every.modal_parts) == (1, 3)
+    assert every.voted == (True, True, True)
+    c = skelseg.sequence_consensus(frames, trusted=[False, False, True])
+    assert (c.reference, c.modal_parts) == (2, 2)
+    assert c.voted == (False, False, True)
+    np.testing.assert_array_equal(c.pair_errors, every.pair_errors)
+    assert skelseg.sequence_consensus(frames, trusted=[False] * 3).reference == every.reference
+    with pytest.raises(ValueError, match="trust is given for 2 frames, the sequence has 3"):
+        skelseg.sequence_consensus(frames, trusted=[True, False])

@@ -223,7 +223,9 @@ class SequenceConsensus:
     count most frames have (modal_parts; a tie goes to the earlier frame).
     parts and mean_error_to_others are per frame; pair_errors[a, b] is the
     Rand Index error (faces counted once each) of frames a and b;
-    mean_pair_error the mean over all pairs.
+    mean_pair_error the mean over all pairs. voted: per frame, whether it
+    voted for the part count and could be chosen (the trusted frames, or
+    every frame when none is).
     """
 
     reference: int
@@ -232,6 +234,7 @@ class SequenceConsensus:
     mean_error_to_others: Tuple[float, ...]
     pair_errors: np.ndarray
     mean_pair_error: float
+    voted: Tuple[bool, ...] = ()
 
 
 # The options of `skelseg segment` (engine/SegmentOptions.h), by keyword:
@@ -657,14 +660,20 @@ def score(labels: np.ndarray, human_labels: Union[np.ndarray, Sequence[np.ndarra
     return _score(raw, tuple(_score(h) for h in raw["per_human"]))
 
 
-def sequence_consensus(frame_labels: Sequence[np.ndarray]) -> SequenceConsensus:
+def sequence_consensus(frame_labels: Sequence[np.ndarray],
+                       trusted: Optional[Sequence[bool]] = None) -> SequenceConsensus:
     """The consensus of the face labels of a pose sequence's frames.
 
     The frames of an animated character share their faces, so one frame's
     labels segment every frame: frame_labels[consensus.reference]. As
     `skelseg sequence` chooses (docs/outputs.md, "skelseg sequence").
+    trusted: per frame, whether it may vote for the part count and be
+    chosen (`skelseg sequence` trusts a frame unless its voxel model has
+    handles its mesh lacks, report["input"]["voxel_genus"] above
+    "mesh_genus"); None or no frame trusted: every frame.
     Raises ValueError for a scalar instead of a sequence of frames, fewer
-    than two frames, no faces or frames of different face counts, and
+    than two frames, no faces, frames of different face counts or a trusted
+    of another length, and
     TypeError for labels that are not integers (a float array, even of whole
     numbers: no silent rounding).
     """
@@ -673,8 +682,10 @@ def sequence_consensus(frame_labels: Sequence[np.ndarray]) -> SequenceConsensus:
         raise ValueError(f"frame_labels must be a sequence of per-frame label arrays, "
                          f"not the scalar {frame_labels!r}")
     frames = [_integer_array(f, "frame_labels") for f in frame_labels]
-    raw = _skelseg.sequence_consensus(frames)
+    trust = [] if trusted is None else [bool(t) for t in trusted]
+    raw = _skelseg.sequence_consensus(frames, trust)
     return SequenceConsensus(int(raw["reference"]), int(raw["modal_parts"]),
                              tuple(int(p) for p in raw["parts"]),
                              tuple(float(e) for e in raw["mean_error_to_others"]),
-                             raw["pair_errors"], float(raw["mean_pair_error"]))
+                             raw["pair_errors"], float(raw["mean_pair_error"]),
+                             tuple(bool(v) for v in raw["voted"]))

@@ -60,6 +60,7 @@ class SequenceConsensus:
     mean_error_to_others: Tuple[float, ...]
     pair_errors: npt.NDArray[np.float64]
     mean_pair_error: float
+    voted: Tuple[bool, ...]
 
 class Score:
     rand_index_error: float
@@ -187,4 +188,6 @@ def score(
     *,
     face_areas: Optional[npt.ArrayLike] = None,
 ) -> Score: ...
-def sequence_consensus(frame_labels: Sequence[npt.ArrayLike]) -> SequenceConsensus: ...
+def sequence_consensus(
+    frame_labels: Sequence[npt.ArrayLike], trusted: Optional[Sequence[bool]] = ...
+) -> SequenceConsensus: ...
