@@ -7,7 +7,8 @@ as bench/invariance.py does) runs
     skelseg sequence FRAME... -o OUT/NAME --resolution R -q --no-preview
 
 and tabulates, from OUT/NAME/sequence.json: the parts of each frame's own
-segmentation, the frame chosen and its part count (every frame takes its
+segmentation (marked where the frame did not vote: its voxel model has
+handles its mesh lacks), the frame chosen and its part count (every frame takes its
 labels, so the frames of the output have one part count and no error between
 them, by construction), the mean Rand Index error between the frames' own
 segmentations, and the mean error of the frames' own segmentations to the
@@ -75,6 +76,9 @@ def main(argv):
                 "sequence": name,
                 "frames": [Path(f["input"]).stem.rpartition("_")[2] for f in frame_rows],
                 "parts": [f["parts"] for f in frame_rows],
+                # Frames whose voxel model has handles their mesh lacks do
+                # not vote (docs/outputs.md); older binaries do not say.
+                "voted": [f.get("voted", True) for f in frame_rows],
                 "chosen": summary["reference_frame"],
                 "consensus_parts": summary["modal_parts"],
                 "mean_error_between_frames": summary["mean_rand_index_error"],
@@ -83,13 +87,15 @@ def main(argv):
                 "seconds": time.monotonic() - start,
             })
     print(f"Pose sequences, `skelseg sequence` at resolution {args.resolution}:\n")
-    print("| sequence | frames | parts of each frame's own segmentation | frame chosen | "
+    print("| sequence | frames | parts of each frame's own segmentation (* did not vote) | "
+          "frame chosen | "
           "consensus parts (every frame) | mean RI error between the frames' own | "
           "mean RI error of the frames' own to the consensus | wall s |")
     print("| --- | --- | --- | --- | ---: | ---: | ---: | ---: |")
     for r in rows:
         print(f"| {r['sequence']} | {', '.join(r['frames'])} | "
-              f"{', '.join(map(str, r['parts']))} | {r['frames'][r['chosen']]} | "
+              f"{', '.join(f'{p}' + ('' if v else '*') for p, v in zip(r['parts'], r['voted']))} | "
+              f"{r['frames'][r['chosen']]} | "
               f"{r['consensus_parts']} | {r['mean_error_between_frames']:.3f} | "
               f"{r['mean_error_to_consensus']:.3f} | {r['seconds']:.1f} |")
     if rows:
