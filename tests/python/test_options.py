@@ -216,6 +216,13 @@ def test_time_budget_coarsens_as_the_cli_and_gives_its_labels(shapes, tmp_path):
     subprocess.run([str(cli_binary()), "segment", path, "-o", tmp_path, "-q", "--no-preview",
                     "--force", "--time-budget", "0.62", "--budget-passes", "1"], check=True)
     cli = json.loads((tmp_path / "report.json").read_text())
+    # The CLI's budget counts its process start: on a machine loaded enough
+    # that starting took most of the budget, 2x no longer fits (seen once,
+    # with two other segmentations running beside the test suite).
+    lost = budget["seconds_left_after_probe"] - cli["time_budget"]["seconds_left_after_probe"]
+    if lost > 0.25:
+        pytest.skip(f"the CLI's start took {lost:.2f} s more than the module's: the machine is "
+                    "too loaded to compare the choices")
     assert cli["time_budget"]["coarsening"] == 2
     for key in ("coarsening", "coarsened", "fits", "predicted_seconds", "chosen"):
         assert budget[key] == cli["time_budget"][key], key
