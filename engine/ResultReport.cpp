@@ -89,6 +89,8 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                       {"voxel_size", geometry.voxelSize()},
                       {"origin", toJson(geometry.origin)}};
     report["parameters"] = methodParameters(p);
+    // Decided per input (engine/SegmentSteps.h, parametersFor), not asked for.
+    report["parameters"]["handle_loops_carry_no_area"] = p.cutRules.handleLoopsCarryNoArea;
     report["parameters"].update({{"threads", context.threads},
                                  {"skeleton_search", skeletonSearchName(skeletonSearchToRun(p))},
                                  {"joints", p.joints}});

@@ -220,6 +220,9 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
         "Keep a cut whose loop separates nothing (a handle joins the limb to the rest)");
     command->add_flag("!--no-fork-junctions", seg.parameters.forkJunctions,
                       "Branchings of the skeleton are junctions only where J_tau points are");
+    command->add_flag("!--keep-handle-areas", seg.parameters.artefactHandlesCarryNoArea,
+                      "Meshes whose voxel model has handles the mesh lacks: loops round handles "
+                      "keep their infinite area in the body test, as on other inputs");
     command->add_flag("--handles-on-genus-zero", seg.parameters.handleFlagOnGenusZero,
                       "Read rims that meet as a loop round a handle on objects of genus 0 too "
                       "(rho_C infinite) instead of as one side of the path set");

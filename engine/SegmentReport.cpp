@@ -5,6 +5,7 @@
 
 #include "engine/LevelOutputs.h"
 #include "engine/ResultReport.h"
+#include "engine/SegmentSteps.h"
 
 using json = nlohmann::json;
 
@@ -87,7 +88,7 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
         for (std::uint32_t l : shape.faceLabels) faceSegments = std::max(faceSegments, l + 1);
         context.faceSegments = faceSegments;
     }
-    context.parameters = options.parameters;
+    context.parameters = parametersFor(*shape.input, options.parameters);
     context.threads = figures.threads;
     context.stages = timings;
     context.wallSeconds = figures.wallSeconds;

@@ -32,13 +32,25 @@ double limitTimeToBudget(const SegmentMask& mask, double currentLimit, double bu
     return currentLimit <= 0 || currentLimit > budgetAsTimeLimit ? budgetAsTimeLimit : currentLimit;
 }
 
+SegmentationParameters parametersFor(const SegmentMask& input,
+                                     const SegmentationParameters& requested) {
+    SegmentationParameters run = requested;
+    // Loops round a handle the mesh lacks have an infinite area only in the
+    // voxel model: touching or interpenetrating surfaces stayed joined.
+    run.cutRules.handleLoopsCarryNoArea =
+        requested.artefactHandlesCarryNoArea && input.source && input.source->isMesh() &&
+        input.source->meshDiagnostics.closed && input.voxelGenus.genus > input.meshGenus.genus;
+    return run;
+}
+
 std::shared_ptr<SegmentedShape> segmentMaskStep(
     std::shared_ptr<const SegmentMask> input, const SegmentationParameters& parameters,
     StageTimer& timer, Interrupter& interrupter,
     const std::function<void(const std::string&)>& warn) {
     auto shape = std::make_shared<SegmentedShape>();
     try {
-        shape->result = segmentVolume(input->mask, parameters, interrupter, &timer);
+        shape->result =
+            segmentVolume(input->mask, parametersFor(*input, parameters), interrupter, &timer);
     } catch (const InputError& error) {
         // A problem of the input found while segmenting it (more segments
         // than a label volume holds): named here, where the input is known.

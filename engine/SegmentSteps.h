@@ -7,6 +7,7 @@
 //   segmentInputOptions()  the input step's options from the command's;
 //   maskSegmentSource()    (SegmentInput.h) the mask, with --time-budget's choice;
 //   limitTimeToBudget()    a budget nothing fits becomes a time limit;
+//   parametersFor()        the parameters a mask is segmented with;
 //   segmentMaskStep()      the segmentation (segmentVolume);
 //   refineStep()           a volume coarsened for the budget back on its grid;
 //   completeStep()         meshes: face labels; hierarchies: every level's
@@ -40,7 +41,16 @@ SegmentInputOptions segmentInputOptions(const SegmentCommandOptions& options, in
 /// to set, or `currentLimit` unchanged.
 double limitTimeToBudget(const SegmentMask& mask, double currentLimit, double budgetAsTimeLimit);
 
-/// Segments the mask; warnings go to `warn` as they come and stay in the result.
+/// The parameters `input` is segmented with: `requested`, with the cut rule
+/// for loops round handles (CutOptions::handleLoopsCarryNoArea) on where the
+/// input is a closed mesh whose voxel model has handles the mesh lacks (and
+/// `requested.artefactHandlesCarryNoArea`, which --keep-handle-areas turns
+/// off). The report records what ran.
+SegmentationParameters parametersFor(const SegmentMask& input,
+                                     const SegmentationParameters& requested);
+
+/// Segments the mask with parametersFor(input, parameters); warnings go to
+/// `warn` as they come and stay in the result.
 std::shared_ptr<SegmentedShape> segmentMaskStep(
     std::shared_ptr<const SegmentMask> input, const SegmentationParameters& parameters,
     StageTimer& timer, Interrupter& interrupter,

@@ -106,6 +106,10 @@ struct SegmentationParameters {
     /// On an object of genus 0 too, rims that meet mark a handle point
     /// (SkeletonMeasureOptions::surfaceHasGenusZero off).
     bool handleFlagOnGenusZero = false;
+    /// A closed mesh whose voxel model has handles the mesh lacks is cut with
+    /// CutOptions::handleLoopsCarryNoArea (engine/SegmentSteps.h,
+    /// parametersFor); false (--keep-handle-areas): as any other input.
+    bool artefactHandlesCarryNoArea = true;
     /// Regions grow to their branches' split (SkeletonGraphOptions::growRegionsToSplits).
     bool growRegionsToSplits = true;
     /// Touching junction regions are one junction only within this many part

@@ -579,10 +579,21 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
             // plate whose skeleton branches into several junctions) is left
             // alone: passages only stand in for the candidate a longer walk
             // would have given.
+            // Where the model's handles are not the shape's, a loop round one
+            // (rho_C infinite) has an area only the model gives it: such a
+            // candidate stays body and such a passage pushes nothing off it,
+            // and rule 3 compares the others.
+            const auto roundAnArtefact = [&](std::uint32_t node) {
+                return options.handleLoopsCarryNoArea && std::isinf(exactRhoC(g.point[node]));
+            };
             std::vector<std::size_t> body;
             for (std::size_t i = first; i < plan.candidates.size(); ++i)
-                if (plan.candidates[i].onBody) body.push_back(i);
-            if (body.size() > 2 || (body.size() == 2 && !passages.empty())) {
+                if (plan.candidates[i].onBody && !roundAnArtefact(plan.candidates[i].node))
+                    body.push_back(i);
+            std::vector<TightLevel> comparedPassages;
+            for (const TightLevel& p : passages)
+                if (!roundAnArtefact(p.node)) comparedPassages.push_back(p);
+            if (body.size() > 2 || (body.size() == 2 && !comparedPassages.empty())) {
                 constexpr std::size_t kPassage = ~std::size_t(0);
                 std::size_t keepOnBody = kPassage;
                 double bestArea = -std::numeric_limits<double>::infinity();
@@ -593,7 +604,7 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
                         bestArea = area, bestVoxel = voxel, keepOnBody = index;
                 };
                 double passageArea = -std::numeric_limits<double>::infinity();
-                for (const TightLevel& p : passages) {
+                for (const TightLevel& p : comparedPassages) {
                     const double area = exactRhoC(g.point[p.node]);
                     passageArea = std::max(passageArea, area);
                     offer(p.node, area, kPassage);

@@ -111,6 +111,14 @@ struct CutOptions {
     /// that carries more stays body, the passage being a short way between
     /// junctions inside the body (docs/algorithm.md §8.8).
     bool passageCutsOnlySmallerCandidates = true;
+    /// Rule 3 reads a loop round a handle (exact rho_C infinite) as carrying
+    /// no area to compare: such a passage pushes nothing off the body and
+    /// such a body candidate stays body. For voxel models whose handles are
+    /// not the shape's (a closed mesh's model with a higher genus than the
+    /// mesh: surfaces that touch or pass through each other stayed joined),
+    /// where the infinity is the artefact's; the engine sets it there
+    /// (docs/algorithm.md §8.8).
+    bool handleLoopsCarryNoArea = false;
     /// A junction with a single branch is where the body ends (a round end
     /// such as a mantle, whose loops fan out): nothing leaves it but that
     /// branch. Where the branch reaches another junction it is the body's

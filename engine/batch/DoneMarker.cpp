@@ -58,6 +58,7 @@ std::string outputAffectingOptions(const SegmentCommandOptions& options) {
         j["self_overlap_clearance"] = options.selfOverlapClearance;
     if (options.contactPatchSeams) j["contact_patch_seams"] = true;
     if (!options.grownContactSeams) j["grown_contact_seams"] = false;
+    if (!p.artefactHandlesCarryNoArea) j["keep_handle_areas"] = true;
     if (options.keepVoxelAspect) j["keep_voxel_aspect"] = true;
     return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }

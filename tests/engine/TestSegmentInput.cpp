@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "engine/SegmentInput.h"
+#include "engine/SegmentSteps.h"
 #include "engine/StageTimer.h"
 #include "io/files/TextFile.h"
 #include "io/mesh/MeshCheck.h"
@@ -203,7 +204,9 @@ TEST(SegmentInput, APreviewCountsInTheEstimateOfAMeshAndOfAVolume) {
 }
 
 // A closed mesh whose voxel model keeps handles the mesh lacks is named in a
-// warning with the count; one whose model has the mesh's genus is not. The
+// warning with the count, and is cut with loops round handles carrying no
+// area (unless --keep-handle-areas); one whose model has the mesh's genus is
+// neither. The
 // curled tube's end sinks into its beginning: with the self-overlap clearing
 // held to 2 voxels the crossing stays fused at some of these shapes and
 // resolutions, with the default (up to 4) it is separated.
@@ -235,6 +238,11 @@ TEST(SegmentInput, HandlesTheMeshLacksAreWarnedAbout) {
                     mask.warnings.begin(), mask.warnings.end(),
                     [](const std::string& w) { return w.find("handle") != std::string::npos; });
                 const std::int64_t extra = mask.voxelGenus.genus - mask.meshGenus.genus;
+                SegmentationParameters requested;
+                EXPECT_EQ(parametersFor(mask, requested).cutRules.handleLoopsCarryNoArea,
+                          extra > 0);
+                requested.artefactHandlesCarryNoArea = false;  // --keep-handle-areas
+                EXPECT_FALSE(parametersFor(mask, requested).cutRules.handleLoopsCarryNoArea);
                 if (extra > 0) {
                     ++warned;
                     ASSERT_NE(handles, mask.warnings.end())

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -772,8 +773,10 @@ CutPlan placeCutsWithExactAreas(const SkeletonPointSet& set, const CutOptions& o
 /// Two junctions (rho_S 40 s) joined along x by a passage as thick as they
 /// are, each with two handles (rho_S 28 s, 0.7 of the body: body-similar)
 /// at scale s; the junctions' cores are `gap` voxels apart. The passage
-/// carries the most surface (rho_C 9000 against 1000).
-CutPlan twoJunctionsWithHandles(int scale, int gap, const CutOptions& options) {
+/// carries the most surface (rho_C `passageRhoC`, by default 9000, against
+/// 1000).
+CutPlan twoJunctionsWithHandles(int scale, int gap, const CutOptions& options,
+                                double passageRhoC = 9000.0) {
     const int arm = 15 * scale, a = arm + 2, c = arm + 2;
     SkeletonPointSet set{Dims{2 * arm + gap + 5, 2 * arm + 5, 3}};
     const float body = 40.0f * float(scale), handle = 28.0f * float(scale);
@@ -784,7 +787,7 @@ CutPlan twoJunctionsWithHandles(int scale, int gap, const CutOptions& options) {
             for (std::uint32_t v : set.chain({x + out, c + side, 1}, {out, side, 0}, arm, handle))
                 set.point(v).sigma = 0.9f;
     }
-    for (std::uint32_t v : set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, body, 9000.0))
+    for (std::uint32_t v : set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, body, passageRhoC))
         set.point(v).sigma = 0.9f;
     return placeCutsWithExactAreas(set, options);
 }
@@ -816,6 +819,26 @@ TEST(CutPlacement, PassageBetweenJunctionsIsBodyAtTwoScales) {
     without.passagesAreBody = false;
     EXPECT_TRUE(twoJunctionsWithHandles(1, 8, without).cutNodes.empty())
         << "two body candidates and nothing else: the handles stay on the body";
+}
+
+TEST(CutPlacement, APassageRoundAHandleCarriesNoAreaWhereHandlesAreArtefacts) {
+    // The pliers of the test above with the passage's loop round a handle of
+    // the model (rho_C infinite): it carries the most surface, and both
+    // handles of each junction are cut. Where the model's handles are not
+    // the shape's (handleLoopsCarryNoArea: a closed mesh's voxel model of a
+    // higher genus), that infinity is the artefact's: the passage pushes
+    // nothing off the body, and the handles stay, as with two body
+    // candidates and nothing else. A finite passage is read as before.
+    const double handleLoop = std::numeric_limits<double>::infinity();
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        EXPECT_EQ(twoJunctionsWithHandles(scale, 8 * scale, {}, handleLoop).cutNodes.size(), 4u);
+        CutOptions artefacts;
+        artefacts.handleLoopsCarryNoArea = true;
+        EXPECT_TRUE(
+            twoJunctionsWithHandles(scale, 8 * scale, artefacts, handleLoop).cutNodes.empty());
+        EXPECT_EQ(twoJunctionsWithHandles(scale, 8 * scale, artefacts).cutNodes.size(), 4u);
+    }
 }
 
 TEST(CutPlacement, PliersWhosePivotRegionsTouchCutEveryHandleAtTwoScales) {

@@ -18,7 +18,7 @@ from conftest import REPO, cli_binary, read_nrrd
 NOT_KEYWORDS = {"force", "quiet", "no_preview", "level_previews", "grid"}
 VOLUME_ONLY = {"keep_voxel_aspect"}
 MESH_ONLY = {"resolution", "self_overlap_clearance", "contact_patch_seams", "no_grown_contact_seams",
-             "budget_calibration"}
+             "budget_calibration", "keep_handle_areas"}
 # Python defaults where the CLI shows none: None leaves the option out.
 UNSHOWN_DEFAULTS = {"mode": "junction-rule", "budget_calibration": "probe"}
 

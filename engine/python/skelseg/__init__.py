@@ -475,6 +475,7 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
                  time_limit: Optional[float] = None, max_memory: Union[None, int, str] = None,
                  progress: Optional[ProgressCallback] = None,
                  contact_patch_seams: bool = False, no_grown_contact_seams: bool = False,
+                 keep_handle_areas: bool = False,
                  time_budget: Optional[float] = None, budget_passes: int = 2,
                  budget_calibration: str = "probe", exhaustive: bool = False,
                  skeleton_search: Optional[str] = None,
@@ -514,6 +515,11 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
         no_grown_contact_seams: do not retry a refused contact seam grown by
             one voxel (the CLI's --no-grown-contact-seams);
             report["input"]["contacts_grown"] counts the seams it kept.
+        keep_handle_areas: where the voxel model has handles the mesh lacks,
+            let the cut placement read loops round them as carrying infinite
+            area, as on other inputs (the CLI's --keep-handle-areas);
+            report["parameters"]["handle_loops_carry_no_area"] says whether
+            they carried none.
         time_budget: seconds, counted from the call: the resolution (at most
             `resolution`) predicted to finish within it, as the CLI's
             --time-budget; report["time_budget"] says what was chosen

@@ -131,6 +131,7 @@ def segment_mesh(
     progress: Optional[ProgressCallback] = None,
     contact_patch_seams: bool = False,
     no_grown_contact_seams: bool = False,
+    keep_handle_areas: bool = False,
     budget_calibration: Literal["probe", "cpu"] = "probe",
     time_budget: Optional[float] = None,
     budget_passes: Literal[1, 2] = 2,
