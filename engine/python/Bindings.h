@@ -83,8 +83,9 @@ pybind11::dict scoreLabels(const pybind11::array_t<std::int64_t>& labels,
                            const pybind11::list& humans, const pybind11::object& faceAreas);
 
 /// The consensus of a pose sequence's face labels (engine/SequenceConsensus.h):
-/// {"reference", "modal_parts", "parts", "mean_error_to_others",
-///  "pair_errors" (frames x frames), "mean_pair_error"}.
+/// {"reference", "modal_parts", "parts", "voted", "mean_error_to_others",
+///  "pair_errors" (frames x frames), "mean_pair_error"}. `trusted`: per
+/// frame, or empty for every frame (chooseSequenceConsensus).
 pybind11::dict sequenceConsensusOf(const pybind11::list& frames, const std::vector<bool>& trusted);
 
 }  // namespace skelseg

@@ -674,9 +674,10 @@ def sequence_consensus(frame_labels: Sequence[np.ndarray],
     labels segment every frame: frame_labels[consensus.reference]. As
     `skelseg sequence` chooses (docs/outputs.md, "skelseg sequence").
     trusted: per frame, whether it may vote for the part count and be
-    chosen (`skelseg sequence` trusts a frame unless its voxel model has
-    handles its mesh lacks, report["input"]["voxel_genus"] above
-    "mesh_genus"); None or no frame trusted: every frame.
+    chosen (`skelseg sequence` trusts a frame unless it is a closed mesh
+    whose voxel model has handles the mesh lacks: report["input"]
+    "mesh_closed" and "voxel_genus" above "mesh_genus"); None or no frame
+    trusted: every frame.
     Raises ValueError for a scalar instead of a sequence of frames, fewer
     than two frames, no faces, frames of different face counts or a trusted
     of another length, and
