@@ -310,9 +310,8 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
 /// pose, and no resolution is sure to remove it (docs/meshes.md, "Handles
 /// the voxel model keeps"), so the user is told rather than left to find it
 /// in report.json.
-std::string extraHandlesWarning(const std::string& file, std::int64_t voxelGenus,
-                                std::int64_t meshGenus, int resolution) {
-    const std::int64_t extra = voxelGenus - meshGenus;
+std::string extraHandlesWarning(const std::string& file, std::int64_t extra,
+                                std::int64_t voxelGenus, std::int64_t meshGenus, int resolution) {
     return fmt::format(
         "{}: the voxel model at resolution {} has {} handle{} the mesh lacks (voxel genus {}, "
         "mesh genus {}): surfaces closer than a voxel or passing through each other stay "
@@ -455,8 +454,8 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         // and no part anyway) would only change parts that were right
         // (docs/meshes.md, "Parts thinner than a voxel"). Meshes whose voxel
         // genus is right pay nothing.
-        const bool fillThinParts =
-            source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus;
+        const bool fillThinParts = handlesTheMeshLacks(source->meshDiagnostics.closed,
+                                                       result.meshGenus, result.voxelGenus) > 0;
         if (!fillThinParts) signedVoxels = SignedVoxelization{};  // free it before the skeleton
         if (fillThinParts) {
             std::uint64_t filledMemory = 0;
@@ -483,9 +482,12 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         result.thinParts = voxelised.thinParts;
         std::vector<std::string> warnings =
             meshWarnings(source->meshDiagnostics, source->file.string());
-        if (source->meshDiagnostics.closed && result.voxelGenus.genus > result.meshGenus.genus)
-            warnings.push_back(extraHandlesWarning(source->file.string(), result.voxelGenus.genus,
-                                                   result.meshGenus.genus, chosen.resolution));
+        const std::int64_t extraHandles = handlesTheMeshLacks(source->meshDiagnostics.closed,
+                                                              result.meshGenus, result.voxelGenus);
+        if (extraHandles > 0)
+            warnings.push_back(extraHandlesWarning(source->file.string(), extraHandles,
+                                                   result.voxelGenus.genus, result.meshGenus.genus,
+                                                   chosen.resolution));
         for (const auto& w : warnings) {
             result.warnings.push_back(w);
             warn(w);
@@ -546,6 +548,11 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
     }
     result.source = std::move(source);
     return result;
+}
+
+std::int64_t handlesTheMeshLacks(bool meshClosed, const MeshTopology& mesh,
+                                 const VoxelTopology& voxels) {
+    return meshClosed ? std::max<std::int64_t>(0, voxels.genus - mesh.genus) : 0;
 }
 
 }  // namespace skelseg

@@ -204,6 +204,14 @@ SegmentSource readSegmentSource(const std::filesystem::path& file,
                                 const SegmentInputOptions& options, StageTimer& timer,
                                 Interrupter& interrupter);
 
+/// How many handles the voxel model of a closed mesh has beyond the mesh's
+/// own (0 for an open mesh, which has no genus to compare): touching or
+/// interpenetrating surfaces stayed joined. It decides the thin-part fill,
+/// the warning and the cut rule for loops round handles (SegmentSteps.h,
+/// parametersFor).
+std::int64_t handlesTheMeshLacks(bool meshClosed, const MeshTopology& mesh,
+                                 const VoxelTopology& voxels);
+
 /// The mask of `source` (stage "voxelise" for meshes) after the memory
 /// checks; a volume's mask moves out of `source` (no copy of the grid). `warn` hears the mesh
 /// warnings as soon as the mesh is voxelised (a mesh that is refused costs one line, the error);

@@ -39,7 +39,8 @@ SegmentationParameters parametersFor(const SegmentMask& input,
     // voxel model: touching or interpenetrating surfaces stayed joined.
     run.cutRules.handleLoopsCarryNoArea =
         requested.artefactHandlesCarryNoArea && input.source && input.source->isMesh() &&
-        input.source->meshDiagnostics.closed && input.voxelGenus.genus > input.meshGenus.genus;
+        handlesTheMeshLacks(input.source->meshDiagnostics.closed, input.meshGenus,
+                            input.voxelGenus) > 0;
     return run;
 }
 
