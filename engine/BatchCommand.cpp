@@ -92,6 +92,7 @@ FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
     try {
         DoneMarker& marker = finished.marker;
         marker.skelsegVersion = versionString();
+        marker.skelsegBuild = engineBuildId();
         marker.input = job.input.input;
         std::error_code ec;
         marker.absoluteInput = fs::absolute(job.input.input, ec).lexically_normal();

@@ -83,6 +83,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
     json report;
     report["status"] = "ok";
     report["skelseg_version"] = versionString();
+    report["skelseg_build"] = engineBuildId();
     report["input"] = context.input;
     const Dims d = result.labels.dims();
     report["grid"] = {{"size", {d.x, d.y, d.z}},

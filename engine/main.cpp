@@ -35,7 +35,12 @@ namespace {
 
 int runCommandLine(int argc, char** argv) {
     CLI::App app{"skelseg: part-type segmentation of 3D shapes with the junction rule"};
-    app.set_version_flag("--version", std::string("skelseg ") + skelseg::versionString());
+    // A callback: the build id reads the executable, which only --version needs here.
+    app.set_version_flag("--version", [] {
+        const std::string& build = skelseg::engineBuildId();
+        return std::string("skelseg ") + skelseg::versionString() +
+               (build.empty() ? std::string() : " (build " + build + ")");
+    });
     app.require_subcommand(1);
     // An empty path named no file in its message (": no such file") and, as
     // an output, was an internal error (": cannot create directory: Invalid

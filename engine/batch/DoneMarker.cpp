@@ -64,7 +64,8 @@ std::string outputAffectingOptions(const SegmentCommandOptions& options) {
 }
 
 bool DoneMarker::matches(const InputFingerprint& current, const std::string& currentOptions) const {
-    return skelsegVersion == versionString() && fingerprint == current && options == currentOptions;
+    return skelsegVersion == versionString() && skelsegBuild == engineBuildId() &&
+           fingerprint == current && options == currentOptions;
 }
 
 bool DoneMarker::isOf(const fs::path& path) const {
@@ -86,6 +87,7 @@ std::optional<DoneMarker> readDoneMarker(const fs::path& directory, const char* 
         const json j = json::parse(in);
         DoneMarker marker;
         marker.skelsegVersion = j.at("skelseg_version").get<std::string>();
+        marker.skelsegBuild = j.value("skelseg_build", std::string());
         marker.input = j.at("input").at("path").get<std::string>();
         marker.absoluteInput = j.at("input").value("absolute_path", std::string());
         marker.fingerprint.bytes = j.at("input").at("bytes").get<std::uint64_t>();
@@ -109,6 +111,7 @@ void writeDoneMarker(const fs::path& directory, const DoneMarker& marker, const 
     std::snprintf(crc, sizeof crc, "%08x", marker.fingerprint.crc32);
     json j = {
         {"skelseg_version", marker.skelsegVersion},
+        {"skelseg_build", marker.skelsegBuild},
         {"input",
          {{"path", marker.input.string()}, {"bytes", marker.fingerprint.bytes}, {"crc32", crc}}},
         {"options", json::parse(marker.options)},

@@ -4,10 +4,12 @@
 // temporary file and rename(2), so a folder holding it holds complete
 // outputs. It records what the outputs were made from: the input's path
 // (as the manifest gave it, and absolute), size and CRC-32 (zlib's; a change
-// detector, not a security hash), the skelseg version and the options that
+// detector, not a security hash), the skelseg version and build
+// (engineBuildId(): another build may cut elsewhere) and the options that
 // change the outputs (not --threads, --quiet, --time-limit or --max-memory:
 // the outputs are the same for any of those). A re-run skips an input whose
-// marker matches size, CRC, version and options, and redoes it otherwise.
+// marker matches size, CRC, version, build and options, and redoes it
+// otherwise.
 //
 // The pending marker, OUTROOT/<name>/.pending.json, has the same format and
 // says "the batch is making this folder for this input". The batch writes it
@@ -49,6 +51,7 @@ std::string outputAffectingOptions(const SegmentCommandOptions& options);
 
 struct DoneMarker {
     std::string skelsegVersion;
+    std::string skelsegBuild;             // engineBuildId(); empty in markers that predate it
     std::filesystem::path input;          // as the manifest gave it
     std::filesystem::path absoluteInput;  // absolute; empty in markers that predate it
     InputFingerprint fingerprint;
@@ -60,7 +63,7 @@ struct DoneMarker {
     std::uint64_t peakMemoryBytes = 0;
 
     /// True if outputs made under this marker are what a run with
-    /// `fingerprint`, `options` and this skelseg would make.
+    /// `fingerprint`, `options` and this build of skelseg would make.
     bool matches(const InputFingerprint& current, const std::string& currentOptions) const;
     /// True if the marker was written for the file `path` names: the same
     /// path (the manifest's or, from any working directory, the absolute

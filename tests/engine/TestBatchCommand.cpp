@@ -6,6 +6,9 @@
 // had written, all without --force and without a word.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
 #include "engine/batch/DoneMarker.h"
 #include "io/files/OutputDirectory.h"
 #include "tests/engine/RobustnessHelpers.h"
@@ -61,6 +64,58 @@ TEST(BatchCommand, EarlierResultsOfSegmentAreRefusedWithoutForce) {
     ASSERT_EQ(forced.exitCode, 0) << forced.describe();
     EXPECT_TRUE(fs::exists(out / "bar" / kDoneMarkerName));
     EXPECT_FALSE(fs::exists(out / "bar" / kPendingMarkerName));
+}
+
+/// The build id of the skelseg executable the tests run, computed here from
+/// its file (engine/Version.h: size and CRC-32, hexadecimal).
+std::string buildIdOfTheBinary() {
+    const InputFingerprint binary = fingerprintFile(skelsegBinary());
+    char id[48];
+    std::snprintf(id, sizeof id, "%llx-%08x", static_cast<unsigned long long>(binary.bytes),
+                  binary.crc32);
+    return id;
+}
+
+// The version (0.2.0) stayed the same while the cuts changed from one commit
+// to the next, so a batch re-run with a new build skipped every input an
+// older build had done, and kept its outputs.
+TEST(BatchCommand, AnotherBuildsResultsAreRedone) {
+    TempDir dir;
+    writeBar(dir / "in" / "bar.nrrd", 10);
+    writeBytes(dir / "list.txt", "in/bar.nrrd\n");
+    const fs::path out = dir / "out";
+    const std::string build = buildIdOfTheBinary();
+    ASSERT_EQ(runBatch(dir / "list.txt", out).exitCode, 0);
+    const auto marker = readDoneMarker(out / "bar");
+    ASSERT_TRUE(marker);
+    EXPECT_EQ(marker->skelsegBuild, build);
+    EXPECT_EQ(readReport(out / "bar").value("skelseg_build", ""), build);
+    const CliResult version = runSkelseg({"--version"});
+    EXPECT_NE(version.out.find("(build " + build + ")"), std::string::npos) << version.out;
+
+    // The same build: nothing is redone (the marker is the first run's).
+    const std::string doneBytes = fileBytes(out / "bar" / kDoneMarkerName);
+    ASSERT_EQ(runBatch(dir / "list.txt", out).exitCode, 0);
+    EXPECT_EQ(fileBytes(out / "bar" / kDoneMarkerName), doneBytes);
+
+    // Another build's marker, and one from before markers had a build.
+    for (const char* older :
+         {static_cast<const char*>("1234-00c0ffee"), static_cast<const char*>(nullptr)}) {
+        SCOPED_TRACE(older ? older : "no build recorded");
+        auto json = nlohmann::json::parse(doneBytes);
+        json["run"] = "another-host:1";
+        if (older)
+            json["skelseg_build"] = older;
+        else
+            json.erase("skelseg_build");
+        writeBytes(out / "bar" / kDoneMarkerName, json.dump(2));
+        const CliResult redo = runBatch(dir / "list.txt", out);
+        ASSERT_EQ(redo.exitCode, 0) << redo.describe();
+        const auto redone = readDoneMarker(out / "bar");
+        ASSERT_TRUE(redone);
+        EXPECT_EQ(redone->skelsegBuild, build);
+        EXPECT_NE(redone->run, "another-host:1") << "the input was not redone";
+    }
 }
 
 TEST(BatchCommand, AUsersFileInLevelsIsNeverRemovedEvenWithForce) {

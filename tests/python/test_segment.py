@@ -1,6 +1,8 @@
 """skelseg.segment on numpy arrays: equal to the CLI, any layout and dtype."""
 import json
+import pathlib
 import subprocess
+import zlib
 
 import numpy as np
 import pytest
@@ -49,6 +51,21 @@ def test_report_has_the_cli_report_content(shapes):
                                       "spacing": [1.0, 1.0, 1.0], "voxel_steps": [1.0, 1.0, 1.0],
                                       "cubic_voxels": None}
     assert result.n_segments == cli["segment_count"] == len(np.unique(result.labels)) - 1
+
+
+def build_id(path):
+    """engine/Version.h's build id of a file: its size and CRC-32 in hexadecimal."""
+    data = pathlib.Path(path).read_bytes()
+    return f"{len(data):x}-{zlib.crc32(data):08x}"
+
+
+def test_report_names_the_build_that_made_it(shapes):
+    """The module's report names the module's file, the CLI's the executable
+    (not the Python interpreter that loaded the module)."""
+    result = skelseg.segment(skelseg.read_volume(shapes.nrrd("figure", 96, 1)))
+    cli = json.loads((shapes.cli_output("figure", 96, 1) / "report.json").read_text())
+    assert result.report["skelseg_build"] == build_id(skelseg._skelseg.__file__)
+    assert cli["skelseg_build"] == build_id(cli_binary())
 
 
 def test_skeleton_and_cuts_match_the_report(figure_mask):

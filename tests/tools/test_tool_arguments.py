@@ -31,6 +31,7 @@ POSITIONALS = {
     "bench/heldout_psb.py": ["--benchmark", "benchmark", "--out", "out"],
     "bench/joint_candidates.py": ["out"],
     "bench/merge_measures.py": ["out"],
+    "bench/resolution_consensus.py": ["--data", "data", "--workdir", "work"],
     "bench/trace_handles.py": ["out"],
     "bench/scaling.py": ["mesh.off"],
     "bench/time_budget.py": ["mesh.off"],

@@ -57,6 +57,7 @@ TEST(DoneMarker, RoundTripsAndMatchesOnlyTheSameInputOptionsAndVersion) {
     SegmentCommandOptions options;
     DoneMarker marker;
     marker.skelsegVersion = versionString();
+    marker.skelsegBuild = engineBuildId();
     marker.input = "/data/x.off";
     marker.fingerprint = {1234, 0xdeadbeef};
     marker.options = outputAffectingOptions(options);
@@ -97,6 +98,16 @@ TEST(DoneMarker, RoundTripsAndMatchesOnlyTheSameInputOptionsAndVersion) {
     DoneMarker older = *read;
     older.skelsegVersion = "0.0.0-old";
     EXPECT_FALSE(older.matches({1234, 0xdeadbeef}, outputAffectingOptions(options)));
+    // The same version from another build (any commit may move a cut), or
+    // from a batch that recorded no build.
+    EXPECT_EQ(read->skelsegBuild, engineBuildId());
+    EXPECT_FALSE(engineBuildId().empty());
+    for (const char* build : {"1234-00c0ffee", ""}) {
+        DoneMarker otherBuild = *read;
+        otherBuild.skelsegBuild = build;
+        EXPECT_FALSE(otherBuild.matches({1234, 0xdeadbeef}, outputAffectingOptions(options)))
+            << "build '" << build << "'";
+    }
 
     removeDoneMarker(dir.path());
     EXPECT_FALSE(readDoneMarker(dir.path()));
