@@ -300,6 +300,7 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
         options.segment.threads > 0 ? options.segment.threads : tbb::info::default_concurrency();
     BatchSummary summary;
     summary.skelsegVersion = versionString();
+    summary.skelsegBuild = engineBuildId();
     summary.manifest = options.manifest;
     summary.shard = shard;
     summary.options = optionsText;

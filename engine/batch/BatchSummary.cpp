@@ -109,11 +109,18 @@ void refuseAnotherBatch(const fs::path& file, const BatchSummary& summary,
     else if (summary.skelsegVersion != reference.skelsegVersion)
         difference = "it was written by skelseg " + summary.skelsegVersion + ", not " +
                      reference.skelsegVersion;
+    else if (summary.skelsegBuild != reference.skelsegBuild) {
+        const auto named = [](const std::string& build) {
+            return build.empty() ? std::string("a build it does not name") : "build " + build;
+        };
+        difference = "it was written by " + named(summary.skelsegBuild) + ", not " +
+                     named(reference.skelsegBuild);
+    }
     if (difference.empty()) return;
     throw InputError(file.string(), "is of another batch than " + referenceFile.string() + ": " +
                                         difference +
                                         "; merge only the shards of one batch (same manifest, "
-                                        "options and skelseg version)");
+                                        "options and skelseg build)");
 }
 
 }  // namespace
@@ -132,6 +139,7 @@ void writeBatchSummary(const fs::path& outroot, const std::string& stem,
         counts[status] = summary.count(status);
     const json j = {
         {"skelseg_version", summary.skelsegVersion},
+        {"skelseg_build", summary.skelsegBuild},
         {"manifest", summary.manifest.string()},
         {"shard", {{"index", summary.shard.index}, {"count", summary.shard.count}}},
         {"options", summary.options.empty() ? json::object() : json::parse(summary.options)},
@@ -163,6 +171,7 @@ BatchSummary readBatchSummary(const fs::path& file) {
     const JsonFields j(document, file.string(), prefix);
     BatchSummary s;
     s.skelsegVersion = j.text("skelseg_version");
+    s.skelsegBuild = j.text("skelseg_build", std::string());
     s.manifest = j.text("manifest");
     const JsonFields shard = j.object("shard");
     s.shard.index = shard.integer("index");

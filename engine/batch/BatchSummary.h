@@ -38,6 +38,7 @@ struct BatchEntry {
 
 struct BatchSummary {
     std::string skelsegVersion;
+    std::string skelsegBuild;  // engineBuildId(); empty in summaries that predate it
     std::filesystem::path manifest;
     ShardSpec shard;
     std::string options;  // outputAffectingOptions() JSON text

@@ -34,6 +34,7 @@ BatchEntry entry(const std::string& name, const std::string& status) {
 BatchSummary shardSummary(int index, int count, std::vector<BatchEntry> entries) {
     BatchSummary s;
     s.skelsegVersion = versionString();
+    s.skelsegBuild = engineBuildId();
     s.manifest = "/in/list.txt";
     s.shard = {index, count};
     s.options = outputAffectingOptions({});
@@ -180,7 +181,7 @@ std::string mergeError(const fs::path& outroot) {
 // summaries and called the input done (finding 3 of the robustness hunt).
 TEST(BatchSummary, MergeRefusesTheShardsOfAnotherBatch) {
     const std::string advice =
-        "; merge only the shards of one batch (same manifest, options and skelseg version)";
+        "; merge only the shards of one batch (same manifest, options and skelseg build)";
     struct Case {
         const char* what;
         std::function<void(BatchSummary&)> change;
@@ -197,6 +198,11 @@ TEST(BatchSummary, MergeRefusesTheShardsOfAnotherBatch) {
          "its options differ (sigma_min is 0.7, not 0.8)"},
         {"version", [](BatchSummary& s) { s.skelsegVersion = "0.0.1"; },
          "it was written by skelseg 0.0.1, not " + std::string(versionString())},
+        // The same version, another build (a node with another binary).
+        {"build", [](BatchSummary& s) { s.skelsegBuild = "1234-00c0ffee"; },
+         "it was written by build 1234-00c0ffee, not build " + engineBuildId()},
+        {"no build", [](BatchSummary& s) { s.skelsegBuild.clear(); },
+         "it was written by a build it does not name, not build " + engineBuildId()},
     };
     for (const auto& c : cases) {
         SCOPED_TRACE(c.what);
