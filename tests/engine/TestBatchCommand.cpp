@@ -41,6 +41,16 @@ bool mentions(const CliResult& result, const std::string& text) {
     return result.err.find(text) != std::string::npos;
 }
 
+/// The build id of the skelseg executable the tests run, computed here from
+/// its file (engine/Version.h: size and CRC-32, hexadecimal).
+std::string buildIdOfTheBinary() {
+    const InputFingerprint binary = fingerprintFile(skelsegBinary());
+    char id[48];
+    std::snprintf(id, sizeof id, "%llx-%08x", static_cast<unsigned long long>(binary.bytes),
+                  binary.crc32);
+    return id;
+}
+
 }  // namespace
 
 TEST(BatchCommand, EarlierResultsOfSegmentAreRefusedWithoutForce) {
@@ -64,16 +74,6 @@ TEST(BatchCommand, EarlierResultsOfSegmentAreRefusedWithoutForce) {
     ASSERT_EQ(forced.exitCode, 0) << forced.describe();
     EXPECT_TRUE(fs::exists(out / "bar" / kDoneMarkerName));
     EXPECT_FALSE(fs::exists(out / "bar" / kPendingMarkerName));
-}
-
-/// The build id of the skelseg executable the tests run, computed here from
-/// its file (engine/Version.h: size and CRC-32, hexadecimal).
-std::string buildIdOfTheBinary() {
-    const InputFingerprint binary = fingerprintFile(skelsegBinary());
-    char id[48];
-    std::snprintf(id, sizeof id, "%llx-%08x", static_cast<unsigned long long>(binary.bytes),
-                  binary.crc32);
-    return id;
 }
 
 // The version (0.2.0) stayed the same while the cuts changed from one commit
