@@ -146,19 +146,30 @@ std::vector<std::string> uniqueOutputNames(const std::vector<fs::path>& inputs) 
     return names;
 }
 
+namespace {
+
+/// The supported input files directly in `directory`, by name.
+/// @throw InputError naming the directory if it cannot be listed.
+std::vector<fs::path> supportedFilesIn(const fs::path& directory) {
+    std::error_code ec;
+    std::vector<fs::path> files;
+    for (const auto& item : fs::directory_iterator(directory, ec))
+        if (item.is_regular_file(ec) && isSupportedInputPath(item.path()))
+            files.push_back(item.path());
+    if (ec) throw InputError(directory.string(), "cannot list the directory: " + ec.message());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+}  // namespace
+
 Manifest readManifest(const fs::path& source) {
     Manifest manifest;
     manifest.source = source;
     std::error_code ec;
     std::vector<std::pair<fs::path, int>> listed;
     if (fs::is_directory(source, ec)) {
-        std::vector<fs::path> files;
-        for (const auto& item : fs::directory_iterator(source, ec))
-            if (item.is_regular_file(ec) && isSupportedInputPath(item.path()))
-                files.push_back(item.path());
-        if (ec) throw InputError(source.string(), "cannot list the directory: " + ec.message());
-        std::sort(files.begin(), files.end());
-        for (const auto& file : files) listed.emplace_back(file, 0);
+        for (const auto& file : supportedFilesIn(source)) listed.emplace_back(file, 0);
     } else {
         // A shape given where the manifest goes would read as a list of
         // garbage paths, each a failed input.
@@ -182,7 +193,19 @@ Manifest readManifest(const fs::path& source) {
                                                       " holds a NUL byte: not a text manifest");
             const std::string path = trim(std::string(rawLine));
             if (path.empty() || path[0] == '#') continue;
-            listed.emplace_back(resolveListedPath(base, path), line);
+            const fs::path resolved = resolveListedPath(base, path);
+            // A folder stands for its shapes, as when it is the manifest.
+            if (fs::is_directory(resolved, ec)) {
+                const std::vector<fs::path> files = supportedFilesIn(resolved);
+                if (files.empty())
+                    manifest.warnings.push_back(source.string() + ":" + std::to_string(line) +
+                                                ": " + resolved.string() +
+                                                " is a directory holding no supported input "
+                                                "file; nothing to do for it");
+                for (const auto& file : files) listed.emplace_back(file, line);
+                continue;
+            }
+            listed.emplace_back(resolved, line);
         }
     }
     std::map<std::string, int> firstLine;

@@ -6,8 +6,9 @@
 // trimmed; a path in matching quotes ("my shapes/a.off", 'a.off') is the
 // path inside them unless a file named with the quotes exists; relative paths
 // are relative to the manifest's folder, so a manifest can travel with its
-// data. A directory instead of a file means every
-// supported input file directly in it (not its subfolders), by name.
+// data. A directory instead of a file, as the manifest or on one of its
+// lines, means every supported input file directly in it (not its
+// subfolders), by name; a listed directory without one is a warning.
 //
 // Each input gets an output name, the folder OUTROOT/<name>/: the file name
 // without its extension. Inputs that share it get their parent folder's name
@@ -41,7 +42,7 @@ struct ManifestEntry {
     std::string name;             // output folder name, unique in the manifest
     std::uint64_t fileBytes = 0;  // 0 when the file is missing
     bool exists = false;          // a regular file at read time
-    int line = 0;                 // 1-based line in the manifest (0 for a directory listing)
+    int line = 0;  // 1-based line in the manifest (0 when the manifest is a directory)
 };
 
 struct Manifest {

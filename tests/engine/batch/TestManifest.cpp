@@ -12,6 +12,7 @@
 #include "kernels/base/Error.h"
 #include "tests/support/CliRunner.h"
 #include "tests/support/TempDir.h"
+#include "tests/support/ThrownMessage.h"
 
 namespace fs = std::filesystem;
 using namespace skelseg;
@@ -186,6 +187,41 @@ TEST(Manifest, DirectoryListsSupportedFilesByName) {
     std::vector<std::string> names;
     for (const auto& e : m.entries) names.push_back(e.input.filename().string());
     EXPECT_EQ(names, (std::vector<std::string>{"a.nrrd", "b.binvox", "c.OFF", "m.nhdr", "z.vdb"}));
+}
+
+// A folder on a line was a failed input ("is a directory, not a file"),
+// although the same folder given as the manifest was expanded.
+TEST(Manifest, AFolderOnALineStandsForItsShapes) {
+    TempDir dir;
+    for (const char* name : {"b.off", "a.nrrd", "notes.txt"}) touch(dir / "chairs" / name);
+    touch(dir / "chairs" / "deeper" / "c.off");  // not its subfolders
+    touch(dir / "tables" / "a.off");
+    fs::create_directories(dir / "empty");
+    writeBytes(dir / "list.txt", "tables/a.off\nchairs\n\"empty\"\nchairs/b.off\n");
+    const Manifest m = readManifest(dir / "list.txt");
+    std::vector<std::string> inputs, names;
+    std::vector<int> lines;
+    for (const auto& e : m.entries) {
+        inputs.push_back(e.input.lexically_relative(dir.path()).string());
+        names.push_back(e.name);
+        lines.push_back(e.line);
+        EXPECT_TRUE(e.exists);
+    }
+    EXPECT_EQ(inputs, (std::vector<std::string>{"tables/a.off", "chairs/a.nrrd", "chairs/b.off"}));
+    EXPECT_EQ(lines, (std::vector<int>{1, 2, 2}));
+    EXPECT_EQ(names, (std::vector<std::string>{"tables-a", "chairs-a", "b"}));
+    // The empty folder says so; chairs/b.off, listed again, is kept once.
+    ASSERT_EQ(m.warnings.size(), 2u);
+    EXPECT_EQ(m.warnings[0], (dir / "list.txt").string() + ":3: " + (dir / "empty").string() +
+                                 " is a directory holding no supported input file; nothing to "
+                                 "do for it");
+    EXPECT_NE(m.warnings[1].find(":4: "), std::string::npos) << m.warnings[1];
+    EXPECT_NE(m.warnings[1].find("is listed again (first on line 2)"), std::string::npos)
+        << m.warnings[1];
+    // A manifest whose only line is an empty folder lists no input.
+    writeBytes(dir / "empty.txt", "empty\n");
+    EXPECT_EQ(thrownMessage<InputError>([&] { readManifest(dir / "empty.txt"); }),
+              (dir / "empty.txt").string() + ": the manifest lists no input");
 }
 
 TEST(OutputNames, CollisionsGetTheFolderThenACounter) {
