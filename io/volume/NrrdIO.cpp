@@ -258,6 +258,13 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
                                        encodingName(encoding) + " data (raw, gzip and bzip2 only)");
         skipBytes(name, data, dataSize, std::uint64_t(header.byteSkip));
         const std::uint64_t fewest = nrrd::minimumTextBytes(encoding, samples, sampleBytes(type));
+        // Refused before the volume is allocated; ascii is told in numbers,
+        // as the decoder tells it, and a short block costs little to count.
+        if (dataSize < fewest && encoding == Encoding::Ascii)
+            throw InputError(name, "data is too short: ascii data has " +
+                                       std::to_string(nrrd::countAsciiWords(
+                                           reinterpret_cast<const char*>(data), dataSize)) +
+                                       " numbers, header says " + std::to_string(samples));
         if (dataSize < fewest)
             throw InputError(name, "data is too short: " + std::to_string(dataSize) + " bytes of " +
                                        encodingName(encoding) + " data cannot hold the " +

@@ -95,6 +95,21 @@ constexpr bool isAsciiSeparator(char c) {
     return isSpace(c) || c == ',';
 }
 
+}  // namespace
+
+std::uint64_t countAsciiWords(const char* text, std::size_t size) {
+    std::uint64_t words = 0;
+    bool inWord = false;
+    for (std::size_t i = 0; i < size; ++i) {
+        const bool separator = isAsciiSeparator(text[i]);
+        if (!separator && !inWord) ++words;
+        inWord = !separator;
+    }
+    return words;
+}
+
+namespace {
+
 template <typename Sample>
 void decodeAsciiAs(const std::string& name, const char* text, std::size_t size, SampleType type,
                    std::uint64_t samples, const TextOrigin& origin, ByteSink& sink) {

@@ -30,6 +30,10 @@ struct TextOrigin {
 /// per byte).
 std::uint64_t minimumTextBytes(Encoding encoding, std::uint64_t samples, std::size_t sampleSize);
 
+/// How many whitespace- or comma-separated words `text` holds: what a
+/// too-short ascii block holds, told in the unit the header counts in.
+std::uint64_t countAsciiWords(const char* text, std::size_t size);
+
 /// Decodes `samples` ascii numbers of `type` into `sink`. An integer type
 /// takes any number whose value is an integer in its range ("7", "+7",
 /// "7.0", "7e0", as pynrrd's %.17g writes them); a float type any number,
