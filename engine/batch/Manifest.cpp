@@ -1,5 +1,7 @@
 #include "engine/batch/Manifest.h"
 
+#include <glob.h>
+
 #include <algorithm>
 #include <cctype>
 #include <fstream>
@@ -33,6 +35,12 @@ std::string trim(const std::string& text) {
     return text.substr(first, last - first + 1);
 }
 
+/// Whether a listed path stands in matching double or single quotes.
+bool isQuoted(const std::string& listed) {
+    return listed.size() >= 3 && (listed.front() == '"' || listed.front() == '\'') &&
+           listed.back() == listed.front();
+}
+
 /// A listed path as the batch opens it. A path in matching quotes ("my
 /// shapes/a.off" or 'a.off', as a shell or a script writing paths with
 /// spaces quotes them) means the path inside them, unless a file of that
@@ -42,9 +50,7 @@ fs::path resolveListedPath(const fs::path& base, const std::string& listed) {
         const fs::path path(text);
         return path.is_absolute() ? path : base / path;
     };
-    const bool quoted = listed.size() >= 3 && (listed.front() == '"' || listed.front() == '\'') &&
-                        listed.back() == listed.front();
-    if (!quoted) return resolved(listed);
+    if (!isQuoted(listed)) return resolved(listed);
     std::error_code ec;
     const fs::path literal = resolved(listed);
     if (fs::exists(literal, ec)) return literal;
@@ -161,6 +167,49 @@ std::vector<fs::path> supportedFilesIn(const fs::path& directory) {
     return files;
 }
 
+bool hasWildcard(const std::string& path) {
+    return path.find_first_of("*?[") != std::string::npos;
+}
+
+/// The glob(3) pattern of a listed path with wildcards: the path inside its
+/// quotes, joined to the manifest's folder with that folder's own wildcard
+/// characters escaped (a folder named "[2026]" is a name, not a pattern).
+std::string globPatternOf(const fs::path& base, std::string listed) {
+    if (isQuoted(listed)) listed = listed.substr(1, listed.size() - 2);
+    if (fs::path(listed).is_absolute() || base.empty()) return listed;
+    std::string escaped;
+    for (const char c : base.string()) {
+        if (c == '*' || c == '?' || c == '[' || c == '\\') escaped += '\\';
+        escaped += c;
+    }
+    return escaped + "/" + listed;
+}
+
+/// The supported input files a shell pattern names (glob(3), no brace or
+/// tilde expansion), by name; a folder it names stands for its files.
+std::vector<fs::path> supportedFilesMatching(const std::string& pattern) {
+    glob_t matches{};
+    const int status = ::glob(pattern.c_str(), 0, nullptr, &matches);
+    std::vector<fs::path> found;
+    if (status == 0)
+        for (std::size_t i = 0; i < matches.gl_pathc; ++i) found.emplace_back(matches.gl_pathv[i]);
+    ::globfree(&matches);
+    if (status != 0 && status != GLOB_NOMATCH)
+        throw InputError(pattern, "cannot expand the pattern");
+    std::sort(found.begin(), found.end());
+    std::vector<fs::path> files;
+    std::error_code ec;
+    for (const auto& path : found) {
+        if (fs::is_directory(path, ec)) {
+            const std::vector<fs::path> inside = supportedFilesIn(path);
+            files.insert(files.end(), inside.begin(), inside.end());
+        } else if (fs::is_regular_file(path, ec) && isSupportedInputPath(path)) {
+            files.push_back(path);
+        }
+    }
+    return files;
+}
+
 }  // namespace
 
 Manifest readManifest(const fs::path& source) {
@@ -194,6 +243,19 @@ Manifest readManifest(const fs::path& source) {
             const std::string path = trim(std::string(rawLine));
             if (path.empty() || path[0] == '#') continue;
             const fs::path resolved = resolveListedPath(base, path);
+            // A pattern stands for the shapes it matches, unless a file of
+            // that very name exists.
+            if (hasWildcard(path) && !fs::exists(resolved, ec)) {
+                const std::vector<fs::path> files =
+                    supportedFilesMatching(globPatternOf(base, path));
+                if (files.empty())
+                    manifest.warnings.push_back(source.string() + ":" + std::to_string(line) +
+                                                ": " + resolved.string() +
+                                                " matches no supported input file; nothing to "
+                                                "do for it");
+                for (const auto& file : files) listed.emplace_back(file, line);
+                continue;
+            }
             // A folder stands for its shapes, as when it is the manifest.
             if (fs::is_directory(resolved, ec)) {
                 const std::vector<fs::path> files = supportedFilesIn(resolved);

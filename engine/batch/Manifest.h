@@ -8,7 +8,10 @@
 // are relative to the manifest's folder, so a manifest can travel with its
 // data. A directory instead of a file, as the manifest or on one of its
 // lines, means every supported input file directly in it (not its
-// subfolders), by name; a listed directory without one is a warning.
+// subfolders), by name; a listed directory without one is a warning. A line
+// with a shell wildcard (* ? [...], glob(3)) that names no existing file
+// means the supported files it matches (and those of the folders it
+// matches), by name; a pattern matching none is a warning.
 //
 // Each input gets an output name, the folder OUTROOT/<name>/: the file name
 // without its extension. Inputs that share it get their parent folder's name

@@ -224,6 +224,53 @@ TEST(Manifest, AFolderOnALineStandsForItsShapes) {
               (dir / "empty.txt").string() + ": the manifest lists no input");
 }
 
+// A manifest written by hand lists patterns as a shell would take them; a
+// line "scans/*.off" was one missing file.
+TEST(Manifest, AWildcardLineStandsForTheShapesItMatches) {
+    TempDir dir;
+    for (const char* name : {"a1.off", "a2.OBJ", "b.off", "a-notes.txt", "odd[1].off"})
+        touch(dir / "in" / name);
+    touch(dir / "in" / "sub" / "c.off");
+    touch(dir / "in" / "sub2" / "d.ply");
+    writeBytes(dir / "list.txt",
+               "in/a*\nin/*.off\nin/sub*\nin/x*.ply\nin/odd[1].off\n\"in/b?.off\"\n");
+    const Manifest m = readManifest(dir / "list.txt");
+    std::vector<std::string> inputs;
+    std::vector<int> lines;
+    for (const auto& e : m.entries) {
+        inputs.push_back(e.input.lexically_relative(dir / "in").string());
+        lines.push_back(e.line);
+        EXPECT_TRUE(e.exists) << e.input;
+    }
+    // By name within a line; a file matched again is kept once; a folder a
+    // pattern matches stands for its shapes; "odd[1].off" exists, so it is
+    // that file (line 2's pattern matched it first).
+    EXPECT_EQ(inputs, (std::vector<std::string>{"a1.off", "a2.OBJ", "b.off", "odd[1].off",
+                                                "sub/c.off", "sub2/d.ply"}));
+    EXPECT_EQ(lines, (std::vector<int>{1, 1, 2, 2, 3, 3}));
+    std::vector<std::string> nothing;
+    for (const auto& warning : m.warnings)
+        if (warning.find("matches no supported input file") != std::string::npos)
+            nothing.push_back(warning);
+    ASSERT_EQ(nothing.size(), 2u);
+    EXPECT_EQ(nothing[0], (dir / "list.txt").string() + ":4: " + (dir / "in" / "x*.ply").string() +
+                              " matches no supported input file; nothing to do for it");
+    EXPECT_NE(nothing[1].find(":6: "), std::string::npos) << nothing[1];
+    EXPECT_EQ(m.warnings.size(), 4u);  // and a1.off, odd[1].off listed again
+
+    // The manifest's own folder is a name, not a pattern: "[1]" in it does
+    // not turn a missing file into a pattern matching nothing.
+    touch(dir / "set[1]" / "e.off");
+    writeBytes(dir / "set[1]" / "list.txt", "*.off\nmissing.off\n");
+    const Manifest inSet = readManifest(dir / "set[1]" / "list.txt");
+    ASSERT_EQ(inSet.entries.size(), 2u);
+    EXPECT_EQ(inSet.entries[0].input, dir / "set[1]" / "e.off");
+    EXPECT_TRUE(inSet.entries[0].exists);
+    EXPECT_EQ(inSet.entries[1].input, dir / "set[1]" / "missing.off");
+    EXPECT_FALSE(inSet.entries[1].exists);
+    EXPECT_TRUE(inSet.warnings.empty());
+}
+
 TEST(OutputNames, CollisionsGetTheFolderThenACounter) {
     const std::vector<fs::path> inputs = {"chairs/1.off", "tables/1.off", "x/2.off",   "y/x/2.off",
                                           "3.off",        "3.obj",        "solo.nrrd", "3-2.off"};
