@@ -244,26 +244,19 @@ Manifest readManifest(const fs::path& source) {
             if (path.empty() || path[0] == '#') continue;
             const fs::path resolved = resolveListedPath(base, path);
             // A pattern stands for the shapes it matches, unless a file of
-            // that very name exists.
-            if (hasWildcard(path) && !fs::exists(resolved, ec)) {
+            // that very name exists; a folder for its shapes, as when it is
+            // the manifest. Either with none is a warning, not an input.
+            const bool pattern = hasWildcard(path) && !fs::exists(resolved, ec);
+            if (pattern || fs::is_directory(resolved, ec)) {
                 const std::vector<fs::path> files =
-                    supportedFilesMatching(globPatternOf(base, path));
+                    pattern ? supportedFilesMatching(globPatternOf(base, path))
+                            : supportedFilesIn(resolved);
                 if (files.empty())
-                    manifest.warnings.push_back(source.string() + ":" + std::to_string(line) +
-                                                ": " + resolved.string() +
-                                                " matches no supported input file; nothing to "
-                                                "do for it");
-                for (const auto& file : files) listed.emplace_back(file, line);
-                continue;
-            }
-            // A folder stands for its shapes, as when it is the manifest.
-            if (fs::is_directory(resolved, ec)) {
-                const std::vector<fs::path> files = supportedFilesIn(resolved);
-                if (files.empty())
-                    manifest.warnings.push_back(source.string() + ":" + std::to_string(line) +
-                                                ": " + resolved.string() +
-                                                " is a directory holding no supported input "
-                                                "file; nothing to do for it");
+                    manifest.warnings.push_back(
+                        source.string() + ":" + std::to_string(line) + ": " + resolved.string() +
+                        (pattern ? " matches no supported input file"
+                                 : " is a directory holding no supported input file") +
+                        "; nothing to do for it");
                 for (const auto& file : files) listed.emplace_back(file, line);
                 continue;
             }
