@@ -82,6 +82,7 @@ FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
     BatchEntry& entry = finished.entry;
     entry.name = job.input.name;
     entry.input = job.input.input;
+    entry.line = job.input.line;
     entry.estimatedMemoryBytes = job.estimatedBytes;
     const fs::path outdir = options.outroot / job.input.name;
     const auto start = std::chrono::steady_clock::now();
@@ -96,7 +97,7 @@ FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
         marker.input = job.input.input;
         std::error_code ec;
         marker.absoluteInput = fs::absolute(job.input.input, ec).lexically_normal();
-        marker.fingerprint = fingerprintFile(job.input.input);
+        marker.fingerprint = fingerprintInput(job.input.input);
         marker.options = optionsText;
         marker.run = runIdentity();
         // The pending marker goes in before the done marker goes: a run
@@ -169,11 +170,27 @@ void refuseInputsAmongOutputs(const Manifest& manifest, const fs::path& outroot)
     ReplacedOutputs replaced;
     for (const auto& [name, entry] : byName)
         replaced.add(outroot / name, segmentOutputNames(), name);
+    const auto lineOf = [](int line) {
+        return line > 0 ? "line " + std::to_string(line) + ": " : std::string();
+    };
+    // OUTROOT itself on a line was a missing input on the first run and a
+    // folder of the batch's outputs on the next.
+    const auto refuseOutroot = [&](const fs::path& path, int line) {
+        std::error_code pathError;
+        if (rootResolved && fs::weakly_canonical(path, pathError) == root && !pathError)
+            throw InputError(manifest.source.string(),
+                             lineOf(line) + path.string() +
+                                 " is OUTROOT, where the batch writes; choose another OUTROOT");
+    };
+    for (const auto& [folder, line] : manifest.listedFolders) refuseOutroot(folder, line);
     for (const auto& entry : manifest.entries) {
-        if (!entry.exists) continue;  // a FIFO's header is not peeked at
-        std::vector<fs::path> files;
+        refuseOutroot(entry.input, entry.line);
+        // A missing input is checked by its path alone (its outputs may not
+        // exist yet: the next run would refuse what this one took for a
+        // missing file); a FIFO's header is not peeked at.
+        std::vector<fs::path> files = {entry.input};
         try {
-            files = volumeInputFiles(entry.input);
+            if (entry.exists) files = volumeInputFiles(entry.input);
         } catch (const Error&) {
             continue;  // a bad header: the input fails on its own
         }
@@ -194,11 +211,9 @@ void refuseInputsAmongOutputs(const Manifest& manifest, const fs::path& outroot)
             }
             if (writer == byName.end() || writer->second == &entry) continue;
             const fs::path outdir = outroot / writer->first;
-            const std::string where =
-                entry.line > 0 ? "line " + std::to_string(entry.line) + ": " : std::string();
             throw InputError(manifest.source.string(),
-                             where + file.string() + " is " + output + " in " + outdir.string() +
-                                 ", which the batch rewrites for " +
+                             lineOf(entry.line) + file.string() + " is " + output + " in " +
+                                 outdir.string() + ", which the batch rewrites for " +
                                  writer->second->input.string() + "; choose another OUTROOT");
         }
     }
@@ -314,6 +329,7 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
         BatchEntry entry;
         entry.name = manifest.entries[i].name;
         entry.input = manifest.entries[i].input;
+        entry.line = manifest.entries[i].line;
         summary.entries.push_back(entry);
     }
 
@@ -325,7 +341,7 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
             if (const auto marker = readDoneMarker(outdir)) {
                 bool matches = false;
                 try {
-                    matches = marker->matches(fingerprintFile(mine[slot].input), optionsText);
+                    matches = marker->matches(fingerprintInput(mine[slot].input), optionsText);
                 } catch (const InputError&) {
                     // Unreadable now: the run reports it.
                 }
@@ -373,7 +389,7 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
 
     BatchProgress progress(mine.size(), mine.size() - jobs.size(), options.display, stream);
     for (const auto& warning : manifest.warnings) progress.message("skelseg: warning: " + warning);
-    if (shard.count > 1)
+    if (shard.count > 1 && options.display != BatchProgress::Display::Quiet)
         progress.message("skelseg batch: shard " + shard.toString() + ": " +
                          std::to_string(mine.size()) + " of " +
                          std::to_string(manifest.entries.size()) + " inputs");
@@ -478,7 +494,7 @@ BatchOutcome runBatchCommand(const BatchCommandOptions& options, std::FILE* stre
     outcome.pending = summary.count("pending");
     for (const auto& e : summary.entries)
         if (e.status == "failed")
-            outcome.failedNames.push_back(escapeControlCharacters(e.name + ": " + e.error));
+            outcome.failedNames.push_back(escapeControlCharacters(nameAndLine(e) + ": " + e.error));
     outcome.peakShapesInFlight = budget.peakShapesInFlight();
     outcome.summaryJson = options.outroot / (stem + ".json");
     return outcome;
@@ -503,7 +519,9 @@ int runBatchMerge(const fs::path& outroot, std::FILE* stream) {
                      escapeControlCharacters(e.name).c_str(), e.status.c_str(),
                      e.error.empty() ? "" : ": ", escapeControlCharacters(e.error).c_str());
     }
-    return result.missing.empty() && result.missingShards.empty() ? 0 : kExitSomeInputsFailed;
+    // A share without a summary whose inputs are all done (its summary lost,
+    // its task resubmitted) leaves nothing to do: said above, not a failure.
+    return result.missing.empty() ? 0 : kExitSomeInputsFailed;
 }
 
 }  // namespace skelseg

@@ -249,7 +249,9 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
     report["levels"] = reportLevelsJson(result, {});
     report["islands"] = {{"count", result.islands.count},
                          {"voxels", result.islands.voxels},
-                         {"noise_area", result.islands.noiseArea}};
+                         {"noise_area", result.islands.noiseArea},
+                         {"fragments", result.islands.fragments},
+                         {"fragment_voxels", result.islands.fragmentVoxels}};
     if (context.faceSegments) report["face_segments"] = *context.faceSegments;
     json stages = json::array();
     double serialWall = 0.0;

@@ -110,6 +110,11 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
         {
             Stage stage(timer, interrupter, "read mesh", false);
             checkReadableFile(file);
+            // As readVolume() refuses it for the other volume formats: a
+            // --grid given with a mesh was ignored without a word.
+            if (!options.gridName.empty())
+                throw UsageError(file.string() +
+                                 ": a grid name applies only to OpenVDB (.vdb) input");
             source.mesh = readMesh(file);
         }
         Stage stage(timer, interrupter, "check mesh", false);
@@ -480,6 +485,7 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         result.contacts = voxelised.contacts;
         result.selfOverlaps = voxelised.selfOverlaps;
         result.thinParts = voxelised.thinParts;
+        result.objectSources = std::move(voxelised.objectSources);
         std::vector<std::string> warnings =
             meshWarnings(source->meshDiagnostics, source->file.string());
         const std::int64_t extraHandles = handlesTheMeshLacks(source->meshDiagnostics.closed,

@@ -67,6 +67,9 @@ struct SegmentMask {
     ContactSeparation contacts{};
     SelfOverlapSeparation selfOverlaps{};
     ThinPartFill thinParts{};
+    // The mesh piece of each object of `mask` (io/mesh/VoxelObjectPieces.h);
+    // empty for volumes and single objects.
+    std::vector<ObjectSource> objectSources;
     // "not needed" (voxel genus = mesh genus), "kept" or "rejected": the
     // thin-part fill tried when the voxel model has handles the mesh has not;
     // thinPartGenus is the voxel genus it gave.

@@ -215,9 +215,22 @@ SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParam
             const Islands islands = findIslands(found.objects, areas, result.islands.noiseArea);
             result.islands.count = islands.count;
             result.islands.voxels = islands.voxels;
+            // The finest level's tau: a fragment is no part at any level.
+            const TauSpec finestTau = p.levelTaus().front();
+            const Fragments fragments =
+                p.objectSources.empty()
+                    ? Fragments{}
+                    : findFragments(
+                          found, areas, p.objectSources, islands.isIsland,
+                          [&](double area) { return finestTau.areaFor(std::uint64_t(area)); });
+            result.islands.fragments = fragments.count;
+            result.islands.fragmentVoxels = fragments.voxels;
             found.objects.erase(
                 std::remove_if(found.objects.begin(), found.objects.end(),
-                               [&](const ObjectExtent& o) { return islands.isIsland[o.id] != 0; }),
+                               [&](const ObjectExtent& o) {
+                                   return islands.isIsland[o.id] != 0 ||
+                                          (fragments.count && fragments.isFragment[o.id] != 0);
+                               }),
                 found.objects.end());
         }
     }

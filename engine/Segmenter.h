@@ -18,6 +18,7 @@
 
 #include "engine/StageTimer.h"
 #include "kernels/CutPlacement.h"
+#include "kernels/Islands.h"
 #include "kernels/JointDetection.h"
 #include "kernels/SkeletonBand.h"
 #include "kernels/SkeletonCandidates.h"
@@ -125,6 +126,11 @@ struct SegmentationParameters {
     /// topIsCoarsestLevel). jointOptions.sigmaMin is replaced by sigmaMin.
     bool joints = false;
     JointOptions jointOptions;
+    /// A voxelised mesh: the mesh piece of each object of the mask (the
+    /// voxeliser's, io/mesh/VoxelObjectPieces.h). Objects broken off a piece
+    /// and smaller than a part of it at the finest tau are no segments
+    /// (kernels/Islands.h, findFragments). Empty: every object counts.
+    std::vector<ObjectSource> objectSources;
 };
 
 /// The search a run with `parameters` uses: the band is found at one tau
@@ -263,6 +269,10 @@ struct IslandSummary {
     std::uint64_t count = 0;
     std::uint64_t voxels = 0;
     double noiseArea = 0.0;  // the island threshold: the largest object's noise area
+    /// Objects broken off a mesh piece too small to be a part of it
+    /// (kernels/Islands.h, findFragments): treated as islands, counted here.
+    std::uint64_t fragments = 0;
+    std::uint64_t fragmentVoxels = 0;
 };
 
 /// A level of a hierarchy run other than the top-level one: its labels nest

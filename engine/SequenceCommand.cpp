@@ -53,6 +53,10 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
     ReplacedOutputs replaced;
     replaced.add(options.outdir, sequenceOutputNames());
     for (const fs::path& frame : options.frames) {
+        // A folder first: "in/" was told it is not a mesh format.
+        std::error_code ec;
+        if (fs::is_directory(frame, ec))
+            throw InputError(frame.string(), "is a directory, not a file");
         try {
             meshFormatFromPath(frame);
         } catch (const Error&) {  // what is not a mesh: the format of an unknown extension

@@ -183,6 +183,13 @@ int runCommandLine(int argc, char** argv) {
             if (!mergeText.empty()) {
                 if (!manifestText.empty() || !outrootText.empty())
                     throw skelseg::UsageError("batch --merge OUTROOT takes no manifest and no -o");
+                // The merge segments nothing: a --shard or --force given with
+                // it was ignored without a word.
+                for (const CLI::Option* option : batch->get_options())
+                    if (option->count() > 0 && option->get_name() != "--merge" &&
+                        option->get_name() != "--quiet")
+                        throw skelseg::UsageError("batch --merge OUTROOT takes no other option (" +
+                                                  option->get_name() + " given)");
                 return skelseg::runBatchMerge(mergeText);
             }
             if (manifestText.empty() || outrootText.empty())

@@ -2,6 +2,8 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include <map>
+
 #include "kernels/base/ParallelFor.h"
 
 namespace skelseg {
@@ -71,6 +73,42 @@ Islands findIslands(const std::vector<ObjectExtent>& objects,
         islands.voxels += objects[o].voxels;
     }
     return islands;
+}
+
+Fragments findFragments(const ConnectedObjects& found,
+                        const std::vector<std::uint64_t>& boundaryAreas,
+                        const std::vector<ObjectSource>& sources,
+                        const std::vector<std::uint8_t>& skip,
+                        const std::function<double(double)>& partArea) {
+    const std::size_t objectCount = found.objects.size();
+    Fragments fragments;
+    fragments.isFragment.assign(objectCount, 0);
+    constexpr std::uint32_t kNoPiece = ~std::uint32_t(0);
+    std::vector<std::uint32_t> pieceOf(objectCount, kNoPiece);
+    for (const ObjectSource& source : sources) {
+        const auto& v = source.voxel;
+        if (v[0] < 0 || v[1] < 0 || v[2] < 0 || v[0] >= found.runs.dims.x ||
+            v[1] >= found.runs.dims.y || v[2] >= found.runs.dims.z)
+            continue;
+        if (const std::uint32_t component = found.componentAt(v[0], v[1], v[2]))
+            pieceOf[component - 1] = source.piece;
+    }
+    std::map<std::uint32_t, std::uint32_t> largestOfPiece;
+    for (std::uint32_t o = 0; o < objectCount; ++o) {
+        if (pieceOf[o] == kNoPiece || (o < skip.size() && skip[o])) continue;
+        const auto [at, inserted] = largestOfPiece.emplace(pieceOf[o], o);
+        if (!inserted && boundaryAreas[o] > boundaryAreas[at->second]) at->second = o;
+    }
+    for (std::uint32_t o = 0; o < objectCount; ++o) {
+        if (pieceOf[o] == kNoPiece || (o < skip.size() && skip[o])) continue;
+        const std::uint32_t largest = largestOfPiece.at(pieceOf[o]);
+        if (o == largest || !(double(boundaryAreas[o]) < partArea(double(boundaryAreas[largest]))))
+            continue;
+        fragments.isFragment[o] = 1;
+        ++fragments.count;
+        fragments.voxels += found.objects[o].voxels;
+    }
+    return fragments;
 }
 
 }  // namespace skelseg

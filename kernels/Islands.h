@@ -18,7 +18,9 @@
 // them take the label of the nearest real part (FaceLabels.h, steps 2 and 4).
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "kernels/ConnectedObjects.h"
@@ -52,5 +54,42 @@ struct Islands {
 /// except the largest object.
 Islands findIslands(const std::vector<ObjectExtent>& objects,
                     const std::vector<std::uint64_t>& boundaryAreas, double noiseArea);
+
+// Fragments: where a closed mesh's piece is thinner than a voxel across a
+// whole section (a claw, a whisker, the tip of a tail), the voxel model
+// breaks there, and the part beyond is an object of its own: one more
+// segment at this resolution or pose, none at the next (held-out cats and
+// lion at 192: 1500 to 2400 voxels beside 650,000). Only a mesh can tell
+// such an object from a shape of its own: the voxeliser records which piece
+// of the mesh each object voxelises (ObjectSource), and an object that is
+// not the largest of its piece, and whose boundary area is below the area
+// a part of that piece needs (tau of the piece's largest object: it could
+// be no part of it), is a fragment. Fragments are treated as islands: no
+// segment, label 0, and the mesh's faces there take the label of the
+// nearest part. A larger object broken off a piece (a limb beyond a neck
+// thinner than a voxel) stays an object of its own, as before.
+
+/// The mesh piece a voxel object comes from, named by one of its voxels.
+struct ObjectSource {
+    std::array<int, 3> voxel{};  // any voxel of the object
+    std::uint32_t piece = 0;     // the mesh piece most of its surface voxels are nearest to
+};
+
+struct Fragments {
+    /// Per object id: 1 when the object is a fragment.
+    std::vector<std::uint8_t> isFragment;
+    std::uint64_t count = 0;
+    std::uint64_t voxels = 0;
+};
+
+/// The fragments among the objects of `found` not marked in `skip` (the
+/// islands): per piece of `sources`, the objects other than the one of the
+/// largest boundary area (ties: the lower id) whose area is below
+/// `partArea(largest area)`. Objects no source names are never fragments.
+Fragments findFragments(const ConnectedObjects& found,
+                        const std::vector<std::uint64_t>& boundaryAreas,
+                        const std::vector<ObjectSource>& sources,
+                        const std::vector<std::uint8_t>& skip,
+                        const std::function<double(double)>& partArea);
 
 }  // namespace skelseg

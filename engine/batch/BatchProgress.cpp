@@ -90,7 +90,8 @@ void BatchProgress::shapeFinished(const BatchEntry& entry) {
     // The name is the input's file name: it may hold a newline.
     const std::string name = escapeControlCharacters(entry.name);
     if (failed)
-        std::fprintf(mStream, "skelseg batch: %s failed: %s\n", name.c_str(),
+        std::fprintf(mStream, "skelseg batch: %s failed: %s\n",
+                     escapeControlCharacters(nameAndLine(entry)).c_str(),
                      escapeControlCharacters(entry.error).c_str());
     else if (mDisplay == Display::Lines)
         std::fprintf(mStream, "skelseg batch: [%s] %s: %llu parts, %.2f s\n",

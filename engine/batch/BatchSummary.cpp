@@ -24,6 +24,7 @@ namespace {
 json entryJson(const BatchEntry& e) {
     return {{"name", e.name},
             {"input", e.input.string()},
+            {"line", e.line},
             {"status", e.status},
             {"parts", e.parts},
             {"wall_seconds", e.wallSeconds},
@@ -38,6 +39,7 @@ BatchEntry entryFromJson(const JsonFields& j) {
     BatchEntry e;
     e.name = j.text("name");
     e.input = j.text("input");
+    e.line = int(j.count("line", 0));  // 0 in summaries that predate it
     e.status = j.text("status");
     e.parts = j.count("parts", 0);
     e.wallSeconds = j.number("wall_seconds", 0.0);
@@ -48,6 +50,14 @@ BatchEntry entryFromJson(const JsonFields& j) {
     e.finishedAt = j.text("finished_at", std::string());
     return e;
 }
+
+}  // namespace
+
+std::string nameAndLine(const BatchEntry& entry) {
+    return entry.line > 0 ? entry.name + " (line " + std::to_string(entry.line) + ")" : entry.name;
+}
+
+namespace {
 
 std::string csvField(const std::string& text) {
     if (text.find_first_of(",\"\n\r") == std::string::npos) return text;

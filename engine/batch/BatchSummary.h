@@ -26,6 +26,7 @@ namespace skelseg {
 struct BatchEntry {
     std::string name;
     std::filesystem::path input;
+    int line = 0;  // the manifest line that listed it (0: a folder given as the manifest)
     std::string status = "pending";  // done | skipped | failed | pending | missing (merge only)
     std::uint64_t parts = 0;
     double wallSeconds = 0.0, cpuSeconds = 0.0;
@@ -35,6 +36,10 @@ struct BatchEntry {
     std::string finishedAt;  // UTC; empty while pending
     bool isDone() const { return status == "done" || status == "skipped"; }
 };
+
+/// "NAME (line N)", or NAME for an input of a folder given as the manifest:
+/// the manifest line tells which line to fix when a path is wrong.
+std::string nameAndLine(const BatchEntry& entry);
 
 struct BatchSummary {
     std::string skelsegVersion;

@@ -15,6 +15,7 @@
 #include "engine/Version.h"
 #include "io/files/OutputDirectory.h"
 #include "io/files/TextFile.h"
+#include "io/volume/VolumeReader.h"
 #include "kernels/base/Error.h"
 
 namespace fs = std::filesystem;
@@ -22,12 +23,14 @@ using json = nlohmann::json;
 
 namespace skelseg {
 
-InputFingerprint fingerprintFile(const fs::path& file) {
+namespace {
+
+/// Adds the bytes of `file` to `fingerprint`, whose crc32 runs on.
+void addFileToFingerprint(const fs::path& file, InputFingerprint& fingerprint) {
     checkReadableFile(file);
     std::ifstream in(file, std::ios::binary);
     if (!in) throw InputError(file.string(), "cannot be read: " + describeErrno(errno));
-    InputFingerprint fingerprint;
-    uLong crc = ::crc32(0L, Z_NULL, 0);
+    uLong crc = fingerprint.crc32;
     std::vector<char> block(std::size_t(1) << 20);
     while (in) {
         in.read(block.data(), std::streamsize(block.size()));
@@ -38,6 +41,19 @@ InputFingerprint fingerprintFile(const fs::path& file) {
     }
     if (in.bad()) throw InputError(file.string(), "read error");
     fingerprint.crc32 = std::uint32_t(crc);
+}
+
+}  // namespace
+
+InputFingerprint fingerprintFile(const fs::path& file) {
+    InputFingerprint fingerprint;
+    addFileToFingerprint(file, fingerprint);
+    return fingerprint;
+}
+
+InputFingerprint fingerprintInput(const fs::path& input) {
+    InputFingerprint fingerprint;
+    for (const fs::path& file : volumeInputFiles(input)) addFileToFingerprint(file, fingerprint);
     return fingerprint;
 }
 

@@ -4,7 +4,8 @@
 // temporary file and rename(2), so a folder holding it holds complete
 // outputs. It records what the outputs were made from: the input's path
 // (as the manifest gave it, and absolute), size and CRC-32 (zlib's; a change
-// detector, not a security hash), the skelseg version and build
+// detector, not a security hash) of every file reading it reads (a detached
+// NRRD header and its data file), the skelseg version and build
 // (engineBuildId(): another build may cut elsewhere) and the options that
 // change the outputs (not --threads, --quiet, --time-limit or --max-memory:
 // the outputs are the same for any of those). A re-run skips an input whose
@@ -44,6 +45,13 @@ struct InputFingerprint {
 ///        (checkReadableFile(): a FIFO or a device is refused before it is
 ///        opened, which would block or read forever) or cannot be read.
 InputFingerprint fingerprintFile(const std::filesystem::path& file);
+
+/// Total size and CRC-32 of every file reading `input` reads, in order
+/// (volumeInputFiles(): the file itself, and a detached NRRD header's data
+/// file), so that new data behind an unchanged header is a changed input.
+/// For any other input it equals fingerprintFile(input).
+/// @throw InputError as fingerprintFile() for the first file that cannot be read.
+InputFingerprint fingerprintInput(const std::filesystem::path& input);
 
 /// The options that change a run's outputs, as canonical JSON text (keys
 /// sorted), for the marker and for comparing with it.

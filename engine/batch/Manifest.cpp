@@ -1,6 +1,8 @@
 #include "engine/batch/Manifest.h"
 
 #include <glob.h>
+#include <limits.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cctype>
@@ -57,10 +59,13 @@ fs::path resolveListedPath(const fs::path& base, const std::string& listed) {
     return resolved(listed.substr(1, listed.size() - 2));
 }
 
-/// The identity of a file for duplicate detection: the canonical path when
-/// the file exists (links and "a/../b" spellings agree), the lexically
-/// normal absolute path otherwise.
+/// The identity of a file for duplicate detection: its device and inode
+/// when it exists (hard and symbolic links and "a/../b" spellings agree),
+/// the lexically normal absolute path otherwise.
 std::string identityOf(const fs::path& path) {
+    struct stat status {};
+    if (::stat(path.c_str(), &status) == 0)
+        return "inode " + std::to_string(status.st_dev) + ":" + std::to_string(status.st_ino);
     std::error_code ec;
     fs::path canonical = fs::weakly_canonical(path, ec);
     if (ec) canonical = fs::absolute(path, ec).lexically_normal();
@@ -106,26 +111,76 @@ bool isSupportedInputPath(const fs::path& path) {
     return extensions.count(lowerExtension(path)) != 0;
 }
 
+namespace {
+
+/// The folder names of `path` from the innermost out ("." and ".." and the
+/// root left out).
+std::vector<std::string> foldersInnermostFirst(const fs::path& path) {
+    std::vector<std::string> folders;
+    for (const auto& part : path.lexically_normal().parent_path()) {
+        const std::string name = part.string();
+        if (!name.empty() && name != "." && name != ".." && name != "/") folders.push_back(name);
+    }
+    std::reverse(folders.begin(), folders.end());
+    return folders;
+}
+
+}  // namespace
+
 std::vector<std::string> uniqueOutputNames(const std::vector<fs::path>& inputs) {
-    std::vector<std::string> names(inputs.size());
-    std::map<std::string, int> stemCount;
+    std::vector<std::string> stems(inputs.size());
+    std::map<std::string, std::vector<std::size_t>> sameStem;
     for (std::size_t i = 0; i < inputs.size(); ++i) {
-        names[i] = inputs[i].stem().string();
-        if (names[i].empty() || names[i] == "." || names[i] == "..") names[i] = "input";
-        ++stemCount[names[i]];
+        stems[i] = inputs[i].stem().string();
+        if (stems[i].empty() || stems[i] == "." || stems[i] == "..") stems[i] = "input";
+        sameStem[stems[i]].push_back(i);
     }
-    for (std::size_t i = 0; i < inputs.size(); ++i) {
-        if (stemCount[names[i]] < 2) continue;
-        const std::string parent = inputs[i].parent_path().filename().string();
-        if (parent.empty() || parent == "." || parent == "..") continue;
-        // The stem is what tells inputs apart: a long folder name is cut, not it.
-        const std::string prefix =
-            names[i].size() + 1 < kMaxOutputNameBytes
-                ? cutToBytes(parent, kMaxOutputNameBytes - 1 - names[i].size())
-                : std::string();
-        if (!prefix.empty()) names[i] = prefix + "-" + names[i];
+    std::vector<std::string> names = stems;
+    // Inputs that share a stem get as many of their innermost folders in
+    // front as tell each apart from the others of that stem: the names depend
+    // on which inputs the manifest lists, not on their order.
+    for (const auto& [stem, group] : sameStem) {
+        if (group.size() < 2) continue;
+        std::vector<std::vector<std::string>> folders;
+        std::size_t deepest = 0;
+        for (const std::size_t i : group) {
+            folders.push_back(foldersInnermostFirst(inputs[i]));
+            deepest = std::max(deepest, folders.back().size());
+        }
+        // The key of an input at `depth` folders: those folders, or all of
+        // them, marked, when it has fewer (only such an input can equal it).
+        const auto keyAt = [&](std::size_t member, std::size_t depth) {
+            const auto& mine = folders[member];
+            std::string key = depth > mine.size() ? "\n" : "";
+            for (std::size_t d = 0; d < std::min(depth, mine.size()); ++d) key += mine[d] + "/";
+            return key;
+        };
+        std::vector<std::size_t> depthOf(group.size(), 0);
+        std::vector<bool> told(group.size(), false);
+        for (std::size_t depth = 1; depth <= deepest; ++depth) {
+            std::map<std::string, int> count;
+            for (std::size_t m = 0; m < group.size(); ++m) ++count[keyAt(m, depth)];
+            for (std::size_t m = 0; m < group.size(); ++m)
+                if (!told[m] && count[keyAt(m, depth)] == 1) {
+                    told[m] = true;
+                    depthOf[m] = depth;
+                }
+        }
+        for (std::size_t m = 0; m < group.size(); ++m) {
+            // Inputs no folder tells apart (3.off and 3.obj) take all their
+            // folders, and the counter below.
+            const std::size_t depth = told[m] ? depthOf[m] : std::min(deepest, folders[m].size());
+            std::string prefix;
+            for (std::size_t d = std::min(depth, folders[m].size()); d-- > 0;)
+                prefix += folders[m][d] + (d ? "-" : "");
+            // The stem is what tells inputs apart: long folder names are cut, not it.
+            if (!prefix.empty() && stem.size() + 1 < kMaxOutputNameBytes)
+                names[group[m]] =
+                    cutToBytes(prefix, kMaxOutputNameBytes - 1 - stem.size()) + "-" + stem;
+        }
     }
-    // Still equal (same folder name, or no folder): the first keeps the name,
+    // Still equal (no folder tells them apart, or cut to the same bytes), or
+    // equal to another stem's name: the first keeps the name,
     // later ones get a counter in manifest order, skipping names that
     // another input has. The batch's own files count as taken.
     std::set<std::string> firstPass(names.begin(), names.end()), taken;
@@ -159,8 +214,11 @@ namespace {
 std::vector<fs::path> supportedFilesIn(const fs::path& directory) {
     std::error_code ec;
     std::vector<fs::path> files;
+    // Hidden files are left out, as a shell's * leaves them out: "._a.off"
+    // is the resource fork a Mac writes beside a.off on a shared disk.
     for (const auto& item : fs::directory_iterator(directory, ec))
-        if (item.is_regular_file(ec) && isSupportedInputPath(item.path()))
+        if (item.path().filename().string().front() != '.' && item.is_regular_file(ec) &&
+            isSupportedInputPath(item.path()))
             files.push_back(item.path());
     if (ec) throw InputError(directory.string(), "cannot list the directory: " + ec.message());
     std::sort(files.begin(), files.end());
@@ -187,7 +245,8 @@ std::string globPatternOf(const fs::path& base, std::string listed) {
 
 /// The supported input files a shell pattern names (glob(3), no brace or
 /// tilde expansion), by name; a folder it names stands for its files.
-std::vector<fs::path> supportedFilesMatching(const std::string& pattern) {
+std::vector<fs::path> supportedFilesMatching(const std::string& pattern,
+                                             std::vector<fs::path>& matchedFolders) {
     glob_t matches{};
     const int status = ::glob(pattern.c_str(), 0, nullptr, &matches);
     std::vector<fs::path> found;
@@ -201,6 +260,7 @@ std::vector<fs::path> supportedFilesMatching(const std::string& pattern) {
     std::error_code ec;
     for (const auto& path : found) {
         if (fs::is_directory(path, ec)) {
+            matchedFolders.push_back(path);
             const std::vector<fs::path> inside = supportedFilesIn(path);
             files.insert(files.end(), inside.begin(), inside.end());
         } else if (fs::is_regular_file(path, ec) && isSupportedInputPath(path)) {
@@ -242,15 +302,28 @@ Manifest readManifest(const fs::path& source) {
                                                       " holds a NUL byte: not a text manifest");
             const std::string path = trim(std::string(rawLine));
             if (path.empty() || path[0] == '#') continue;
+            // A path longer than the system takes names no file; as an input
+            // it was echoed in every message and summary (a line of 50 MB
+            // wrote 350 MB of them).
+            if (path.size() >= PATH_MAX)
+                throw InputError(source.string(), "line " + std::to_string(line) + " is " +
+                                                      std::to_string(path.size()) +
+                                                      " bytes long, longer than any path (" +
+                                                      std::to_string(PATH_MAX - 1) +
+                                                      " bytes): not a manifest");
             const fs::path resolved = resolveListedPath(base, path);
             // A pattern stands for the shapes it matches, unless a file of
             // that very name exists; a folder for its shapes, as when it is
             // the manifest. Either with none is a warning, not an input.
             const bool pattern = hasWildcard(path) && !fs::exists(resolved, ec);
             if (pattern || fs::is_directory(resolved, ec)) {
+                std::vector<fs::path> folders;
                 const std::vector<fs::path> files =
-                    pattern ? supportedFilesMatching(globPatternOf(base, path))
+                    pattern ? supportedFilesMatching(globPatternOf(base, path), folders)
                             : supportedFilesIn(resolved);
+                if (!pattern) folders.push_back(resolved);
+                for (const auto& folder : folders)
+                    manifest.listedFolders.emplace_back(folder, line);
                 if (files.empty())
                     manifest.warnings.push_back(
                         source.string() + ":" + std::to_string(line) + ": " + resolved.string() +
@@ -279,7 +352,10 @@ Manifest readManifest(const fs::path& source) {
         entry.exists = fs::is_regular_file(path, ec);
         entry.fileBytes = entry.exists ? fs::file_size(path, ec) : 0;
         if (ec) entry.fileBytes = 0;
-        inputs.push_back(entry.input);
+        // Named by the absolute path: the folders that tell two inputs apart
+        // do not depend on how the manifest spells them ("../a.off").
+        fs::path absolute = fs::absolute(entry.input, ec);
+        inputs.push_back(ec ? entry.input : absolute.lexically_normal());
         manifest.entries.push_back(std::move(entry));
     }
     if (manifest.entries.empty())
@@ -320,21 +396,27 @@ std::vector<int> assignShards(const std::vector<std::uint64_t>& sizes, int shard
     return shard;
 }
 
-ShardSpec ShardSpec::parse(const std::string& text) {
+ShardSpec ShardSpec::parse(const std::string& given) {
+    // Blanks around the value are a script's, as in a manifest line; inside
+    // it (or a sign) it is not I/N. stoi() skipped blanks before a number
+    // only, so " 0/2" was taken and "0/2 " refused.
+    const std::string text = trim(given);
     const auto slash = text.find('/');
     ShardSpec spec;
     try {
         if (slash == std::string::npos) throw std::invalid_argument("no slash");
+        if (text.find_first_not_of("0123456789/") != std::string::npos)
+            throw std::invalid_argument("not digits");
         std::size_t usedIndex = 0, usedCount = 0;
         spec.index = std::stoi(text.substr(0, slash), &usedIndex);
         spec.count = std::stoi(text.substr(slash + 1), &usedCount);
         if (usedIndex != slash || usedCount != text.size() - slash - 1)
             throw std::invalid_argument("trailing text");
     } catch (const std::exception&) {
-        throw UsageError("--shard '" + text + "' is not I/N (e.g. 0/4: the first of four shares)");
+        throw UsageError("--shard '" + given + "' is not I/N (e.g. 0/4: the first of four shares)");
     }
     if (spec.count < 1 || spec.index < 0 || spec.index >= spec.count)
-        throw UsageError("--shard '" + text + "': need 0 <= I < N");
+        throw UsageError("--shard '" + given + "': need 0 <= I < N");
     return spec;
 }
 
@@ -354,6 +436,19 @@ std::optional<ShardSpec> shardFromEnvironment(
         if (!text || !*text) return std::nullopt;
         return parseIntegerVariable(name, text);
     };
+    // An array variable without its task id (set but empty, or the id
+    // missing) would run the whole manifest in every task of the array.
+    for (const char* name : {"SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"}) {
+        const char* text = environment(name);
+        if (text && !*text)
+            throw UsageError(std::string(name) + " is set but empty; pass --shard I/N");
+    }
+    if (!environment("SLURM_ARRAY_TASK_ID"))
+        for (const char* name :
+             {"SLURM_ARRAY_TASK_COUNT", "SLURM_ARRAY_TASK_MIN", "SLURM_ARRAY_TASK_MAX"})
+            if (const char* text = environment(name); text && *text)
+                throw UsageError(std::string(name) +
+                                 " is set but SLURM_ARRAY_TASK_ID is not; pass --shard I/N");
     if (const auto task = value("SLURM_ARRAY_TASK_ID")) {
         const int minimum = value("SLURM_ARRAY_TASK_MIN").value_or(0);
         const int step = std::max(1, value("SLURM_ARRAY_TASK_STEP").value_or(1));

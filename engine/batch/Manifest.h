@@ -14,14 +14,19 @@
 // matches), by name; a pattern matching none is a warning.
 //
 // Each input gets an output name, the folder OUTROOT/<name>/: the file name
-// without its extension. Inputs that share it get their parent folder's name
-// in front ("chairs-1", "tables-1"); if that still collides, a counter in
-// manifest order ("1-2"). A name that is one of the batch's own files in
+// without its extension. Inputs that share it get as many of their innermost
+// folders in front (of the absolute path) as tell each apart from the others
+// ("chairs-1", "tables-1"; "e2-a" beside "in-e1-a" and "e2-e1-a"), so the
+// names do not depend on the order of the lines; names still equal (3.off
+// and 3.obj, or cut to the same bytes) get a counter in manifest order
+// ("3-2"). A name that is one of the batch's own files in
 // OUTROOT (summary.json, summary.csv, summary.shard-I-of-N.json/.csv) gets a
 // counter too ("summary.json-2"), and no name is longer than the 255 bytes a
 // folder name can have (a long parent folder's name is cut, then the name
 // before a counter). The names depend only on the manifest, so every shard of
-// a cluster job computes the same ones.
+// a cluster job computes the same ones. Hidden files (".name") are not
+// among a folder's shapes, as a shell's * leaves them out; a line longer
+// than any path (PATH_MAX) makes the file no manifest.
 //
 // Shards: assignShards() splits the inputs into N shares of about equal total
 // file size (largest first, each to the lightest shard so far; ties by
@@ -36,6 +41,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace skelseg {
@@ -52,6 +58,9 @@ struct Manifest {
     std::filesystem::path source;
     std::vector<ManifestEntry> entries;  // in manifest order
     std::vector<std::string> warnings;   // duplicates dropped, one line each
+    /// The folders lines named and the folders patterns matched, with their
+    /// line, in manifest order: their files are entries, the folders are not.
+    std::vector<std::pair<std::filesystem::path, int>> listedFolders;
 };
 
 /// True for the extensions `skelseg segment` reads (.nrrd .nhdr .binvox .vdb

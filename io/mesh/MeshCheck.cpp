@@ -101,6 +101,10 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
     // Edges: count uses of every undirected edge between distinct (canonical)
     // vertices. Fan diagonals inside a polygon are used twice, like any
     // interior edge (forEachEdgeUseCount).
+    // Each use's key is the undirected edge with its direction in the lowest
+    // bit (a < b or not), so that one sort gives both the use counts and
+    // whether the two triangles of an edge run along it the same way. Vertex
+    // indices stay below 2^31 (2^31 vertices would need 48 GB).
     std::vector<std::uint64_t> edgeKeys;
     edgeKeys.reserve(mesh.triangles.size() * 3);
     DisjointSets pieces(mesh.vertices.size());
@@ -112,15 +116,22 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
             used[a] = 1;
             if (a == b) continue;
             pieces.unite(a, b);
-            edgeKeys.push_back(undirectedEdgeKey(a, b));
+            edgeKeys.push_back((std::uint64_t(std::min(a, b)) << 33) |
+                               (std::uint64_t(std::max(a, b)) << 1) | std::uint64_t(a < b));
         }
     }
+    std::sort(edgeKeys.begin(), edgeKeys.end());
     bool everyEdgeEven = true;
-    forEachEdgeUseCount(edgeKeys, [&](std::uint64_t, std::size_t uses) {
+    for (std::size_t first = 0; first < edgeKeys.size();) {
+        std::size_t last = first + 1;
+        while (last < edgeKeys.size() && edgeKeys[last] >> 1 == edgeKeys[first] >> 1) ++last;
+        const std::size_t uses = last - first;
         if (uses == 1) ++diagnostics.boundaryEdges;
         if (uses > 2) ++diagnostics.nonManifoldEdges;
         if (uses % 2 != 0) everyEdgeEven = false;
-    });
+        if (uses == 2 && edgeKeys[first] == edgeKeys[first + 1]) ++diagnostics.misorientedEdges;
+        first = last;
+    }
     diagnostics.closed = everyEdgeEven && !edgeKeys.empty();
     for (std::uint32_t v = 0; v < std::uint32_t(mesh.vertices.size()); ++v)
         if (used[v] && pieces.find(v) == v) ++diagnostics.pieces;
@@ -142,6 +153,11 @@ std::vector<std::string> meshWarnings(const MeshDiagnostics& diagnostics, const 
     if (diagnostics.nonManifoldEdges > 0)
         warnings.push_back(file + ": " + std::to_string(diagnostics.nonManifoldEdges) +
                            " edges are shared by more than two faces (non-manifold)");
+    if (diagnostics.misorientedEdges > 0)
+        warnings.push_back(file + ": " + std::to_string(diagnostics.misorientedEdges) +
+                           (diagnostics.misorientedEdges == 1 ? " edge joins" : " edges join") +
+                           " faces wound against each other (some faces are flipped); where "
+                           "surfaces touch there, they may stay joined in the voxel model");
     if (diagnostics.pieces > 1)
         warnings.push_back(file + ": mesh has " + std::to_string(diagnostics.pieces) +
                            " separate pieces");

@@ -25,6 +25,10 @@ struct MeshDiagnostics {
     std::size_t boundaryEdges = 0;
     /// Edges used by more than two triangles.
     std::size_t nonManifoldEdges = 0;
+    /// Edges of two triangles that run along them the same way: one of the
+    /// two is wound against the other (a flipped face). The voxeliser's
+    /// rules that need a piece's outside skip such pieces (MeshOrientation.h).
+    std::size_t misorientedEdges = 0;
     /// Connected pieces (triangles joined through shared vertices).
     std::size_t pieces = 0;
     /// Vertices no face uses (they take no part in the shape, its size or

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io/mesh/MeshCheck.h"
+#include "io/mesh/VoxelObjectPieces.h"
 #include "io/volume/VdbIO.h"
 #include "kernels/base/ArenaPool.h"
 #include "kernels/base/HugePages.h"
@@ -450,6 +451,7 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
     ContactSeparation contacts;
     SelfOverlapSeparation selfOverlaps;
     ThinPartFill thinParts;
+    std::vector<ObjectSource> objectSources;
     // OpenVDB's tools have no serial switch; a one-thread arena makes every
     // TBB loop inside (theirs and ours) run on this thread. Threaded, the
     // arena is as wide as the caller's, so a caller's thread limit holds.
@@ -501,6 +503,8 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
                 contactOptions.threaded = options.threaded;
                 contacts =
                     separateContacts(mesh, mask, *nearestTriangle, contactOptions, interrupter);
+                objectSources =
+                    voxelObjectPieces(mesh, mask, *nearestTriangle, options.threaded, interrupter);
             }
             return;
         }
@@ -542,7 +546,8 @@ MeshVoxelization voxelizeMeshWithContacts(const TriangleMesh& mesh, const Voxeli
         if (notHollow) mask = std::move(*notHollow);
     });
     throwIfInterrupted(interrupter, 1.0);
-    return MeshVoxelization{std::move(mask), contacts, selfOverlaps, thinParts};
+    return MeshVoxelization{std::move(mask), contacts, selfOverlaps, thinParts,
+                            std::move(objectSources)};
 }
 
 WorldToIndex::WorldToIndex(const VolumeGeometry& geometry) : mOrigin(geometry.origin) {

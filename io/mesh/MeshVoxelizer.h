@@ -45,6 +45,7 @@
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/SelfOverlapSeparation.h"
 #include "io/mesh/ThinPartFill.h"
+#include "kernels/Islands.h"
 #include "kernels/base/Interrupter.h"
 #include "kernels/base/Volume.h"
 
@@ -122,6 +123,10 @@ struct MeshVoxelization {
     SelfOverlapSeparation selfOverlaps;
     /// Zero unless the mesh is closed and fillThinParts is set.
     ThinPartFill thinParts;
+    /// The mesh piece of each object of `mask` (VoxelObjectPieces.h): empty
+    /// unless the mesh is closed, keepMeshTopology is set and the mask has
+    /// two objects or more.
+    std::vector<ObjectSource> objectSources;
 };
 
 /// The signed voxelisation of a closed mesh as OpenVDB gives it, before thin

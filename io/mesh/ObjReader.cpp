@@ -11,6 +11,23 @@ namespace skelseg {
 
 namespace {
 
+/// Whether `rest`, what follows a face vertex's position index, is "",
+/// "/vt", "//vn" or "/vt/vn", each index an integer or left empty: the
+/// indices are not read, but "1/zz/qq" is no vertex of a face (it was taken
+/// as vertex 1).
+bool isTextureAndNormalPart(std::string_view rest) {
+    if (rest.empty()) return true;
+    if (rest.front() != '/') return false;
+    rest.remove_prefix(1);
+    const std::size_t slash = rest.find('/');
+    const std::string_view texture = rest.substr(0, slash);
+    const std::string_view normal =
+        slash == std::string_view::npos ? std::string_view() : rest.substr(slash + 1);
+    std::int64_t index = 0;
+    return (texture.empty() || parseInteger(texture, index)) &&
+           (normal.empty() || parseInteger(normal, index));
+}
+
 /// Removes a final backslash (and the blanks around it) from `line`; false
 /// when the line has none. The OBJ format continues a statement on the next
 /// line after one: exporters wrap long faces that way.
@@ -64,7 +81,8 @@ TriangleMesh readObj(const std::string& name, const char* data, std::size_t size
                 // v, v/vt, v//vn or v/vt/vn: only the position index matters.
                 const std::string_view vertexPart = token.substr(0, token.find('/'));
                 std::int64_t index = 0;
-                if (!parseInteger(vertexPart, index) || index == 0)
+                if (!parseInteger(vertexPart, index) || index == 0 ||
+                    !isTextureAndNormalPart(token.substr(vertexPart.size())))
                     builder.fail("line " + std::to_string(lineNumber) + ": bad face vertex " +
                                  quote(token));
                 if (index < 0) {

@@ -160,6 +160,12 @@ void decompressWith(const std::string& name, const std::uint8_t* data, std::size
         if (result == StepResult::OutOfMemory)
             throw InputError(name, "out of memory while decompressing " + codec + " data");
         const bool noProgress = got == 0 && size == inBefore;
+        // Every sample is there, the stream's end (and its checksum) is not:
+        // "truncated after 512 bytes, header says 512" read as a contradiction.
+        if (noProgress && size == 0 && produced >= length.atLeast)
+            throw InputError(name, "data is too short: the " + codec + " stream is cut off after " +
+                                       std::to_string(produced) +
+                                       " bytes, before its end and checksum");
         if (noProgress && size == 0)
             throw InputError(name, "data is too short: " + codec + " data is truncated after " +
                                        std::to_string(produced) + " bytes, header says " +

@@ -97,10 +97,10 @@ TEST(Batch, TwelveGoodAndTwoBadInputsMatchSingleSegmentRuns) {
         runSkelseg({"batch", (dir / "list.txt").string(), "-o", out.string(), "--threads", "2"});
     ASSERT_EQ(batch.exitCode, 5) << batch.describe();
     EXPECT_NE(batch.err.find("2 of 14 inputs failed"), std::string::npos) << batch.err;
-    EXPECT_NE(batch.err.find("bad-header: " + (dir / "in" / "bad-header.nrrd").string()),
+    EXPECT_NE(batch.err.find("bad-header (line 7): " + (dir / "in" / "bad-header.nrrd").string()),
               std::string::npos)
         << batch.err;
-    EXPECT_NE(batch.err.find("truncated: " + (dir / "in" / "truncated.off").string()),
+    EXPECT_NE(batch.err.find("truncated (line 15): " + (dir / "in" / "truncated.off").string()),
               std::string::npos)
         << batch.err;
 
@@ -241,7 +241,9 @@ TEST(Batch, ShardsFromTheCommandLineAndSlurmMergeIntoOneSummary) {
 
     auto args = base;
     args.insert(args.end(), {"--shard", "0/2"});
-    ASSERT_EQ(runSkelseg(args).exitCode, 0);
+    const CliResult first = runSkelseg(args);
+    ASSERT_EQ(first.exitCode, 0) << first.describe();
+    EXPECT_EQ(first.err, "") << "--quiet printed";
     // Before the second shard: --merge reports it and what it holds.
     const CliResult partial = runSkelseg({"batch", "--merge", out.string()});
     EXPECT_EQ(partial.exitCode, 5) << partial.describe();
@@ -266,6 +268,21 @@ TEST(Batch, ShardsFromTheCommandLineAndSlurmMergeIntoOneSummary) {
     EXPECT_NE(merged.err.find("5 inputs: 5 done, 0 failed, 0 missing"), std::string::npos)
         << merged.err;
     EXPECT_EQ(readJson(out / "summary.json").at("entries").size(), shapes.size());
+
+    // A merge segments nothing: an option given with it was ignored.
+    const CliResult withShard = runSkelseg({"batch", "--merge", out.string(), "--shard", "0/2"});
+    EXPECT_EQ(withShard.exitCode, 2) << withShard.describe();
+    EXPECT_NE(withShard.err.find("takes no other option (--shard given)"), std::string::npos)
+        << withShard.err;
+
+    // A share's summary lost, its inputs done: nothing is left to do.
+    fs::rename(out / "summary.shard-1-of-2.json", dir / "shard1.json");
+    const CliResult lost = runSkelseg({"batch", "--merge", out.string()});
+    EXPECT_EQ(lost.exitCode, 0) << lost.describe();
+    EXPECT_NE(lost.err.find("no summary from shard 1/2"), std::string::npos) << lost.err;
+    EXPECT_NE(lost.err.find("5 inputs: 5 done, 0 failed, 0 missing"), std::string::npos)
+        << lost.err;
+    fs::rename(dir / "shard1.json", out / "summary.shard-1-of-2.json");
 
     fs::remove(out / "sphere" / kDoneMarkerName);
     const CliResult missing = runSkelseg({"batch", "--merge", out.string()});

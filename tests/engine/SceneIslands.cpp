@@ -2,11 +2,15 @@
 // pieces beside a shape, in a volume or a mesh, add no segments.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 #include "io/mesh/FaceLabels.h"
+#include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshVoxelizer.h"
+#include "kernels/ConnectedObjects.h"
 #include "tests/support/SceneSupport.h"
+#include "tests/support/ShapeMeshes.h"
 
 namespace skelseg::test {
 namespace {
@@ -98,6 +102,65 @@ TEST(SceneIslands, SmallPiecesOfAMeshTakeTheLabelOfARealPart) {
         EXPECT_TRUE(shapeLabels.count(noisy.faceLabels[f])) << "island face " << f;
     EXPECT_EQ(std::set<std::uint32_t>(noisy.faceLabels.begin(), noisy.faceLabels.end()).size(),
               shapeLabels.size());
+}
+
+/// figureWithHand with the left hand held away and, when `claw` is set, a
+/// rod one fine voxel across hanging from the hand with a small box at its
+/// end: one closed mesh piece whose rod is a third of a voxel wide at
+/// resolution 123 (3 fine voxels a voxel).
+TriangleMesh figureWithClaw(bool claw) {
+    Shape shape = figureWithHand(false);
+    if (claw) {
+        shape.box({114, 0, -72}, {0.4, 0.4, 15.4});  // the rod: z -87 to -57
+        shape.box({114, 0, -93}, {6, 6, 6});
+    }
+    const auto bounds = figureWithHand(false).bounds();  // the same grid either way
+    std::array<int, 3> lo{}, hi{};
+    for (std::size_t c = 0; c < 3; ++c) {
+        lo[c] = int(std::floor(bounds[0][c])) - 1;
+        hi[c] = int(std::ceil(bounds[1][c])) + 1;
+    }
+    return meshOfShape(shape, lo, hi);
+}
+
+// A closed mesh piece thinner than a voxel breaks in the voxel model, and
+// the part beyond was one more segment (held-out cats: a claw or a tip of
+// 1500 voxels beside 650,000). Too small to be a part, it is a fragment:
+// the same segments as without it, its faces labelled as the part nearest.
+TEST(SceneIslands, APieceBrokenOffAMeshPartIsNoSegment) {
+    VoxelizeOptions options;
+    options.resolution = 123;
+    const TriangleMesh plain = figureWithClaw(false);
+    const TriangleMesh clawed = figureWithClaw(true);
+    ASSERT_EQ(checkMesh(clawed).pieces, 1u);
+    ASSERT_TRUE(checkMesh(clawed).closed);
+
+    const MeshVoxelization plainModel = voxelizeMeshWithContacts(plain, options);
+    const MeshVoxelization clawedModel = voxelizeMeshWithContacts(clawed, options);
+    ASSERT_EQ(findConnectedObjects(clawedModel.mask).objects.size(), 2u)
+        << "the rod must break at this resolution for the test";
+    ASSERT_EQ(clawedModel.objectSources.size(), 2u);
+    EXPECT_EQ(clawedModel.objectSources[0].piece, clawedModel.objectSources[1].piece);
+    EXPECT_TRUE(plainModel.objectSources.empty());  // one object: nothing to tell
+
+    SegmentationParameters parameters;
+    const SegmentationResult clean = segmentVolume(plainModel.mask, parameters);
+    // Without the voxeliser's sources the claw is an object and a segment.
+    const SegmentationResult unsourced = segmentVolume(clawedModel.mask, parameters);
+    EXPECT_EQ(unsourced.segments.size(), clean.segments.size() + 1);
+    parameters.objectSources = clawedModel.objectSources;
+    const SegmentationResult clawedResult = segmentVolume(clawedModel.mask, parameters);
+    EXPECT_EQ(clawedResult.islands.fragments, 1u);
+    EXPECT_GT(clawedResult.islands.fragmentVoxels, 27u);
+    EXPECT_EQ(clawedResult.segments.size(), clean.segments.size());
+    EXPECT_EQ(clawedResult.objects.size(), 1u);
+
+    // Faces of the claw take labels of the figure's parts: no more labels
+    // than the figure has segments (0..K-1).
+    const std::vector<std::uint32_t> faceLabels = labelFaces(clawed, clawedResult.labels);
+    const std::set<std::uint32_t> labels(faceLabels.begin(), faceLabels.end());
+    EXPECT_EQ(labels.size(), clean.segments.size());
+    EXPECT_EQ(*labels.rbegin() + 1, clean.segments.size());
 }
 
 }  // namespace

@@ -168,6 +168,15 @@ TEST_F(SceneSequence, OneFrameAFrameInsideTheOutputsAndEarlierResultsAreRefused)
               std::string::npos)
         << run.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "vol"));
+    // A folder is said to be one (it was "the frames of a sequence are meshes").
+    std::filesystem::create_directories(dir / "folder.off");
+    run = test::runSkelseg({"sequence", (dir / "a.off").string(), (dir / "folder.off").string(),
+                            "-o", (dir / "vol").string(), "-q"});
+    EXPECT_EQ(run.exitCode, 2) << run.describe();
+    EXPECT_EQ(run.errLines(),
+              std::vector<std::string>{"skelseg: error: " + (dir / "folder.off").string() +
+                                       ": is a directory, not a file"});
+    EXPECT_FALSE(std::filesystem::exists(dir / "vol"));
 
     // A frame kept in OUTDIR/frames would be replaced by the run's frames/.
     std::filesystem::create_directories(dir / "out" / "frames");

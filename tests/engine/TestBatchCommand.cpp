@@ -64,7 +64,7 @@ TEST(BatchCommand, EarlierResultsOfSegmentAreRefusedWithoutForce) {
 
     const CliResult refused = runBatch(dir / "list.txt", out);
     EXPECT_EQ(refused.exitCode, 5) << refused.describe();
-    EXPECT_TRUE(mentions(refused, "bar: " + (out / "bar").string() +
+    EXPECT_TRUE(mentions(refused, "bar (line 1): " + (out / "bar").string() +
                                       ": holds results of an earlier run (labels.nrrd); use "
                                       "--force to replace them"))
         << refused.err;
@@ -118,6 +118,43 @@ TEST(BatchCommand, AnotherBuildsResultsAreRedone) {
     }
 }
 
+// A detached NRRD header whose data file was replaced by another shape was
+// skipped (the marker fingerprinted the header alone), and its old outputs
+// were kept; with the data file gone it was still "skipped".
+TEST(BatchCommand, NewDataBehindAnUnchangedDetachedHeaderIsRedone) {
+    TempDir dir;
+    fs::create_directories(dir / "in");
+    writeBytes(dir / "in" / "bar.nhdr",
+               "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 24 10 10\nencoding: raw\n"
+               "data file: bar.raw\n");
+    // A bar from x = 2 to x = 1 + length, six voxels across.
+    const auto writeData = [&](int length) {
+        std::string bytes(24 * 10 * 10, '\0');
+        for (int z = 2; z < 8; ++z)
+            for (int y = 2; y < 8; ++y)
+                for (int x = 2; x < 2 + length; ++x) bytes[std::size_t((z * 10 + y) * 24 + x)] = 1;
+        writeBytes(dir / "in" / "bar.raw", bytes);
+    };
+    writeData(20);
+    writeBytes(dir / "list.txt", "in/bar.nhdr\n");
+    const fs::path out = dir / "out";
+    ASSERT_EQ(runBatch(dir / "list.txt", out).exitCode, 0);
+    const std::string firstLabels = fileBytes(out / "bar" / "labels.nrrd");
+
+    writeData(12);
+    const CliResult redo = runBatch(dir / "list.txt", out);
+    ASSERT_EQ(redo.exitCode, 0) << redo.describe();
+    const CliResult direct = runSegment(dir / "in" / "bar.nhdr", dir / "direct", {"--no-preview"});
+    ASSERT_EQ(direct.exitCode, 0) << direct.describe();
+    EXPECT_NE(fileBytes(out / "bar" / "labels.nrrd"), firstLabels) << "the input was skipped";
+    EXPECT_EQ(fileBytes(out / "bar" / "labels.nrrd"), fileBytes(dir / "direct" / "labels.nrrd"));
+
+    fs::remove(dir / "in" / "bar.raw");
+    const CliResult gone = runBatch(dir / "list.txt", out);
+    EXPECT_EQ(gone.exitCode, 5) << gone.describe();
+    EXPECT_TRUE(mentions(gone, "bar.raw")) << gone.err;
+}
+
 TEST(BatchCommand, AUsersFileInLevelsIsNeverRemovedEvenWithForce) {
     TempDir dir;
     writeBar(dir / "in" / "bar.nrrd", 10);
@@ -157,7 +194,7 @@ TEST(BatchCommand, AFolderAnotherInputsBatchWroteIsRefusedWithoutForce) {
 
     const CliResult refused = runBatch(dir / "second.txt", out);
     EXPECT_EQ(refused.exitCode, 5) << refused.describe();
-    EXPECT_TRUE(mentions(refused, "a: " + (out / "a").string() +
+    EXPECT_TRUE(mentions(refused, "a (line 1): " + (out / "a").string() +
                                       ": holds the results of another input (" +
                                       (dir / "d1" / "a.nrrd").string() +
                                       ", done.json); use --force to replace them"))
@@ -230,8 +267,8 @@ TEST(BatchCommand, AFolderAnotherRunIsWritingIsLeftAlone) {
         SCOPED_TRACE("batch" + options);
         const CliResult refused = runBatch(dir / "list.txt", out, extra);
         EXPECT_EQ(refused.exitCode, 5) << refused.describe();
-        EXPECT_TRUE(mentions(
-            refused, "bar: " + (out / "bar").string() + ": another skelseg run is writing to it"))
+        EXPECT_TRUE(mentions(refused, "bar (line 1): " + (out / "bar").string() +
+                                          ": another skelseg run is writing to it"))
             << refused.err;
         EXPECT_EQ(fileBytes(staged), "being written") << "the running run's staged file";
         EXPECT_EQ(fileBytes(out / "bar" / kDoneMarkerName), doneMarker);

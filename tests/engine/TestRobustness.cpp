@@ -1106,6 +1106,80 @@ TEST(BadInputCli, BatchRefusesAnInputThatAnotherInputsRunWouldReplace) {
     EXPECT_EQ(fileBytes(labels), before);
 }
 
+// --grid with a mesh was ignored (exit 0) while a volume that is not .vdb
+// refused it.
+TEST(BadInputCli, AGridNameWithAMeshIsRefusedAsWithAVolume) {
+    TempDir dir;
+    writeBytes(dir / "a.off", kTetraOff);
+    const CliResult result = runSkelseg({"segment", (dir / "a.off").string(), "-o",
+                                         (dir / "out").string(), "--quiet", "--grid", "density"});
+    EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "a.off").string(),
+                                 "a grid name applies only to OpenVDB (.vdb) input"));
+    EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+const std::string kCubeOffForWarnings =
+    "OFF\n8 6 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
+    "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
+
+// A closed box 1000 x 0.001 x 0.001 broke into 7 voxel objects at 48, each
+// a segment, without a word.
+TEST(BadInputCli, AMeshThatBreaksApartInTheVoxelModelIsSaidSo) {
+    TempDir dir;
+    writeBytes(dir / "needle.off",
+               "OFF\n8 6 0\n0 0 0\n1000 0 0\n0 0.001 0\n1000 0.001 0\n0 0 0.001\n"
+               "1000 0 0.001\n0 0.001 0.001\n1000 0.001 0.001\n"
+               "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n");
+    const CliResult result =
+        runSkelseg({"segment", (dir / "needle.off").string(), "-o", (dir / "out").string(),
+                    "--quiet", "--resolution", "48", "--no-preview"});
+    ASSERT_EQ(result.exitCode, 0) << result.describe();
+    const auto report = readReport(dir / "out");
+    const std::size_t objects = report.at("objects").size();
+    ASSERT_GT(objects, 1u) << "the needle must break apart at 48 for this test";
+    const std::string warning = (dir / "needle.off").string() +
+                                ": the voxel model at resolution 48 has " +
+                                std::to_string(objects) + " objects, the mesh 1 piece";
+    EXPECT_NE(result.err.find(warning), std::string::npos) << result.err;
+    // A box that stays whole says nothing of the kind.
+    writeBytes(dir / "box.off", kCubeOffForWarnings);
+    const CliResult box =
+        runSkelseg({"segment", (dir / "box.off").string(), "-o", (dir / "box").string(), "--quiet",
+                    "--resolution", "48", "--no-preview"});
+    ASSERT_EQ(box.exitCode, 0) << box.describe();
+    EXPECT_EQ(box.err.find("objects, the mesh"), std::string::npos) << box.err;
+}
+
+// On the first run these lines were missing inputs (their outputs did not
+// exist yet) and the batch ran; the same command then refused them (OUTROOT
+// a folder of outputs, the labels another input's output).
+TEST(BadInputCli, BatchRefusesOutrootAndAnotherInputsOutputsBeforeTheyExist) {
+    TempDir dir;
+    writeBytes(dir / "a.off", kTetraOff);
+    for (const auto& [listed, problem] :
+         {std::pair<std::string, std::string>{"out",
+                                              "line 2: " + (dir / "out").string() +
+                                                  " is OUTROOT, where the batch writes; choose "
+                                                  "another OUTROOT"},
+          {"out/a/labels.nrrd", "line 2: " + (dir / "out" / "a" / "labels.nrrd").string() +
+                                    " is labels.nrrd in " + (dir / "out" / "a").string() +
+                                    ", which the batch rewrites for " + (dir / "a.off").string() +
+                                    "; choose another OUTROOT"}}) {
+        SCOPED_TRACE(listed);
+        writeBytes(dir / "list.txt", "a.off\n" + listed + "\n");
+        for (int run = 0; run < 2; ++run) {
+            // The second run with OUTROOT made, as the first run made it.
+            if (run == 1) fs::create_directories(dir / "out");
+            const CliResult result =
+                runSkelseg({"batch", (dir / "list.txt").string(), "-o", (dir / "out").string(),
+                            "--quiet", "--resolution", "16", "--no-preview"});
+            EXPECT_TRUE(failsWithOneLine(result, 2, (dir / "list.txt").string(), problem));
+            EXPECT_FALSE(fs::exists(dir / "out" / "a")) << "run " << run;
+        }
+        fs::remove_all(dir / "out");
+    }
+}
+
 // A folder named like an input is read as a folder of inputs (its shapes;
 // this one holds none, which is a warning), never opened as a file.
 TEST(BadInputCli, BatchRecordsAFifoAsAFailedInputAndAFolderAsAFolderWithoutBlocking) {
@@ -1131,8 +1205,10 @@ TEST(BadInputCli, BatchRecordsAFifoAsAFailedInputAndAFolderAsAFolderWithoutBlock
                             "it");
     EXPECT_EQ(lines[1], "skelseg: error: 2 of 3 inputs failed:");
     // In manifest order.
-    EXPECT_EQ(lines[2], "  pipe: " + (dir / "pipe.nrrd").string() + ": is not a regular file");
-    EXPECT_EQ(lines[3], "  fifo: " + (dir / "fifo.off").string() + ": is not a regular file");
+    EXPECT_EQ(lines[2],
+              "  pipe (line 1): " + (dir / "pipe.nrrd").string() + ": is not a regular file");
+    EXPECT_EQ(lines[3],
+              "  fifo (line 3): " + (dir / "fifo.off").string() + ": is not a regular file");
     // The regular input next to them was segmented.
     const nlohmann::json summary = nlohmann::json::parse(fileBytes(dir / "out" / "summary.json"));
     EXPECT_EQ(summary.at("counts").at("done"), 1);

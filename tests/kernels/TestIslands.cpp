@@ -84,5 +84,61 @@ TEST(Islands, TheLargestObjectIsNeverAnIsland) {
     EXPECT_EQ(findIslands({}, {}, 10.0).count, 0u);
 }
 
+// Objects broken off a mesh piece: only the voxeliser knows their piece
+// (ObjectSource); an object that is not its piece's largest and is smaller
+// than a part of it is a fragment.
+TEST(Islands, ObjectsBrokenOffAPieceAndSmallerThanAPartAreFragments) {
+    const MaskVolume mask = scene();
+    const ConnectedObjects found = findConnectedObjects(mask, {false});
+    ASSERT_EQ(found.objects.size(), 6u);
+    const std::vector<std::uint64_t> areas = objectBoundaryAreas(mask, found, {false});
+    // The two balls come from piece 5, the 3x3x3 cube alone from piece 7;
+    // the single voxels have no source. Each object named by a voxel of it.
+    const auto voxelOf = [&](std::uint32_t object) {
+        const Dims d = mask.dims();
+        for (int z = 0; z < d.z; ++z)
+            for (int y = 0; y < d.y; ++y)
+                for (int x = 0; x < d.x; ++x)
+                    if (found.componentAt(x, y, z) == object + 1)
+                        return std::array<int, 3>{x, y, z};
+        return std::array<int, 3>{-1, -1, -1};
+    };
+    std::uint32_t bigBall = 0, smallBall = 0, cube = 0;
+    for (std::uint32_t o = 0; o < 6; ++o) {
+        if (found.objects[o].voxels > 1000)
+            bigBall = o;
+        else if (found.objects[o].voxels > 100)
+            smallBall = o;
+        else if (found.objects[o].voxels == 27)
+            cube = o;
+    }
+    const std::vector<ObjectSource> sources = {
+        {voxelOf(smallBall), 5}, {voxelOf(bigBall), 5}, {voxelOf(cube), 7}};
+    const double ratio = double(areas[smallBall]) / double(areas[bigBall]);
+    ASSERT_LT(ratio, 0.5);
+
+    // A part of piece 5 needs more area than the small ball has: a fragment.
+    const auto share = [](double fraction) {
+        return [fraction](double area) { return fraction * area; };
+    };
+    Fragments fragments = findFragments(found, areas, sources, {}, share(ratio + 0.01));
+    EXPECT_EQ(fragments.count, 1u);
+    EXPECT_EQ(fragments.voxels, found.objects[smallBall].voxels);
+    for (std::uint32_t o = 0; o < 6; ++o)
+        EXPECT_EQ(fragments.isFragment[o], o == smallBall ? 1 : 0) << "object " << o;
+    // Large enough to be a part: an object of its own, as a limb beyond a
+    // neck thinner than a voxel is.
+    EXPECT_EQ(findFragments(found, areas, sources, {}, share(ratio - 0.01)).count, 0u);
+    // The only object of its piece is never a fragment, however small.
+    EXPECT_EQ(findFragments(found, areas, sources, {}, share(1e9)).isFragment[cube], 0);
+    // An island is neither a fragment nor its piece's largest: with the big
+    // ball an island, the small one is piece 5's largest.
+    std::vector<std::uint8_t> skip(6, 0);
+    skip[bigBall] = 1;
+    EXPECT_EQ(findFragments(found, areas, sources, skip, share(ratio + 0.01)).count, 0u);
+    // Without sources nothing is a fragment.
+    EXPECT_EQ(findFragments(found, areas, {}, {}, share(1e9)).count, 0u);
+}
+
 }  // namespace
 }  // namespace skelseg

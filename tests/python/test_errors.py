@@ -1,6 +1,7 @@
 """Bad input: the documented exceptions, the engine's one-line messages,
 and nothing printed to stdout."""
 import os
+import pathlib
 
 import numpy as np
 import pytest
@@ -110,6 +111,19 @@ def test_file_names_that_are_not_utf8_are_named_in_the_message(capfd, tmp_path):
         with pytest.raises(ValueError) as raised:
             read(path)
         assert str(raised.value) == expected + ": no such file"
+    check_quiet(capfd)
+
+
+def test_a_path_with_a_nul_byte_is_refused_as_open_refuses_it(capfd, tmp_path):
+    # The system reads a path up to its NUL: "f.nrrd\0.off" read f.nrrd.
+    (tmp_path / "f.nrrd").write_bytes(
+        b"NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n" + bytes(8))
+    assert skelseg.read_volume(tmp_path / "f.nrrd").shape == (2, 2, 2)
+    for read, name in ((skelseg.read_volume, "f.nrrd\0.nrrd"), (skelseg.read_mesh, "f.nrrd\0.off"),
+                       (skelseg.read_seg, "f.nrrd\0.seg")):
+        for path in (str(tmp_path / name), os.fsencode(str(tmp_path / name))):
+            with pytest.raises(ValueError, match="embedded null byte"):
+                read(path)
     check_quiet(capfd)
 
 
@@ -296,6 +310,15 @@ def test_spacing_vertices_and_mask_of_the_wrong_kind_are_refused(capfd):
         skelseg.segment(mask, spacing="111")
     with pytest.raises(TypeError, match=r"^spacing must be three numbers"):
         skelseg.segment(mask, spacing=(1, 1, True))
+    # One number was Python's own "object of type 'int' has no len()".
+    for single in (2, 2.0, np.float64(2)):
+        with pytest.raises(TypeError, match=r"^spacing must be three numbers, not 2"):
+            skelseg.segment(mask, spacing=single)
+    # A file name where the mask goes was "got 0-D of shape ()".
+    for path in ("f.nrrd", b"f.nrrd", pathlib.Path("f.nrrd")):
+        with pytest.raises(TypeError, match=r"^mask must be a 3-D array, not the path .*"
+                                            r"read_volume\(\) first$"):
+            skelseg.segment(path)
     # The volume headers' rule: a voxel volume past the doubles' range.
     with pytest.raises(ValueError, match=r"^spacing: the voxel volume .* is outside the range"):
         skelseg.segment(mask, spacing=(1e-300,) * 3)

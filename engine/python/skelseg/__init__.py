@@ -450,11 +450,15 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
     arguments = _call_arguments(locals(), progress)
     if mask is None:
         raise TypeError("mask must be a 3-D array, not None")
+    # A file name read as a 0-D array of text was "got 0-D of shape ()".
+    if isinstance(mask, (str, bytes, os.PathLike)):
+        raise TypeError(f"mask must be a 3-D array, not the path {mask!r}: read the file with "
+                        "skelseg.read_volume() first")
     array = np.asarray(mask)
     if array.dtype.kind == "f" and not array.dtype.isnative:
         array = array.astype(array.dtype.newbyteorder("="))
     # A string has a length and its characters convert: "111" read as (1, 1, 1).
-    if isinstance(spacing, (str, bytes)) or not all(
+    if isinstance(spacing, (str, bytes)) or np.ndim(spacing) != 1 or not all(
             isinstance(s, numbers.Real) and not isinstance(s, (bool, np.bool_))
             for s in np.ravel(np.asarray(spacing, dtype=object))):
         raise TypeError(f"spacing must be three numbers, not {spacing!r}")
@@ -580,6 +584,18 @@ def segment_mesh(vertices: np.ndarray, faces: np.ndarray, *, resolution: int = 2
     return _result(raw, MeshSegmentationResult, face_labels=raw["face_labels"])
 
 
+def _file_path(path: Union[str, bytes, os.PathLike]) -> Union[str, bytes]:
+    """The path as the engine opens it (str or bytes, as given).
+
+    A NUL byte ends a path for the system, so "a.nrrd\\0.off" opened a.nrrd
+    after the name's extension had been checked; refused as open() refuses it.
+    """
+    text = os.fspath(path)
+    if ("\0" if isinstance(text, str) else b"\0") in text:
+        raise ValueError(f"embedded null byte in the path {text!r}")
+    return text
+
+
 def read_volume(path: Union[str, os.PathLike], *, grid: Optional[str] = None,
                 with_spacing: bool = False, max_memory: Union[None, int, str] = None,
                 time_limit: Optional[float] = None
@@ -613,7 +629,7 @@ def read_volume(path: Union[str, os.PathLike], *, grid: Optional[str] = None,
             seconds = math.nan
         if not (math.isfinite(seconds) and seconds > 0):
             raise ValueError(f"time_limit must be a positive number of seconds, not {time_limit!r}")
-    array, spacing, _origin = _skelseg.read_volume(os.fspath(path), grid or "", memory, seconds)
+    array, spacing, _origin = _skelseg.read_volume(_file_path(path), grid or "", memory, seconds)
     return (array, spacing) if with_spacing else array
 
 
@@ -625,13 +641,13 @@ def read_mesh(path: Union[str, os.PathLike]) -> Mesh:
     triangle_face=m.triangle_face) labels the file's faces.
     Raises ValueError with the CLI's message.
     """
-    vertices, triangles, triangle_face, face_count = _skelseg.read_mesh(os.fspath(path))
+    vertices, triangles, triangle_face, face_count = _skelseg.read_mesh(_file_path(path))
     return Mesh(vertices, triangles, triangle_face, int(face_count))
 
 
 def read_seg(path: Union[str, os.PathLike]) -> np.ndarray:
     """Reads a .seg or .seg.gz face segmentation (one int64 label per face)."""
-    return _skelseg.read_seg(os.fspath(path))
+    return _skelseg.read_seg(_file_path(path))
 
 
 def _score(raw: dict, per_human: Tuple[Score, ...] = ()) -> Score:

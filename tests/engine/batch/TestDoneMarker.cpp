@@ -27,6 +27,27 @@ TEST(DoneMarker, FingerprintSeesEveryByte) {
     EXPECT_THROW(fingerprintFile(dir / "absent"), InputError);
 }
 
+// A detached NRRD header reads its data file: new data behind an unchanged
+// header is a changed input (a batch skipped such an input and kept the old
+// outputs), and a data file gone is an input that cannot be read.
+TEST(DoneMarker, InputFingerprintSeesADetachedHeadersDataFile) {
+    TempDir dir;
+    writeBytes(dir / "a.off", "0123456789");
+    EXPECT_TRUE(fingerprintInput(dir / "a.off") == fingerprintFile(dir / "a.off"));
+
+    writeBytes(dir / "vol.nhdr",
+               "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n"
+               "data file: vol.raw\n");
+    writeBytes(dir / "vol.raw", std::string(8, '\1'));
+    const InputFingerprint first = fingerprintInput(dir / "vol.nhdr");
+    EXPECT_EQ(first.bytes, fs::file_size(dir / "vol.nhdr") + 8u);
+    EXPECT_FALSE(first == fingerprintFile(dir / "vol.nhdr"));
+    writeBytes(dir / "vol.raw", std::string(7, '\1') + '\0');
+    EXPECT_FALSE(fingerprintInput(dir / "vol.nhdr") == first);
+    fs::remove(dir / "vol.raw");
+    EXPECT_THROW(fingerprintInput(dir / "vol.nhdr"), InputError);
+}
+
 namespace {
 
 /// The problem of the InputError `fingerprintFile(file)` throws ("" if none).

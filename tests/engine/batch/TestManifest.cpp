@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <climits>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -97,6 +98,21 @@ TEST(Manifest, DuplicatesAreKeptOnceWithAWarning) {
     EXPECT_NE(m.warnings[0].find("first on line 1"), std::string::npos) << m.warnings[0];
 }
 
+// A hard link was segmented twice under two names, although a symbolic link
+// or another spelling of the same file was caught.
+TEST(Manifest, AHardLinkIsTheSameFile) {
+    TempDir dir;
+    touch(dir / "s" / "a.nrrd");
+    fs::create_hard_link(dir / "s" / "a.nrrd", dir / "s" / "linked.nrrd");
+    writeBytes(dir / "list.txt", "s/a.nrrd\ns/linked.nrrd\n");
+    const Manifest m = readManifest(dir / "list.txt");
+    ASSERT_EQ(m.entries.size(), 1u);
+    ASSERT_EQ(m.warnings.size(), 1u);
+    EXPECT_NE(m.warnings[0].find("linked.nrrd is listed again (first on line 1)"),
+              std::string::npos)
+        << m.warnings[0];
+}
+
 TEST(Manifest, MissingFilesAreKeptAndMarked) {
     TempDir dir;
     touch(dir / "here.nrrd");
@@ -167,20 +183,61 @@ TEST(Manifest, AShapeOrBinaryDataIsNotAManifest) {
     }
 }
 
-TEST(OutputNames, ThousandsOfEqualNamesGetDistinctCounters) {
+TEST(Manifest, ALineLongerThanAnyPathIsNotAManifest) {
+    TempDir dir;
+    writeBytes(dir / "list.txt", "a.off\n" + std::string(PATH_MAX, 'x') + ".off\n");
+    EXPECT_EQ(thrownMessage<InputError>([&] { readManifest(dir / "list.txt"); }),
+              (dir / "list.txt").string() + ": line 2 is " + std::to_string(PATH_MAX + 4) +
+                  " bytes long, longer than any path (" + std::to_string(PATH_MAX - 1) +
+                  " bytes): not a manifest");
+    // The longest path the system takes is an input, missing or not.
+    writeBytes(dir / "list.txt", "/" + std::string(PATH_MAX - 6, 'x') + ".off\n");
+    EXPECT_EQ(readManifest(dir / "list.txt").entries.size(), 1u);
+}
+
+TEST(OutputNames, ThousandsOfEqualNamesGetDistinctFoldersOrCounters) {
     std::vector<fs::path> inputs;
     for (int i = 0; i < 3000; ++i)
         inputs.push_back(fs::path("d" + std::to_string(i)) / "x" / "m.off");
     const std::vector<std::string> names = uniqueOutputNames(inputs);
     EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), inputs.size());
-    EXPECT_EQ(names[0], "x-m");
-    EXPECT_EQ(names[1], "x-m-2");
-    EXPECT_EQ(names[2999], "x-m-3000");
+    EXPECT_EQ(names[0], "d0-x-m");
+    EXPECT_EQ(names[2999], "d2999-x-m");
+    // Names no folder tells apart get counters, without a quadratic search.
+    std::vector<fs::path> cut;
+    for (int i = 0; i < 3000; ++i)
+        cut.push_back(fs::path(std::string(260, 'd') + std::to_string(i)) / "m.off");
+    const std::vector<std::string> cutNames = uniqueOutputNames(cut);
+    EXPECT_EQ(std::set<std::string>(cutNames.begin(), cutNames.end()).size(), cut.size());
+    EXPECT_EQ(cutNames[0], std::string(253, 'd') + "-m");
+    EXPECT_EQ(cutNames[1], std::string(253, 'd') + "-2");
+    EXPECT_EQ(cutNames[2999], std::string(250, 'd') + "-3000");
+}
+
+// Names came from a counter in manifest order, so the same inputs listed in
+// another order (a regenerated manifest, a resumed batch) got each other's
+// folders, and the resume refused them as another input's results.
+TEST(OutputNames, DoNotDependOnTheOrderOfTheInputs) {
+    std::vector<fs::path> inputs = {"in/e1/a.off", "in/e2/a.off", "in/e2/e1/a.off", "in/b.off",
+                                    "in/x/b.ply"};
+    const auto names = uniqueOutputNames(inputs);
+    EXPECT_EQ(names, (std::vector<std::string>{"in-e1-a", "e2-a", "e2-e1-a", "in-b", "x-b"}));
+    std::vector<std::size_t> order = {0, 1, 2, 3, 4};
+    while (std::next_permutation(order.begin(), order.end())) {
+        std::vector<fs::path> shuffled;
+        for (const std::size_t i : order) shuffled.push_back(inputs[i]);
+        const auto shuffledNames = uniqueOutputNames(shuffled);
+        for (std::size_t k = 0; k < order.size(); ++k)
+            ASSERT_EQ(shuffledNames[k], names[order[k]]) << shuffled[k];
+    }
 }
 
 TEST(Manifest, DirectoryListsSupportedFilesByName) {
     TempDir dir;
-    for (const char* name : {"c.OFF", "a.nrrd", "b.binvox", "readme.txt", "z.vdb", "m.nhdr"})
+    // Hidden files are left out as a shell's * leaves them: "._c.OFF" is the
+    // resource fork a Mac writes beside c.OFF, and was a failed input.
+    for (const char* name :
+         {"c.OFF", "a.nrrd", "b.binvox", "readme.txt", "z.vdb", "m.nhdr", "._c.OFF", ".h.off"})
         touch(dir / "in" / name);
     fs::create_directories(dir / "in" / "sub.nrrd");  // a folder, not a file
     const Manifest m = readManifest(dir / "in");
@@ -271,14 +328,14 @@ TEST(Manifest, AWildcardLineStandsForTheShapesItMatches) {
     EXPECT_TRUE(inSet.warnings.empty());
 }
 
-TEST(OutputNames, CollisionsGetTheFolderThenACounter) {
+TEST(OutputNames, CollisionsGetFoldersThenACounter) {
     const std::vector<fs::path> inputs = {"chairs/1.off", "tables/1.off", "x/2.off",   "y/x/2.off",
                                           "3.off",        "3.obj",        "solo.nrrd", "3-2.off"};
     const auto names = uniqueOutputNames(inputs);
     EXPECT_EQ(names[0], "chairs-1");
     EXPECT_EQ(names[1], "tables-1");
     EXPECT_EQ(names[2], "x-2");
-    EXPECT_EQ(names[3], "x-2-2");
+    EXPECT_EQ(names[3], "y-x-2");
     EXPECT_EQ(names[4], "3");
     EXPECT_EQ(names[5], "3-3");  // "3-2" belongs to another input
     EXPECT_EQ(names[6], "solo");
@@ -319,7 +376,7 @@ TEST(OutputNames, NoNameIsLongerThanAFolderNameCanBe) {
     EXPECT_EQ(names[0], "ppp-" + stem);  // the folder's name is cut, not the stem
     EXPECT_EQ(names[1], "qq-" + stem);
     EXPECT_EQ(names[2], "a\xC3\xA9-" + stem);
-    EXPECT_EQ(names[3], "qq-" + stem.substr(0, 250) + "-2");  // cut before the counter
+    EXPECT_EQ(names[3], "r-q-" + stem);  // "r-qq" cut
     EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
     // Cut names that become equal are told apart by the counter.
     std::vector<fs::path> many;
@@ -425,8 +482,12 @@ TEST(ShardSpec, ParsesIndexOfCount) {
     EXPECT_EQ(spec.count, 5);
     EXPECT_EQ(spec.summaryStem(), "summary.shard-2-of-5");
     EXPECT_EQ(ShardSpec::parse("0/1").summaryStem(), "summary");
-    for (const char* bad : {"5/5", "-1/3", "1", "a/b", "1/0", "1/3x", "/3"})
+    for (const char* bad : {"5/5", "-1/3", "1", "a/b", "1/0", "1/3x", "/3", "+1/3", "1 /3", " "})
         EXPECT_THROW(ShardSpec::parse(bad), UsageError) << bad;
+    // Blanks around the value (a script's) either side: " 0/2" was taken
+    // and "0/2 " refused.
+    for (const char* padded : {" 1/2", "1/2 ", "\t1/2\n"})
+        EXPECT_EQ(ShardSpec::parse(padded).toString(), "1/2") << padded;
 }
 
 TEST(ShardSpec, ComesFromSlurmOrKubernetes) {
@@ -464,6 +525,15 @@ TEST(ShardSpec, ComesFromSlurmOrKubernetes) {
     EXPECT_THROW(shardFromEnvironment(lookup, 0), UsageError);
     env = {{"SLURM_ARRAY_TASK_ID", "x"}, {"SLURM_ARRAY_TASK_COUNT", "4"}};
     EXPECT_THROW(shardFromEnvironment(lookup, 0), UsageError);
+    // An array's variables without a task id ran the whole manifest.
+    env = {{"SLURM_ARRAY_TASK_ID", ""}, {"SLURM_ARRAY_TASK_COUNT", "2"}};
+    EXPECT_EQ(thrownMessage<UsageError>([&] { shardFromEnvironment(lookup, 0); }),
+              "SLURM_ARRAY_TASK_ID is set but empty; pass --shard I/N");
+    env = {{"SLURM_ARRAY_TASK_COUNT", "2"}};
+    EXPECT_EQ(thrownMessage<UsageError>([&] { shardFromEnvironment(lookup, 0); }),
+              "SLURM_ARRAY_TASK_COUNT is set but SLURM_ARRAY_TASK_ID is not; pass --shard I/N");
+    env = {{"JOB_COMPLETION_INDEX", ""}};
+    EXPECT_THROW(shardFromEnvironment(lookup, 3), UsageError);
     env = {{"JOB_COMPLETION_INDEX", "2"}};
     EXPECT_THROW(shardFromEnvironment(lookup, 0), UsageError);  // --shards missing
     spec = shardFromEnvironment(lookup, 3);

@@ -50,7 +50,7 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
 MeshDiagnostics hashedEdgeDiagnostics(const TriangleMesh& mesh) {
     const std::vector<std::uint32_t> canonical = hashedCanonicalVertices(mesh);
     MeshDiagnostics d;
-    std::unordered_map<std::uint64_t, std::uint32_t> uses;
+    std::unordered_map<std::uint64_t, std::uint32_t> uses, directedUses;
     std::vector<std::uint32_t> parent(mesh.vertices.size());
     std::iota(parent.begin(), parent.end(), 0u);
     std::vector<char> used(mesh.vertices.size(), 0);
@@ -62,12 +62,16 @@ MeshDiagnostics hashedEdgeDiagnostics(const TriangleMesh& mesh) {
             if (a == b) continue;
             const std::uint32_t ra = findRoot(parent, a), rb = findRoot(parent, b);
             if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+            ++directedUses[(std::uint64_t(a) << 32) | b];
             if (a > b) std::swap(a, b);
             ++uses[(std::uint64_t(a) << 32) | b];
         }
     bool even = true;
     for (const auto& [edge, n] : uses) {
-        (void)edge;
+        // Two uses the same way round: one a->b twice, or b->a twice.
+        const std::uint64_t reversed = (edge << 32) | (edge >> 32);
+        d.misorientedEdges +=
+            n == 2 && (directedUses.count(edge) == 0 || directedUses.count(reversed) == 0);
         d.boundaryEdges += n == 1;
         d.nonManifoldEdges += n > 2;
         even = even && n % 2 == 0;
@@ -137,6 +141,7 @@ void expectSameAsHashed(const TriangleMesh& mesh, const std::string& name) {
     const MeshDiagnostics sorted = checkMesh(mesh), hashed = hashedEdgeDiagnostics(mesh);
     EXPECT_EQ(sorted.boundaryEdges, hashed.boundaryEdges) << name;
     EXPECT_EQ(sorted.nonManifoldEdges, hashed.nonManifoldEdges) << name;
+    EXPECT_EQ(sorted.misorientedEdges, hashed.misorientedEdges) << name;
     EXPECT_EQ(sorted.closed, hashed.closed) << name;
     EXPECT_EQ(sorted.pieces, hashed.pieces) << name;
     const MeshTopology topology = meshTopology(mesh), expected = hashedTopology(mesh);
@@ -299,6 +304,28 @@ TEST(MeshCheck, VerticesNoFaceUsesAreCountedAndNamedInAWarning) {
     mesh.vertices.pop_back();
     EXPECT_EQ(meshWarnings(checkMesh(mesh), "stray.off"),
               std::vector<std::string>{"stray.off: 1 vertex is used by no face; it is ignored"});
+}
+
+// One flipped face changed a shape's parts without a word (docs/meshes.md:
+// pieces not consistently oriented lose the rules that need their outside).
+TEST(MeshCheck, FlippedFacesAreCountedByTheirEdgesAndNamedInAWarning) {
+    TriangleMesh mesh = unitCube();
+    EXPECT_EQ(checkMesh(mesh).misorientedEdges, 0u);
+    std::swap(mesh.triangles[0][1], mesh.triangles[0][2]);
+    const MeshDiagnostics d = checkMesh(mesh);
+    EXPECT_TRUE(d.closed);
+    EXPECT_EQ(d.misorientedEdges, 3u);  // the flipped triangle's three edges
+    EXPECT_EQ(meshWarnings(d, "flip.off"),
+              std::vector<std::string>{
+                  "flip.off: 3 edges join faces wound against each other (some faces are "
+                  "flipped); where surfaces touch there, they may stay joined in the voxel "
+                  "model"});
+    expectSameAsHashed(mesh, "one flipped");
+    // The whole cube flipped is consistent again.
+    for (auto& triangle : mesh.triangles) std::swap(triangle[1], triangle[2]);
+    std::swap(mesh.triangles[0][1], mesh.triangles[0][2]);
+    EXPECT_EQ(checkMesh(mesh).misorientedEdges, 0u);
+    expectSameAsHashed(mesh, "all flipped");
 }
 
 TEST(MeshCheck, EverySharedMeshAgreesWithTheHashedCount) {

@@ -140,7 +140,7 @@ std::string cubeObj() {
            "f 1 4 3 2\n"
            "f 5/1 6/2 7/1 8/2\n"
            "f 1//1 2//1 6//1 5//1\n"
-           "f 2/1/1 3/2/1 7/1/1 6/2/1\n"
+           "f 2/1/1 3/-2/1 7/1/ 6//\n"
            "f -6 -5 -1 -2\n"
            "l 1 2\n"
            "f 4 1 5 8\n";
@@ -454,6 +454,13 @@ TEST(MeshIO, MalformedInputThrowsInputErrorNamingTheFile) {
          "line 7: face 0 has 2 vertices; a face needs at least 3"},
         {MeshFormat::Obj, "v 0 0\n", "fewer than 3 coordinates"},
         {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "bad face vertex"},
+        // Texture and normal indices are not read, but must be indices:
+        // "1/zz/qq" was vertex 1.
+        {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/zz/qq 2 3\n",
+         "line 4: bad face vertex '1/zz/qq'"},
+        {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2//x 3\n", "bad face vertex '2//x'"},
+        {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/1/1/1\n",
+         "bad face vertex '3/1/1/1'"},
         {MeshFormat::Obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -5 -1 -2\n", "only 3 vertices precede it"},
         {MeshFormat::Obj, "v inf 0 0\n", "non-finite"},
         {MeshFormat::Obj, "\x01\x02garbage\nf a b c\n", "bad face vertex"},

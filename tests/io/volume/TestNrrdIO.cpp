@@ -654,6 +654,14 @@ TEST(NrrdIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
         {"bzip2-implausible", nrrd(basicFields("uint8", "8000 8000 60", "bzip2"), bzipped),
          "cannot hold"},
         {"bzip2-empty", nrrd(bz, ""), "data is too short: bzip2 data is truncated after 0"},
+        // Every sample decodes, the stream's end and checksum are cut off.
+        {"gzip-no-trailer",
+         nrrd(basicFields("uint8", "2 3 4", "gzip"), gzipped.substr(0, gzipped.size() - 8)),
+         "data is too short: the gzip stream is cut off after 24 bytes, before its end and "
+         "checksum"},
+        {"bzip2-no-end", nrrd(bz, bzipped.substr(0, bzipped.size() - 4)),
+         "data is too short: the bzip2 stream is cut off after 24 bytes, before its end and "
+         "checksum"},
         {"ascii-implausible", nrrd(basicFields("uint8", "4000 4000 200", "ascii"), "1 2 3"),
          "data is too short: ascii data has 3 numbers, header says 3200000000"},
         {"ascii-few", nrrd(ascii, "1 2 3 4" + std::string(40, ' ')),
