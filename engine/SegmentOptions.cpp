@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "engine/NumberText.h"
 #include "kernels/base/Error.h"
@@ -31,6 +32,8 @@ std::uint64_t parseMemoryLimit(const std::string& text) {
         scale = 1e9;
     else if (!unit.empty())
         throw UsageError("--max-memory '" + text + "': unknown unit '" + unit + "'");
+    // "nan" was told it must be positive, "inf" taken as no limit.
+    if (!std::isfinite(value)) throw notASize();
     if (!(value > 0)) throw UsageError("--max-memory must be positive");
     // Sizes past 2^64 bytes mean "no limit"; converting them would be undefined.
     const double bytes = value * scale;
@@ -123,6 +126,23 @@ void SegmentOptionTexts::finish() {
             throw UsageError("--bend-angle needs --joints: without it no joint cuts are made");
         if (given.minSegmentTauFraction != defaults.minSegmentTauFraction)
             throw UsageError("--joint-min-part needs --joints: without it no joint cuts are made");
+    }
+    // A limb turns by at most 180 degrees: a larger angle meant "no bends"
+    // without a word (the default, kNoBends, says so by itself).
+    const double bend = options.parameters.jointOptions.bendAngleDegrees;
+    if (bend > 180.0 && bend != JointOptions{}.bendAngleDegrees) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", bend);
+        throw UsageError(std::string("--bend-angle ") + text +
+                         ": a limb turns by at most 180 degrees");
+    }
+    // The budget's own options change nothing without a budget.
+    if (options.timeBudgetSeconds <= 0) {
+        if (options.budgetPasses != SegmentCommandOptions{}.budgetPasses)
+            throw UsageError("--budget-passes needs --time-budget: without it nothing is chosen");
+        if (!budgetCalibrationText.empty() && budgetCalibrationText != "probe")
+            throw UsageError(
+                "--budget-calibration needs --time-budget: without it nothing is chosen");
     }
     if (exhaustive || skeletonSearchText == "exhaustive")
         options.parameters.skeletonSearch = SkeletonSearch::Exhaustive;
@@ -305,8 +325,16 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
         ->capture_default_str()
         ->transform(integerText())
         ->check(CLI::IsMember({1, 2}));
-    command->add_option("--max-memory", cli.maxMemoryText,
-                        "Refuse runs estimated to need more (e.g. 4G; default 75% of RAM)");
+    // An empty value ("$MEM" unset in a job script) ran with the default.
+    command
+        ->add_option("--max-memory", cli.maxMemoryText,
+                     "Refuse runs estimated to need more (e.g. 4G; K, M, G or KB, MB, GB; "
+                     "default 75% of RAM)")
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                return text.empty() ? "the value is empty; give a size such as 4G" : "";
+            },
+            ""));
     command->add_flag("--force", seg.force,
                       "Replace results of an earlier run in the output directory");
     command->add_flag("--quiet,-q", cli.quiet,

@@ -11,6 +11,7 @@
 // missing. Errors are one line on stderr.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -142,7 +143,17 @@ int runCommandLine(int argc, char** argv) {
     generate->add_option("--noise", noise, "Fraction of boundary voxels to flip")
         ->check(skelseg::numberText())
         ->check(CLI::Range(0.0, 0.5));
-    generate->add_option("--seed", seed, "Noise seed")->capture_default_str();
+    // -1 and values past 2^64 became 18446744073709551615 without a word.
+    generate->add_option("--seed", seed, "Noise seed (0 to 18446744073709551615)")
+        ->capture_default_str()
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                const bool digits = !text.empty() && text.size() <= 20 &&
+                                    text.find_first_not_of("0123456789") == std::string::npos;
+                if (digits && (text.size() < 20 || text <= "18446744073709551615")) return "";
+                return "'" + text + "' is not a whole number from 0 to 18446744073709551615";
+            },
+            ""));
 
     // score
     std::string scoreMesh, candidate;
@@ -255,7 +266,10 @@ int runCommandLine(int argc, char** argv) {
             skelseg::MaskVolume mask =
                 skelseg::rasterise(skelseg::makeShape(shapeName, pose), {size, 3});
             if (noise > 0) skelseg::addBoundaryNoise(mask, noise, seed);
-            const std::string ext = std::filesystem::path(generateOut).extension().string();
+            // Any case, as the readers take it (G.NRRD was refused).
+            std::string ext = std::filesystem::path(generateOut).extension().string();
+            std::transform(ext.begin(), ext.end(), ext.begin(),
+                           [](unsigned char c) { return char(std::tolower(c)); });
             if (ext == ".binvox")
                 skelseg::writeBinvox(generateOut, mask);
             else if (ext == ".nrrd")

@@ -27,6 +27,7 @@
 #include "engine/BatchCommand.h"
 #include "io/mesh/MeshIO.h"
 #include "io/shapes/SyntheticShapes.h"
+#include "io/volume/NrrdIO.h"
 #include "tests/engine/RobustnessHelpers.h"
 #include "tests/support/Bzip2Bytes.h"
 
@@ -881,6 +882,35 @@ INSTANTIATE_TEST_SUITE_P(
         UsageCase{"max_memory_zero",
                   {"segment", "{input}", "-o", "{out}", "--max-memory", "0"},
                   "--max-memory"},
+        // An empty value ("$MEM" unset) ran with the default; "nan" was told
+        // it must be positive; "inf" was no limit.
+        UsageCase{"max_memory_empty",
+                  {"segment", "{input}", "-o", "{out}", "--max-memory", ""},
+                  "--max-memory: the value is empty; give a size such as 4G"},
+        UsageCase{"max_memory_nan",
+                  {"segment", "{input}", "-o", "{out}", "--max-memory", "nan"},
+                  "--max-memory 'nan' is not a size such as 4G or 512M"},
+        UsageCase{"max_memory_inf",
+                  {"segment", "{input}", "-o", "{out}", "--max-memory", "inf"},
+                  "--max-memory 'inf' is not a size such as 4G or 512M"},
+        // Accepted, and meant "no bends" (or nothing at all) without a word.
+        UsageCase{"bend_angle_past_a_half_turn",
+                  {"segment", "{input}", "-o", "{out}", "--joints", "--bend-angle", "180.5"},
+                  "--bend-angle 180.5: a limb turns by at most 180 degrees"},
+        UsageCase{"budget_passes_without_a_budget",
+                  {"segment", "{input}", "-o", "{out}", "--budget-passes", "1"},
+                  "--budget-passes needs --time-budget"},
+        UsageCase{"budget_calibration_without_a_budget",
+                  {"segment", "{input}", "-o", "{out}", "--budget-calibration", "cpu"},
+                  "--budget-calibration needs --time-budget"},
+        // -1 and values past 2^64 became 18446744073709551615.
+        UsageCase{"generate_negative_seed",
+                  {"generate", "box", "-o", "{out}.nrrd", "--noise", "0.1", "--seed", "-1"},
+                  "'-1' is not a whole number from 0 to 18446744073709551615"},
+        UsageCase{"generate_seed_past_64_bits",
+                  {"generate", "box", "-o", "{out}.nrrd", "--noise", "0.1", "--seed",
+                   "18446744073709551616"},
+                  "is not a whole number"},
         UsageCase{"grid_name_for_nrrd",
                   {"segment", "{input}", "-o", "{out}", "--quiet", "--grid", "density"},
                   "grid name applies only to OpenVDB"},
@@ -889,6 +919,21 @@ INSTANTIATE_TEST_SUITE_P(
                   {"generate", "sphere", "-o", "{out}.png"},
                   ".nrrd or .binvox"}),
     [](const ::testing::TestParamInfo<UsageCase>& info) { return info.param.name; });
+
+// `generate -o G.NRRD` was refused although every reader takes the
+// extension in any case; the largest seed is a seed.
+TEST(ExitCodes, GenerateTakesAnUpperCaseExtensionAndTheLargestSeed) {
+    TempDir dir;
+    const CliResult upper =
+        runSkelseg({"generate", "box", "-o", (dir / "G.NRRD").string(), "--size", "16", "--noise",
+                    "0.1", "--seed", "18446744073709551615"});
+    ASSERT_EQ(upper.exitCode, 0) << upper.describe();
+    EXPECT_EQ(readNrrdMask(dir / "G.NRRD").dims().x, 16);
+    const CliResult binvox =
+        runSkelseg({"generate", "box", "-o", (dir / "b.BinVox").string(), "--size", "16"});
+    ASSERT_EQ(binvox.exitCode, 0) << binvox.describe();
+    EXPECT_TRUE(fs::exists(dir / "b.BinVox"));
+}
 
 TEST(ExitCodes, HelpAndVersionExitZero) {
     const CliResult help = runSkelseg({"--help"});

@@ -74,3 +74,16 @@ def test_frames_not_trusted_neither_vote_nor_are_chosen():
     assert skelseg.sequence_consensus(frames, trusted=[False] * 3).reference == every.reference
     with pytest.raises(ValueError, match="trust is given for 2 frames, the sequence has 3"):
         skelseg.sequence_consensus(frames, trusted=[True, False])
+
+
+def test_numbers_or_a_dict_as_frames_are_refused():
+    # A number became a frame of one face: [0, 1] was two one-face frames,
+    # and a dict gave its keys.
+    with pytest.raises(ValueError, match=r"^frame_labels must be 1-D arrays of labels"):
+        skelseg.sequence_consensus([0, 1])
+    with pytest.raises(TypeError, match=r"not a dict"):
+        skelseg.sequence_consensus({0: np.array([0, 1]), 1: np.array([1, 0])})
+    with pytest.raises(ValueError, match=r"^labels must be 1-D arrays of labels"):
+        skelseg.score(3, [3])
+    with pytest.raises(ValueError, match=r"^human_labels must be 1-D arrays of labels"):
+        skelseg.score(np.array([0, 1]), [np.array([[0, 1]])])

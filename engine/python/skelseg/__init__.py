@@ -329,6 +329,16 @@ def _integer_array(value: Any, what: str, indices: bool = False) -> np.ndarray:
     return np.ascontiguousarray(array, dtype=np.int64)
 
 
+def _label_vector(value: Any, what: str) -> np.ndarray:
+    """_integer_array of one label per face: 1-D. A number became a frame of
+    one face (ascontiguousarray makes 0-D arrays 1-D), so score(3, [3]) was
+    0.0 and sequence_consensus({0: a, 1: b}) compared the dict's keys."""
+    if np.ndim(value) != 1:
+        raise ValueError(f"{what} must be 1-D arrays of labels (one per face), "
+                         f"not {np.ndim(value)}-D: {type(value).__name__}")
+    return _integer_array(value, what)
+
+
 def _result(raw: dict, cls: type = SegmentationResult, **extra: Any) -> SegmentationResult:
     for message in raw["warnings"]:
         warnings.warn(message, SkelsegWarning, stacklevel=3)
@@ -668,7 +678,7 @@ def score(labels: np.ndarray, human_labels: Union[np.ndarray, Sequence[np.ndarra
     of whole numbers: no silent rounding) and ValueError for a scalar or
     arrays of different lengths.
     """
-    candidate = _integer_array(labels, "labels")
+    candidate = _label_vector(labels, "labels")
     if isinstance(human_labels, np.ndarray):
         if human_labels.ndim == 0:
             raise ValueError("human_labels must be one or more arrays of labels, not a scalar")
@@ -676,7 +686,7 @@ def score(labels: np.ndarray, human_labels: Union[np.ndarray, Sequence[np.ndarra
     else:
         listed = list(human_labels)
         humans = [listed] if listed and np.ndim(listed[0]) == 0 else listed
-    humans = [_integer_array(h, "human_labels") for h in humans]
+    humans = [_label_vector(h, "human_labels") for h in humans]
     areas = None if face_areas is None else np.ascontiguousarray(face_areas, dtype=np.float64)
     raw = _skelseg.score(candidate, humans, areas)
     return _score(raw, tuple(_score(h) for h in raw["per_human"]))
@@ -704,7 +714,10 @@ def sequence_consensus(frame_labels: Sequence[np.ndarray],
             isinstance(frame_labels, np.ndarray) and frame_labels.ndim == 0):
         raise ValueError(f"frame_labels must be a sequence of per-frame label arrays, "
                          f"not the scalar {frame_labels!r}")
-    frames = [_integer_array(f, "frame_labels") for f in frame_labels]
+    if isinstance(frame_labels, dict):
+        raise TypeError("frame_labels must be a sequence of per-frame label arrays, not a dict "
+                        "(pass list(d.values()) in frame order)")
+    frames = [_label_vector(f, "frame_labels") for f in frame_labels]
     trust = [] if trusted is None else [bool(t) for t in trusted]
     raw = _skelseg.sequence_consensus(frames, trust)
     return SequenceConsensus(int(raw["reference"]), int(raw["modal_parts"]),
