@@ -112,6 +112,14 @@ def test_flags_take_booleans_only():
         skelseg.segment(np.ones((4, 4, 4), bool), exhaustive=1)
     with pytest.raises(TypeError, match="^limb_taper must be a number or a string"):
         skelseg.segment(np.ones((4, 4, 4), bool), limb_taper=[0.2])
+    # A word's keyword given a number was a ValueError naming the choices.
+    for keyword in ("mode", "skeleton_search"):
+        with pytest.raises(TypeError, match=f"^{keyword} must be a string, not 1$"):
+            skelseg.segment(np.ones((4, 4, 4), bool), **{keyword: 1})
+    vertices = np.array([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], float)
+    faces = np.array([(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)])
+    with pytest.raises(TypeError, match="^budget_calibration must be a string, not 1$"):
+        skelseg.segment_mesh(vertices, faces, budget_calibration=1)
 
 
 # Keyword, a value other than the default, and where report.json shows it.

@@ -248,10 +248,17 @@ class SequenceConsensus:
 _OPTIONS = {option["keyword"]: option for option in _skelseg.segment_options()}
 
 
+# Keywords whose value is a word: a number there is a wrong type (mode=1 was
+# a ValueError, "1 not in {junction-rule,junctions}").
+_WORD_KEYWORDS = {"mode", "skeleton_search", "budget_calibration"}
+
+
 def _option_text(keyword: str, value: Any) -> str:
     """One option value as the command line spells it."""
     if isinstance(value, str):
         return value
+    if keyword in _WORD_KEYWORDS:
+        raise TypeError(f"{keyword} must be a string, not {value!r}")
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"{keyword} must be a number or a string as the CLI takes it, "
                         f"not {value!r}")
