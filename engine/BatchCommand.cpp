@@ -174,20 +174,22 @@ void refuseInputsAmongOutputs(const Manifest& manifest, const fs::path& outroot)
         return line > 0 ? "line " + std::to_string(line) + ": " : std::string();
     };
     // OUTROOT itself on a line was a missing input on the first run and a
-    // folder of the batch's outputs on the next.
-    const auto refuseOutroot = [&](const fs::path& path, int line) {
-        std::error_code pathError;
-        if (rootResolved && fs::weakly_canonical(path, pathError) == root && !pathError)
+    // folder of the batch's outputs on the next. `canonical`: weakly_canonical(path).
+    const auto refuseOutroot = [&](const fs::path& path, const fs::path& canonical, int line) {
+        if (rootResolved && canonical == root)
             throw InputError(manifest.source.string(),
                              lineOf(line) + path.string() +
                                  " is OUTROOT, where the batch writes; choose another OUTROOT");
     };
-    for (const auto& [folder, line] : manifest.listedFolders) refuseOutroot(folder, line);
+    for (const auto& [folder, line] : manifest.listedFolders) {
+        const fs::path canonical = fs::weakly_canonical(folder, ec);
+        if (!ec) refuseOutroot(folder, canonical, line);
+    }
     for (const auto& entry : manifest.entries) {
-        refuseOutroot(entry.input, entry.line);
         // A missing input is checked by its path alone (its outputs may not
         // exist yet: the next run would refuse what this one took for a
-        // missing file); a FIFO's header is not peeked at.
+        // missing file); a FIFO's header is not peeked at. A regular file
+        // with a bad header cannot be OUTROOT (a directory, or not yet made).
         std::vector<fs::path> files = {entry.input};
         try {
             if (entry.exists) files = volumeInputFiles(entry.input);
@@ -197,7 +199,9 @@ void refuseInputsAmongOutputs(const Manifest& manifest, const fs::path& outroot)
         for (const fs::path& file : files) {
             std::string output;
             auto writer = byName.end();
-            const fs::path relative = fs::weakly_canonical(file, ec).lexically_relative(root);
+            const fs::path canonical = fs::weakly_canonical(file, ec);
+            if (!ec) refuseOutroot(file, canonical, entry.line);
+            const fs::path relative = canonical.lexically_relative(root);
             if (rootResolved && !ec && !relative.empty() && *relative.begin() != "..") {
                 writer = byName.find(relative.begin()->string());
                 if (writer != byName.end())

@@ -81,6 +81,14 @@ CLI::Validator numberText() {
         "");
 }
 
+CLI::Validator nonEmptyValue(const std::string& wanted) {
+    return CLI::Validator(
+        [wanted](std::string& text) -> std::string {
+            return text.empty() ? "the value is empty; give " + wanted : "";
+        },
+        "");
+}
+
 CLI::Validator integerText() {
     return CLI::Validator(
         [](std::string& text) -> std::string {
@@ -325,16 +333,11 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
         ->capture_default_str()
         ->transform(integerText())
         ->check(CLI::IsMember({1, 2}));
-    // An empty value ("$MEM" unset in a job script) ran with the default.
     command
         ->add_option("--max-memory", cli.maxMemoryText,
                      "Refuse runs estimated to need more (e.g. 4G; K, M, G or KB, MB, GB; "
                      "default 75% of RAM)")
-        ->check(CLI::Validator(
-            [](std::string& text) -> std::string {
-                return text.empty() ? "the value is empty; give a size such as 4G" : "";
-            },
-            ""));
+        ->check(nonEmptyValue("a size such as 4G"));
     command->add_flag("--force", seg.force,
                       "Replace results of an earlier run in the output directory");
     command->add_flag("--quiet,-q", cli.quiet,

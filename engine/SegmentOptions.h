@@ -65,6 +65,11 @@ SegmentCommandOptions parseSegmentOptions(const std::vector<std::string>& argume
 CLI::Validator numberText();
 CLI::Validator integerText();
 
+/// Refuses an empty value, "the value is empty; give `wanted`": a job
+/// script whose variable was unset passed "" and ran as if the option were
+/// not given (--shard, --max-memory).
+CLI::Validator nonEmptyValue(const std::string& wanted);
+
 /// A CLI11 message on one line, as every error of skelseg is.
 std::string oneLineMessage(std::string message);
 

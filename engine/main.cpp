@@ -11,7 +11,6 @@
 // missing. Errors are one line on stderr.
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -27,6 +26,7 @@
 #include "engine/SegmentOptions.h"
 #include "engine/SequenceCommand.h"
 #include "engine/Version.h"
+#include "io/files/TextFile.h"
 #include "io/shapes/SyntheticShapes.h"
 #include "io/volume/BinvoxIO.h"
 #include "io/volume/NrrdIO.h"
@@ -75,18 +75,12 @@ int runCommandLine(int argc, char** argv) {
         ->check(nonEmptyPath);
     batch->add_option("-o,--output", outrootText, "Output root: one folder per input")
         ->check(nonEmptyPath);
-    // An empty --shard ran the whole manifest, as if no option were given: a
-    // job script whose variable was unset ran every input in every task.
-    const CLI::Validator nonEmptyShare(
-        [](std::string& text) -> std::string {
-            return text.empty() ? "the value is empty; give I/N, e.g. 0/4" : "";
-        },
-        "");
+    // An empty --shard ran the whole manifest, every input in every task.
     batch
         ->add_option("--shard", shardText,
                      "Process share I of N (0 <= I < N), e.g. 0/4; default: from "
                      "SLURM_ARRAY_TASK_ID or JOB_COMPLETION_INDEX, else all")
-        ->check(nonEmptyShare);
+        ->check(skelseg::nonEmptyValue("I/N, e.g. 0/4"));
     batch
         ->add_option("--shards", shards,
                      "Number of shares when the index comes from JOB_COMPLETION_INDEX "
@@ -267,9 +261,8 @@ int runCommandLine(int argc, char** argv) {
                 skelseg::rasterise(skelseg::makeShape(shapeName, pose), {size, 3});
             if (noise > 0) skelseg::addBoundaryNoise(mask, noise, seed);
             // Any case, as the readers take it (G.NRRD was refused).
-            std::string ext = std::filesystem::path(generateOut).extension().string();
-            std::transform(ext.begin(), ext.end(), ext.begin(),
-                           [](unsigned char c) { return char(std::tolower(c)); });
+            const std::string ext =
+                skelseg::lowercase(std::filesystem::path(generateOut).extension().string());
             if (ext == ".binvox")
                 skelseg::writeBinvox(generateOut, mask);
             else if (ext == ".nrrd")

@@ -51,14 +51,6 @@ BatchEntry entryFromJson(const JsonFields& j) {
     return e;
 }
 
-}  // namespace
-
-std::string nameAndLine(const BatchEntry& entry) {
-    return entry.line > 0 ? entry.name + " (line " + std::to_string(entry.line) + ")" : entry.name;
-}
-
-namespace {
-
 std::string csvField(const std::string& text) {
     if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
     std::string quoted = "\"";
@@ -134,6 +126,10 @@ void refuseAnotherBatch(const fs::path& file, const BatchSummary& summary,
 }
 
 }  // namespace
+
+std::string nameAndLine(const BatchEntry& entry) {
+    return entry.line > 0 ? entry.name + " (line " + std::to_string(entry.line) + ")" : entry.name;
+}
 
 std::size_t BatchSummary::count(const std::string& status) const {
     return std::size_t(std::count_if(entries.begin(), entries.end(),
