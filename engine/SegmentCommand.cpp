@@ -13,6 +13,7 @@
 #include <mutex>
 #include <tuple>
 
+#include "engine/SegmentOptions.h"
 #include "engine/SegmentOutput.h"
 #include "engine/SegmentReport.h"
 #include "engine/SegmentSteps.h"
@@ -117,6 +118,7 @@ struct RunContext {
 };
 
 MaskMessage maskShape(const RunContext& run, SourceMessage source) {
+    const bool isMesh = source->isMesh();
     auto mask = std::make_shared<SegmentMask>(
         maskSegmentSource(std::move(source), run.inputOptions, run.timer, run.progress,
                           [&](const std::string& w) { run.warn(w); }));
@@ -125,6 +127,14 @@ MaskMessage maskShape(const RunContext& run, SourceMessage source) {
             run.options.input.string() +
             ": labels.vdb is not written: OpenVDB cannot hold voxels this small (volume under "
             "3e-15 world units cubed); labels.nrrd holds the labels";
+        mask->warnings.push_back(warning);
+        run.warn(warning);
+    }
+    const std::vector<std::string> notApplying =
+        optionsNotApplying(run.options.givenOptions, isMesh);
+    if (!notApplying.empty()) {
+        const std::string warning =
+            optionsNotApplyingWarning(run.options.input.string(), notApplying, isMesh);
         mask->warnings.push_back(warning);
         run.warn(warning);
     }

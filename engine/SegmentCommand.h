@@ -98,6 +98,11 @@ struct SegmentCommandOptions {
     /// (a batch, before it writes its markers there); null: the run locks
     /// OUTDIR itself.
     std::shared_ptr<const DirectoryLock> outdirLock;
+    /// The options given on the command line, as it names them
+    /// ("--resolution"): a run warns about those that do not apply to its
+    /// input's kind (optionsNotApplying, engine/SegmentOptions.h). Empty for
+    /// a batch, which passes one set of options to inputs of both kinds.
+    std::vector<std::string> givenOptions;
 };
 
 /// Every file name a run may write into OUTDIR.

@@ -354,6 +354,39 @@ std::string oneLineMessage(std::string message) {
     return escapeControlCharacters(message);
 }
 
+std::vector<std::string> givenOptionNames(const CLI::App& command) {
+    std::vector<std::string> names;
+    for (const CLI::Option* option : command.get_options())
+        if (option->count() > 0 && !option->get_lnames().empty())
+            names.push_back("--" + option->get_lnames().front());
+    return names;
+}
+
+std::vector<std::string> optionsNotApplying(const std::vector<std::string>& given, bool isMesh) {
+    static const std::vector<std::string> meshOnly = {
+        "--resolution", "--self-overlap-clearance", "--contact-patch-seams",
+        "--no-grown-contact-seams", "--budget-calibration"};
+    static const std::vector<std::string> volumeOnly = {"--keep-voxel-aspect"};
+    const std::vector<std::string>& otherKind = isMesh ? volumeOnly : meshOnly;
+    std::vector<std::string> names;
+    for (const std::string& name : given)
+        if (std::find(otherKind.begin(), otherKind.end(), name) != otherKind.end() &&
+            std::find(names.begin(), names.end(), name) == names.end())
+            names.push_back(name);
+    return names;
+}
+
+std::string optionsNotApplyingWarning(const std::string& input,
+                                      const std::vector<std::string>& names, bool isMesh) {
+    std::string list;
+    for (std::size_t i = 0; i < names.size(); ++i)
+        list += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + names[i];
+    const bool one = names.size() == 1;
+    return input + ": " + list + (one ? " applies" : " apply") + " only to " +
+           (isMesh ? "volumes" : "meshes") + " and " + (one ? "is" : "are") + " ignored for this " +
+           (isMesh ? "mesh" : "volume");
+}
+
 std::vector<SegmentOptionDescription> segmentOptionDescriptions() {
     CLI::App app;
     SegmentOptionTexts texts;

@@ -53,6 +53,22 @@ struct SegmentOptionDescription {
 /// Every option of addSegmentOptions(), in declaration order.
 std::vector<SegmentOptionDescription> segmentOptionDescriptions();
 
+/// Of `given` (option names as the command line spells them), those that
+/// apply only to the other kind of input: for a volume (isMesh false) the
+/// mesh options (--resolution, --self-overlap-clearance, the contact seams,
+/// --budget-calibration), for a mesh --keep-voxel-aspect. Such an option
+/// changes nothing; a run names them in a warning instead of ignoring them
+/// without a word. (--grid with a mesh is an error, as with other volumes.)
+std::vector<std::string> optionsNotApplying(const std::vector<std::string>& given, bool isMesh);
+
+/// The options given on `command` (count > 0), named "--" + their first
+/// long name, as optionsNotApplying() takes them.
+std::vector<std::string> givenOptionNames(const CLI::App& command);
+
+/// The warning for `names` (optionsNotApplying) given with `input`.
+std::string optionsNotApplyingWarning(const std::string& input,
+                                      const std::vector<std::string>& names, bool isMesh);
+
 /// Parses `arguments` ("--sigma-min", "0.5", "--joints", ...) as the
 /// command line's options of `skelseg segment` and finishes them.
 /// @throw UsageError with the command line's message, on one line.

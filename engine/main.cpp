@@ -174,6 +174,7 @@ int runCommandLine(int argc, char** argv) {
         if (*segment) {
             segmentCli.finish();
             segmentCli.options.budgetFromProcessStart = true;
+            segmentCli.options.givenOptions = skelseg::givenOptionNames(*segment);
             const skelseg::SegmentCommandOptions& seg = segmentCli.options;
             const bool quiet = segmentCli.quiet;
             skelseg::ProgressReporter::installSignalHandlers();
@@ -249,6 +250,7 @@ int runCommandLine(int argc, char** argv) {
             options.outdir = sequenceOut;
             options.segment = sequenceCli.options;
             options.segment.budgetFromProcessStart = true;  // the first frame's
+            options.segment.givenOptions = skelseg::givenOptionNames(*sequence);
             options.announceFrames = !sequenceCli.quiet;
             options.display = sequenceCli.quiet ? skelseg::ProgressReporter::Display::Quiet
                                                 : skelseg::ProgressReporter::Display::Auto;

@@ -935,6 +935,46 @@ TEST(ExitCodes, GenerateTakesAnUpperCaseExtensionAndTheLargestSeed) {
     EXPECT_TRUE(fs::exists(dir / "b.BinVox"));
 }
 
+// Options of the other kind of input change nothing, and the run says so
+// on stderr and in report.json instead of ignoring them without a word.
+TEST(CliWarnings, OptionsOfTheOtherKindOfInputAreNamedAndChangeNothing) {
+    TempDir dir;
+    const fs::path volume = dir / "box.nrrd";
+    ASSERT_EQ(runSkelseg({"generate", "box", "-o", volume.string(), "--size", "16"}).exitCode, 0);
+    const CliResult plain =
+        runSkelseg({"segment", volume.string(), "-o", (dir / "plain").string(), "-q"});
+    ASSERT_EQ(plain.exitCode, 0) << plain.describe();
+    EXPECT_EQ(plain.err, "");
+    const CliResult withMeshOptions =
+        runSkelseg({"segment", volume.string(), "-o", (dir / "mesh-options").string(), "-q",
+                    "--resolution", "64", "--contact-patch-seams"});
+    ASSERT_EQ(withMeshOptions.exitCode, 0) << withMeshOptions.describe();
+    const std::string volumeWarning =
+        volume.string() +
+        ": --resolution and --contact-patch-seams apply only to meshes and are ignored for this "
+        "volume";
+    EXPECT_EQ(withMeshOptions.err, "skelseg: warning: " + volumeWarning + "\n");
+    EXPECT_EQ(readReport(dir / "mesh-options")["warnings"], nlohmann::json::array({volumeWarning}));
+    EXPECT_EQ(fileBytes(dir / "mesh-options" / "labels.nrrd"),
+              fileBytes(dir / "plain" / "labels.nrrd"));
+
+    // A closed unit cube, faces outward.
+    const fs::path mesh = dir / "cube.off";
+    writeBytes(mesh,
+               "OFF\n8 12 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+               "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n"
+               "3 3 7 6\n3 3 6 2\n3 0 4 7\n3 0 7 3\n3 1 2 6\n3 1 6 5\n");
+    const CliResult withVolumeOption =
+        runSkelseg({"segment", mesh.string(), "-o", (dir / "cube").string(), "-q", "--resolution",
+                    "16", "--keep-voxel-aspect", "--no-preview"});
+    ASSERT_EQ(withVolumeOption.exitCode, 0) << withVolumeOption.describe();
+    EXPECT_EQ(withVolumeOption.err,
+              "skelseg: warning: " + mesh.string() +
+                  ": --keep-voxel-aspect applies only to volumes and is ignored for this mesh\n");
+    // --resolution applies to a mesh: no warning names it.
+    EXPECT_EQ(withVolumeOption.err.find("--resolution"), std::string::npos);
+}
+
 TEST(ExitCodes, HelpAndVersionExitZero) {
     const CliResult help = runSkelseg({"--help"});
     EXPECT_EQ(help.exitCode, 0) << help.describe();

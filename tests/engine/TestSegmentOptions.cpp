@@ -134,5 +134,30 @@ TEST(SegmentOptions, DescriptionsNameEveryOptionOnce) {
             << o.name;
 }
 
+// A volume segmented with --resolution was segmented on its own grid
+// without a word; a mesh with --keep-voxel-aspect likewise.
+TEST(SegmentOptions, OptionsOfTheOtherKindOfInputAreNamedOnce) {
+    const std::vector<std::string> given = {
+        "--tau",        "--resolution",        "--keep-voxel-aspect", "--contact-patch-seams",
+        "--resolution", "--budget-calibration"};
+    EXPECT_EQ(optionsNotApplying(given, /*isMesh=*/false),
+              (std::vector<std::string>{"--resolution", "--contact-patch-seams",
+                                        "--budget-calibration"}));
+    EXPECT_EQ(optionsNotApplying(given, /*isMesh=*/true),
+              std::vector<std::string>{"--keep-voxel-aspect"});
+    EXPECT_TRUE(optionsNotApplying({"--tau", "--threads", "--grid"}, false).empty());
+    EXPECT_TRUE(
+        optionsNotApplying({"--self-overlap-clearance", "--no-grown-contact-seams"}, true).empty());
+    EXPECT_EQ(optionsNotApplyingWarning("v.nrrd", {"--resolution"}, false),
+              "v.nrrd: --resolution applies only to meshes and is ignored for this volume");
+    EXPECT_EQ(optionsNotApplyingWarning("v.nrrd", {"--resolution", "--contact-patch-seams"}, false),
+              "v.nrrd: --resolution and --contact-patch-seams apply only to meshes and are "
+              "ignored for this volume");
+    EXPECT_EQ(optionsNotApplyingWarning("v.nrrd", {"--a", "--b", "--c"}, false),
+              "v.nrrd: --a, --b and --c apply only to meshes and are ignored for this volume");
+    EXPECT_EQ(optionsNotApplyingWarning("m.off", {"--keep-voxel-aspect"}, true),
+              "m.off: --keep-voxel-aspect applies only to volumes and is ignored for this mesh");
+}
+
 }  // namespace
 }  // namespace skelseg
