@@ -154,8 +154,13 @@ std::uint64_t previewRunMemory(bool preview, std::uint64_t triangles, std::uint6
     return previewMemoryBytes(options, triangles, vertices, threads);
 }
 
-std::uint64_t meshRunMemory(const Dims& grid, int threads, bool meshIsClosed) {
-    return estimateSegmentationMemory(grid, grid.voxelCount() / 4, threads) +
+std::uint64_t meshBoundaryVoxels(const TriangleMesh& mesh, int resolution) {
+    return std::uint64_t(axisProjectedArea(mesh) * double(resolution) * double(resolution));
+}
+
+std::uint64_t meshRunMemory(const Dims& grid, int threads, bool meshIsClosed,
+                            std::uint64_t boundaryVoxels) {
+    return estimateSegmentationMemory(grid, grid.voxelCount() / 4, threads, 1, boundaryVoxels) +
            grid.voxelCount() * (meshIsClosed ? 13 : 12);  // level set, dense copy,
                                                           // nearest-triangle grid
 }
@@ -163,10 +168,12 @@ std::uint64_t meshRunMemory(const Dims& grid, int threads, bool meshIsClosed) {
 int largestResolutionWithinMemory(const TriangleMesh& mesh, bool meshIsClosed,
                                   const SegmentInputOptions& options) {
     VoxelizeOptions voxelizeOptions;
+    const double projectedArea = axisProjectedArea(mesh);
     const auto fits = [&](int resolution) {
         voxelizeOptions.resolution = resolution;
         return meshRunMemory(voxelGridFor(mesh, voxelizeOptions).dims, options.threads,
-                             meshIsClosed) +
+                             meshIsClosed,
+                             std::uint64_t(projectedArea * double(resolution) * resolution)) +
                    options.heldBytes <=
                options.memoryLimit;
     };
@@ -188,7 +195,8 @@ std::uint64_t volumeRunMemory(const Dims& grid, std::uint64_t objectVoxels, cons
     const bool coarsened = grid.voxelCount() < fine.voxelCount();
     const std::uint64_t perLabelledVoxel = labelledVoxelBytes(options.levels);
     const std::uint64_t segmenting =
-        estimateSegmentationMemory(grid, objectVoxels, options.threads, options.levels) +
+        estimateSegmentationMemory(grid, objectVoxels, options.threads, options.levels,
+                                   std::min(objectVoxels, fineBoundaryVoxels)) +
         (coarsened ? fine.voxelCount() : 0);
     const std::uint64_t writing =
         (fine.voxelCount() + (coarsened ? grid.voxelCount() : 0)) * perLabelledVoxel +
@@ -294,7 +302,9 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
         throw InputError(source.file.string(),
                          "the mesh is flat (every vertex of its faces lies in one plane): it "
                          "encloses no volume to segment");
-    estimatedMemory = meshRunMemory(grid.dims, options.threads) + heldBytes + options.heldBytes;
+    estimatedMemory = meshRunMemory(grid.dims, options.threads, false,
+                                    meshBoundaryVoxels(mesh, options.resolution)) +
+                      heldBytes + options.heldBytes;
     if (estimatedMemory > options.memoryLimit)
         throw MemoryLimitError(source.file.string() + ": needs about " +
                                formatBytes(estimatedMemory) + " at resolution " +

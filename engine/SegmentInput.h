@@ -127,7 +127,15 @@ std::uint64_t previewRunMemory(bool preview, std::uint64_t triangles, std::uint6
 /// `meshIsClosed`: also the first voxelisation's mask, which a closed mesh
 /// whose voxel genus comes out too high holds while a second voxelisation
 /// fills its thin parts (what a budget's choice must leave room for).
-std::uint64_t meshRunMemory(const Dims& grid, int threads, bool meshIsClosed = false);
+/// `boundaryVoxels`: meshBoundaryVoxels() of the mesh at the grid's
+/// resolution (estimateSegmentationMemory).
+std::uint64_t meshRunMemory(const Dims& grid, int threads, bool meshIsClosed = false,
+                            std::uint64_t boundaryVoxels = 0);
+
+/// About how many boundary voxels `mesh` has at `resolution`: its
+/// axisProjectedArea() times the resolution squared (a bound: a boundary
+/// voxel may expose several faces).
+std::uint64_t meshBoundaryVoxels(const TriangleMesh& mesh, int resolution);
 
 /// The largest resolution up to options.resolution whose meshRunMemory, plus
 /// options.heldBytes, fits options.memoryLimit; 0 when not even

@@ -106,7 +106,7 @@ CutOptions SegmentationParameters::cutOptions() const {
 }
 
 std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels, int threads,
-                                         int levels) {
+                                         int levels, std::uint64_t boundaryVoxels) {
     const std::uint64_t voxels = dims.voxelCount();
     // Input mask (1) + labels (2) + object ids (4) per grid voxel; per object
     // crop at most the grid: mask (1) + feature transform (4) + node map (4).
@@ -115,7 +115,8 @@ std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectV
     // of CSR and the node's landmark row, plus per-thread workspaces (40
     // bytes per node, and a path cache at its bound whatever the graph);
     // candidates ~ 40 bytes per object voxel.
-    const std::uint64_t boundary = std::min<std::uint64_t>(objectVoxels, objectVoxels / 6 + 4096);
+    const std::uint64_t boundary =
+        std::max(std::min<std::uint64_t>(objectVoxels, objectVoxels / 6 + 4096), boundaryVoxels);
     bytes += boundary * (12 + sizeof(float) * Landmarks::kStride) +
              (boundary * 40 + PathCache::maxBytes()) * std::uint64_t(std::max(threads, 1));
     bytes += objectVoxels / 4 * 48;

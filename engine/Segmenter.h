@@ -339,8 +339,13 @@ struct SegmentationResult {
 /// `objectVoxels` object voxels, bytes (for --max-memory checks).
 /// `levels`: the levels of a hierarchy run (each finer one keeps a label
 /// volume and its objects' crop labels, about 4 bytes per grid voxel).
+/// `boundaryVoxels`: what the caller knows of the boundary graph's size (a
+/// volume's boundary voxels, a mesh's axis-projected area in voxels); the
+/// estimate takes at least that many nodes. Without it a sixth of the
+/// object voxels is assumed, which a plate a few voxels thick or a noisy
+/// volume (every voxel on the boundary) exceeds several times over.
 std::uint64_t estimateSegmentationMemory(const Dims& dims, std::uint64_t objectVoxels, int threads,
-                                         int levels = 1);
+                                         int levels = 1, std::uint64_t boundaryVoxels = 0);
 
 SegmentationResult segmentVolume(const MaskVolume& mask, const SegmentationParameters& parameters,
                                  Interrupter& interrupter = nullInterrupter(),

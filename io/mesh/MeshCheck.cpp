@@ -34,21 +34,26 @@ std::vector<std::uint32_t> canonicalVertices(const TriangleMesh& mesh) {
     return canonical;
 }
 
-MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
-    MeshDiagnostics diagnostics;
-    const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
+namespace {
 
-    // Degenerate faces: zero area relative to the mesh size (absolute zero
-    // would miss faces that are zero up to rounding). The size is the box of
-    // the vertices faces use, as the voxel grid's: a vertex no face uses, far
-    // away, made every face of a cube "zero area".
-    std::vector<char> isReferenced(mesh.vertices.size(), 0);
+/// The vertices faces use and the squared diagonal of their box: the size
+/// that degenerate faces are measured against, as the voxel grid's box. A
+/// vertex no face uses, far away, made every face of a cube "zero area".
+struct UsedVertices {
+    std::vector<char> isReferenced;
+    std::size_t unused = 0;
+    double diagonalSquared = 0.0;
+};
+
+UsedVertices usedVertices(const TriangleMesh& mesh) {
+    UsedVertices used;
+    used.isReferenced.assign(mesh.vertices.size(), 0);
     for (const auto& triangle : mesh.triangles)
-        for (std::uint32_t v : triangle) isReferenced[v] = 1;
+        for (std::uint32_t v : triangle) used.isReferenced[v] = 1;
     std::array<double, 3> low{HUGE_VAL, HUGE_VAL, HUGE_VAL}, high{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-        if (!isReferenced[v]) {
-            ++diagnostics.unusedVertices;
+        if (!used.isReferenced[v]) {
+            ++used.unused;
             continue;
         }
         for (std::size_t c = 0; c < 3; ++c) {
@@ -56,11 +61,37 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
             high[c] = std::max(high[c], mesh.vertices[v][c]);
         }
     }
-    double diagonalSquared = 0.0;
-    if (diagnostics.unusedVertices < mesh.vertices.size())
+    if (used.unused < mesh.vertices.size())
         for (std::size_t c = 0; c < 3; ++c)
-            diagonalSquared += (high[c] - low[c]) * (high[c] - low[c]);
-    const double areaTolerance = 1e-14 * diagonalSquared;
+            used.diagonalSquared += (high[c] - low[c]) * (high[c] - low[c]);
+    return used;
+}
+
+/// Zero area relative to the mesh size (absolute zero would miss faces that
+/// are zero up to rounding).
+double degenerateAreaTolerance(const UsedVertices& used) {
+    return 1e-14 * used.diagonalSquared;
+}
+
+}  // namespace
+
+std::vector<char> degenerateTriangles(const TriangleMesh& mesh) {
+    const double tolerance = degenerateAreaTolerance(usedVertices(mesh));
+    std::vector<char> degenerate(mesh.triangles.size(), 0);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+        degenerate[t] = !(triangleArea(mesh, t) > tolerance);
+    return degenerate;
+}
+
+MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
+    MeshDiagnostics diagnostics;
+    const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
+
+    const UsedVertices usedBox = usedVertices(mesh);
+    const std::vector<char>& isReferenced = usedBox.isReferenced;
+    diagnostics.unusedVertices = usedBox.unused;
+    const double diagonalSquared = usedBox.diagonalSquared;
+    const double areaTolerance = degenerateAreaTolerance(usedBox);
     std::vector<double> areas(mesh.faceCount, 0.0);
     // The largest triangle's normal is the best conditioned plane the mesh
     // offers for the flatness test below.
@@ -80,8 +111,17 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
         const auto& a = mesh.vertices[corners[0]];
         const auto& b = mesh.vertices[corners[1]];
         const auto& c = mesh.vertices[corners[2]];
-        const std::array<double, 3> u{b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+        std::array<double, 3> u{b[0] - a[0], b[1] - a[1], b[2] - a[2]},
             w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        // Scaled by a power of two (exact), as in triangleArea(): the normal's
+        // squared length overflowed for a mesh at 1e80.
+        double largestEdge = 0.0;
+        for (std::size_t k = 0; k < 3; ++k)
+            largestEdge = std::max({largestEdge, std::abs(u[k]), std::abs(w[k])});
+        const int exponent =
+            std::isfinite(largestEdge) && largestEdge > 0.0 ? std::ilogb(largestEdge) : 0;
+        for (std::size_t k = 0; k < 3; ++k)
+            u[k] = std::ldexp(u[k], -exponent), w[k] = std::ldexp(w[k], -exponent);
         std::array<double, 3> normal{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
                                      u[0] * w[1] - u[1] * w[0]};
         const double length =

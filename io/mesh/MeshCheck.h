@@ -46,6 +46,13 @@ struct MeshDiagnostics {
 /// Counts degenerate faces, boundary and non-manifold edges and pieces.
 MeshDiagnostics checkMesh(const TriangleMesh& mesh);
 
+/// Per triangle: 1 where it is degenerate by checkMesh()'s measure (area at
+/// most 1e-14 of the squared diagonal of the box of the vertices faces use).
+/// Such a triangle bounds nothing; the voxeliser leaves it out, as
+/// rasterised it is a line segment, and one between two far corners (a
+/// face "1 1 2") drew a line of voxels across the shape.
+std::vector<char> degenerateTriangles(const TriangleMesh& mesh);
+
 /// The key of the undirected edge between vertices a and b.
 inline std::uint64_t undirectedEdgeKey(std::uint32_t a, std::uint32_t b) noexcept {
     return a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a;

@@ -1,5 +1,6 @@
 #include "io/mesh/MeshIO.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -138,11 +139,50 @@ double triangleArea(const TriangleMesh& mesh, std::size_t t) {
     const auto& a = mesh.vertices[mesh.triangles[t][0]];
     const auto& b = mesh.vertices[mesh.triangles[t][1]];
     const auto& c = mesh.vertices[mesh.triangles[t][2]];
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    // The products below are of fourth powers of the coordinates' scale:
+    // they overflowed for a mesh at 1e80 and underflowed to 0 at 1e-90, well
+    // inside the boxes the readers accept (1e-100 to 1e100), and such a
+    // sphere was refused as "flat" or "all faces have zero area". The edges
+    // are scaled by a power of two first, which is exact: at any other scale
+    // the area has the same bits as unscaled.
+    double largest = 0.0;
+    for (int k = 0; k < 3; ++k) largest = std::max({largest, std::abs(u[k]), std::abs(v[k])});
+    if (!(largest > 0.0)) return 0.0;
+    const int exponent = std::isfinite(largest) ? std::ilogb(largest) : 0;
+    for (int k = 0; k < 3; ++k)
+        u[k] = std::ldexp(u[k], -exponent), v[k] = std::ldexp(v[k], -exponent);
     const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
                          u[0] * v[1] - u[1] * v[0]};
-    return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    return std::ldexp(0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 2 * exponent);
+}
+
+double axisProjectedArea(const TriangleMesh& mesh) {
+    std::array<double, 3> low{HUGE_VAL, HUGE_VAL, HUGE_VAL}, high{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (const auto& triangle : mesh.triangles)
+        for (std::uint32_t v : triangle)
+            for (std::size_t c = 0; c < 3; ++c) {
+                low[c] = std::min(low[c], mesh.vertices[v][c]);
+                high[c] = std::max(high[c], mesh.vertices[v][c]);
+            }
+    double longest = 0.0;
+    for (std::size_t c = 0; c < 3; ++c) longest = std::max(longest, high[c] - low[c]);
+    if (!(longest > 0.0) || !std::isfinite(longest)) return 0.0;
+    // In units of the longest side: no product overflows however large the
+    // coordinates (a mesh at 1e80).
+    const double unit = 1.0 / longest;
+    double sum = 0.0;
+    for (const auto& triangle : mesh.triangles) {
+        const auto& a = mesh.vertices[triangle[0]];
+        const auto& b = mesh.vertices[triangle[1]];
+        const auto& c = mesh.vertices[triangle[2]];
+        const double u[3] = {(b[0] - a[0]) * unit, (b[1] - a[1]) * unit, (b[2] - a[2]) * unit};
+        const double v[3] = {(c[0] - a[0]) * unit, (c[1] - a[1]) * unit, (c[2] - a[2]) * unit};
+        sum += std::abs(u[1] * v[2] - u[2] * v[1]) + std::abs(u[2] * v[0] - u[0] * v[2]) +
+               std::abs(u[0] * v[1] - u[1] * v[0]);
+    }
+    return 0.5 * sum;
 }
 
 std::vector<double> faceAreas(const TriangleMesh& mesh) {

@@ -74,6 +74,14 @@ void writeOff(const std::filesystem::path& path, const TriangleMesh& mesh);
 /// Area of triangle t (half the length of its edges' cross product).
 double triangleArea(const TriangleMesh& mesh, std::size_t t);
 
+/// The surface's area projected on the three axis planes and summed
+/// (|n_x| + |n_y| + |n_z| per unit of area), in units of the square of the
+/// longest side of the box of its vertices: digitised at resolution r
+/// (voxels along that side), the surface exposes about this times r^2 voxel
+/// faces, a bound of its boundary voxels that memory estimates use. 0 for
+/// an empty or pointlike mesh.
+double axisProjectedArea(const TriangleMesh& mesh);
+
 /// Area of every input face (sum of its triangles' areas): faceCount entries.
 /// Used to weight faces when scoring segmentations.
 std::vector<double> faceAreas(const TriangleMesh& mesh);

@@ -48,7 +48,8 @@ constexpr double kSurfaceLayer = 0.501;
 /// position (x, then y, then z) with its winding kept, and sorted by those
 /// corners: the same surface in another face order, or with its faces
 /// started at other corners, is then the same input to OpenVDB
-/// (docs/meshes.md, "The same mesh in another face order").
+/// (docs/meshes.md, "The same mesh in another face order"). Degenerate
+/// triangles are not handed over.
 class MeshAdapter {
 public:
     MeshAdapter(const TriangleMesh& mesh, const VolumeGeometry& geometry)
@@ -63,6 +64,12 @@ public:
         for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
             firstCorner[t] = std::uint8_t(smallestCorner(mesh, t));
         std::iota(mTriangle.begin(), mTriangle.end(), 0u);
+        // Degenerate triangles bound nothing; OpenVDB rasterises one as the
+        // segment it is (MeshCheck.h degenerateTriangles).
+        const std::vector<char> degenerate = degenerateTriangles(mesh);
+        mTriangle.erase(std::remove_if(mTriangle.begin(), mTriangle.end(),
+                                       [&](std::uint32_t t) { return degenerate[t] != 0; }),
+                        mTriangle.end());
         auto corner = [&](std::uint32_t t, std::size_t k) -> const std::array<double, 3>& {
             return v[mesh.triangles[t][(k + firstCorner[t]) % 3]];
         };

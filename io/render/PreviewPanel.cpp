@@ -176,7 +176,29 @@ private:
                     const double inverseArea = 1.0 / area;
                     for (int y = y0; y <= y1; ++y) {
                         const double sy = y + 0.5;
-                        for (int x = x0; x <= x1; ++x) {
+                        // Only the row's span inside the triangle, widened by
+                        // a pixel for rounding; the exact test below still
+                        // decides, so the pixels are those of a scan of the
+                        // whole box. A thin triangle across the picture (the
+                        // sides of a cone round a vertex of 100,000 faces)
+                        // took the whole box's tests per row.
+                        int spanBegin = x0, spanEnd = x1;
+                        double low = -HUGE_VAL, high = HUGE_VAL;
+                        const ScreenPoint* corners[3][2] = {{&b, &c}, {&c, &a}, {&a, &b}};
+                        for (const auto& side : corners) {
+                            const ScreenPoint& p = *side[0];
+                            const ScreenPoint& q = *side[1];
+                            const double dy = q.y - p.y, reach = (q.x - p.x) * (sy - p.y);
+                            if (dy > 0.0)
+                                high = std::min(high, p.x + reach / dy);
+                            else if (dy < 0.0)
+                                low = std::max(low, p.x + reach / dy);
+                        }
+                        if (std::isfinite(low))
+                            spanBegin = std::max(x0, int(std::max(-1e9, std::floor(low))) - 1);
+                        if (std::isfinite(high))
+                            spanEnd = std::min(x1, int(std::min(1e9, std::ceil(high))) + 1);
+                        for (int x = spanBegin; x <= spanEnd; ++x) {
                             const double sx = x + 0.5;
                             const double w0 = edge(b, c, sx, sy), w1 = edge(c, a, sx, sy),
                                          w2 = edge(a, b, sx, sy);

@@ -224,11 +224,17 @@ void appendRegion(LabelledSurface& surface, const RegionMesh& mesh, const Volume
                                d[2][0] * (d[0][1] * d[1][2] - d[0][2] * d[1][1]);
     const bool mirrored = determinant < 0.0;
     const auto offset = std::uint32_t(surface.vertices.size());
-    surface.vertices.reserve(surface.vertices.size() + mesh.points.size());
+    // Grown geometrically: a reserve of the exact new size in every call
+    // copied the whole surface once per segment, quadratic in the segments
+    // (65,535 one-voxel segments never finished).
+    auto reserveGrowing = [](auto& values, std::size_t needed) {
+        if (needed > values.capacity()) values.reserve(std::max(needed, 2 * values.capacity()));
+    };
+    reserveGrowing(surface.vertices, surface.vertices.size() + mesh.points.size());
     for (const auto& p : mesh.points)
         surface.vertices.push_back(geometry.indexToWorld(double(p[0]), double(p[1]), double(p[2])));
-    surface.triangles.reserve(surface.triangles.size() + 2 * mesh.quads.size());
-    surface.triangleLabels.reserve(surface.triangleLabels.size() + 2 * mesh.quads.size());
+    reserveGrowing(surface.triangles, surface.triangles.size() + 2 * mesh.quads.size());
+    reserveGrowing(surface.triangleLabels, surface.triangleLabels.size() + 2 * mesh.quads.size());
     auto addTriangle = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
         openvdb::Vec3s centroid = (mesh.points[a] + mesh.points[b] + mesh.points[c]) / 3.0f;
         if (mirrored) std::swap(b, c);

@@ -337,7 +337,8 @@ TEST(SegmentCommand, ABudgetChoosesOnlyResolutionsTheMemoryLimitAllows) {
     const auto needs = [&](int resolution) {
         VoxelizeOptions voxelize;
         voxelize.resolution = resolution;
-        return meshRunMemory(voxelGridFor(mesh, voxelize).dims, 1, true);
+        return meshRunMemory(voxelGridFor(mesh, voxelize).dims, 1, true,
+                             meshBoundaryVoxels(mesh, resolution));
     };
     const std::uint64_t limit = (needs(40) + needs(64)) / 2;
     const auto report = reportOfAnAmpleBudgetWithin(options, limit, dir / "budget");

@@ -263,5 +263,24 @@ TEST(SegmentInput, HandlesTheMeshLacksAreWarnedAbout) {
     EXPECT_GE(quiet, 1);
 }
 
+// A plate 2048 voxels wide and a voxel or two thick was estimated at 0.88
+// GB (its boundary taken as a sixth of a quarter of the grid) and took 1.78
+// GB; the boundary a mesh exposes now bounds the graph's share.
+TEST(SegmentInput, AMeshRunEstimateCountsTheBoundaryItsSurfaceExposes) {
+    TriangleMesh plate;
+    plate.vertices = {{0, 0, 0},    {1, 0, 0},    {1, 1, 0},    {0, 1, 0},
+                      {0, 0, 1e-6}, {1, 0, 1e-6}, {1, 1, 1e-6}, {0, 1, 1e-6}};
+    plate.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                       {3, 7, 6}, {3, 6, 2}, {0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}};
+    for (std::uint32_t t = 0; t < 12; ++t) plate.triangleFace.push_back(t);
+    plate.faceCount = 12;
+    // Both sides of the plate, 2048^2 each (its thin sides add about 4e-6).
+    EXPECT_NEAR(double(meshBoundaryVoxels(plate, 2048)), 2.0 * 2048 * 2048, 100.0);
+    const Dims grid{2052, 2052, 5};
+    EXPECT_EQ(meshRunMemory(grid, 1, false, 0), meshRunMemory(grid, 1, false, 1000));
+    EXPECT_GT(meshRunMemory(grid, 1, false, meshBoundaryVoxels(plate, 2048)),
+              meshRunMemory(grid, 1, false, 0) + std::uint64_t(1.2e9));
+}
+
 }  // namespace
 }  // namespace skelseg

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -249,6 +250,86 @@ TriangleMesh turnedAndMoved(TriangleMesh mesh, double offset) {
         v = turned;
     }
     return mesh;
+}
+
+// Areas and the flatness normal were products of fourth powers of the
+// coordinates' scale: a sphere at 1e80 was refused as "flat" and one at
+// 1e-90 as "all faces have zero area", inside the boxes the readers accept.
+TEST(MeshCheck, ScalesFarFromOneKeepTheirAreasAndVolume) {
+    const TriangleMesh unit = unitCube();
+    const MeshDiagnostics reference = checkMesh(unit);
+    ASSERT_FALSE(reference.flat);
+    for (const double scale : {1e80, 1e99, 1e-90, 1e-99}) {
+        SCOPED_TRACE(scale);
+        TriangleMesh scaled = unit;
+        for (auto& v : scaled.vertices)
+            for (double& c : v) c *= scale;
+        const MeshDiagnostics d = checkMesh(scaled);
+        EXPECT_FALSE(d.flat);
+        EXPECT_EQ(d.degenerateFaces, 0u);
+        EXPECT_TRUE(d.closed);
+        for (std::size_t t = 0; t < unit.triangles.size(); ++t)
+            EXPECT_DOUBLE_EQ(triangleArea(scaled, t) / (scale * scale), triangleArea(unit, t));
+    }
+    // At ordinary scales the area is the unscaled formula's, bit for bit
+    // (the scaling is by a power of two).
+    TriangleMesh odd = meshOf({{0.1, 0.2, 0.3}, {1.7, -0.4, 2.9}, {-3.3, 0.25, 1.0}}, {{0, 1, 2}});
+    const auto& a = odd.vertices[0];
+    const auto& b = odd.vertices[1];
+    const auto& c = odd.vertices[2];
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                         u[0] * v[1] - u[1] * v[0]};
+    EXPECT_EQ(triangleArea(odd, 0), 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]));
+}
+
+TEST(MeshCheck, DegenerateTrianglesAreTheZeroAreaOnes) {
+    TriangleMesh mesh = unitCube();
+    const std::size_t cubeTriangles = mesh.triangles.size();
+    // A face with a repeated corner across the cube, and a sliver of three
+    // collinear corners.
+    mesh.vertices.push_back({0.5, 0.5, 0.5});
+    mesh.triangles.push_back({0, 0, 6});
+    mesh.triangles.push_back({0, std::uint32_t(mesh.vertices.size() - 1), 6});
+    for (int k = 0; k < 2; ++k) mesh.triangleFace.push_back(std::uint32_t(mesh.faceCount++));
+    const std::vector<char> degenerate = degenerateTriangles(mesh);
+    ASSERT_EQ(degenerate.size(), cubeTriangles + 2);
+    EXPECT_EQ(std::count(degenerate.begin(), degenerate.end(), 1), 2);
+    EXPECT_EQ(degenerate[cubeTriangles], 1);
+    EXPECT_EQ(degenerate[cubeTriangles + 1], 1);
+    EXPECT_EQ(checkMesh(mesh).degenerateFaces, 2u);
+}
+
+// Digitised at resolution r, a surface exposes about its axis-projected
+// area times r^2 voxel faces: the unit cube 6 r^2, the memory estimate's
+// bound of the boundary voxels of a thin plate (a sixth of the object
+// voxels, the rule without it, was a ninth of the plate's).
+TEST(MeshCheck, AxisProjectedAreaCountsEveryFaceOnItsAxes) {
+    const TriangleMesh cube = unitCube();
+    EXPECT_DOUBLE_EQ(axisProjectedArea(cube), 6.0);
+    TriangleMesh scaled = cube;
+    for (auto& v : scaled.vertices)
+        for (double& c : v) c *= 1e90;
+    EXPECT_DOUBLE_EQ(axisProjectedArea(scaled), 6.0);
+    // A plate 1 x 1 x 1e-6: both sides, 2 in units of its longest side.
+    TriangleMesh plate = cube;
+    for (auto& v : plate.vertices) v[2] *= 1e-6;
+    EXPECT_NEAR(axisProjectedArea(plate), 2.0, 1e-5);
+    // Turned off the axes, a face projects on all three planes: more than
+    // its area (6 in all), at most sqrt(3) times it.
+    const TriangleMesh turned = turnedAndMoved(cube, 0.0);
+    double longest = 0.0;
+    for (std::size_t c = 0; c < 3; ++c) {
+        double low = HUGE_VAL, high = -HUGE_VAL;
+        for (const auto& v : turned.vertices)
+            low = std::min(low, v[c]), high = std::max(high, v[c]);
+        longest = std::max(longest, high - low);
+    }
+    const double absolute = axisProjectedArea(turned) * longest * longest;
+    EXPECT_GT(absolute, 6.0 * 1.01);
+    EXPECT_LE(absolute, 6.0 * std::sqrt(3.0) + 1e-9);
+    EXPECT_EQ(axisProjectedArea(meshOf({{0, 0, 0}}, {{0, 0, 0}})), 0.0);
 }
 
 TEST(MeshCheck, AMeshInOnePlaneIsFlatAThinSolidIsNot) {

@@ -166,6 +166,45 @@ TEST(MeshVoxelizer, TinyAndHugeUnitsGiveTheVoxelsOfOrdinaryOnes) {
     }
 }
 
+// A face with a repeated corner ("f 1 1 2") bounds nothing, but OpenVDB
+// rasterised it as the segment between its two corners: 2,000 of them
+// across the horse gave 101 handles and one part instead of six.
+TEST(MeshVoxelizer, ZeroAreaFacesAddNoVoxels) {
+    // Two balls apart, and zero-area faces from one to the other: as
+    // segments they would bridge the gap.
+    TriangleMesh sphere = icosphere(3, 1.0, {-2, 0, 0});
+    const TriangleMesh other = icosphere(3, 1.0, {2, 0, 0});
+    const std::uint32_t n = std::uint32_t(sphere.vertices.size());
+    sphere.vertices.insert(sphere.vertices.end(), other.vertices.begin(), other.vertices.end());
+    for (const auto& t : other.triangles) {
+        sphere.triangles.push_back({t[0] + n, t[1] + n, t[2] + n});
+        sphere.triangleFace.push_back(std::uint32_t(sphere.faceCount++));
+    }
+    TriangleMesh withLines = sphere;
+    for (std::uint32_t k = 0; k < 40; ++k) {
+        const std::uint32_t a = (k * 7919u) % n, b = n + (k * 104729u) % n;
+        withLines.triangles.push_back({a, a, b});
+        withLines.triangleFace.push_back(std::uint32_t(withLines.faceCount++));
+    }
+    VoxelizeOptions options;
+    options.resolution = 32;
+    const MaskVolume reference = voxelizeMesh(sphere, options);
+    const MaskVolume mask = voxelizeMesh(withLines, options);
+    ASSERT_EQ(mask.dims(), reference.dims());
+    EXPECT_TRUE(std::equal(mask.values().begin(), mask.values().end(), reference.values().begin()));
+    // Open meshes take the shell path: the same holds there.
+    TriangleMesh open = sphere, openWithLines = withLines;
+    for (TriangleMesh* m : {&open, &openWithLines}) {
+        m->triangles.erase(m->triangles.begin());
+        m->triangleFace.erase(m->triangleFace.begin());
+    }
+    const MaskVolume openReference = voxelizeMesh(open, options);
+    const MaskVolume openMask = voxelizeMesh(openWithLines, options);
+    ASSERT_EQ(openMask.dims(), openReference.dims());
+    EXPECT_TRUE(std::equal(openMask.values().begin(), openMask.values().end(),
+                           openReference.values().begin()));
+}
+
 TEST(MeshVoxelizer, OpenSphereIsStillSolid) {
     const double radius = 1.0;
     TriangleMesh sphere = icosphere(4, radius, {0, 0, 0});
