@@ -158,16 +158,21 @@ double triangleArea(const TriangleMesh& mesh, std::size_t t) {
     return std::ldexp(0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 2 * exponent);
 }
 
-double axisProjectedArea(const TriangleMesh& mesh) {
-    std::array<double, 3> low{HUGE_VAL, HUGE_VAL, HUGE_VAL}, high{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+VertexBox usedVertexBox(const TriangleMesh& mesh) {
+    VertexBox box{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
     for (const auto& triangle : mesh.triangles)
         for (std::uint32_t v : triangle)
             for (std::size_t c = 0; c < 3; ++c) {
-                low[c] = std::min(low[c], mesh.vertices[v][c]);
-                high[c] = std::max(high[c], mesh.vertices[v][c]);
+                box.low[c] = std::min(box.low[c], mesh.vertices[v][c]);
+                box.high[c] = std::max(box.high[c], mesh.vertices[v][c]);
             }
+    return box;
+}
+
+double axisProjectedArea(const TriangleMesh& mesh) {
+    const VertexBox box = usedVertexBox(mesh);
     double longest = 0.0;
-    for (std::size_t c = 0; c < 3; ++c) longest = std::max(longest, high[c] - low[c]);
+    for (std::size_t c = 0; c < 3; ++c) longest = std::max(longest, box.high[c] - box.low[c]);
     if (!(longest > 0.0) || !std::isfinite(longest)) return 0.0;
     // In units of the longest side: no product overflows however large the
     // coordinates (a mesh at 1e80).

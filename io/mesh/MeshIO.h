@@ -74,6 +74,13 @@ void writeOff(const std::filesystem::path& path, const TriangleMesh& mesh);
 /// Area of triangle t (half the length of its edges' cross product).
 double triangleArea(const TriangleMesh& mesh, std::size_t t);
 
+/// The box of the vertices faces use (vertices no face uses do not count):
+/// low and high per axis; low above high when there are no faces.
+struct VertexBox {
+    std::array<double, 3> low, high;
+};
+VertexBox usedVertexBox(const TriangleMesh& mesh);
+
 /// The surface's area projected on the three axis planes and summed
 /// (|n_x| + |n_y| + |n_z| per unit of area), in units of the square of the
 /// longest side of the box of its vertices: digitised at resolution r

@@ -361,13 +361,9 @@ VoxelGrid voxelGridFor(const TriangleMesh& mesh, const VoxelizeOptions& options)
         throw UsageError("cannot voxelise a mesh without faces");
 
     // Bounding box of the vertices that faces use (stray vertices do not count).
-    std::array<double, 3> low{HUGE_VAL, HUGE_VAL, HUGE_VAL}, high{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (const auto& triangle : mesh.triangles)
-        for (std::uint32_t v : triangle)
-            for (std::size_t c = 0; c < 3; ++c) {
-                low[c] = std::min(low[c], mesh.vertices[v][c]);
-                high[c] = std::max(high[c], mesh.vertices[v][c]);
-            }
+    const VertexBox box = usedVertexBox(mesh);
+    const std::array<double, 3>& low = box.low;
+    const std::array<double, 3>& high = box.high;
     const double longest = std::max({high[0] - low[0], high[1] - low[1], high[2] - low[2]});
     if (longest == 0.0)
         throw UsageError(
