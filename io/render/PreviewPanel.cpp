@@ -194,10 +194,13 @@ private:
                             else if (dy < 0.0)
                                 low = std::max(low, p.x + reach / dy);
                         }
+                        // Clamped before the conversion: a bound far off the
+                        // picture (a nearly horizontal side) overflows int.
                         if (std::isfinite(low))
-                            spanBegin = std::max(x0, int(std::max(-1e9, std::floor(low))) - 1);
+                            spanBegin =
+                                std::max(x0, int(std::clamp(std::floor(low), -1e9, 1e9)) - 1);
                         if (std::isfinite(high))
-                            spanEnd = std::min(x1, int(std::min(1e9, std::ceil(high))) + 1);
+                            spanEnd = std::min(x1, int(std::clamp(std::ceil(high), -1e9, 1e9)) + 1);
                         for (int x = spanBegin; x <= spanEnd; ++x) {
                             const double sx = x + 0.5;
                             const double w0 = edge(b, c, sx, sy), w1 = edge(c, a, sx, sy),
