@@ -50,20 +50,12 @@ UsedVertices usedVertices(const TriangleMesh& mesh) {
     used.isReferenced.assign(mesh.vertices.size(), 0);
     for (const auto& triangle : mesh.triangles)
         for (std::uint32_t v : triangle) used.isReferenced[v] = 1;
-    std::array<double, 3> low{HUGE_VAL, HUGE_VAL, HUGE_VAL}, high{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-        if (!used.isReferenced[v]) {
-            ++used.unused;
-            continue;
-        }
-        for (std::size_t c = 0; c < 3; ++c) {
-            low[c] = std::min(low[c], mesh.vertices[v][c]);
-            high[c] = std::max(high[c], mesh.vertices[v][c]);
-        }
-    }
-    if (used.unused < mesh.vertices.size())
+    used.unused = std::size_t(std::count(used.isReferenced.begin(), used.isReferenced.end(), 0));
+    if (used.unused < mesh.vertices.size()) {
+        const VertexBox box = usedVertexBox(mesh);
         for (std::size_t c = 0; c < 3; ++c)
-            used.diagonalSquared += (high[c] - low[c]) * (high[c] - low[c]);
+            used.diagonalSquared += (box.high[c] - box.low[c]) * (box.high[c] - box.low[c]);
+    }
     return used;
 }
 
@@ -107,21 +99,12 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
 
     // Flat: every used vertex in the plane of the largest triangle.
     if (largest < mesh.triangles.size()) {
-        const auto& corners = mesh.triangles[largest];
-        const auto& a = mesh.vertices[corners[0]];
-        const auto& b = mesh.vertices[corners[1]];
-        const auto& c = mesh.vertices[corners[2]];
-        std::array<double, 3> u{b[0] - a[0], b[1] - a[1], b[2] - a[2]},
-            w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        // Scaled by a power of two (exact), as in triangleArea(): the normal's
-        // squared length overflowed for a mesh at 1e80.
-        double largestEdge = 0.0;
-        for (std::size_t k = 0; k < 3; ++k)
-            largestEdge = std::max({largestEdge, std::abs(u[k]), std::abs(w[k])});
-        const int exponent =
-            std::isfinite(largestEdge) && largestEdge > 0.0 ? std::ilogb(largestEdge) : 0;
-        for (std::size_t k = 0; k < 3; ++k)
-            u[k] = std::ldexp(u[k], -exponent), w[k] = std::ldexp(w[k], -exponent);
+        const auto& a = mesh.vertices[mesh.triangles[largest][0]];
+        // Scaled (exactly) as in triangleArea(): the normal's squared length
+        // overflowed for a mesh at 1e80.
+        const ScaledTriangleEdges edges = scaledTriangleEdges(mesh, largest);
+        const auto& u = edges.u;
+        const auto& w = edges.v;
         std::array<double, 3> normal{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
                                      u[0] * w[1] - u[1] * w[0]};
         const double length =

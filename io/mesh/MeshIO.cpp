@@ -135,27 +135,38 @@ void writeOff(const std::filesystem::path& path, const TriangleMesh& mesh) {
     writeFileAtomically(path, out);
 }
 
-double triangleArea(const TriangleMesh& mesh, std::size_t t) {
+ScaledTriangleEdges scaledTriangleEdges(const TriangleMesh& mesh, std::size_t t) {
     const auto& a = mesh.vertices[mesh.triangles[t][0]];
     const auto& b = mesh.vertices[mesh.triangles[t][1]];
     const auto& c = mesh.vertices[mesh.triangles[t][2]];
-    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    // The products below are of fourth powers of the coordinates' scale:
+    ScaledTriangleEdges edges{
+        {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, {c[0] - a[0], c[1] - a[1], c[2] - a[2]}, 0, false};
+    // Products of the edges are fourth powers of the coordinates' scale:
     // they overflowed for a mesh at 1e80 and underflowed to 0 at 1e-90, well
     // inside the boxes the readers accept (1e-100 to 1e100), and such a
-    // sphere was refused as "flat" or "all faces have zero area". The edges
-    // are scaled by a power of two first, which is exact: at any other scale
-    // the area has the same bits as unscaled.
+    // sphere was refused as "flat" or "all faces have zero area". Scaling by
+    // a power of two is exact: at any other scale the results keep their bits.
     double largest = 0.0;
-    for (int k = 0; k < 3; ++k) largest = std::max({largest, std::abs(u[k]), std::abs(v[k])});
-    if (!(largest > 0.0)) return 0.0;
-    const int exponent = std::isfinite(largest) ? std::ilogb(largest) : 0;
-    for (int k = 0; k < 3; ++k)
-        u[k] = std::ldexp(u[k], -exponent), v[k] = std::ldexp(v[k], -exponent);
+    for (std::size_t k = 0; k < 3; ++k)
+        largest = std::max({largest, std::abs(edges.u[k]), std::abs(edges.v[k])});
+    edges.zero = !(largest > 0.0);
+    if (edges.zero) return edges;
+    edges.exponent = std::isfinite(largest) ? std::ilogb(largest) : 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+        edges.u[k] = std::ldexp(edges.u[k], -edges.exponent);
+        edges.v[k] = std::ldexp(edges.v[k], -edges.exponent);
+    }
+    return edges;
+}
+
+double triangleArea(const TriangleMesh& mesh, std::size_t t) {
+    const ScaledTriangleEdges edges = scaledTriangleEdges(mesh, t);
+    if (edges.zero) return 0.0;
+    const auto& u = edges.u;
+    const auto& v = edges.v;
     const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
                          u[0] * v[1] - u[1] * v[0]};
-    return std::ldexp(0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 2 * exponent);
+    return std::ldexp(0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 2 * edges.exponent);
 }
 
 VertexBox usedVertexBox(const TriangleMesh& mesh) {

@@ -71,6 +71,18 @@ TriangleMesh readMeshFromMemory(const std::string& name, MeshFormat format,
 /// Atomic: a temporary file renamed into place. @throw OutputError.
 void writeOff(const std::filesystem::path& path, const TriangleMesh& mesh);
 
+/// The edges b - a and c - a of triangle t (corners a, b, c) times
+/// 2^-exponent, where exponent is the binary exponent of their largest
+/// component (0 when that is not finite): products of the scaled edges
+/// neither overflow nor underflow at any scale the readers accept, and the
+/// scaling is exact. `zero`: every component is 0 (the edges are left so).
+struct ScaledTriangleEdges {
+    std::array<double, 3> u, v;
+    int exponent;
+    bool zero;
+};
+ScaledTriangleEdges scaledTriangleEdges(const TriangleMesh& mesh, std::size_t t);
+
 /// Area of triangle t (half the length of its edges' cross product).
 double triangleArea(const TriangleMesh& mesh, std::size_t t);
 

@@ -284,6 +284,36 @@ TEST(MeshCheck, ScalesFarFromOneKeepTheirAreasAndVolume) {
     EXPECT_EQ(triangleArea(odd, 0), 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]));
 }
 
+// Area and flatness both read the edges through scaledTriangleEdges: scaled
+// back, they are the raw edges exactly, and their largest component lies in
+// [1, 2) at any scale.
+TEST(MeshCheck, ScaledTriangleEdgesAreTheEdgesTimesAPowerOfTwo) {
+    for (const double scale : {1.0, 3.7e80, 1e-95, 0.3}) {
+        SCOPED_TRACE(scale);
+        const TriangleMesh mesh = meshOf({{0.1 * scale, 0.2 * scale, 0.3 * scale},
+                                          {1.7 * scale, -0.4 * scale, 2.9 * scale},
+                                          {-3.3 * scale, 0.25 * scale, 1.0 * scale}},
+                                         {{0, 1, 2}});
+        const ScaledTriangleEdges edges = scaledTriangleEdges(mesh, 0);
+        ASSERT_FALSE(edges.zero);
+        const auto& a = mesh.vertices[0];
+        double largest = 0.0;
+        for (std::size_t k = 0; k < 3; ++k) {
+            EXPECT_EQ(std::ldexp(edges.u[k], edges.exponent), mesh.vertices[1][k] - a[k]);
+            EXPECT_EQ(std::ldexp(edges.v[k], edges.exponent), mesh.vertices[2][k] - a[k]);
+            largest = std::max({largest, std::abs(edges.u[k]), std::abs(edges.v[k])});
+        }
+        EXPECT_GE(largest, 1.0);
+        EXPECT_LT(largest, 2.0);
+    }
+    const TriangleMesh point =
+        meshOf({{1.0, 1.0, 1.0}, {1.0, 1.0, 1.0}, {1.0, 1.0, 1.0}}, {{0, 1, 2}});
+    const ScaledTriangleEdges edges = scaledTriangleEdges(point, 0);
+    EXPECT_TRUE(edges.zero);
+    EXPECT_EQ(edges.exponent, 0);
+    EXPECT_EQ(triangleArea(point, 0), 0.0);
+}
+
 TEST(MeshCheck, DegenerateTrianglesAreTheZeroAreaOnes) {
     TriangleMesh mesh = unitCube();
     const std::size_t cubeTriangles = mesh.triangles.size();
