@@ -109,8 +109,10 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
             {"min_cut_distance", j.minCutDistance},
             {"snap_distance", j.snapDistance}};
     }
-    json counts = {{"object_voxels", 0},         {"boundary_voxels", 0}, {"candidates", 0},
-                   {"curve_skeleton_points", 0}, {"skeleton_points", 0}, {"junction_voxels", 0}};
+    json counts = {{"object_voxels", 0},   {"boundary_voxels", 0},
+                   {"candidates", 0},      {"curve_skeleton_points", 0},
+                   {"skeleton_points", 0}, {"junction_voxels", 0},
+                   {"cavities", 0},        {"cavity_voxels", 0}};
     json work = {{"objects_voxels_examined", 0},
                  {"candidates_searched", 0},
                  {"candidates_measured", 0},
@@ -140,6 +142,8 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
         addCount(counts, "curve_skeleton_points", obj.curveSkeletonPoints);
         addCount(counts, "skeleton_points", obj.simplifiedSkeletonPoints);
         addCount(counts, "junction_voxels", obj.junctionVoxels);
+        addCount(counts, "cavities", obj.cavities);
+        addCount(counts, "cavity_voxels", obj.cavityVoxels);
         addCount(work, "objects_voxels_examined", obj.candidateStats.objectVoxels);
         addCount(work, "candidates_searched", obj.candidateStats.candidates);
         addCount(work, "candidates_measured", obj.bandStats.candidatesMeasured);
@@ -160,6 +164,8 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                            {"voxels", obj.voxelCount},
                            {"boundary_voxels", obj.boundaryArea},
                            {"boundary_components", obj.boundaryComponents},
+                           {"cavities", obj.cavities},
+                           {"cavity_voxels", obj.cavityVoxels},
                            {"genus", obj.genus},
                            {"bbox_min", toJson(obj.bboxMin)},
                            {"bbox_max", toJson(obj.bboxMax)},

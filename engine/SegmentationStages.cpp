@@ -63,6 +63,10 @@ void cropObject(ObjectState& state, const ConnectedObjects& objects) {
                 }
         },
         state.parameters.threaded);
+    // Parts are parts of the outer surface (kernels/Cavities.h).
+    state.cavities = fillCavities(crop, {state.parameters.threaded}, state.interrupter);
+    state.out.cavities = state.cavities.count;
+    state.out.cavityVoxels = state.cavities.voxels;
     // The measures need to know whether a loop can go round a handle here.
     state.out.genus = voxelTopology(crop, {state.parameters.threaded}, state.interrupter).genus;
 }
@@ -364,6 +368,8 @@ Volume<std::uint16_t> objectInteriorLabels(const ObjectState& state,
     Volume<std::uint16_t> labels(state.crop.dims(), 0);
     labelInterior(state.crop, state.featureTransform, state.graph, segments, localId, labels,
                   state.parameters.threaded);
+    // A filled cavity was background in the input (and may hold another object).
+    clearVoxelRuns(labels, state.cavities.runs);
     return labels;
 }
 

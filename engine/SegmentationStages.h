@@ -32,6 +32,7 @@
 #include "engine/Segmenter.h"
 #include "engine/StageTimer.h"
 #include "kernels/BoundaryGraph.h"
+#include "kernels/Cavities.h"
 #include "kernels/ConnectedObjects.h"
 #include "kernels/CutPlacement.h"
 #include "kernels/PathSearch.h"
@@ -80,7 +81,8 @@ struct ObjectState {
     const ObjectExtent extent;  // in the input grid
 
     std::array<int, 3> origin{};                // crop: input-grid voxel of crop voxel (0,0,0)
-    MaskVolume crop;                            // crop: 1 on the object's voxels
+    MaskVolume crop;                            // crop: 1 on the object's voxels and cavities
+    FilledCavities cavities;                    // crop: the cavities filled (to leave unlabelled)
     Volume<std::uint32_t> featureTransform;     // feature transform: nearest boundary voxel
     BoundaryGraph graph;                        // boundary graph
     std::vector<SkeletonCandidate> candidates;  // skeleton candidates
@@ -119,7 +121,7 @@ struct ObjectState {
 };
 
 /// Copies the object (the runs of `objects` with its id) out of the input
-/// grid into `state.crop`.
+/// grid into `state.crop`, and fills its cavities there.
 void cropObject(ObjectState& state, const ConnectedObjects& objects);
 /// Exact Euclidean feature transform of the crop's boundary voxels.
 void computeObjectFeatureTransform(ObjectState& state);

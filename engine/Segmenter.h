@@ -221,6 +221,9 @@ struct ObjectSegmentation {
     std::uint64_t voxelCount = 0;
     std::uint64_t boundaryArea = 0;
     std::uint64_t boundaryComponents = 0;
+    /// Cavities filled before the skeleton was computed, and their voxels
+    /// (kernels/Cavities.h): background in the input, unlabelled.
+    std::uint64_t cavities = 0, cavityVoxels = 0;
     /// Total genus of the object's boundary surfaces (kernels/VoxelGenus.h).
     std::int64_t genus = 0;
     std::array<int, 3> bboxMin{}, bboxMax{};

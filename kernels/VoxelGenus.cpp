@@ -5,6 +5,7 @@
 #include <atomic>
 #include <vector>
 
+#include "kernels/Cavities.h"
 #include "kernels/VoxelRuns.h"
 #include "kernels/base/ParallelFor.h"
 
@@ -111,26 +112,6 @@ std::int64_t eulerOfRuns(const VoxelRuns& runs, bool threaded, Interrupter& inte
     return total.load();
 }
 
-/// 6-connected background components that touch no side of the grid.
-std::size_t countCavities(const VoxelRuns& objects, bool threaded, Interrupter& interrupter) {
-    const VoxelRuns background = backgroundRuns(objects, threaded);
-    const std::vector<std::uint32_t> root =
-        runComponents(background, VoxelAdjacency::Face6, threaded, interrupter);
-    const Dims d = background.dims;
-    std::vector<std::uint8_t> reachesSide(root.size(), 0);
-    for (std::size_t row = 0; row < background.rowCount(); ++row) {
-        const int y = int(row % std::size_t(d.y)), z = int(row / std::size_t(d.y));
-        const bool sideRow = y == 0 || z == 0 || y + 1 == d.y || z + 1 == d.z;
-        for (std::uint32_t i = background.rowStart[row]; i < background.rowStart[row + 1]; ++i) {
-            const VoxelRun& run = background.runs[i];
-            if (sideRow || run.x0 == 0 || run.x1 + 1 == d.x) reachesSide[root[i]] = 1;
-        }
-    }
-    std::size_t cavities = 0;
-    for (std::size_t i = 0; i < root.size(); ++i) cavities += root[i] == i && !reachesSide[i];
-    return cavities;
-}
-
 }  // namespace
 
 std::int64_t voxelEulerCharacteristic(const MaskVolume& mask, bool threaded,
@@ -147,7 +128,7 @@ VoxelTopology voxelTopology(const MaskVolume& mask, const VoxelTopologyOptions& 
     const std::vector<std::uint32_t> root =
         runComponents(runs, VoxelAdjacency::Full26, threaded, interrupter);
     for (std::size_t i = 0; i < root.size(); ++i) topology.objects += root[i] == i;
-    topology.cavities = countCavities(runs, threaded, interrupter);
+    topology.cavities = findCavities(runs, threaded, interrupter).count;
     topology.genus = std::int64_t(topology.objects) + std::int64_t(topology.cavities) -
                      topology.eulerCharacteristic;
     return topology;
