@@ -83,6 +83,14 @@ std::int32_t SurfaceGraph::nearestOfTied(std::int32_t t, const Vec3& p) const {
         }
     }
     if (corners == 0) return t;
+    // An edge's triangles are at both its corners, in the same (ascending)
+    // order in each list: walk the shorter one, so that an edge to a vertex
+    // shared by 100,000 triangles (a cone's apex) does not cost a scan of
+    // them all at every voxel near the edge.
+    const auto triangleCountAt = [&](std::uint32_t v) {
+        return firstTriangle[v + 1] - firstTriangle[v];
+    };
+    if (corners == 2 && triangleCountAt(at[1]) < triangleCountAt(at[0])) std::swap(at[0], at[1]);
     auto sortedCorners = [&](std::uint32_t u) {
         std::array<Vec3, 3> corner{points[triangles[u][0]], points[triangles[u][1]],
                                    points[triangles[u][2]]};

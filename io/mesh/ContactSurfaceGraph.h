@@ -26,8 +26,10 @@ struct SurfaceGraph {
     /// Per triangle: +1 when its normal (right hand rule) points out of the
     /// solid, -1 when in, 0 when its piece is not consistently oriented.
     std::vector<std::int8_t> orientation;
-    std::vector<std::uint32_t> firstNeighbour, neighbours;      // CSR
-    std::vector<std::uint32_t> firstTriangle, vertexTriangles;  // CSR: triangles at each vertex
+    std::vector<std::uint32_t> firstNeighbour, neighbours;  // CSR
+    /// CSR: the triangles at each vertex, in ascending order (nearestOfTied
+    /// relies on it).
+    std::vector<std::uint32_t> firstTriangle, vertexTriangles;
 
     bool adjacent(std::uint32_t u, std::uint32_t v) const {
         return std::binary_search(neighbours.begin() + firstNeighbour[u],

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <numeric>
 #include <vector>
 
@@ -102,6 +103,60 @@ TEST(ContactSurfaceGraph, TiesOnAnEdgeStayOnThatEdge) {
             if (onEdge < 2) continue;  // not a triangle of that edge
             for (const Vec3& corner : sortedCorners(graph, graph.nearestOfTied(std::int32_t(t), p)))
                 EXPECT_EQ(corner[1], 4.0) << "seed " << seed;
+        }
+    }
+}
+
+/// A closed cone in voxel space: apex (0, 0, 8), a ring of `ring` vertices
+/// of radius 6 at z = 0 and a base centre, so the apex and the base centre
+/// each have `ring` triangles and every ring vertex four. Outward normals.
+TriangleMesh cone(std::uint32_t ring) {
+    TriangleMesh mesh;
+    mesh.vertices.push_back({0.0, 0.0, 8.0});
+    mesh.vertices.push_back({0.0, 0.0, 0.0});
+    const double step = 2.0 * M_PI / ring;
+    for (std::uint32_t i = 0; i < ring; ++i)
+        mesh.vertices.push_back({6.0 * std::cos(step * i), 6.0 * std::sin(step * i), 0.0});
+    for (std::uint32_t i = 0; i < ring; ++i) {
+        const std::uint32_t a = 2 + i, b = 2 + (i + 1) % ring;
+        mesh.triangles.push_back({0, a, b});
+        mesh.triangles.push_back({1, b, a});
+    }
+    mesh.faceCount = mesh.triangles.size();
+    mesh.triangleFace.resize(mesh.faceCount);
+    std::iota(mesh.triangleFace.begin(), mesh.triangleFace.end(), 0u);
+    return mesh;
+}
+
+TEST(ContactSurfaceGraph, TiesOnAnEdgeOfACrowdedVertexStayOnThatEdge) {
+    // Off the middle of the spoke from the apex to ring vertex i, turned a
+    // little towards ring vertex i + 1: the nearest point is on the spoke,
+    // its two side triangles tie, and the one towards i + 1 faces p more
+    // squarely. The apex's 2,000 triangles are the longer list of the two
+    // the spoke's triangles are found in.
+    constexpr std::uint32_t kRing = 2000;
+    const TriangleMesh mesh = cone(kRing);
+    const double step = 2.0 * M_PI / kRing;
+    for (unsigned seed = 0; seed < 3; ++seed) {
+        const SurfaceGraph graph =
+            buildSurfaceGraph(test::reorderedTriangles(mesh, seed), VolumeGeometry{});
+        for (std::uint32_t i : {0u, 1u, 777u, kRing - 1}) {
+            const Vec3 spoke = mesh.vertices[2 + i];
+            const Vec3 next = mesh.vertices[2 + (i + 1) % kRing];
+            const double turned = step * (i + 0.3);
+            const Vec3 p{0.5 * spoke[0] + 0.5 * std::cos(turned),
+                         0.5 * spoke[1] + 0.5 * std::sin(turned), 4.0};
+            std::array<Vec3, 3> expected{Vec3{0, 0, 8}, spoke, next};
+            std::sort(expected.begin(), expected.end());
+            for (std::size_t t = 0; t < graph.triangles.size(); ++t) {
+                const auto corners = sortedCorners(graph, std::int32_t(t));
+                const bool onSpoke =
+                    std::count(corners.begin(), corners.end(), Vec3{0, 0, 8}) == 1 &&
+                    std::count(corners.begin(), corners.end(), spoke) == 1;
+                if (!onSpoke) continue;
+                EXPECT_EQ(sortedCorners(graph, graph.nearestOfTied(std::int32_t(t), p)), expected)
+                    << "seed " << seed << ", spoke " << i << ", from triangle " << t;
+            }
         }
     }
 }
