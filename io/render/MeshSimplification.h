@@ -8,7 +8,9 @@
 // the border of the segment's mesh (so neighbouring segments still meet
 // where they did). Each segment gets a share of the budget in proportion to
 // its triangles, and at least kMinTrianglesPerSegment, so small segments
-// stay visible.
+// stay visible. A segment with a vertex shared by a large share of its
+// triangles (a cone's apex) goes to meshoptimizer's topology-ignoring
+// ("sloppy") simplifier instead, whose time does not grow with such a fan.
 #pragma once
 
 #include <cstddef>

@@ -98,5 +98,40 @@ TEST(MeshSimplification, LeavesMeshesWithinBudgetUntouched) {
     EXPECT_EQ(meshes[0].positions, copy[0].positions);
 }
 
+TEST(MeshSimplification, MeetsTheBudgetOnAFanRoundOneVertex) {
+    // A closed cone: apex and base centre each shared by half the triangles.
+    constexpr std::uint32_t kRing = 20000;
+    SegmentMesh cone;
+    cone.label = 1;
+    cone.positions.push_back({0, 0, 2});
+    cone.positions.push_back({0, 0, 0});
+    for (std::uint32_t i = 0; i < kRing; ++i) {
+        const double angle = 2.0 * M_PI * i / kRing;
+        cone.positions.push_back({float(std::cos(angle)), float(std::sin(angle)), 0});
+    }
+    for (std::uint32_t i = 0; i < kRing; ++i) {
+        const std::uint32_t a = 2 + i, b = 2 + (i + 1) % kRing;
+        cone.triangles.push_back({0, a, b});
+        cone.triangles.push_back({1, b, a});
+    }
+    std::vector<SegmentMesh> meshes = {cone};
+    simplifyForDisplay(meshes, 2000);
+    const SegmentMesh& simplified = meshes[0];
+    EXPECT_LE(simplified.triangles.size(), 2000u * 3 / 2);
+    EXPECT_GE(simplified.triangles.size(), kMinTrianglesPerSegment);
+    std::vector<bool> used(simplified.positions.size(), false);
+    for (const auto& t : simplified.triangles)
+        for (std::uint32_t v : t) {
+            ASSERT_LT(v, simplified.positions.size());
+            used[v] = true;
+        }
+    for (bool u : used) EXPECT_TRUE(u);
+    // Kept vertices are the cone's: the apex, the base centre or the rim.
+    for (const auto& p : simplified.positions) {
+        const bool axis = p[0] == 0 && p[1] == 0;
+        EXPECT_TRUE(axis || (p[2] == 0 && std::abs(std::hypot(p[0], p[1]) - 1.0) < 1e-5));
+    }
+}
+
 }  // namespace
 }  // namespace skelseg
