@@ -112,7 +112,8 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
     json counts = {{"object_voxels", 0},   {"boundary_voxels", 0},
                    {"candidates", 0},      {"curve_skeleton_points", 0},
                    {"skeleton_points", 0}, {"junction_voxels", 0},
-                   {"cavities", 0},        {"cavity_voxels", 0}};
+                   {"cavities", 0},        {"cavity_voxels", 0},
+                   {"tunnel_voxels", 0}};
     json work = {{"objects_voxels_examined", 0},
                  {"candidates_searched", 0},
                  {"candidates_measured", 0},
@@ -144,6 +145,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
         addCount(counts, "junction_voxels", obj.junctionVoxels);
         addCount(counts, "cavities", obj.cavities);
         addCount(counts, "cavity_voxels", obj.cavityVoxels);
+        addCount(counts, "tunnel_voxels", obj.tunnelVoxels);
         addCount(work, "objects_voxels_examined", obj.candidateStats.objectVoxels);
         addCount(work, "candidates_searched", obj.candidateStats.candidates);
         addCount(work, "candidates_measured", obj.bandStats.candidatesMeasured);
@@ -166,6 +168,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                            {"boundary_components", obj.boundaryComponents},
                            {"cavities", obj.cavities},
                            {"cavity_voxels", obj.cavityVoxels},
+                           {"tunnel_voxels", obj.tunnelVoxels},
                            {"genus", obj.genus},
                            {"bbox_min", toJson(obj.bboxMin)},
                            {"bbox_max", toJson(obj.bboxMax)},

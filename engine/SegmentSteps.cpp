@@ -36,6 +36,8 @@ SegmentationParameters parametersFor(const SegmentMask& input,
                                      const SegmentationParameters& requested) {
     SegmentationParameters run = requested;
     run.objectSources = input.objectSources;
+    run.closeNarrowTunnels =
+        requested.closeNarrowTunnels && !(input.source && input.source->isMesh());
     // Loops round a handle the mesh lacks have an infinite area only in the
     // voxel model: touching or interpenetrating surfaces stayed joined.
     run.cutRules.handleLoopsCarryNoArea =

@@ -64,11 +64,21 @@ void cropObject(ObjectState& state, const ConnectedObjects& objects) {
         },
         state.parameters.threaded);
     // Parts are parts of the outer surface (kernels/Cavities.h).
-    state.cavities = fillCavities(crop, {state.parameters.threaded}, state.interrupter);
-    state.out.cavities = state.cavities.count;
-    state.out.cavityVoxels = state.cavities.voxels;
+    const bool threaded = state.parameters.threaded;
+    state.cavities = fillCavities(crop, {threaded}, state.interrupter);
     // The measures need to know whether a loop can go round a handle here.
-    state.out.genus = voxelTopology(crop, {state.parameters.threaded}, state.interrupter).genus;
+    state.out.genus = voxelTopology(crop, {threaded}, state.interrupter).genus;
+    if (state.parameters.closeNarrowTunnels && state.out.genus > 0) {
+        state.tunnelVoxels = closeNarrowTunnels(crop, state.interrupter);
+        if (!state.tunnelVoxels.empty()) {
+            // Closing the mouth of a pit one voxel wide seals its bottom.
+            state.sealedCavities = fillCavities(crop, {threaded}, state.interrupter);
+            state.out.genus = voxelTopology(crop, {threaded}, state.interrupter).genus;
+        }
+    }
+    state.out.cavities = state.cavities.count + state.sealedCavities.count;
+    state.out.cavityVoxels = state.cavities.voxels + state.sealedCavities.voxels;
+    state.out.tunnelVoxels = state.tunnelVoxels.size();
 }
 
 void computeObjectFeatureTransform(ObjectState& state) {
@@ -368,8 +378,11 @@ Volume<std::uint16_t> objectInteriorLabels(const ObjectState& state,
     Volume<std::uint16_t> labels(state.crop.dims(), 0);
     labelInterior(state.crop, state.featureTransform, state.graph, segments, localId, labels,
                   state.parameters.threaded);
-    // A filled cavity was background in the input (and may hold another object).
+    // What was filled was background in the input (a cavity may hold
+    // another object).
     clearVoxelRuns(labels, state.cavities.runs);
+    clearVoxelRuns(labels, state.sealedCavities.runs);
+    for (std::size_t i : state.tunnelVoxels) labels[i] = 0;
     return labels;
 }
 

@@ -35,6 +35,7 @@
 #include "kernels/Cavities.h"
 #include "kernels/ConnectedObjects.h"
 #include "kernels/CutPlacement.h"
+#include "kernels/NarrowTunnels.h"
 #include "kernels/PathSearch.h"
 #include "kernels/SkeletonCandidates.h"
 #include "kernels/SkeletonGraph.h"
@@ -80,16 +81,20 @@ struct ObjectState {
     StageTimer& timer;
     const ObjectExtent extent;  // in the input grid
 
-    std::array<int, 3> origin{};                // crop: input-grid voxel of crop voxel (0,0,0)
-    MaskVolume crop;                            // crop: 1 on the object's voxels and cavities
-    FilledCavities cavities;                    // crop: the cavities filled (to leave unlabelled)
-    Volume<std::uint32_t> featureTransform;     // feature transform: nearest boundary voxel
-    BoundaryGraph graph;                        // boundary graph
-    std::vector<SkeletonCandidate> candidates;  // skeleton candidates
-    Landmarks landmarks;                        // landmarks
-    std::vector<SkeletonPoint> points;          // measures: the curve skeleton C
-    SkeletonGraph skeleton;                     // skeleton graph: C_tau
-    CutPlan plan;                               // cut placement: the decisions
+    std::array<int, 3> origin{};  // crop: input-grid voxel of crop voxel (0,0,0)
+    MaskVolume crop;              // crop: 1 on the object's voxels and cavities
+    // crop: what was filled, to leave unlabelled: the cavities, the
+    // tunnels one voxel wide closed (crop voxel indices) and the cavities
+    // that closing them sealed.
+    FilledCavities cavities, sealedCavities;
+    std::vector<std::size_t> tunnelVoxels;
+    Volume<std::uint32_t> featureTransform;            // feature transform: nearest boundary voxel
+    BoundaryGraph graph;                               // boundary graph
+    std::vector<SkeletonCandidate> candidates;         // skeleton candidates
+    Landmarks landmarks;                               // landmarks
+    std::vector<SkeletonPoint> points;                 // measures: the curve skeleton C
+    SkeletonGraph skeleton;                            // skeleton graph: C_tau
+    CutPlan plan;                                      // cut placement: the decisions
     std::vector<std::vector<std::uint32_t>> cutLoops;  // cut placement: Gamma of each cut
     SurfaceSegments segments;                          // labelling: boundary segments
     Volume<std::uint16_t> localLabels;  // interior labels: local segment + 1, 0 outside
@@ -121,7 +126,8 @@ struct ObjectState {
 };
 
 /// Copies the object (the runs of `objects` with its id) out of the input
-/// grid into `state.crop`, and fills its cavities there.
+/// grid into `state.crop`, and fills its cavities there (and, where the
+/// parameters ask for it, closes its tunnels one voxel wide).
 void cropObject(ObjectState& state, const ConnectedObjects& objects);
 /// Exact Euclidean feature transform of the crop's boundary voxels.
 void computeObjectFeatureTransform(ObjectState& state);

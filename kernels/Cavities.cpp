@@ -31,8 +31,8 @@ CavityRuns findCavities(const VoxelRuns& objects, bool threaded, Interrupter& in
 FilledCavities fillCavities(MaskVolume& mask, const CavityFillOptions& options,
                             Interrupter& interrupter) {
     FilledCavities filled;
-    const CavityRuns cavities =
-        findCavities(objectRuns(mask, options.threaded, interrupter), options.threaded, interrupter);
+    const CavityRuns cavities = findCavities(objectRuns(mask, options.threaded, interrupter),
+                                             options.threaded, interrupter);
     throwIfInterrupted(interrupter);
     const VoxelRuns& background = cavities.background;
     filled.count = cavities.count;

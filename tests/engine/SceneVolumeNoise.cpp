@@ -1,6 +1,7 @@
-// Scene tests: cavities inside an object change none of its parts (issue 12,
-// stray voxels; kernels/Cavities.h). Pores of a thresholded scan are missing
-// voxels inside the shape; the parts are those of its outer surface.
+// Scene tests: stray voxels inside and on the surface of a volume change none
+// of its parts (issue 12). Pores of a thresholded scan are missing voxels
+// inside the shape (kernels/Cavities.h); voxels added or missing at its
+// surface make tunnels one voxel wide (kernels/NarrowTunnels.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,10 +24,11 @@ bool deepInside(const MaskVolume& mask, int x, int y, int z) {
     return true;
 }
 
-TEST(SceneCavities, PoresAndAHollowInsideAVolumeChangeNoPart) {
+TEST(SceneVolumeNoise, PoresAndAHollowInsideAVolumeChangeNoPart) {
     const SceneRun clean = segmentShape("figure", 96);
     ASSERT_GE(partCount(clean), 5u);
-    ASSERT_EQ(clean.result.objects.front().cavities, 0u);
+    ASSERT_EQ(clean.result.objects.size(), 1u);
+    const ObjectSegmentation& shape = clean.result.objects.front();
     // About one deep voxel in 97 removed (single pores, some of them
     // touching), and a hollow of 3^3 voxels around the first deep voxel
     // whose whole neighbourhood is deep.
@@ -59,8 +61,8 @@ TEST(SceneCavities, PoresAndAHollowInsideAVolumeChangeNoPart) {
     const SegmentationResult porous = segmentVolume(mask, {});
 
     ASSERT_EQ(porous.objects.size(), 1u);
-    EXPECT_GT(porous.objects.front().cavities, 10u);
-    EXPECT_EQ(porous.objects.front().cavityVoxels, removed);
+    EXPECT_GT(porous.objects.front().cavities, shape.cavities + 10u);
+    EXPECT_EQ(porous.objects.front().cavityVoxels, shape.cavityVoxels + removed);
     ASSERT_EQ(porous.segments.size(), clean.result.segments.size());
     // Every voxel of the shape keeps its label; the pores stay unlabelled.
     for (std::size_t i = 0; i < mask.size(); ++i) {
@@ -71,7 +73,7 @@ TEST(SceneCavities, PoresAndAHollowInsideAVolumeChangeNoPart) {
     }
 }
 
-TEST(SceneCavities, AnObjectInsideAnotherKeepsItsOwnLabelAndTheGapStaysBackground) {
+TEST(SceneVolumeNoise, AnObjectInsideAnotherKeepsItsOwnLabelAndTheGapStaysBackground) {
     // A hollow ball (walls 6 voxels thick) holding a solid ball apart from it.
     const Dims d{72, 72, 72};
     const std::array<double, 3> centre{35.5, 35.5, 35.5};
@@ -102,6 +104,48 @@ TEST(SceneCavities, AnObjectInsideAnotherKeepsItsOwnLabelAndTheGapStaysBackgroun
     std::uint64_t enclosed = 0;
     for (std::size_t i = 0; i < mask.size(); ++i) enclosed += hollow[i];
     EXPECT_EQ(cavityVoxels, enclosed);
+}
+
+TEST(SceneVolumeNoise, SurfaceNoiseOfAFigureKeepsItsParts) {
+    const SceneRun clean = segmentShape("figure", 96);
+    ASSERT_GE(partCount(clean), 5u);
+    // Flip 8% of the voxels within two voxels of the surface (a fixed hash
+    // of the position decides), as thresholding a noisy scan does.
+    const MaskVolume& shape = clean.mask;
+    const Dims d = shape.dims();
+    MaskVolume noisy = shape;
+    std::uint64_t flipped = 0;
+    for (int z = 2; z < d.z - 2; ++z)
+        for (int y = 2; y < d.y - 2; ++y)
+            for (int x = 2; x < d.x - 2; ++x) {
+                bool nearSurface = false;
+                for (int dz = -2; dz <= 2 && !nearSurface; ++dz)
+                    for (int dy = -2; dy <= 2 && !nearSurface; ++dy)
+                        for (int dx = -2; dx <= 2 && !nearSurface; ++dx)
+                            nearSurface = shape(x + dx, y + dy, z + dz) != shape(x, y, z);
+                const std::uint32_t hash = std::uint32_t(x) * 73856093u ^
+                                           std::uint32_t(y) * 19349663u ^
+                                           std::uint32_t(z) * 83492791u;
+                if (nearSurface && (hash * 2654435761u) >> 24 < 20) {
+                    noisy(x, y, z) = !shape(x, y, z);
+                    ++flipped;
+                }
+            }
+    ASSERT_GT(flipped, 500u);
+    const SegmentationResult result = segmentVolume(noisy, {});
+
+    // Tunnels were closed and pores filled, and none of the voxels the
+    // input leaves empty has a label.
+    std::uint64_t tunnels = 0, cavities = 0;
+    for (const ObjectSegmentation& object : result.objects)
+        tunnels += object.tunnelVoxels, cavities += object.cavities;
+    EXPECT_GT(tunnels, 0u);
+    EXPECT_GT(cavities, 0u);
+    for (std::size_t i = 0; i < noisy.size(); ++i)
+        if (!noisy[i]) ASSERT_EQ(result.labels[i], 0) << "voxel " << i;
+    // The figure's parts: as many segments of real size as without noise
+    // (islands of flipped voxels outside are no segments).
+    EXPECT_EQ(result.segments.size(), clean.result.segments.size());
 }
 
 }  // namespace
