@@ -12,10 +12,11 @@ namespace {
 constexpr int kCentre = 13;
 
 struct NeighbourhoodTables {
-    std::array<std::uint32_t, 27> touching26{};  // per bit: the bits it shares a face, edge or corner with
-    std::array<std::uint32_t, 27> touching6{};   // per bit: the bits it shares a face with
-    std::uint32_t within18 = 0;                  // the 18-neighbourhood, centre excluded
-    std::uint32_t faces = 0;                     // the centre's six face neighbours
+    std::array<std::uint32_t, 27>
+        touching26{};  // per bit: the bits it shares a face, edge or corner with
+    std::array<std::uint32_t, 27> touching6{};  // per bit: the bits it shares a face with
+    std::uint32_t within18 = 0;                 // the 18-neighbourhood, centre excluded
+    std::uint32_t faces = 0;                    // the centre's six face neighbours
 
     NeighbourhoodTables() {
         const auto offset = [](int bit) {
@@ -105,8 +106,8 @@ std::vector<std::size_t> closeNarrowTunnels(MaskVolume& mask, Interrupter& inter
             for (int x = 1; x + 1 < d.x; ++x) {
                 // Only background voxels with an object voxel beside them
                 // (the face test of closesTunnel, read cheaply first).
-                if (row[x] || !(row[x - 1] | row[x + 1] | mask(x, y - 1, z) |
-                                mask(x, y + 1, z) | mask(x, y, z - 1) | mask(x, y, z + 1)))
+                if (row[x] || !(row[x - 1] | row[x + 1] | mask(x, y - 1, z) | mask(x, y + 1, z) |
+                                mask(x, y, z - 1) | mask(x, y, z + 1)))
                     continue;
                 if (!closesTunnel(objectBits(mask, x, y, z))) continue;
                 mask(x, y, z) = 1;

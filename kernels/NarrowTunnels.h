@@ -39,7 +39,7 @@ namespace skelseg {
 /// Serial (one pass; its result depends on the order). @throw
 /// InterruptedError when asked to stop (`mask` is then left unchanged).
 std::vector<std::size_t> closeNarrowTunnels(MaskVolume& mask,
-                                              Interrupter& interrupter = nullInterrupter());
+                                            Interrupter& interrupter = nullInterrupter());
 
 /// Whether setting background voxel (x, y, z) of `mask`, not on its
 /// outermost layer, closes a tunnel one voxel wide (T26 = 1 and T6 >= 2).

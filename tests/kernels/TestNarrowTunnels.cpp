@@ -45,8 +45,8 @@ TEST(NarrowTunnels, AnArchOverTheSurfaceIsClosedAtBothEnds) {
     // a tunnel one voxel wide along y, the kind surface noise makes.
     MaskVolume mask(Dims{11, 11, 9}, 0);
     test::fillBox(mask, {1, 1, 1}, {9, 9, 4});
-    for (const auto& v : std::vector<std::array<int, 3>>{
-             {4, 5, 5}, {4, 5, 6}, {5, 5, 6}, {6, 5, 6}, {6, 5, 5}})
+    for (const auto& v :
+         std::vector<std::array<int, 3>>{{4, 5, 5}, {4, 5, 6}, {5, 5, 6}, {6, 5, 6}, {6, 5, 5}})
         mask(v[0], v[1], v[2]) = 1;
     ASSERT_EQ(voxelTopology(mask, {false}).genus, 1);
     EXPECT_TRUE(closesNarrowTunnel(mask, 5, 5, 5));
@@ -105,8 +105,7 @@ TEST(NarrowTunnels, NoObjectsJoinAndTheGenusNeverGrows) {
         for (int z = 0; z < d.z; ++z)
             for (int y = 0; y < d.y; ++y)
                 for (int x = 0; x < d.x; ++x)
-                    if (x == 0 || y == 0 || z == 0 || x + 1 == d.x || y + 1 == d.y ||
-                        z + 1 == d.z)
+                    if (x == 0 || y == 0 || z == 0 || x + 1 == d.x || y + 1 == d.y || z + 1 == d.z)
                         mask(x, y, z) = 0;
         const VoxelTopology before = voxelTopology(mask, {false});
         const std::vector<std::size_t> closed = closeNarrowTunnels(mask);
