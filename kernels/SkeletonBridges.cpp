@@ -1,7 +1,10 @@
 #include "kernels/SkeletonBridges.h"
 
 #include <algorithm>
+#include <array>
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <tuple>
 
@@ -26,9 +29,136 @@ bool segmentInside(const Coord& a, const Coord& b, const MaskVolume& inside) {
     return true;
 }
 
-/// Joins the parts of g that `joined` still keeps apart: for every node and
-/// every other part, the nearest node there is a candidate; candidates are
-/// taken shortest first, and one whose segment leaves the object is skipped.
+/// The nodes of a graph in cubic cells of `cellSize` voxels (CSR by cell,
+/// nodes in increasing order within a cell): the nodes within a distance of
+/// a point are found in the cells the cube around it overlaps.
+class NodeCells {
+public:
+    NodeCells(const std::vector<Coord>& coord, int cellSize) : mCellSize(cellSize) {
+        mLow = {INT32_MAX, INT32_MAX, INT32_MAX};
+        std::array<int, 3> high{INT32_MIN, INT32_MIN, INT32_MIN};
+        for (const Coord& c : coord) {
+            mLow = {std::min(mLow[0], c.x), std::min(mLow[1], c.y), std::min(mLow[2], c.z)};
+            high = {std::max(high[0], c.x), std::max(high[1], c.y), std::max(high[2], c.z)};
+        }
+        for (int k = 0; k < 3; ++k) mCells[k] = (high[k] - mLow[k]) / cellSize + 1;
+        mStart.assign(std::size_t(mCells[0]) * mCells[1] * mCells[2] + 1, 0);
+        for (const Coord& c : coord) ++mStart[cellOf(c) + 1];
+        for (std::size_t i = 1; i < mStart.size(); ++i) mStart[i] += mStart[i - 1];
+        mNodes.resize(coord.size());
+        std::vector<std::uint32_t> next(mStart.begin(), mStart.end() - 1);
+        for (std::uint32_t n = 0; n < coord.size(); ++n) mNodes[next[cellOf(coord[n])]++] = n;
+    }
+
+    /// Calls visit(node) for every node in the cells that the cube of half
+    /// side `radius` around c overlaps (a superset of the nodes within
+    /// `radius` of c).
+    template <typename Visit>
+    void forEachNear(const Coord& c, double radius, const Visit& visit) const {
+        const int reach = int(std::ceil(radius / mCellSize));
+        const int cx = (c.x - mLow[0]) / mCellSize, cy = (c.y - mLow[1]) / mCellSize,
+                  cz = (c.z - mLow[2]) / mCellSize;
+        for (int z = std::max(0, cz - reach); z <= std::min(mCells[2] - 1, cz + reach); ++z)
+            for (int y = std::max(0, cy - reach); y <= std::min(mCells[1] - 1, cy + reach); ++y) {
+                const std::size_t row = (std::size_t(z) * mCells[1] + y) * mCells[0];
+                const std::size_t first = row + std::size_t(std::max(0, cx - reach));
+                const std::size_t last = row + std::size_t(std::min(mCells[0] - 1, cx + reach));
+                for (std::uint32_t i = mStart[first]; i < mStart[last + 1]; ++i) visit(mNodes[i]);
+            }
+    }
+
+private:
+    std::size_t cellOf(const Coord& c) const {
+        return (std::size_t((c.z - mLow[2]) / mCellSize) * mCells[1] +
+                std::size_t((c.y - mLow[1]) / mCellSize)) *
+                   mCells[0] +
+               std::size_t((c.x - mLow[0]) / mCellSize);
+    }
+
+    int mCellSize;
+    std::array<int, 3> mLow{}, mCells{};
+    std::vector<std::uint32_t> mStart, mNodes;
+};
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 2>> joinGroupsThroughObject(
+    const std::vector<Coord>& coord, const std::vector<std::uint32_t>& group, std::uint32_t groups,
+    const MaskVolume& inside) {
+    std::vector<std::array<std::uint32_t, 2>> bridges;
+    const std::uint32_t n = std::uint32_t(coord.size());
+    if (groups <= 1 || n == 0) return bridges;
+    // Candidates are taken shortest first; those of length up to R are all
+    // known from the nodes within R of each node (a node's nearest node of
+    // another part, if that is within R, is the nearest of the nodes there),
+    // so they are generated in rounds of doubling R, each round sorted, and
+    // the rounds stop once every part is joined. Candidates, their order and
+    // the bridges are those of one sort of all candidates.
+    constexpr int kCellSize = 8;
+    const NodeCells cells(coord, kCellSize);
+    std::array<int, 3> low{INT32_MAX, INT32_MAX, INT32_MAX}, high{INT32_MIN, INT32_MIN, INT32_MIN};
+    for (const Coord& c : coord) {
+        low = {std::min(low[0], c.x), std::min(low[1], c.y), std::min(low[2], c.z)};
+        high = {std::max(high[0], c.x), std::max(high[1], c.y), std::max(high[2], c.z)};
+    }
+    double diagonal2 = 0.0;
+    for (int k = 0; k < 3; ++k) diagonal2 += double(high[k] - low[k]) * double(high[k] - low[k]);
+    std::vector<std::tuple<double, std::uint32_t, std::uint32_t>> candidates;
+    std::vector<std::pair<double, std::uint32_t>> nearest(groups, {HUGE_VAL, kNoJunction});
+    std::vector<std::uint32_t> touched;
+    DisjointSets groupsJoined(groups);
+    std::uint32_t apart = groups;
+    double below2 = -1.0;  // candidates up to this squared length are done
+    for (double radius = kCellSize; apart > 1; radius *= 2.0) {
+        const bool everything = radius * radius >= diagonal2;
+        const double upTo2 = everything ? HUGE_VAL : radius * radius;
+        candidates.clear();
+        for (std::uint32_t a = 0; a < n; ++a) {
+            const auto consider = [&](std::uint32_t b) {
+                if (group[b] == group[a]) return;
+                const double dx = coord[b].x - coord[a].x, dy = coord[b].y - coord[a].y,
+                             dz = coord[b].z - coord[a].z;
+                const double d2 = dx * dx + dy * dy + dz * dz;
+                if (d2 > upTo2) return;
+                auto& best = nearest[group[b]];
+                if (best.second == kNoJunction) touched.push_back(group[b]);
+                if (std::make_pair(d2, b) < best) best = {d2, b};
+            };
+            if (everything)
+                for (std::uint32_t b = 0; b < n; ++b) consider(b);
+            else
+                cells.forEachNear(coord[a], radius, consider);
+            for (std::uint32_t k : touched) {
+                const auto [d2, b] = nearest[k];
+                if (d2 > below2) {
+                    if (group[a] < k)
+                        candidates.emplace_back(d2, a, b);
+                    else
+                        candidates.emplace_back(d2, b, a);
+                }
+                nearest[k] = {HUGE_VAL, kNoJunction};
+            }
+            touched.clear();
+        }
+        std::sort(candidates.begin(), candidates.end());
+        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+        for (const auto& [d2, a, b] : candidates) {
+            if (groupsJoined.find(group[a]) == groupsJoined.find(group[b])) continue;
+            if (!segmentInside(coord[a], coord[b], inside)) continue;
+            groupsJoined.unite(group[a], group[b]);
+            --apart;
+            bridges.push_back({std::min(a, b), std::max(a, b)});
+        }
+        if (everything) break;
+        below2 = upTo2;
+    }
+    return bridges;
+}
+
+namespace {
+
+/// Joins the parts of g that `joined` still keeps apart (see
+/// joinGroupsThroughObject).
 void bridgeThroughObject(SkeletonGraph& g, const std::vector<std::uint32_t>& part,
                          DisjointSets& joined, const MaskVolume& inside) {
     const std::uint32_t n = g.nodeCount();
@@ -38,32 +168,9 @@ void bridgeThroughObject(SkeletonGraph& g, const std::vector<std::uint32_t>& par
         const std::uint32_t root = joined.find(part[i]);
         group[i] = groupIndex.emplace(root, std::uint32_t(groupIndex.size())).first->second;
     }
-    const std::uint32_t groups = std::uint32_t(groupIndex.size());
-    std::vector<std::tuple<double, std::uint32_t, std::uint32_t>> candidates;
-    std::vector<std::pair<double, std::uint32_t>> nearest(groups);
-    for (std::uint32_t a = 0; a < n; ++a) {
-        std::fill(nearest.begin(), nearest.end(), std::make_pair(HUGE_VAL, kNoJunction));
-        for (std::uint32_t b = 0; b < n; ++b) {
-            if (group[b] == group[a]) continue;
-            const double dx = g.coord[b].x - g.coord[a].x, dy = g.coord[b].y - g.coord[a].y,
-                         dz = g.coord[b].z - g.coord[a].z;
-            const double d2 = dx * dx + dy * dy + dz * dz;
-            if (std::make_pair(d2, b) < nearest[group[b]]) nearest[group[b]] = {d2, b};
-        }
-        for (std::uint32_t k = 0; k < groups; ++k)
-            if (nearest[k].second != kNoJunction && group[a] < k)
-                candidates.emplace_back(nearest[k].first, a, nearest[k].second);
-            else if (nearest[k].second != kNoJunction && k < group[a])
-                candidates.emplace_back(nearest[k].first, nearest[k].second, a);
-    }
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-    DisjointSets groupsJoined(groups);
-    for (const auto& [d2, a, b] : candidates) {
-        if (groupsJoined.find(group[a]) == groupsJoined.find(group[b])) continue;
-        if (!segmentInside(g.coord[a], g.coord[b], inside)) continue;
-        groupsJoined.unite(group[a], group[b]);
-        g.edges.push_back({std::min(a, b), std::max(a, b)});
+    for (const auto& edge :
+         joinGroupsThroughObject(g.coord, group, std::uint32_t(groupIndex.size()), inside)) {
+        g.edges.push_back(edge);
         ++g.bridgeCount;
     }
 }

@@ -6,6 +6,8 @@
 // junction, so pieces of C_tau close to each other are joined by one edge.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <vector>
 
 #include "kernels/SkeletonGraph.h"
@@ -21,5 +23,17 @@ namespace skelseg {
 /// edge was added, so the caller rebuilds it.
 bool bridgeSkeletonParts(SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                          const SkeletonGraphOptions& options);
+
+/// The join through the object of bridgeSkeletonParts: nodes at `coord`,
+/// each in one of `groups` groups (`group`, ids below `groups`). For every
+/// node and every other group, the group's node nearest to it (ties to the
+/// lower index) is a candidate pair; candidates are taken shortest first
+/// (then by the lower group's node, then the other), and one is a bridge
+/// when its groups are still apart and the straight segment between its
+/// nodes, sampled every half voxel, stays in `inside`. Returns the bridges
+/// (i < j) in the order taken.
+std::vector<std::array<std::uint32_t, 2>> joinGroupsThroughObject(
+    const std::vector<Coord>& coord, const std::vector<std::uint32_t>& group, std::uint32_t groups,
+    const MaskVolume& inside);
 
 }  // namespace skelseg
