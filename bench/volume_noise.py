@@ -119,12 +119,16 @@ def write_nrrd(path, mask):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--skelseg", action="append", required=True)
+    parser.add_argument("--skelseg", action="append",
+                        help="a skelseg binary (repeat to compare; default build/skelseg)")
     parser.add_argument("--size", type=int, default=200)
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--generated", default="", help="NAME[:POSE],... of skelseg generate")
     parser.add_argument("--generated-size", type=int, default=128)
     args = parser.parse_args()
+    if not args.skelseg:
+        repository = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+        args.skelseg = [os.path.join(repository, "build", "skelseg")]
     with tempfile.TemporaryDirectory() as work:
         all_cases = (generated_cases(args.skelseg[0], args.generated.split(","),
                                      args.generated_size, work)
