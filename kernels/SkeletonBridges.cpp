@@ -189,12 +189,12 @@ bool bridgeSkeletonParts(SkeletonGraph& g, const std::vector<SkeletonPoint>& poi
     // shorter than the part's radius lies inside the part at any
     // resolution. A pair needs the reach of both nodes.
     std::vector<double> reach(g.nodeCount());
-    double maxReach = 0.0;
     for (std::uint32_t n = 0; n < g.nodeCount(); ++n) {
         reach[n] = std::max(options.bridgeGap, loopRadius(double(points[g.point[n]].rhoS)));
-        maxReach = std::max(maxReach, reach[n]);
     }
-    // Sweep along x: only nodes within maxReach in x can pair.
+    // Sweep along x: a pair needs the reach of both nodes, so a node pairs
+    // only with the nodes after it within its own reach in x (a few nodes
+    // with loops round the whole body reach far; the others do not).
     std::vector<std::uint32_t> byX(g.nodeCount());
     for (std::uint32_t n = 0; n < g.nodeCount(); ++n) byX[n] = n;
     std::sort(byX.begin(), byX.end(), [&](std::uint32_t a, std::uint32_t b) {
@@ -210,7 +210,7 @@ bool bridgeSkeletonParts(SkeletonGraph& g, const std::vector<SkeletonPoint>& poi
         for (std::size_t k = i + 1; k < byX.size(); ++k) {
             const std::uint32_t b = byX[k];
             const Coord cb = g.coord[b];
-            if (double(cb.x - ca.x) > maxReach) break;
+            if (double(cb.x - ca.x) > reach[a]) break;
             if (part[a] == part[b]) continue;
             const double dx = cb.x - ca.x, dy = cb.y - ca.y, dz = cb.z - ca.z;
             const double d2 = dx * dx + dy * dy + dz * dz;

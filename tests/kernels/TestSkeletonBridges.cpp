@@ -85,7 +85,8 @@ TEST(SkeletonBridges, JoiningThroughTheObjectTakesTheCandidatesOfTheDefinition) 
             for (int i = 0; i < 12; ++i) {
                 coord.push_back(c);
                 group.push_back(k);
-                c = {std::clamp(c.x + step(rng), 0, size - 1), std::clamp(c.y + step(rng), 0, size - 1),
+                c = {std::clamp(c.x + step(rng), 0, size - 1),
+                     std::clamp(c.y + step(rng), 0, size - 1),
                      std::clamp(c.z + step(rng), 0, size - 1)};
             }
         }
