@@ -61,6 +61,9 @@ def cases(n):
         m[shell & ~base & (flip < p)] = True
         m[shell & base & (flip < p)] = False
         out.append((f"{p:.0%} added and {p:.0%} removed", m))
+    m = np.where(shell & (flip < 0.15), ~base, base)
+    m |= flip > 0.995
+    out.append(("15% flipped and 0.5% salt everywhere", m))
     return out
 
 
