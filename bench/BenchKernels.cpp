@@ -14,9 +14,11 @@
 #include <set>
 
 #include "bench/BenchShapes.h"
+#include "kernels/Cavities.h"
 #include "kernels/ComponentGrowth.h"
 #include "kernels/ConnectedObjects.h"
 #include "kernels/Geodesicness.h"
+#include "kernels/NarrowTunnels.h"
 #include "kernels/RimCount.h"
 #include "kernels/SkeletonBand.h"
 #include "kernels/SkeletonGraph.h"
@@ -135,6 +137,66 @@ void voxelGenusBench(benchmark::State& state, const std::string& shape) {
     }
     state.counters["voxels"] = double(in.mask.size());
     state.counters["genus"] = double(genus);
+}
+
+/// The shape with stray voxels: a voxel in 97 of those whose 5^3
+/// neighbourhood is all object removed (pores: cavities), and, with
+/// `surfaceNoise`, about 4% of the voxels within two of the surface flipped
+/// (tunnels), both chosen by a fixed hash of the position.
+MaskVolume strayVoxels(const MaskVolume& shape, bool surfaceNoise) {
+    const Dims d = shape.dims();
+    MaskVolume out = shape;
+    for (int z = 2; z < d.z - 2; ++z)
+        for (int y = 2; y < d.y - 2; ++y)
+            for (int x = 2; x < d.x - 2; ++x) {
+                bool allObject = true, nearSurface = false;
+                for (int dz = -2; dz <= 2; ++dz)
+                    for (int dy = -2; dy <= 2; ++dy)
+                        for (int dx = -2; dx <= 2; ++dx) {
+                            const bool object = shape(x + dx, y + dy, z + dz) != 0;
+                            allObject = allObject && object;
+                            nearSurface = nearSurface || object != (shape(x, y, z) != 0);
+                        }
+                const std::uint32_t hash =
+                    (std::uint32_t(x) * 73856093u ^ std::uint32_t(y) * 19349663u ^
+                     std::uint32_t(z) * 83492791u) *
+                    2654435761u;
+                if (allObject && (x * 7 + y * 13 + z * 29) % 97 == 0) out(x, y, z) = 0;
+                if (surfaceNoise && nearSurface && hash >> 24 < 10) out(x, y, z) = !shape(x, y, z);
+            }
+    return out;
+}
+
+void fillCavitiesBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    const MaskVolume porous = strayVoxels(in.mask, false);
+    FilledCavities filled;
+    for (auto _ : state) {
+        state.PauseTiming();
+        MaskVolume mask = porous;
+        state.ResumeTiming();
+        filled = fillCavities(mask, {false});
+        benchmark::DoNotOptimize(mask.data());
+    }
+    state.counters["voxels"] = double(in.mask.size());
+    state.counters["cavities"] = double(filled.count);
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(in.mask.size()));
+}
+
+void closeNarrowTunnelsBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    const MaskVolume noisy = strayVoxels(in.mask, true);
+    std::size_t closed = 0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        MaskVolume mask = noisy;
+        state.ResumeTiming();
+        closed = closeNarrowTunnels(mask).size();
+        benchmark::DoNotOptimize(mask.data());
+    }
+    state.counters["voxels"] = double(in.mask.size());
+    state.counters["closed"] = double(closed);
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(in.mask.size()));
 }
 
 void skeletonCandidatesBench(benchmark::State& state, const std::string& shape) {
@@ -397,6 +459,8 @@ void skeletonGraphSheetBench(benchmark::State& state) {
     registerForShapes("SkeletonCandidates", kLinearSizes, skeletonCandidatesBench);
     registerForShapes("ConnectedObjects", kLinearSizes, connectedObjectsBench);
     registerForShapes("VoxelGenus", kLinearSizes, voxelGenusBench);
+    registerForShapes("FillCavities", kLinearSizes, fillCavitiesBench);
+    registerForShapes("CloseNarrowTunnels", kLinearSizes, closeNarrowTunnelsBench);
     registerForShapes("Landmarks", kLinearSizes, landmarksBench);
     registerForShapes("GeodesicSearch", kSizes,
                       [](benchmark::State& state, const std::string& shape) {
