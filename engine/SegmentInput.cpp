@@ -154,8 +154,17 @@ std::uint64_t previewRunMemory(bool preview, std::uint64_t triangles, std::uint6
     return previewMemoryBytes(options, triangles, vertices, threads);
 }
 
+namespace {
+
+/// meshBoundaryVoxels of a mesh whose axisProjectedArea is `projectedArea`.
+std::uint64_t boundaryVoxelsOfArea(double projectedArea, int resolution) {
+    return std::uint64_t(projectedArea * double(resolution) * double(resolution));
+}
+
+}  // namespace
+
 std::uint64_t meshBoundaryVoxels(const TriangleMesh& mesh, int resolution) {
-    return std::uint64_t(axisProjectedArea(mesh) * double(resolution) * double(resolution));
+    return boundaryVoxelsOfArea(axisProjectedArea(mesh), resolution);
 }
 
 std::uint64_t meshRunMemory(const Dims& grid, int threads, bool meshIsClosed,
@@ -172,8 +181,7 @@ int largestResolutionWithinMemory(const TriangleMesh& mesh, bool meshIsClosed,
     const auto fits = [&](int resolution) {
         voxelizeOptions.resolution = resolution;
         return meshRunMemory(voxelGridFor(mesh, voxelizeOptions).dims, options.threads,
-                             meshIsClosed,
-                             std::uint64_t(projectedArea * double(resolution) * resolution)) +
+                             meshIsClosed, boundaryVoxelsOfArea(projectedArea, resolution)) +
                    options.heldBytes <=
                options.memoryLimit;
     };

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -36,12 +35,12 @@ class NodeCells {
 public:
     NodeCells(const std::vector<Coord>& coord, int cellSize) : mCellSize(cellSize) {
         mLow = {INT32_MAX, INT32_MAX, INT32_MAX};
-        std::array<int, 3> high{INT32_MIN, INT32_MIN, INT32_MIN};
+        mHigh = {INT32_MIN, INT32_MIN, INT32_MIN};
         for (const Coord& c : coord) {
             mLow = {std::min(mLow[0], c.x), std::min(mLow[1], c.y), std::min(mLow[2], c.z)};
-            high = {std::max(high[0], c.x), std::max(high[1], c.y), std::max(high[2], c.z)};
+            mHigh = {std::max(mHigh[0], c.x), std::max(mHigh[1], c.y), std::max(mHigh[2], c.z)};
         }
-        for (int k = 0; k < 3; ++k) mCells[k] = (high[k] - mLow[k]) / cellSize + 1;
+        for (int k = 0; k < 3; ++k) mCells[k] = (mHigh[k] - mLow[k]) / cellSize + 1;
         mStart.assign(std::size_t(mCells[0]) * mCells[1] * mCells[2] + 1, 0);
         for (const Coord& c : coord) ++mStart[cellOf(c) + 1];
         for (std::size_t i = 1; i < mStart.size(); ++i) mStart[i] += mStart[i - 1];
@@ -67,6 +66,13 @@ public:
             }
     }
 
+    /// The squared diagonal of the nodes' bounding box.
+    double diagonalSquared() const {
+        double sum = 0.0;
+        for (int k = 0; k < 3; ++k) sum += double(mHigh[k] - mLow[k]) * double(mHigh[k] - mLow[k]);
+        return sum;
+    }
+
 private:
     std::size_t cellOf(const Coord& c) const {
         return (std::size_t((c.z - mLow[2]) / mCellSize) * mCells[1] +
@@ -76,7 +82,7 @@ private:
     }
 
     int mCellSize;
-    std::array<int, 3> mLow{}, mCells{};
+    std::array<int, 3> mLow{}, mHigh{}, mCells{};
     std::vector<std::uint32_t> mStart, mNodes;
 };
 
@@ -96,13 +102,7 @@ std::vector<std::array<std::uint32_t, 2>> joinGroupsThroughObject(
     // the bridges are those of one sort of all candidates.
     constexpr int kCellSize = 8;
     const NodeCells cells(coord, kCellSize);
-    std::array<int, 3> low{INT32_MAX, INT32_MAX, INT32_MAX}, high{INT32_MIN, INT32_MIN, INT32_MIN};
-    for (const Coord& c : coord) {
-        low = {std::min(low[0], c.x), std::min(low[1], c.y), std::min(low[2], c.z)};
-        high = {std::max(high[0], c.x), std::max(high[1], c.y), std::max(high[2], c.z)};
-    }
-    double diagonal2 = 0.0;
-    for (int k = 0; k < 3; ++k) diagonal2 += double(high[k] - low[k]) * double(high[k] - low[k]);
+    const double diagonal2 = cells.diagonalSquared();
     std::vector<std::tuple<double, std::uint32_t, std::uint32_t>> candidates;
     std::vector<std::pair<double, std::uint32_t>> nearest(groups, {HUGE_VAL, kNoJunction});
     std::vector<std::uint32_t> touched;
