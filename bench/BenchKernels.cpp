@@ -22,6 +22,7 @@
 #include "kernels/RimCount.h"
 #include "kernels/SkeletonBand.h"
 #include "kernels/SkeletonGraph.h"
+#include "kernels/TunnelPlugs.h"
 #include "kernels/VoxelGenus.h"
 
 namespace skelseg::bench {
@@ -196,6 +197,24 @@ void closeNarrowTunnelsBench(benchmark::State& state, const std::string& shape) 
     }
     state.counters["voxels"] = double(in.mask.size());
     state.counters["closed"] = double(closed);
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(in.mask.size()));
+}
+
+void plugTunnelsBench(benchmark::State& state, const std::string& shape) {
+    const ShapeInput& in = shapeInput(shape, int(state.range(0)));
+    // As the engine calls it: after the tunnels one voxel wide are closed.
+    MaskVolume noisy = strayVoxels(in.mask, true);
+    closeNarrowTunnels(noisy);
+    std::size_t plugged = 0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        MaskVolume mask = noisy;
+        state.ResumeTiming();
+        plugged = plugTunnelsTwoVoxelsWide(mask).size();
+        benchmark::DoNotOptimize(mask.data());
+    }
+    state.counters["voxels"] = double(in.mask.size());
+    state.counters["plugged"] = double(plugged);
     state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(in.mask.size()));
 }
 
@@ -461,6 +480,7 @@ void skeletonGraphSheetBench(benchmark::State& state) {
     registerForShapes("VoxelGenus", kLinearSizes, voxelGenusBench);
     registerForShapes("FillCavities", kLinearSizes, fillCavitiesBench);
     registerForShapes("CloseNarrowTunnels", kLinearSizes, closeNarrowTunnelsBench);
+    registerForShapes("PlugTunnels", kLinearSizes, plugTunnelsBench);
     registerForShapes("Landmarks", kLinearSizes, landmarksBench);
     registerForShapes("GeodesicSearch", kSizes,
                       [](benchmark::State& state, const std::string& shape) {

@@ -70,8 +70,15 @@ void cropObject(ObjectState& state, const ConnectedObjects& objects) {
     state.out.genus = voxelTopology(crop, {threaded}, state.interrupter).genus;
     if (state.parameters.closeNarrowTunnels && state.out.genus > 0) {
         state.tunnelVoxels = closeNarrowTunnels(crop, state.interrupter);
+        if (!state.tunnelVoxels.empty())
+            state.out.genus = voxelTopology(crop, {threaded}, state.interrupter).genus;
+        if (state.out.genus > 0) {
+            const std::vector<std::size_t> plugs =
+                plugTunnelsTwoVoxelsWide(crop, state.interrupter);
+            state.tunnelVoxels.insert(state.tunnelVoxels.end(), plugs.begin(), plugs.end());
+        }
         if (!state.tunnelVoxels.empty()) {
-            // Closing the mouth of a pit one voxel wide seals its bottom.
+            // Closing the mouth of a pit that narrow seals its bottom.
             state.sealedCavities = fillCavities(crop, {threaded}, state.interrupter);
             state.out.genus = voxelTopology(crop, {threaded}, state.interrupter).genus;
         }

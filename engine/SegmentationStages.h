@@ -41,6 +41,7 @@
 #include "kernels/SkeletonGraph.h"
 #include "kernels/SkeletonMeasures.h"
 #include "kernels/SurfaceLabelling.h"
+#include "kernels/TunnelPlugs.h"
 #include "kernels/base/Interrupter.h"
 #include "kernels/base/Volume.h"
 

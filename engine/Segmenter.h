@@ -111,8 +111,9 @@ struct SegmentationParameters {
     /// CutOptions::handleLoopsCarryNoArea (engine/SegmentSteps.h,
     /// parametersFor); false (--keep-handle-areas): as any other input.
     bool artefactHandlesCarryNoArea = true;
-    /// Tunnels one voxel wide are closed in objects of genus above 0
-    /// (kernels/NarrowTunnels.h): true for volumes; parametersFor() turns it
+    /// Tunnels one voxel wide are closed, and those two voxels wide plugged,
+    /// in objects of genus above 0 (kernels/NarrowTunnels.h,
+    /// kernels/TunnelPlugs.h): true for volumes; parametersFor() turns it
     /// off for a mesh's voxel model, whose handles are checked against the
     /// mesh's genus instead.
     bool closeNarrowTunnels = true;
@@ -229,8 +230,9 @@ struct ObjectSegmentation {
     /// Cavities filled before the skeleton was computed, and their voxels
     /// (kernels/Cavities.h): background in the input, unlabelled.
     std::uint64_t cavities = 0, cavityVoxels = 0;
-    /// Voxels set to close tunnels one voxel wide (kernels/NarrowTunnels.h):
-    /// background in the input, unlabelled.
+    /// Voxels set to close tunnels one voxel wide (kernels/NarrowTunnels.h)
+    /// and to plug those two voxels wide (kernels/TunnelPlugs.h): background
+    /// in the input, unlabelled.
     std::uint64_t tunnelVoxels = 0;
     /// Total genus of the object's boundary surfaces (kernels/VoxelGenus.h).
     std::int64_t genus = 0;

@@ -567,8 +567,13 @@ MaskVolume figureWithSteps(double step, double zStep) {
 // segments the file's own voxels.
 TEST(SegmentCommand, AnisotropicVoxelsAreSegmentedAsCubicOnes) {
     const test::TempDir dir;
-    const MaskVolume cubicFigure = figureWithSteps(1.0, 1.0);
-    const MaskVolume deepFigure = figureWithSteps(1.0, 2.5);
+    // Steps of 0.75 reference voxels make the arms four voxels across. At
+    // one reference voxel they were three, the deep voxels' staircase made
+    // a handle two voxels wide at a shoulder, and that arm was cut only by
+    // the loops round it; plugged (kernels/TunnelPlugs.h), the arm read as
+    // no limb there (docs/quality.md, "Tunnels two voxels wide").
+    const MaskVolume cubicFigure = figureWithSteps(0.75, 1.0);
+    const MaskVolume deepFigure = figureWithSteps(0.75, 2.5);
     writeNrrdMask(dir / "cubic.nrrd", cubicFigure);
     writeNrrdMask(dir / "deep.nrrd", deepFigure);
     segment(optionsFor(dir / "cubic.nrrd", dir / "cubic", 2));

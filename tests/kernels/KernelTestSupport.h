@@ -49,6 +49,28 @@ inline void fillBox(MaskVolume& mask, std::array<int, 3> lo, std::array<int, 3> 
             for (int x = lo[0]; x <= hi[0]; ++x) mask(x, y, z) = 1;
 }
 
+/// A plate 13 x 13 x 3 voxels (x, y 1 to 13, z 2 to 4 of a 15 x 15 x 7
+/// grid) with a square hole of `width` voxels through it from (7, 7):
+/// genus 1.
+inline MaskVolume plateWithSquareHole(int width) {
+    MaskVolume mask(Dims{15, 15, 7}, 0);
+    fillBox(mask, {1, 1, 2}, {13, 13, 4});
+    for (int y = 7; y < 7 + width; ++y)
+        for (int x = 7; x < 7 + width; ++x)
+            for (int z = 2; z <= 4; ++z) mask(x, y, z) = 0;
+    return mask;
+}
+
+/// Empties the outermost layer of `mask`, as a crop's is.
+inline void emptyOuterLayer(MaskVolume& mask) {
+    const Dims d = mask.dims();
+    for (int z = 0; z < d.z; ++z)
+        for (int y = 0; y < d.y; ++y)
+            for (int x = 0; x < d.x; ++x)
+                if (x == 0 || y == 0 || z == 0 || x + 1 == d.x || y + 1 == d.y || z + 1 == d.z)
+                    mask(x, y, z) = 0;
+}
+
 /// Uniform random mask with P(object) = density.
 inline MaskVolume randomMask(Dims dims, double density, std::uint32_t seed) {
     std::mt19937 rng(seed);

@@ -9,19 +9,8 @@
 namespace skelseg {
 namespace {
 
-/// A plate 13 x 13 x 3 voxels with a square hole of `width` voxels through
-/// its middle: genus 1.
-MaskVolume plateWithHole(int width) {
-    MaskVolume mask(Dims{15, 15, 7}, 0);
-    test::fillBox(mask, {1, 1, 2}, {13, 13, 4});
-    for (int y = 7; y < 7 + width; ++y)
-        for (int x = 7; x < 7 + width; ++x)
-            for (int z = 2; z <= 4; ++z) mask(x, y, z) = 0;
-    return mask;
-}
-
 TEST(NarrowTunnels, AHoleOneVoxelWideIsClosedAndAWiderOneIsNot) {
-    MaskVolume narrow = plateWithHole(1);
+    MaskVolume narrow = test::plateWithSquareHole(1);
     ASSERT_EQ(voxelTopology(narrow, {false}).genus, 1);
     const std::vector<std::size_t> closed = closeNarrowTunnels(narrow);
     // The hole's bottom voxel closes it; its top voxel then seals the
@@ -34,7 +23,7 @@ TEST(NarrowTunnels, AHoleOneVoxelWideIsClosedAndAWiderOneIsNot) {
     EXPECT_EQ(after.genus, 0);
     EXPECT_EQ(after.cavities, 1u);
 
-    MaskVolume wide = plateWithHole(2);
+    MaskVolume wide = test::plateWithSquareHole(2);
     const MaskVolume before = wide;
     EXPECT_TRUE(closeNarrowTunnels(wide).empty());
     EXPECT_EQ(wide.values(), before.values());
@@ -100,13 +89,7 @@ TEST(NarrowTunnels, NoObjectsJoinAndTheGenusNeverGrows) {
     for (const std::uint32_t seed : {3u, 4u, 5u}) {
         SCOPED_TRACE(seed);
         MaskVolume mask = test::randomMask(Dims{26, 22, 19}, 0.55, seed);
-        // Keep the outermost layer empty, as a crop's is.
-        const Dims d = mask.dims();
-        for (int z = 0; z < d.z; ++z)
-            for (int y = 0; y < d.y; ++y)
-                for (int x = 0; x < d.x; ++x)
-                    if (x == 0 || y == 0 || z == 0 || x + 1 == d.x || y + 1 == d.y || z + 1 == d.z)
-                        mask(x, y, z) = 0;
+        test::emptyOuterLayer(mask);
         const VoxelTopology before = voxelTopology(mask, {false});
         const std::vector<std::size_t> closed = closeNarrowTunnels(mask);
         ASSERT_FALSE(closed.empty());
@@ -118,7 +101,7 @@ TEST(NarrowTunnels, NoObjectsJoinAndTheGenusNeverGrows) {
 }
 
 TEST(NarrowTunnels, StopsWhenAskedAndLeavesTheMaskUnchanged) {
-    MaskVolume mask = plateWithHole(1);
+    MaskVolume mask = test::plateWithSquareHole(1);
     const MaskVolume before = mask;
     test::StopAtOnce stop;
     EXPECT_THROW(closeNarrowTunnels(mask, stop), InterruptedError);
