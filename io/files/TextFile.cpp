@@ -23,7 +23,18 @@ void checkReadableFile(const fs::path& file) {
     const std::string name = file.string();
     std::error_code ec;
     const fs::file_status status = fs::status(file, ec);
-    if (status.type() == fs::file_type::not_found) throw InputError(name, "no such file");
+    if (status.type() == fs::file_type::not_found) {
+        // "cube.off/" (a shell's completion after a folder's name, a script
+        // joining a folder and a name) fails with ENOTDIR, which the library
+        // reports as not found: "no such file" of a file the user can see.
+        std::string withoutSlash = name;
+        while (withoutSlash.size() > 1 && withoutSlash.back() == '/') withoutSlash.pop_back();
+        std::error_code ignored;
+        if (withoutSlash.size() != name.size() && fs::exists(withoutSlash, ignored) &&
+            !fs::is_directory(withoutSlash, ignored))
+            throw InputError(name, "names a file as a folder (a '/' ends the name); drop the '/'");
+        throw InputError(name, "no such file");
+    }
     if (ec) throw InputError(name, "cannot be read: " + describeErrno(ec.value()));
     if (status.type() == fs::file_type::directory)
         throw InputError(name, "is a directory, not a file");

@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "io/files/ForeignContent.h"
 #include "io/files/TextFile.h"
 #include "io/files/TextTokenizer.h"
 #include "io/mesh/MeshBuilder.h"
@@ -37,6 +38,19 @@ bool stripContinuation(std::string_view& line) {
     if (end == 0 || line[end - 1] != '\\') return false;
     line = line.substr(0, end - 1);
     return true;
+}
+
+/// "v" or "f" when `keyword` is that statement with a non-ASCII byte glued
+/// to it ("v" and a non-breaking space, copied from a web page), empty
+/// otherwise. Skipped as an unknown statement, such a vertex shifted every
+/// vertex after it: an index error lines later, or with relative indices
+/// another mesh.
+std::string_view gluedVertexOrFace(std::string_view keyword) {
+    for (std::string_view statement : {"v", "fo", "f"})
+        if (keyword.size() > statement.size() && keyword.substr(0, statement.size()) == statement &&
+            static_cast<unsigned char>(keyword[statement.size()]) >= 0x80)
+            return statement;
+    return {};
 }
 
 }  // namespace
@@ -105,9 +119,17 @@ TriangleMesh readObj(const std::string& name, const char* data, std::size_t size
                              std::to_string(polygon.size()) + " vertices; a face needs at least 3");
             builder.addFace(polygon,
                             kCheckLater);  // positive indices may point forward: checked at the end
+        } else if (const std::string_view statement = gluedVertexOrFace(keyword);
+                   !statement.empty()) {
+            builder.fail("line " + std::to_string(lineNumber) + ": " + quote(keyword) +
+                         " is no statement: a character that is not a space or tab follows '" +
+                         std::string(statement) + "' (a non-breaking space?)");
         }
         // Every other statement (vt, vn, g, o, s, usemtl, mtllib, l, p, ...) is ignored.
     }
+    // An OBJ reader skips every statement it does not know, so any other
+    // text is an OBJ file of no faces: say what it is instead.
+    if (builder.faceCount() == 0) refuseForeignContent(name, std::string_view(data, size), "OBJ");
     return builder.finish();
 }
 

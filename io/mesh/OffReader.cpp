@@ -4,6 +4,7 @@
 #include <cstring>
 #include <vector>
 
+#include "io/files/ForeignContent.h"
 #include "io/files/TextFile.h"
 #include "io/files/TextTokenizer.h"
 #include "io/mesh/MeshBuilder.h"
@@ -245,8 +246,10 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
         // The prefix is case-sensitive: 'N' = normals, 'n' = dimension given.
         const std::string_view prefix = keyword.substr(0, keywordEnd - 3);
         for (char c : prefix)
-            if (c != 'S' && c != 'T' && c != 'C' && c != 'N' && c != '4' && c != 'n')
+            if (c != 'S' && c != 'T' && c != 'C' && c != 'N' && c != '4' && c != 'n') {
+                refuseForeignContent(name, std::string_view(data, size), "OFF");
                 builder.fail("not an OFF file (header " + quote(keyword) + ")");
+            }
         homogeneous = prefix.find('4') != std::string_view::npos;
         std::string_view token = keyword.substr(keywordEnd);
         if (token.empty()) token = headerTokens.nextToken();
@@ -282,6 +285,7 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
     } else if (std::int64_t value = 0; parseInteger(keyword, value)) {
         collectCounts(headerTokens, keyword);
     } else {
+        refuseForeignContent(name, std::string_view(data, size), "OFF");
         builder.fail("not an OFF file (it starts with " + quote(keyword) + ")");
     }
     // The counts may stand on the keyword's line, on the next, or one per

@@ -5,6 +5,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/files/ForeignContent.h"
 #include "io/files/TextFile.h"
 #include "io/files/TextTokenizer.h"
 #include "io/mesh/MeshBuilder.h"
@@ -224,8 +225,11 @@ TriangleMesh readPly(const std::string& name, const std::uint8_t* data, std::siz
     size -= bom;
     TextTokenizer lines(reinterpret_cast<const char*>(data), size);
     std::string_view line;
-    if (!lines.nextLine(line, false) || (line != "ply" && line != "ply\r"))
+    if (!lines.nextLine(line, false) || (line != "ply" && line != "ply\r")) {
+        refuseForeignContent(name, std::string_view(reinterpret_cast<const char*>(data), size),
+                             "PLY");
         builder.fail("not a PLY file (no 'ply' line)");
+    }
 
     PlyEncoding encoding = PlyEncoding::Ascii;
     bool haveFormat = false;

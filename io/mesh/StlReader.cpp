@@ -5,6 +5,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "io/files/ForeignContent.h"
 #include "io/files/TextFile.h"
 #include "io/files/TextTokenizer.h"
 #include "io/mesh/MeshBuilder.h"
@@ -166,6 +167,9 @@ TriangleMesh readStl(const std::string& name, const std::uint8_t* data, std::siz
         std::memchr(data, 0, size) == nullptr;
     if (looksAscii)
         return readAsciiStl(name, reinterpret_cast<const char*>(data) + bom, size - bom);
+    // Every file that is neither is taken for a binary STL of the wrong size
+    // below; text of another kind is more likely.
+    refuseForeignContent(name, std::string_view(reinterpret_cast<const char*>(data), size), "STL");
     if (size < 84)
         throw InputError(name, "not an STL file (too short for binary, no 'solid' for ASCII)");
     const std::uint64_t triangleCount = std::uint64_t(data[80]) | (std::uint64_t(data[81]) << 8) |

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "io/files/CompressedContent.h"
+#include "io/files/ForeignContent.h"
 #include "io/files/OutputDirectory.h"
 #include "io/files/TextFile.h"
 #include "io/files/TextTokenizer.h"
@@ -42,9 +43,11 @@ public:
         if (mSize == 0) fail("file is empty");
         refuseCompressedContent(mName, mBytes);  // before "wrong magic"
         const auto magic = splitWhitespace(nextLine());
-        if (magic.empty() || magic[0] != "#binvox")
+        if (magic.empty() || magic[0] != "#binvox") {
+            refuseForeignContent(mName, mBytes, "binvox");
             fail("not a binvox file: wrong magic " + quote(magic.empty() ? "" : magic[0]) +
                  ", expected '#binvox'");
+        }
         if (magic.size() != 2 || (magic[1] != "1" && magic[1] != "2"))
             fail("unsupported binvox version " + quote(magic.size() > 1 ? magic[1] : "") +
                  " (supported: 1, 2)");

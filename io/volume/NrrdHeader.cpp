@@ -8,6 +8,7 @@
 #include <set>
 
 #include "io/files/CompressedContent.h"
+#include "io/files/ForeignContent.h"
 #include "io/files/TextFile.h"
 #include "io/files/TextTokenizer.h"
 #include "kernels/base/Error.h"
@@ -179,7 +180,12 @@ public:
         if (mSize == 0) fail("file is empty");
         // A gzipped .nrrd is no NRRD with gzip encoding: say so, not "wrong magic".
         refuseCompressedContent(mName, mBytes);
-        parseMagic(nextLine());
+        // A detached header is written by hand, and Windows editors save it
+        // with a UTF-8 byte order mark: skipped, as the mesh readers skip it
+        // (teem refuses such a header with "wrong magic").
+        std::string magic = nextLine();
+        magic.erase(0, utf8BomLength(magic));
+        parseMagic(magic);
         while (mLines.bytesLeft() > 0) {
             const std::string line = nextLine();
             if (line.empty()) {
@@ -210,6 +216,14 @@ private:
             if (line[7] >= '1' && line[7] <= '5') return;
             fail("unsupported NRRD version " + quote(line) + " (supported: NRRD0001 to NRRD0005)");
         }
+        // A header saved as UTF-16 or with classic Mac OS line ends (one line
+        // then holds the whole header): the text readers' message says how
+        // to save it instead.
+        const bool utf16 = mBytes.size() >= 2 &&
+                           (mBytes.substr(0, 2) == "\xFF\xFE" || mBytes.substr(0, 2) == "\xFE\xFF");
+        if (utf16 || (line.compare(0, 7, "NRRD000") == 0 && line.find('\r') != std::string::npos))
+            textContentStart(mName, mBytes);
+        refuseForeignContent(mName, mBytes, "NRRD");
         fail("not a NRRD file: wrong magic " + quote(line.substr(0, 16)) +
              ", expected NRRD0001 to NRRD0005");
     }
@@ -277,6 +291,10 @@ private:
             if (value.empty()) fail("'data file' field is empty");
             if (value.compare(0, 4, "LIST") == 0 || value.find('%') != std::string::npos)
                 fail("data file " + quote(value) + ": multiple data files are not supported");
+            // The system ends a file name at its first NUL byte: "d.raw\0x"
+            // would read d.raw, a file the header does not name.
+            if (value.find('\0') != std::string::npos)
+                fail("data file " + quote(value) + ": the name holds a NUL byte");
             mHeader.dataFile = value;
         } else if (field == "space") {
             const int dimension = spaceDimension(value);

@@ -18,6 +18,7 @@
 #include <openvdb/tools/LevelSetUtil.h>
 
 #include "io/files/CompressedContent.h"
+#include "io/files/ForeignContent.h"
 #include "io/files/IsolatedCall.h"
 #include "io/files/OutputDirectory.h"
 #include "io/files/TextFile.h"
@@ -250,7 +251,9 @@ void checkVdbMagic(const std::string& name, const std::uint8_t* bytes, std::size
     // Every VDB file starts with the 64-bit magic number 0x56444220 ("VDB ").
     const std::uint8_t magic[8] = {0x20, 0x42, 0x44, 0x56, 0, 0, 0, 0};
     if (size < 8 || std::memcmp(bytes, magic, 8) != 0) {
-        refuseCompressedContent(name, std::string_view(reinterpret_cast<const char*>(bytes), size));
+        const std::string_view content(reinterpret_cast<const char*>(bytes), size);
+        refuseCompressedContent(name, content);
+        refuseForeignContent(name, content, "OpenVDB");
         throw InputError(name, "not an OpenVDB file: wrong magic number");
     }
 }

@@ -118,6 +118,12 @@ const std::string kUtf16Problem =
 const std::string kGzipBytes("\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03\x2b\r\x73\x8b", 14);
 const std::string kCompressedContentProblem = "is a compressed file or archive (its bytes are ";
 
+/// What a clone without Git LFS leaves in place of a large file.
+const std::string kLfsPointer =
+    "version https://git-lfs.github.com/spec/v1\n"
+    "oid sha256:4d7a214614ab2935c943f9e0ff69d22eadbb8f32b1258daaa5e2ca24d17e2393\n"
+    "size 12345\n";
+
 /// `text` with every '\n' a carriage return, as classic Mac OS wrote text.
 std::string crLineEnds(std::string text) {
     std::replace(text.begin(), text.end(), '\n', '\r');
@@ -283,6 +289,18 @@ std::vector<BadCase> nrrdCases() {
         writeBytes(f.parent_path() / "short.raw", "abc");
     };
     cases.push_back(shortData);
+    // The system ends a name at its first NUL byte: the header named
+    // "d.raw\0x" and d.raw was read.
+    BadCase nulInName =
+        bytes("nrrd_data_file_name_with_a_nul", "nul.nhdr",
+              "NRRD0004\n" + kUint8Fields + "data file: d.raw" + std::string(1, '\0') + "x\n",
+              "data file 'd.raw?x': the name holds a NUL byte");
+    const auto writeNul = nulInName.make;
+    nulInName.make = [writeNul](const fs::path& f) {
+        writeNul(f);
+        writeBytes(f.parent_path() / "d.raw", kEightVoxels);
+    };
+    cases.push_back(nulInName);
     return cases;
 }
 
@@ -622,6 +640,28 @@ std::vector<BadCase> fileSystemCases() {
         bytes("gzip_content_binvox", "gz.binvox", kGzipBytes,
               kCompressedContentProblem + "gzip data"),
         bytes("gzip_content_vdb", "gz.vdb", kGzipBytes, kCompressedContentProblem + "gzip data"),
+        // What arrives instead of a shape (docs/robustness.md, "A fifth
+        // probe"): a clone without Git LFS leaves its pointer, a failed
+        // download a web page, and shapes get another format's extension.
+        // The OBJ reader said "the mesh has no faces", the STL reader "binary
+        // STL header says 845429046 triangles", the others "wrong magic".
+        bytes("git_lfs_pointer_obj", "model.obj", kLfsPointer,
+              "is a Git LFS pointer (a small text file naming the content by its hash), not the "
+              "OBJ data itself; fetch the content with 'git lfs pull'"),
+        bytes("git_lfs_pointer_stl", "model.stl", kLfsPointer, "is a Git LFS pointer"),
+        bytes("git_lfs_pointer_nrrd", "scan.nrrd", kLfsPointer, "is a Git LFS pointer"),
+        bytes("html_page_stl", "download.stl",
+              "<!DOCTYPE html>\n<html><head><title>404 Not Found</title></head></html>\n",
+              "is an HTML page, not an STL file"),
+        bytes("off_content_obj", "tetra.obj", kTetraOff,
+              "holds an OFF mesh (it starts with 'OFF'), not an OBJ file as its name says; "
+              "rename it to .off"),
+        bytes("obj_content_stl", "tetra.stl", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\n",
+              "holds an OBJ mesh (it starts with the OBJ statement 'v'), not an STL file as its "
+              "name says; rename it to .obj"),
+        bytes("ply_content_nrrd", "tetra.nrrd", kPlyHeader + kPlyBody,
+              "holds a PLY mesh (its first line is 'ply'), not a NRRD file as its name says; "
+              "rename it to .ply"),
         bytes("no_extension", "shape", "NRRD0004\n", "no file extension"),
         bytes("seg_as_input", "labels.seg", "0\n1\n", "unknown input format '.seg'"),
     };

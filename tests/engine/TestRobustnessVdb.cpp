@@ -71,7 +71,11 @@ std::vector<VdbCase> vdbCases() {
     };
     return {
         {"empty", raw(""), "file is empty"},
-        {"wrong_magic", raw("#binvox 1\ndim 1 1 1\ndata\n\1\1"), "wrong magic"},
+        {"wrong_magic", raw("VDB 1\ndim 1 1 1\ndata\n\1\1"), "wrong magic"},
+        // A shape of another format under the name: named, not "wrong magic".
+        {"binvox_content", raw("#binvox 1\ndim 1 1 1\ndata\n\1\1"),
+         "holds a binvox volume (it starts with '#binvox 1'), not an OpenVDB file as its name "
+         "says; rename it to .binvox"},
         {"short_magic", raw("\x20\x42\x44"), "wrong magic"},
         {"magic_only", raw(magic), "truncated or corrupt"},
         {"magic_then_zeros", raw(magic + std::string(8, '\0')), ""},

@@ -63,6 +63,28 @@ TEST(TextFile, ReadFileBytesRefusesWhatIsNotAFile) {
     }
 }
 
+TEST(TextFile, AFileNamedAsAFolderIsNotCalledMissing) {
+    // "cube.off/" fails with ENOTDIR, which the library reports as not
+    // found: "no such file" of a file the user can see.
+    test::TempDir dir;
+    std::ofstream(dir / "cube.off") << "OFF\n";
+    for (const std::string slashes : {"/", "//"}) {
+        try {
+            checkReadableFile((dir / "cube.off").string() + slashes);
+            FAIL() << "no error for a file named as a folder";
+        } catch (const InputError& error) {
+            EXPECT_EQ(error.problem(),
+                      "names a file as a folder (a '/' ends the name); drop the '/'");
+        }
+    }
+    try {
+        checkReadableFile((dir / "absent.off").string() + "/");
+        FAIL() << "no error for a missing file";
+    } catch (const InputError& error) {
+        EXPECT_EQ(error.problem(), "no such file");
+    }
+}
+
 TEST(TextTokenizer, LinesCountNumbersAndStripComments) {
     const std::string text = "OFF # header\n\n  3 1 0\nlast";
     TextTokenizer lines(text);

@@ -244,6 +244,29 @@ TEST(MeshIO, ObjBackslashContinuesAStatementOnTheNextLine) {
     EXPECT_EQ(fromText(MeshFormat::Obj, vertices + "f 1 2 3 \\").faceCount, 1u);
 }
 
+TEST(MeshIO, ObjVertexGluedToANonBreakingSpaceIsRefusedAtItsLine) {
+    // "v" and a non-breaking space (text copied from a web page) was skipped
+    // as an unknown statement: the vertices after it shifted, and with
+    // relative indices the file read as another mesh without a word.
+    const std::string nbsp = "\xC2\xA0";
+    const std::string text = "v 0 0 0\nv" + nbsp + "1 0 0\nv 0 1 0\nv 0 0 1\nv 1 1 1\n" +
+                             "f -5 -3 -4\nf -5 -4 -2\nf -5 -2 -3\nf -4 -3 -2\n";
+    try {
+        fromText(MeshFormat::Obj, text, "pasted.obj");
+        ADD_FAILURE() << "a vertex glued to a non-breaking space was skipped";
+    } catch (const InputError& error) {
+        EXPECT_EQ(std::string(error.what()),
+                  "pasted.obj: line 2: 'v??1' is no statement: a character that is not a space "
+                  "or tab follows 'v' (a non-breaking space?)");
+    }
+    // Other statements may hold any byte: they are not read.
+    EXPECT_EQ(fromText(MeshFormat::Obj, "vt" + nbsp +
+                                            "0 0\ng caf\xC3\xA9\nv 0 0 0\nv 1 0 0\n"
+                                            "v 0 1 0\nf 1 2 3\n")
+                  .faceCount,
+              1u);
+}
+
 struct BadInput {
     MeshFormat format;
     std::string content;

@@ -2,6 +2,7 @@
 // detached headers, geometry, and a table of malformed files.
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -269,6 +270,37 @@ TEST(NrrdIO, DetachedHeaderWithRelativeDataFile) {
     mask = readVolume(dir / "gz.nhdr");
     EXPECT_EQ(mask[5], 1);
     EXPECT_EQ(countNonzero(mask), 1u);
+}
+
+TEST(NrrdIO, AHandWrittenHeaderSavedByAWindowsEditor) {
+    // A detached header is written by hand. With a UTF-8 byte order mark
+    // (Notepad) it was "wrong magic '???NRRD0004'", a header the user sees
+    // start with NRRD0004; as UTF-16 "wrong magic '??N?R?R?D?0?0?0?'", with
+    // classic Mac OS line ends "wrong magic 'NRRD0004?type: u'".
+    test::TempDir dir;
+    writeBytes(dir / "volume.raw", twoObjectVoxels());
+    const std::string header =
+        "NRRD0004\r\n" + basicFields("uint8", "4 3 2", "raw") + "data file: volume.raw\r\n";
+    writeBytes(dir / "bom.nhdr", "\xEF\xBB\xBF" + header);
+    expectTwoObjectVoxels(dir / "bom.nhdr");
+    // An attached header too: the data still starts after the blank line.
+    writeBytes(dir / "bom.nrrd",
+               "\xEF\xBB\xBF" + nrrd(basicFields("uint8", "4 3 2", "raw"), twoObjectVoxels()));
+    expectTwoObjectVoxels(dir / "bom.nrrd");
+
+    std::string utf16 = "\xFF\xFE";
+    for (char c : header) utf16 += std::string{c, '\0'};
+    writeBytes(dir / "utf16.nhdr", utf16);
+    expectInputError([&] { readNrrdMask(dir / "utf16.nhdr"); }, "utf16.nhdr",
+                     "is UTF-16 text (it starts with a UTF-16 byte order mark); save it as UTF-8");
+    std::string classicMac = header;
+    std::replace(classicMac.begin(), classicMac.end(), '\n', '\r');
+    classicMac.erase(std::unique(classicMac.begin(), classicMac.end(),
+                                 [](char a, char b) { return a == '\r' && b == '\r'; }),
+                     classicMac.end());
+    writeBytes(dir / "mac.nhdr", classicMac);
+    expectInputError([&] { readNrrdMask(dir / "mac.nhdr"); }, "mac.nhdr",
+                     "ends its lines with a carriage return alone (classic Mac OS text)");
 }
 
 TEST(NrrdIO, ByteSkipBeforeRawAndDecompressedData) {
