@@ -132,6 +132,10 @@ FinishedJob segmentOne(const BatchJob& job, const BatchCommandOptions& options,
     } catch (const Error& error) {
         entry.status = "failed";
         entry.error = error.what();
+        // Still missing: the note says why the listed path named no file.
+        std::error_code ec;
+        if (!job.input.missingNote.empty() && !fs::exists(job.input.input, ec))
+            entry.error += " (" + job.input.missingNote + ")";
     } catch (const std::bad_alloc&) {
         entry.status = "failed";
         entry.error = job.input.input.string() + ": out of memory";

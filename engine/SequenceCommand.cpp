@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <memory>
-#include <set>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "engine/SequenceConsensus.h"
+#include "engine/batch/Manifest.h"
 #include "io/files/OutputDirectory.h"
 #include "io/files/ReplacedOutputs.h"
 #include "io/files/TextFile.h"
@@ -41,15 +41,15 @@ const std::vector<std::string>& sequenceOutputNames() {
 
 namespace {
 
-/// The frames' names (their stems) and the check that they share their
-/// faces: the consensus labels faces, so it means something only where every
-/// frame has the same faces in the same order.
+/// The frames' names (their stems, told apart by their folders as a batch
+/// tells its inputs apart) and the check that they share their faces: the
+/// consensus labels faces, so it means something only where every frame has
+/// the same faces in the same order.
 std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
     if (options.frames.size() < 2)
         throw UsageError("sequence: give at least two frames of one mesh (got " +
                          std::to_string(options.frames.size()) + ")");
-    std::vector<std::string> names;
-    std::set<std::string> seen;
+    std::vector<fs::path> absolutePaths;
     ReplacedOutputs replaced;
     replaced.add(options.outdir, sequenceOutputNames());
     for (const fs::path& frame : options.frames) {
@@ -73,9 +73,6 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
                              frame.extension().string() +
                              ", so its outputs would have no folder of their own (frames/" + name +
                              "); rename the file");
-        if (!seen.insert(name).second)
-            throw UsageError(frame.string() + ": two frames are named '" + name +
-                             "'; their outputs would share frames/" + name);
         std::string output = outputReplacing(frame, options.outdir, sequenceOutputNames());
         // Another name of an output (a hard link, OUTDIR through a bind mount).
         if (const ReplacedOutputs::Entry* entry = output.empty() ? replaced.find(frame) : nullptr)
@@ -83,8 +80,21 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
         if (!output.empty())
             throw UsageError(frame.string() + ": the frame lies in the output directory's " +
                              output + " and would be replaced; choose another output directory");
-        names.push_back(name);
+        // The same file twice (f.off and ./f.off, a link to it) would vote
+        // twice in the consensus; it was refused as two frames of one name.
+        for (std::size_t earlier = 0; earlier < absolutePaths.size(); ++earlier)
+            if (fs::equivalent(options.frames[earlier], frame, ec))
+                throw UsageError(frame.string() + ": is frame " + std::to_string(earlier + 1) +
+                                 " again (" + options.frames[earlier].string() +
+                                 "); give each frame once");
+        std::error_code absoluteError;
+        const fs::path absolute = fs::absolute(frame, absoluteError);
+        absolutePaths.push_back(absoluteError ? frame : absolute.lexically_normal());
     }
+    // Frames exported one per folder share their file name
+    // (take_001/mesh.obj, take_002/mesh.obj): they were refused as two frames
+    // of one name, and now get the folder in front that tells them apart.
+    const std::vector<std::string> names = uniqueOutputNames(absolutePaths);
     const TriangleMesh first = readMesh(options.frames.front());
     for (std::size_t f = 1; f < options.frames.size(); ++f) {
         const TriangleMesh mesh = readMesh(options.frames[f]);

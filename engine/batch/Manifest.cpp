@@ -14,6 +14,9 @@
 #include <set>
 #include <tuple>
 
+#include "engine/SegmentCommand.h"
+#include "engine/batch/DoneMarker.h"
+#include "io/files/OutputDirectory.h"
 #include "io/files/TextFile.h"
 #include "kernels/base/Error.h"
 
@@ -186,10 +189,20 @@ std::vector<std::string> uniqueOutputNames(const std::vector<fs::path>& inputs) 
     std::set<std::string> firstPass(names.begin(), names.end()), taken;
     for (const auto& name : names)
         if (isBatchFileName(name)) taken.insert(name);
+    // An input named by its stem alone claims its name before an input
+    // whose folders made the same name: b-c.off keeps "b-c" and a/b/c.off
+    // (b-c beside a-b/c.off) takes "b-c-2". In manifest order the first of
+    // them kept it, so the same inputs listed in another order swapped the
+    // two names and were refused as each other's results.
+    std::vector<std::size_t> claimOrder(names.size());
+    std::iota(claimOrder.begin(), claimOrder.end(), std::size_t(0));
+    std::stable_partition(claimOrder.begin(), claimOrder.end(),
+                          [&](std::size_t i) { return names[i] == stems[i]; });
     // The counter each name reached: candidates below it are taken for good,
     // so a manifest of thousands of equal names costs no quadratic search.
     std::map<std::string, int> nextCounter;
-    for (auto& name : names) {
+    for (const std::size_t i : claimOrder) {
+        std::string& name = names[i];
         if (!taken.count(name)) {
             taken.insert(name);
             continue;
@@ -209,16 +222,37 @@ std::vector<std::string> uniqueOutputNames(const std::vector<fs::path>& inputs) 
 
 namespace {
 
+/// True for an output of a batch: a file `skelseg segment` writes
+/// (labels.nrrd, cuts.ply, levels/0/labels.nrrd, ...) in a folder that holds
+/// a batch's done or pending marker. A pattern such as data/*/* with
+/// OUTROOT data/res matched the outputs of every done input on the next
+/// run: the batch refused to start, and another batch's outputs were
+/// segmented as inputs.
+bool isBatchOutputFile(const fs::path& file) {
+    const fs::path parent = file.parent_path();
+    std::vector<fs::path> folders = {parent};
+    if (parent.parent_path().filename() == "levels")
+        folders.push_back(parent.parent_path().parent_path());
+    for (const fs::path& folder : folders) {
+        if (folder.empty() ||
+            (!readDoneMarker(folder) && !readDoneMarker(folder, kPendingMarkerName)))
+            continue;
+        if (!outputReplacing(file, folder, segmentOutputNames()).empty()) return true;
+    }
+    return false;
+}
+
 /// The supported input files directly in `directory`, by name.
 /// @throw InputError naming the directory if it cannot be listed.
 std::vector<fs::path> supportedFilesIn(const fs::path& directory) {
     std::error_code ec;
     std::vector<fs::path> files;
     // Hidden files are left out, as a shell's * leaves them out: "._a.off"
-    // is the resource fork a Mac writes beside a.off on a shared disk.
+    // is the resource fork a Mac writes beside a.off on a shared disk. So
+    // are a batch's outputs: they are not shapes to segment.
     for (const auto& item : fs::directory_iterator(directory, ec))
         if (item.path().filename().string().front() != '.' && item.is_regular_file(ec) &&
-            isSupportedInputPath(item.path()))
+            isSupportedInputPath(item.path()) && !isBatchOutputFile(item.path()))
             files.push_back(item.path());
     if (ec) throw InputError(directory.string(), "cannot list the directory: " + ec.message());
     std::sort(files.begin(), files.end());
@@ -245,8 +279,7 @@ std::string globPatternOf(const fs::path& base, std::string listed) {
 
 /// The supported input files a shell pattern names (glob(3), no brace or
 /// tilde expansion), by name; a folder it names stands for its files.
-std::vector<fs::path> supportedFilesMatching(const std::string& pattern,
-                                             std::vector<fs::path>& matchedFolders) {
+std::vector<fs::path> supportedFilesMatching(const std::string& pattern) {
     glob_t matches{};
     const int status = ::glob(pattern.c_str(), 0, nullptr, &matches);
     std::vector<fs::path> found;
@@ -260,14 +293,32 @@ std::vector<fs::path> supportedFilesMatching(const std::string& pattern,
     std::error_code ec;
     for (const auto& path : found) {
         if (fs::is_directory(path, ec)) {
-            matchedFolders.push_back(path);
             const std::vector<fs::path> inside = supportedFilesIn(path);
             files.insert(files.end(), inside.begin(), inside.end());
-        } else if (fs::is_regular_file(path, ec) && isSupportedInputPath(path)) {
+        } else if (fs::is_regular_file(path, ec) && isSupportedInputPath(path) &&
+                   !isBatchOutputFile(path)) {
             files.push_back(path);
         }
     }
     return files;
+}
+
+/// Why a listed path that names no file may have been meant otherwise, or
+/// empty: a line a shell would have expanded (~, $HOME), or a path that is
+/// relative to the working directory rather than to the manifest's folder
+/// (`ls data/*.off > /tmp/list.txt` lists data/a.off, read as
+/// /tmp/data/a.off). Every such input failed with "no such file" and a path
+/// the user never wrote.
+std::string missingPathNote(const fs::path& base, const std::string& listed) {
+    const std::string text = isQuoted(listed) ? listed.substr(1, listed.size() - 2) : listed;
+    if (!text.empty() && (text[0] == '~' || text.find('$') != std::string::npos))
+        return "a manifest's paths are not expanded as a shell expands them: ~ and $NAME are "
+               "part of the name; write the path out";
+    std::error_code ec;
+    if (fs::path(text).is_absolute() || base.empty() || !fs::is_regular_file(text, ec)) return {};
+    return "relative paths are read from the manifest's folder, " + base.string() + "; " + text +
+           " is a file from the working directory: list it as " +
+           fs::absolute(text, ec).lexically_normal().string();
 }
 
 }  // namespace
@@ -277,6 +328,7 @@ Manifest readManifest(const fs::path& source) {
     manifest.source = source;
     std::error_code ec;
     std::vector<std::pair<fs::path, int>> listed;
+    std::map<std::size_t, std::string> missingNotes;  // by index into listed
     if (fs::is_directory(source, ec)) {
         for (const auto& file : supportedFilesIn(source)) listed.emplace_back(file, 0);
     } else {
@@ -286,11 +338,22 @@ Manifest readManifest(const fs::path& source) {
             throw InputError(source.string(),
                              "is an input file, not a manifest (segment it with skelseg segment, "
                              "or list its path in a text file)");
+        // `find ... | skelseg batch -` and `skelseg batch <(ls *.off)` were
+        // "-: no such file" and "/dev/fd/63: is not a regular file". A list
+        // read once cannot serve the re-runs and shards that read it again.
+        const fs::file_type type = fs::status(source, ec).type();
+        if ((source == "-" && type == fs::file_type::not_found) || type == fs::file_type::fifo ||
+            type == fs::file_type::character)
+            throw InputError(source.string(),
+                             std::string(source == "-" ? "standard input is not read as a manifest"
+                                                       : "is a pipe or a device, not a file") +
+                                 "; write the list to a file and give its path (a re-run and "
+                                 "every shard read the manifest again)");
         const std::string bytes = readFileBytes(source);
         std::string_view text(bytes);
         text.remove_prefix(textContentStart(source.string(), text));
         const fs::path base = source.parent_path();
-        std::size_t start = 0;
+        std::size_t start = 0, contentLines = 0;
         for (int line = 1; start < text.size(); ++line) {
             std::size_t end = text.find('\n', start);
             if (end == std::string_view::npos) end = text.size();
@@ -301,7 +364,27 @@ Manifest readManifest(const fs::path& source) {
                 throw InputError(source.string(), "line " + std::to_string(line) +
                                                       " holds a NUL byte: not a text manifest");
             const std::string path = trim(std::string(rawLine));
-            if (path.empty() || path[0] == '#') continue;
+            if (path.empty()) continue;
+            if (path[0] == '#') {
+                // `ls > list.txt` lists "#1.off" as it is, and the line read
+                // as a comment dropped the shape without a word.
+                if (isSupportedInputPath(path) &&
+                    fs::is_regular_file(resolveListedPath(base, path), ec))
+                    manifest.warnings.push_back(
+                        source.string() + ":" + std::to_string(line) + ": " + path +
+                        " is a comment, though a shape of that name exists; write ./" + path +
+                        " to segment it");
+                continue;
+            }
+            // A JSON list of paths had its quoted lines without a comma read
+            // as paths and the others failed as missing files: half a batch.
+            if (++contentLines == 1 && (path == "[" || path == "{" || path.rfind("[\"", 0) == 0 ||
+                                        path.rfind("{\"", 0) == 0))
+                throw InputError(source.string(),
+                                 "line " + std::to_string(line) + " starts with '" +
+                                     path.substr(0, 1) +
+                                     "': this looks like JSON, and a manifest is a text file "
+                                     "with one path per line");
             // A path longer than the system takes names no file; as an input
             // it was echoed in every message and summary (a line of 50 MB
             // wrote 350 MB of them).
@@ -317,13 +400,13 @@ Manifest readManifest(const fs::path& source) {
             // the manifest. Either with none is a warning, not an input.
             const bool pattern = hasWildcard(path) && !fs::exists(resolved, ec);
             if (pattern || fs::is_directory(resolved, ec)) {
-                std::vector<fs::path> folders;
                 const std::vector<fs::path> files =
-                    pattern ? supportedFilesMatching(globPatternOf(base, path), folders)
+                    pattern ? supportedFilesMatching(globPatternOf(base, path))
                             : supportedFilesIn(resolved);
-                if (!pattern) folders.push_back(resolved);
-                for (const auto& folder : folders)
-                    manifest.listedFolders.emplace_back(folder, line);
+                // A folder a pattern matched is not recorded: `*` beside
+                // OUTROOT matched OUTROOT on every run after the first, which
+                // was then refused as a line naming OUTROOT.
+                if (!pattern) manifest.listedFolders.emplace_back(resolved, line);
                 if (files.empty())
                     manifest.warnings.push_back(
                         source.string() + ":" + std::to_string(line) + ": " + resolved.string() +
@@ -333,12 +416,15 @@ Manifest readManifest(const fs::path& source) {
                 for (const auto& file : files) listed.emplace_back(file, line);
                 continue;
             }
+            if (!fs::exists(resolved, ec))
+                missingNotes[listed.size()] = missingPathNote(base, path);
             listed.emplace_back(resolved, line);
         }
     }
     std::map<std::string, int> firstLine;
     std::vector<fs::path> inputs;
-    for (const auto& [path, line] : listed) {
+    for (std::size_t index = 0; index < listed.size(); ++index) {
+        const auto& [path, line] = listed[index];
         const auto [at, inserted] = firstLine.emplace(identityOf(path), line);
         if (!inserted) {
             manifest.warnings.push_back(source.string() + ":" + std::to_string(line) + ": " +
@@ -350,6 +436,8 @@ Manifest readManifest(const fs::path& source) {
         entry.input = path.lexically_normal();
         entry.line = line;
         entry.exists = fs::is_regular_file(path, ec);
+        if (const auto note = missingNotes.find(index); note != missingNotes.end() && !entry.exists)
+            entry.missingNote = note->second;
         entry.fileBytes = entry.exists ? fs::file_size(path, ec) : 0;
         if (ec) entry.fileBytes = 0;
         // Named by the absolute path: the folders that tell two inputs apart

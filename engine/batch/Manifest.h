@@ -2,16 +2,22 @@
 //
 // A manifest is a text file with one input path per line. Blank lines and
 // lines whose first non-blank character is '#' are skipped (a '#' later in a
-// line is part of the path: file names may hold one); surrounding blanks are
-// trimmed; a path in matching quotes ("my shapes/a.off", 'a.off') is the
-// path inside them unless a file named with the quotes exists; relative paths
+// line is part of the path: file names may hold one; a comment that names an
+// existing shape, "#1.off" as `ls` lists it, is a warning); a first line
+// that opens JSON ('[', '{', '["', '{"') makes the file no manifest;
+// surrounding blanks are trimmed; a path in matching quotes ("my
+// shapes/a.off", 'a.off') is the path inside them unless a file named with
+// the quotes exists; relative paths
 // are relative to the manifest's folder, so a manifest can travel with its
 // data. A directory instead of a file, as the manifest or on one of its
 // lines, means every supported input file directly in it (not its
 // subfolders), by name; a listed directory without one is a warning. A line
 // with a shell wildcard (* ? [...], glob(3)) that names no existing file
 // means the supported files it matches (and those of the folders it
-// matches), by name; a pattern matching none is a warning.
+// matches), by name; a pattern matching none is a warning. A folder's or a
+// pattern's files leave out what a batch wrote (the outputs of `segment` in
+// a folder holding a done or pending marker): data/*/* beside OUTROOT
+// data/res matched them on every run after the first.
 //
 // Each input gets an output name, the folder OUTROOT/<name>/: the file name
 // without its extension. Inputs that share it get as many of their innermost
@@ -19,7 +25,9 @@
 // ("chairs-1", "tables-1"; "e2-a" beside "in-e1-a" and "e2-e1-a"), so the
 // names do not depend on the order of the lines; names still equal (3.off
 // and 3.obj, or cut to the same bytes) get a counter in manifest order
-// ("3-2"). A name that is one of the batch's own files in
+// ("3-2"), except that an input named by its file name alone keeps it before
+// one whose folders made the same name (b-c.off keeps "b-c", a/b/c.off beside
+// a-b/c.off takes "b-c-2"). A name that is one of the batch's own files in
 // OUTROOT (summary.json, summary.csv, summary.shard-I-of-N.json/.csv) gets a
 // counter too ("summary.json-2"), and no name is longer than the 255 bytes a
 // folder name can have (a long parent folder's name is cut, then the name
@@ -51,6 +59,10 @@ struct ManifestEntry {
     std::string name;             // output folder name, unique in the manifest
     std::uint64_t fileBytes = 0;  // 0 when the file is missing
     bool exists = false;          // a regular file at read time
+    /// A missing input's likely cause, for its failure (empty: none seen):
+    /// ~ or $NAME in the line, or a path that is a file from the working
+    /// directory but not from the manifest's folder.
+    std::string missingNote;
     int line = 0;  // 1-based line in the manifest (0 when the manifest is a directory)
 };
 
@@ -58,8 +70,9 @@ struct Manifest {
     std::filesystem::path source;
     std::vector<ManifestEntry> entries;  // in manifest order
     std::vector<std::string> warnings;   // duplicates dropped, one line each
-    /// The folders lines named and the folders patterns matched, with their
-    /// line, in manifest order: their files are entries, the folders are not.
+    /// The folders lines named, with their line, in manifest order: their
+    /// files are entries, the folders are not. (Folders a pattern matched
+    /// are not among them: a pattern may match OUTROOT once it exists.)
     std::vector<std::pair<std::filesystem::path, int>> listedFolders;
 };
 

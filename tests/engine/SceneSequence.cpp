@@ -222,5 +222,40 @@ TEST_F(SceneSequence, FramesNamedOnlyDotsBeforeTheExtensionAreRefusedAndNothingI
     }
 }
 
+// Frames exported one per folder share their file name (take_1/mesh.off,
+// take_2/mesh.off): they were refused ("two frames are named 'mesh'"), and
+// get the folder that tells them apart in front, as a batch names its inputs.
+TEST_F(SceneSequence, FramesOfOneNameInTheirOwnFoldersAreToldApartByTheFolder) {
+    std::filesystem::create_directories(dir / "take_1");
+    std::filesystem::create_directories(dir / "take_2");
+    writeOff(dir / "take_1" / "mesh.off", *figure);
+    writeOff(dir / "take_2" / "mesh.off", posed(*figure, 20.0, 1.0));
+    const auto out = dir / "out";
+    const auto run = test::runSkelseg({"sequence", (dir / "take_1" / "mesh.off").string(),
+                                       (dir / "take_2" / "mesh.off").string(), "-o", out.string(),
+                                       "-q", "--no-preview", "--resolution", "48"});
+    ASSERT_EQ(run.exitCode, 0) << run.describe();
+    EXPECT_EQ(test::directoryEntries(out / "frames"),
+              (std::vector<std::string>{"take_1-mesh", "take_2-mesh"}));
+    std::ifstream in(out / "sequence.json");
+    const nlohmann::json summary = nlohmann::json::parse(in);
+    ASSERT_EQ(summary["frames"].size(), 2u);
+    EXPECT_EQ(summary["frames"][0]["outputs"], "frames/take_1-mesh");
+    EXPECT_EQ(summary["frames"][1]["outputs"], "frames/take_2-mesh");
+    for (const char* name : {"take_1-mesh", "take_2-mesh"})
+        EXPECT_EQ(readSeg(out / "frames" / name / "segmentation.seg").size(), figure->faceCount);
+    // One file twice, by another path, is still refused: it would vote twice.
+    const auto twice = test::runSkelseg({"sequence", (dir / "take_1" / "mesh.off").string(),
+                                         (dir / "take_1" / ".." / "take_1" / "mesh.off").string(),
+                                         "-o", (dir / "twice").string(), "-q"});
+    EXPECT_EQ(twice.exitCode, 2) << twice.describe();
+    EXPECT_EQ(twice.errLines(),
+              std::vector<std::string>{
+                  "skelseg: error: " + (dir / "take_1" / ".." / "take_1" / "mesh.off").string() +
+                  ": is frame 1 again (" + (dir / "take_1" / "mesh.off").string() +
+                  "); give each frame once"});
+    EXPECT_FALSE(std::filesystem::exists(dir / "twice"));
+}
+
 }  // namespace
 }  // namespace skelseg

@@ -7,7 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <tuple>
 
 #include "engine/batch/DoneMarker.h"
 #include "io/files/OutputDirectory.h"
@@ -319,4 +322,39 @@ TEST(BatchCommand, AManifestThatIsOneOfItsSummariesIsRefused) {
     const CliResult ran = runBatch(out / "inputs.csv", out);
     EXPECT_EQ(ran.exitCode, 0) << ran.describe();
     EXPECT_EQ(fileBytes(out / "inputs.csv"), list);
+}
+
+// A pattern line beside OUTROOT: `*` in data/list.txt with OUTROOT data/out,
+// or data/*/* with OUTROOT data/out. The first run was fine; every run after
+// it was refused (exit 2), `*` matching OUTROOT ("is OUTROOT, where the
+// batch writes") and data/*/* the outputs of every done input ("is
+// labels.nrrd in data/out/a, which the batch rewrites").
+TEST(BatchCommand, APatternBesideOutrootIsRunAgainAndSkipsWhatIsDone) {
+    TempDir dir;
+    writeBar(dir / "data" / "a.nrrd", 10);
+    writeBar(dir / "data" / "sub" / "b.nrrd", 12);
+    writeBytes(dir / "data" / "list.txt", "*\n");
+    writeBytes(dir / "nested.txt", "data/*/*\n");
+    // data/*/* runs second: it also matches the first batch's outputs in
+    // data/out/a/, another batch's, which were segmented as inputs.
+    const std::vector<std::tuple<fs::path, fs::path, std::set<std::string>>> runs = {
+        {dir / "data" / "list.txt", dir / "data" / "out", {"a.nrrd", "b.nrrd"}},
+        {dir / "nested.txt", dir / "data" / "res", {"b.nrrd"}}};
+    for (const auto& [manifest, out, shapes] : runs) {
+        SCOPED_TRACE(manifest.string());
+        const CliResult first = runBatch(manifest, out, {"--tau", "5%,10%"});
+        ASSERT_EQ(first.exitCode, 0) << first.describe();
+        const CliResult again = runBatch(manifest, out, {"--tau", "5%,10%"});
+        ASSERT_EQ(again.exitCode, 0) << again.describe();
+        std::ifstream in(out / "summary.json");
+        const nlohmann::json summary = nlohmann::json::parse(in);
+        ASSERT_FALSE(summary["entries"].empty());
+        // The shapes only: no output of either run is among the inputs.
+        std::set<std::string> inputs;
+        for (const auto& entry : summary["entries"]) {
+            EXPECT_EQ(entry["status"], "skipped") << entry.dump();
+            inputs.insert(fs::path(entry["input"].get<std::string>()).filename().string());
+        }
+        EXPECT_EQ(inputs, shapes);
+    }
 }

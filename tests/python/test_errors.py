@@ -343,3 +343,28 @@ def test_more_segments_than_uint16_labels_hold_is_a_value_error():
     with pytest.raises(ValueError, match=r"^mask: the volume has 68921 objects, so at least "
                                          r"68921 segments, more than a 16-bit label volume"):
         skelseg.segment(mask, threads=1)
+
+
+def test_a_value_given_in_the_wrong_place_is_shown_cut_to_one_short_line(capfd):
+    # A file's contents where the mask goes wrote all 32 MB of them into the
+    # TypeError, and a long list as spacing or a flag wrote its every entry.
+    mask = np.zeros((8, 8, 8), dtype=bool)
+    mask[2:6, 2:6, 2:6] = True
+    cases = [
+        (lambda: skelseg.segment(bytes(2_000_000)),
+         r"^mask must be a 3-D array, not 2000000 bytes of data: read a file with"),
+        (lambda: skelseg.segment("x" * 1_000_000), r"^mask must be a 3-D array, not the path 'xxx"),
+        (lambda: skelseg.segment(mask, spacing=["1"] * 100_000),
+         r"^spacing must be three numbers, not \['1', '1'"),
+        (lambda: skelseg.segment(mask, joints=[True] * 100_000),
+         r"^joints must be True or False, not \[True"),
+        (lambda: skelseg.segment(mask, tau=[["3%"] * 100_000]), r"^tau must be a number or a"),
+        (lambda: skelseg.read_volume("f.nrrd", grid=["g"] * 100_000), r"^grid must be a string"),
+    ]
+    for call, start in cases:
+        with pytest.raises(TypeError, match=start) as raised:
+            call()
+        message = str(raised.value)
+        assert "\n" not in message
+        assert len(message) < 300, message[:300]
+    check_quiet(capfd)

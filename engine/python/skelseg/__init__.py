@@ -253,15 +253,24 @@ _OPTIONS = {option["keyword"]: option for option in _skelseg.segment_options()}
 _WORD_KEYWORDS = {"mode", "skeleton_search", "budget_calibration"}
 
 
+def _shown(value: Any, limit: int = 80) -> str:
+    """repr(value) cut to `limit` characters, for an error message: a
+    message is one readable line, and the value given in the wrong place may
+    be a file's whole contents (segment(open(f, "rb").read()) wrote 32 MB of
+    bytes into its TypeError) or a list of a million entries."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit] + f"... ({len(text)} characters)"
+
+
 def _option_text(keyword: str, value: Any) -> str:
     """One option value as the command line spells it."""
     if isinstance(value, str):
         return value
     if keyword in _WORD_KEYWORDS:
-        raise TypeError(f"{keyword} must be a string, not {value!r}")
+        raise TypeError(f"{keyword} must be a string, not {_shown(value)}")
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"{keyword} must be a number or a string as the CLI takes it, "
-                        f"not {value!r}")
+                        f"not {_shown(value)}")
     if isinstance(value, numbers.Integral):
         return str(int(value))
     return repr(float(value))
@@ -275,7 +284,7 @@ def _arguments(keywords: dict) -> List[str]:
         option = _OPTIONS[keyword]
         if option["flag"]:
             if not isinstance(value, (bool, np.bool_)):
-                raise TypeError(f"{keyword} must be True or False, not {value!r}")
+                raise TypeError(f"{keyword} must be True or False, not {_shown(value)}")
             if value:
                 arguments.append(option["name"])
         elif value is not None:
@@ -292,7 +301,8 @@ def _arguments(keywords: dict) -> List[str]:
 def _call_arguments(given: dict, progress: Optional[ProgressCallback]) -> List[str]:
     """The options among a call's arguments (its locals()) as command-line options."""
     if progress is not None and not callable(progress):
-        raise TypeError(f"progress must be None or a callable (stage, fraction), not {progress!r}")
+        raise TypeError("progress must be None or a callable (stage, fraction), "
+                        f"not {_shown(progress)}")
     return _arguments({keyword: value for keyword, value in given.items()
                        if keyword in _OPTIONS})
 
@@ -468,9 +478,13 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
     if mask is None:
         raise TypeError("mask must be a 3-D array, not None")
     # A file name read as a 0-D array of text was "got 0-D of shape ()".
+    if isinstance(mask, (bytes, bytearray)) and (b"\0" in mask or len(mask) > 4096):
+        raise TypeError(f"mask must be a 3-D array, not {len(mask)} bytes of data: read a file "
+                        "with skelseg.read_volume(), or wrap a buffer with "
+                        "np.frombuffer(data, dtype).reshape(shape)")
     if isinstance(mask, (str, bytes, os.PathLike)):
-        raise TypeError(f"mask must be a 3-D array, not the path {mask!r}: read the file with "
-                        "skelseg.read_volume() first")
+        raise TypeError(f"mask must be a 3-D array, not the path {_shown(mask)}: read the file "
+                        "with skelseg.read_volume() first")
     array = np.asarray(mask)
     if array.dtype.kind == "f" and not array.dtype.isnative:
         array = array.astype(array.dtype.newbyteorder("="))
@@ -478,7 +492,7 @@ def segment(mask: np.ndarray, *, tau: Union[str, float, Sequence[Union[str, floa
     if isinstance(spacing, (str, bytes)) or np.ndim(spacing) != 1 or not all(
             isinstance(s, numbers.Real) and not isinstance(s, (bool, np.bool_))
             for s in np.ravel(np.asarray(spacing, dtype=object))):
-        raise TypeError(f"spacing must be three numbers, not {spacing!r}")
+        raise TypeError(f"spacing must be three numbers, not {_shown(spacing)}")
     if len(spacing) != 3:
         raise ValueError(f"spacing must have three entries, not {len(spacing)}")
     spacing3 = tuple(float(s) for s in spacing)
@@ -609,7 +623,7 @@ def _file_path(path: Union[str, bytes, os.PathLike]) -> Union[str, bytes]:
     """
     text = os.fspath(path)
     if ("\0" if isinstance(text, str) else b"\0") in text:
-        raise ValueError(f"embedded null byte in the path {text!r}")
+        raise ValueError(f"embedded null byte in the path {_shown(text)}")
     return text
 
 
@@ -634,9 +648,9 @@ def read_volume(path: Union[str, os.PathLike], *, grid: Optional[str] = None,
     KeyboardInterrupt on Ctrl-C during an OpenVDB parse.
     """
     if grid is not None and not isinstance(grid, str):
-        raise TypeError(f"grid must be a string or None, not {grid!r}")
+        raise TypeError(f"grid must be a string or None, not {_shown(grid)}")
     if not isinstance(with_spacing, (bool, np.bool_)):
-        raise TypeError(f"with_spacing must be True or False, not {with_spacing!r}")
+        raise TypeError(f"with_spacing must be True or False, not {_shown(with_spacing)}")
     memory = "" if max_memory is None else _option_text("max_memory", max_memory)
     seconds = 0.0
     if time_limit is not None:
@@ -645,7 +659,8 @@ def read_volume(path: Union[str, os.PathLike], *, grid: Optional[str] = None,
         except ValueError:
             seconds = math.nan
         if not (math.isfinite(seconds) and seconds > 0):
-            raise ValueError(f"time_limit must be a positive number of seconds, not {time_limit!r}")
+            raise ValueError("time_limit must be a positive number of seconds, "
+                             f"not {_shown(time_limit)}")
     array, spacing, _origin = _skelseg.read_volume(_file_path(path), grid or "", memory, seconds)
     return (array, spacing) if with_spacing else array
 
@@ -720,7 +735,7 @@ def sequence_consensus(frame_labels: Sequence[np.ndarray],
     if isinstance(frame_labels, (numbers.Number, np.generic)) or (
             isinstance(frame_labels, np.ndarray) and frame_labels.ndim == 0):
         raise ValueError(f"frame_labels must be a sequence of per-frame label arrays, "
-                         f"not the scalar {frame_labels!r}")
+                         f"not the scalar {_shown(frame_labels)}")
     if isinstance(frame_labels, dict):
         raise TypeError("frame_labels must be a sequence of per-frame label arrays, not a dict "
                         "(pass list(d.values()) in frame order)")

@@ -1,5 +1,6 @@
 // Manifest parsing, output names and shards (engine/batch/Manifest.h).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <climits>
@@ -9,6 +10,7 @@
 #include <random>
 #include <set>
 
+#include "engine/batch/DoneMarker.h"
 #include "engine/batch/Manifest.h"
 #include "kernels/base/Error.h"
 #include "tests/support/CliRunner.h"
@@ -230,6 +232,164 @@ TEST(OutputNames, DoNotDependOnTheOrderOfTheInputs) {
         for (std::size_t k = 0; k < order.size(); ++k)
             ASSERT_EQ(shuffledNames[k], names[order[k]]) << shuffled[k];
     }
+}
+
+// A name made of folders ("b-c" for a/b/c.off beside a-b/c.off) that is
+// another input's own stem (b-c.off): the counter went to whichever came
+// later in the manifest, so a reordered manifest swapped b-c and b-c-2.
+TEST(OutputNames, AFolderMadeNameEqualToAnotherStemDoesNotDependOnTheOrder) {
+    const std::vector<fs::path> inputs = {"/in/a/b/c.off", "/in/a-b/c.off", "/in/b-c.off",
+                                          "/in/x/b-c-2.off"};
+    const auto names = uniqueOutputNames(inputs);
+    EXPECT_EQ(names, (std::vector<std::string>{"b-c-3", "a-b-c", "b-c", "b-c-2"}));
+    std::vector<std::size_t> order = {0, 1, 2, 3};
+    while (std::next_permutation(order.begin(), order.end())) {
+        std::vector<fs::path> shuffled;
+        for (const std::size_t i : order) shuffled.push_back(inputs[i]);
+        const auto shuffledNames = uniqueOutputNames(shuffled);
+        for (std::size_t k = 0; k < order.size(); ++k)
+            ASSERT_EQ(shuffledNames[k], names[order[k]]) << shuffled[k];
+    }
+}
+
+// `ls data/*.off > lists/all.txt` lists paths from the working directory;
+// the batch reads them from the manifest's folder, and every input failed
+// with "lists/data/a.off: no such file", a path nobody wrote. A line a shell
+// would have expanded (~, $HOME) failed the same way.
+TEST(Manifest, AMissingInputSaysWhyItsPathMayNameNoFile) {
+    TempDir dir;
+    touch(dir / "data" / "a.off");
+    touch(dir / "lists" / "b.off");
+    writeBytes(dir / "lists" / "all.txt",
+               "data/a.off\nb.off\n~/c.off\n\"$HOME/d.off\"\nmissing.off\n");
+    struct WorkingDirectory {
+        fs::path before = fs::current_path();
+        ~WorkingDirectory() { fs::current_path(before); }
+    } restore;
+    fs::current_path(dir.path());
+    const Manifest m = readManifest("lists/all.txt");
+    ASSERT_EQ(m.entries.size(), 5u);
+    EXPECT_FALSE(m.entries[0].exists);
+    EXPECT_EQ(m.entries[0].missingNote,
+              "relative paths are read from the manifest's folder, lists; data/a.off is a file "
+              "from the working directory: list it as " +
+                  (fs::current_path() / "data" / "a.off").string());
+    EXPECT_TRUE(m.entries[1].exists);
+    EXPECT_EQ(m.entries[1].missingNote, "");
+    for (const std::size_t i : {2, 3})
+        EXPECT_NE(m.entries[i].missingNote.find("not expanded as a shell expands them"),
+                  std::string::npos)
+            << m.entries[i].input;
+    EXPECT_EQ(m.entries[4].missingNote, "");
+    // The batch's line for the input says it.
+    const auto run = runSkelseg({"batch", "lists/all.txt", "-o", "out", "-q", "--no-preview"});
+    EXPECT_EQ(run.exitCode, 5) << run.describe();
+    EXPECT_NE(run.err.find("  a (line 1): lists/data/a.off: no such file (relative paths are "
+                           "read from the manifest's folder, lists; data/a.off is a file"),
+              std::string::npos)
+        << run.err;
+    EXPECT_NE(run.err.find("  missing (line 5): lists/missing.off: no such file\n"),
+              std::string::npos)
+        << run.err;
+}
+
+// What a batch wrote is no shape of a folder or a pattern: data/*/* matched
+// the outputs of a batch with OUTROOT data/res (labels.nrrd, cuts.ply, ...),
+// refused on the next run or segmented as inputs by another batch. A user's
+// file of such a name, in a folder without a batch's marker, stays a shape.
+TEST(Manifest, APatternOrAFolderLeavesOutWhatABatchWrote) {
+    TempDir dir;
+    touch(dir / "data" / "a" / "shape.off");
+    touch(dir / "data" / "user" / "labels.nrrd");
+    writeBytes(dir / "data" / "user" / "done.json", "{}");  // not a batch's marker
+    const fs::path outputs = dir / "data" / "res" / "shape";
+    for (const char* name : {"labels.nrrd", "cuts.ply", "segments.ply", "levels/0/labels.nrrd"})
+        touch(outputs / name);
+    DoneMarker marker;
+    marker.input = dir / "data" / "a" / "shape.off";
+    marker.options = "{}";
+    writeDoneMarker(outputs, marker);
+    writeBytes(dir / "list.txt", "data/*/*\ndata/res/shape/levels/*\n");
+    const Manifest m = readManifest(dir / "list.txt");
+    std::vector<fs::path> inputs;
+    for (const auto& e : m.entries) inputs.push_back(e.input);
+    EXPECT_EQ(inputs, (std::vector<fs::path>{dir / "data" / "a" / "shape.off",
+                                             dir / "data" / "user" / "labels.nrrd"}));
+    // The folders a pattern matched are not lines naming a folder.
+    EXPECT_TRUE(m.listedFolders.empty());
+    // A pending marker (a batch killed while redoing the input) is a batch's too.
+    fs::rename(outputs / kDoneMarkerName, outputs / kPendingMarkerName);
+    writeBytes(dir / "folder.txt", "data/res/shape\ndata/a\n");
+    const Manifest folder = readManifest(dir / "folder.txt");
+    ASSERT_EQ(folder.entries.size(), 1u);
+    EXPECT_EQ(folder.entries[0].input, dir / "data" / "a" / "shape.off");
+    EXPECT_EQ(folder.listedFolders.size(), 2u);
+}
+
+// `ls > list.txt` lists a shape named "#1.off" as it is; the line is a
+// comment, and the shape was dropped without a word. A comment that only
+// looks like a commented-out path ("#b.off" where b.off exists) says nothing.
+TEST(Manifest, ACommentThatNamesAShapeIsSaidToBeOne) {
+    TempDir dir;
+    touch(dir / "#1.off");
+    touch(dir / "b.off");
+    writeBytes(dir / "list.txt", "#1.off\n#b.off\n# b.off\nb.off\n");
+    const Manifest m = readManifest(dir / "list.txt");
+    ASSERT_EQ(m.entries.size(), 1u);
+    EXPECT_EQ(m.entries[0].input, dir / "b.off");
+    EXPECT_EQ(m.warnings,
+              std::vector<std::string>{(dir / "list.txt").string() +
+                                       ":1: #1.off is a comment, though a shape of that name "
+                                       "exists; write ./#1.off to segment it"});
+    writeBytes(dir / "fixed.txt", "./#1.off\n");
+    EXPECT_EQ(readManifest(dir / "fixed.txt").entries.at(0).input, dir / "#1.off");
+}
+
+// A JSON list of paths was half read: its lines in quotes without a comma
+// were paths, the others missing files. Refused, as JSON lines are.
+TEST(Manifest, AJsonListOfPathsIsNotAManifest) {
+    TempDir dir;
+    touch(dir / "a.off");
+    touch(dir / "b.off");
+    for (const std::string json :
+         {"[\n  \"a.off\",\n  \"b.off\"\n]\n", "[\"a.off\", \"b.off\"]\n",
+          "\xEF\xBB\xBF# made by a script\n{\"path\": \"a.off\"}\n{\"path\": \"b.off\"}\n"}) {
+        writeBytes(dir / "list.json", json);
+        const std::string message =
+            thrownMessage<InputError>([&] { readManifest(dir / "list.json"); });
+        EXPECT_NE(message.find("this looks like JSON, and a manifest is a text file with one "
+                               "path per line"),
+                  std::string::npos)
+            << json << ": " << message;
+    }
+    // A pattern in brackets on the first line is a manifest's.
+    writeBytes(dir / "list.txt", "[ab].off\n");
+    EXPECT_EQ(readManifest(dir / "list.txt").entries.size(), 2u);
+}
+
+// `find . -name '*.off' | skelseg batch - -o OUT` said "-: no such file",
+// `skelseg batch <(ls *.off) -o OUT` "/dev/fd/63: is not a regular file".
+TEST(Manifest, StandardInputOrAPipeIsRefusedSayingToWriteAFile) {
+    TempDir dir;
+    ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0600), 0);
+    const std::string advice =
+        "; write the list to a file and give its path (a re-run and every shard read the "
+        "manifest again)";
+    EXPECT_EQ(thrownMessage<InputError>([&] { readManifest(dir / "fifo"); }),
+              (dir / "fifo").string() + ": is a pipe or a device, not a file" + advice);
+    EXPECT_EQ(thrownMessage<InputError>([&] { readManifest("/dev/null"); }),
+              "/dev/null: is a pipe or a device, not a file" + advice);
+    struct WorkingDirectory {
+        fs::path before = fs::current_path();
+        ~WorkingDirectory() { fs::current_path(before); }
+    } restore;
+    fs::current_path(dir.path());
+    EXPECT_EQ(thrownMessage<InputError>([&] { readManifest("-"); }),
+              "-: standard input is not read as a manifest" + advice);
+    // A manifest named "-" is read.
+    touch(dir / "a.off");
+    writeBytes(dir / "-", "a.off\n");
+    EXPECT_EQ(readManifest("-").entries.size(), 1u);
 }
 
 TEST(Manifest, DirectoryListsSupportedFilesByName) {
