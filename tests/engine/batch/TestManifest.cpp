@@ -216,6 +216,24 @@ TEST(OutputNames, ThousandsOfEqualNamesGetDistinctFoldersOrCounters) {
     EXPECT_EQ(cutNames[2999], std::string(250, 'd') + "-3000");
 }
 
+namespace {
+
+/// Every order of `inputs` gives each input the name it has in `names`.
+void expectTheSameNamesInEveryOrder(const std::vector<fs::path>& inputs,
+                                    const std::vector<std::string>& names) {
+    std::vector<std::size_t> order(inputs.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    while (std::next_permutation(order.begin(), order.end())) {
+        std::vector<fs::path> shuffled;
+        for (const std::size_t i : order) shuffled.push_back(inputs[i]);
+        const auto shuffledNames = uniqueOutputNames(shuffled);
+        for (std::size_t k = 0; k < order.size(); ++k)
+            ASSERT_EQ(shuffledNames[k], names[order[k]]) << shuffled[k];
+    }
+}
+
+}  // namespace
+
 // Names came from a counter in manifest order, so the same inputs listed in
 // another order (a regenerated manifest, a resumed batch) got each other's
 // folders, and the resume refused them as another input's results.
@@ -224,14 +242,7 @@ TEST(OutputNames, DoNotDependOnTheOrderOfTheInputs) {
                                     "in/x/b.ply"};
     const auto names = uniqueOutputNames(inputs);
     EXPECT_EQ(names, (std::vector<std::string>{"in-e1-a", "e2-a", "e2-e1-a", "in-b", "x-b"}));
-    std::vector<std::size_t> order = {0, 1, 2, 3, 4};
-    while (std::next_permutation(order.begin(), order.end())) {
-        std::vector<fs::path> shuffled;
-        for (const std::size_t i : order) shuffled.push_back(inputs[i]);
-        const auto shuffledNames = uniqueOutputNames(shuffled);
-        for (std::size_t k = 0; k < order.size(); ++k)
-            ASSERT_EQ(shuffledNames[k], names[order[k]]) << shuffled[k];
-    }
+    expectTheSameNamesInEveryOrder(inputs, names);
 }
 
 // A name made of folders ("b-c" for a/b/c.off beside a-b/c.off) that is
@@ -242,14 +253,7 @@ TEST(OutputNames, AFolderMadeNameEqualToAnotherStemDoesNotDependOnTheOrder) {
                                           "/in/x/b-c-2.off"};
     const auto names = uniqueOutputNames(inputs);
     EXPECT_EQ(names, (std::vector<std::string>{"b-c-3", "a-b-c", "b-c", "b-c-2"}));
-    std::vector<std::size_t> order = {0, 1, 2, 3};
-    while (std::next_permutation(order.begin(), order.end())) {
-        std::vector<fs::path> shuffled;
-        for (const std::size_t i : order) shuffled.push_back(inputs[i]);
-        const auto shuffledNames = uniqueOutputNames(shuffled);
-        for (std::size_t k = 0; k < order.size(); ++k)
-            ASSERT_EQ(shuffledNames[k], names[order[k]]) << shuffled[k];
-    }
+    expectTheSameNamesInEveryOrder(inputs, names);
 }
 
 // `ls data/*.off > lists/all.txt` lists paths from the working directory;
