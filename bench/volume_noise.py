@@ -14,6 +14,13 @@ test SceneVolumeNoise.SurfaceNoiseOfAFigureKeepsItsParts).
 
     /usr/bin/python3 bench/volume_noise.py --skelseg build/skelseg [--skelseg OTHER] [--size 200]
     /usr/bin/python3 bench/volume_noise.py --skelseg A --skelseg B --generated figure:0,y-arms,torus-limb
+
+With --meshes, the voxel models of meshes instead (labels.nrrd > 0 of
+`skelseg segment MESH --resolution` --generated-size, with the first binary),
+each clean and with the same noise: real shapes as a scanner's volume would
+hold them.
+
+    /usr/bin/python3 bench/volume_noise.py --skelseg A --skelseg B --meshes ../shared/data/shapes/hand.off
 """
 import argparse
 import json
@@ -68,6 +75,8 @@ def cases(n):
 
 
 def read_nrrd(path):
+    """The object voxels of a .nrrd skelseg wrote (uint8 masks of `generate`,
+    little-endian uint16 labels of `segment`)."""
     import gzip
     data = open(path, "rb").read()
     end = data.index(b"\n\n")
@@ -77,7 +86,8 @@ def read_nrrd(path):
     sizes = [int(v) for v in fields["sizes"].split()]
     if fields["encoding"].strip() == "gzip":
         body = gzip.decompress(body)
-    return np.frombuffer(body, dtype=np.uint8).reshape(sizes[2], sizes[1], sizes[0]) > 0
+    dtype = {"uint8": np.uint8, "uint16": "<u2"}[fields["type"].strip()]
+    return np.frombuffer(body, dtype=dtype).reshape(sizes[2], sizes[1], sizes[0]) > 0
 
 
 def surface_noise(mask, rate256):
@@ -112,6 +122,20 @@ def generated_cases(binary, names, size, work):
     return out
 
 
+def mesh_cases(binary, meshes, size, work):
+    out = []
+    for mesh in meshes:
+        model = os.path.join(work, "model")
+        subprocess.run([binary, "segment", mesh, "-o", model, "--resolution", str(size), "-q",
+                        "--no-preview", "--force"], check=True, stderr=subprocess.DEVNULL)
+        mask = read_nrrd(os.path.join(model, "labels.nrrd"))
+        name = os.path.basename(mesh)
+        out.append((f"{name} clean", mask))
+        out.append((f"{name}, 4% flipped", surface_noise(mask, 10)))
+        out.append((f"{name}, 8% flipped", surface_noise(mask, 20)))
+    return out
+
+
 def write_nrrd(path, mask):
     n = mask.shape
     header = (f"NRRD0004\ntype: uint8\ndimension: 3\nsizes: {n[2]} {n[1]} {n[0]}\n"
@@ -127,15 +151,22 @@ def main():
     parser.add_argument("--size", type=int, default=200)
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--generated", default="", help="NAME[:POSE],... of skelseg generate")
-    parser.add_argument("--generated-size", type=int, default=128)
+    parser.add_argument("--generated-size", type=int, default=128,
+                        help="grid of --generated shapes; resolution of --meshes")
+    parser.add_argument("--meshes", default="", help="MESH,... voxelised, then made noisy")
     args = parser.parse_args()
     if not args.skelseg:
         repository = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
         args.skelseg = [os.path.join(repository, "build", "skelseg")]
     with tempfile.TemporaryDirectory() as work:
-        all_cases = (generated_cases(args.skelseg[0], args.generated.split(","),
-                                     args.generated_size, work)
-                     if args.generated else cases(args.size))
+        if args.meshes:
+            all_cases = mesh_cases(args.skelseg[0], args.meshes.split(","), args.generated_size,
+                                   work)
+        elif args.generated:
+            all_cases = generated_cases(args.skelseg[0], args.generated.split(","),
+                                        args.generated_size, work)
+        else:
+            all_cases = cases(args.size)
         print("| case | " + " | ".join(f"`{b}`: parts, genus, cavities, tunnel voxels, s"
                                         for b in args.skelseg) + " |")
         print("| --- |" + " --- |" * len(args.skelseg))
