@@ -26,7 +26,7 @@ std::vector<std::size_t> closeNarrowTunnels(MaskVolume& mask, Interrupter& inter
     for (int z = 1; z + 1 < d.z; ++z) {
         if (interrupter.wasInterrupted(double(z) / d.z)) {
             for (std::size_t i : closed) mask[i] = 0;
-            throwIfInterrupted(interrupter);
+            throwInterrupted(interrupter);
         }
         for (int y = 1; y + 1 < d.y; ++y) {
             const std::uint8_t* row = &mask(0, y, z);

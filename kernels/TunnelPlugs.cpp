@@ -106,7 +106,7 @@ std::vector<std::size_t> plugTunnelsTwoVoxelsWide(MaskVolume& mask, Interrupter&
     std::vector<std::uint8_t> distance(mask.size(), 0);
     std::vector<std::size_t> added;
     for (int z = 1; z + 1 < d.z; ++z) {
-        if (interrupter.wasInterrupted(0.5 * z / d.z)) throwIfInterrupted(interrupter);
+        if (interrupter.wasInterrupted(0.5 * z / d.z)) throwInterrupted(interrupter);
         for (int y = 1; y + 1 < d.y; ++y)
             for (int x = 1; x + 1 < d.x; ++x) {
                 const std::size_t i = mask.index(x, y, z);
@@ -128,7 +128,7 @@ std::vector<std::size_t> plugTunnelsTwoVoxelsWide(MaskVolume& mask, Interrupter&
     }
     const auto restore = [&] {
         for (std::size_t i : added) mask[i] = 0;
-        throwIfInterrupted(interrupter);
+        throwInterrupted(interrupter);
     };
     SimpleRemoval removal(mask, kind, around, distance);
     for (std::size_t i : added) removal.push(i);

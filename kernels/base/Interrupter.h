@@ -44,13 +44,18 @@ inline Interrupter& nullInterrupter() {
 }
 
 /// Throws InterruptedError if the interrupter asks to stop.
+/// Throws the InterruptedError of a stop `interrupter` asked for, without
+/// polling it again: for a kernel that saw the stop, put its outputs back,
+/// and must not go on whatever a second poll would say.
+[[noreturn]] inline void throwInterrupted(Interrupter& interrupter) {
+    auto reason = interrupter.reason();
+    throw InterruptedError(reason, reason == InterruptedError::Reason::TimeLimit
+                                       ? "time limit reached"
+                                       : "interrupted");
+}
+
 inline void throwIfInterrupted(Interrupter& interrupter, double fraction = -1.0) {
-    if (interrupter.wasInterrupted(fraction)) {
-        auto reason = interrupter.reason();
-        throw InterruptedError(reason, reason == InterruptedError::Reason::TimeLimit
-                                           ? "time limit reached"
-                                           : "interrupted");
-    }
+    if (interrupter.wasInterrupted(fraction)) throwInterrupted(interrupter);
 }
 
 /// RAII start()/end() pair so that end() is called on every path.
