@@ -106,6 +106,12 @@ def surface_noise(mask, rate256):
     return np.where(flip, ~mask, mask)
 
 
+def noise_levels(name, mask):
+    """The clean mask and copies with 4% and 8% of its surface voxels flipped."""
+    return [(f"{name} clean", mask), (f"{name}, 4% flipped", surface_noise(mask, 10)),
+            (f"{name}, 8% flipped", surface_noise(mask, 20))]
+
+
 def generated_cases(binary, names, size, work):
     out = []
     for name in names:
@@ -115,10 +121,7 @@ def generated_cases(binary, names, size, work):
         if pose:
             command += ["--pose", pose]
         subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
-        mask = read_nrrd(path)
-        out.append((f"{name} clean", mask))
-        out.append((f"{name}, 4% flipped", surface_noise(mask, 10)))
-        out.append((f"{name}, 8% flipped", surface_noise(mask, 20)))
+        out += noise_levels(name, read_nrrd(path))
     return out
 
 
@@ -128,11 +131,7 @@ def mesh_cases(binary, meshes, size, work):
         model = os.path.join(work, "model")
         subprocess.run([binary, "segment", mesh, "-o", model, "--resolution", str(size), "-q",
                         "--no-preview", "--force"], check=True, stderr=subprocess.DEVNULL)
-        mask = read_nrrd(os.path.join(model, "labels.nrrd"))
-        name = os.path.basename(mesh)
-        out.append((f"{name} clean", mask))
-        out.append((f"{name}, 4% flipped", surface_noise(mask, 10)))
-        out.append((f"{name}, 8% flipped", surface_noise(mask, 20)))
+        out += noise_levels(os.path.basename(mesh), read_nrrd(os.path.join(model, "labels.nrrd")))
     return out
 
 

@@ -12,8 +12,9 @@ namespace skelseg {
 
 namespace {
 
-/// What a voxel of the working grid is, and a flag for "on the queue".
-enum : std::uint8_t { kBackground = 0, kObject = 1, kAdded = 2, kTakenAway = 3, kQueued = 4 };
+/// What a voxel of the working grid is (object and background alike are
+/// kUntouched), and a flag for "on the queue".
+enum : std::uint8_t { kUntouched = 0, kAdded = 2, kTakenAway = 3, kQueued = 4 };
 
 /// The 26 offsets of a 3x3x3 neighbourhood, as index steps and squared
 /// lengths.
@@ -100,7 +101,7 @@ std::vector<std::size_t> plugTunnelsTwoVoxelsWide(MaskVolume& mask, Interrupter&
     std::vector<std::size_t> plugs;
     if (d.x < 3 || d.y < 3 || d.z < 3) return plugs;
     const Neighbours around(d);
-    std::vector<std::uint8_t> kind(mask.size(), kBackground);
+    std::vector<std::uint8_t> kind(mask.size(), kUntouched);
     // Squared distance to the nearest object voxel among the 26 neighbours
     // (1, 2 or 3), for the order of removal.
     std::vector<std::uint8_t> distance(mask.size(), 0);
@@ -120,8 +121,6 @@ std::vector<std::size_t> plugTunnelsTwoVoxelsWide(MaskVolume& mask, Interrupter&
                 added.push_back(i);
             }
     }
-    for (std::size_t i = 0; i < mask.size(); ++i)
-        if (mask[i]) kind[i] = kObject;
     for (std::size_t i : added) {
         kind[i] = kAdded;
         mask[i] = 1;
