@@ -512,9 +512,11 @@ TEST(SegmentCommand, AFinerPassStoppedAtItsDeadlineGivesTheFirstPassesOutput) {
     first.budgetPasses = 1;
     const double firstSeconds = timed(first);
     const double wholeSeconds = timed(optionsFor(input, dir / "whole", 1));
-    // The first pass has 0.4 of a whole run to spare; the finer pass, a
-    // whole run after it, cannot end by then.
-    const double limit = firstSeconds + 0.4 * wholeSeconds;
+    // The first pass has a tenth of a whole run to spare; the finer pass, a
+    // whole run after it, cannot end by then. (With 0.4 it once did: the
+    // whole run was timed while the other test shards loaded the machine,
+    // and the finer pass ran alone.)
+    const double limit = firstSeconds + 0.1 * wholeSeconds;
     SegmentCommandOptions options = first;
     options.outdir = dir / "stopped";
     options.budgetPasses = 2;
