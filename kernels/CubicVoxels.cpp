@@ -1,6 +1,7 @@
 #include "kernels/CubicVoxels.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <vector>
 
@@ -85,10 +86,15 @@ Volume<T> gatherVoxels(const Volume<T>& source, const Dims& dims, const SourceOf
     Volume<T> out(dims, T());
     std::vector<int> sourceX(std::size_t(dims.x));
     for (int x = 0; x < dims.x; ++x) sourceX[std::size_t(x)] = sourceOf({x, 0, 0})[0];
+    std::atomic<bool> stop{false};
     parallelForEach(
         dims.z,
         [&](int z) {
-            if (interrupter.wasInterrupted()) return;
+            if (stop.load(std::memory_order_relaxed)) return;
+            if (interrupter.wasInterrupted()) {
+                stop = true;
+                return;
+            }
             for (int y = 0; y < dims.y; ++y) {
                 const auto row = sourceOf({0, y, z});
                 const T* from = &source(0, row[1], row[2]);
@@ -97,7 +103,7 @@ Volume<T> gatherVoxels(const Volume<T>& source, const Dims& dims, const SourceOf
             }
         },
         threaded);
-    throwIfInterrupted(interrupter);
+    if (stop) throwInterrupted(interrupter);
     return out;
 }
 

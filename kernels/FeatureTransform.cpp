@@ -136,7 +136,7 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
             }
         },
         options.threaded);
-    throwIfInterrupted(interrupter);
+    if (stop) throwInterrupted(interrupter);
 
     // Passes 2 and 3 along y and z: per line, cost(i) = squared distance from
     // the line's sample i to its current feature in the other dimensions.
@@ -221,7 +221,7 @@ Volume<std::uint32_t> featureTransform(const MaskVolume& sites,
                 }
             },
             options.threaded);
-        throwIfInterrupted(interrupter);
+        if (stop) throwInterrupted(interrupter);
     };
     pass(1);
     pass(2);

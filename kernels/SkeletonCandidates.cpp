@@ -91,7 +91,7 @@ std::vector<SkeletonCandidate> selectSkeletonCandidates(
         withThree += three;
     };
     parallelForEach(d.z, slice, options.threaded);
-    throwIfInterrupted(interrupter);
+    if (stop) throwInterrupted(interrupter);
 
     std::vector<SkeletonCandidate> all;
     std::size_t total = 0;

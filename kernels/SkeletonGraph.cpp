@@ -215,7 +215,7 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
                                                         forkBodyRhoS[n]) >= 3;
             },
             options.threaded, 16);
-        throwIfInterrupted(interrupter);
+        if (stop) throwInterrupted(interrupter);
     }
 
     contractJunctions(g, points, options, fork, forkBodyRhoS);

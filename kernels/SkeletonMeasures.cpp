@@ -285,7 +285,7 @@ std::vector<SkeletonPoint> measureSkeleton(const BoundaryGraph& graph,
     // far from it, so the adaptive split's long ranges left one thread
     // measuring the last of them alone (docs/performance.md, "speed8").
     parallelForSmallRanges(n, range, options.threaded, 8);
-    throwIfInterrupted(interrupter);
+    if (stop) throwInterrupted(interrupter);
 
     std::vector<SkeletonPoint> points;
     for (std::size_t i = 0; i < n; ++i)

@@ -108,7 +108,7 @@ std::int64_t eulerOfRuns(const VoxelRuns& runs, bool threaded, Interrupter& inte
             total += sum;
         },
         threaded);
-    if (stopped) throwIfInterrupted(interrupter);
+    if (stopped) throwInterrupted(interrupter);
     return total.load();
 }
 

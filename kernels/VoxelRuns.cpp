@@ -34,7 +34,7 @@ void forEachSlab(const Dims& d, bool threaded, Interrupter& interrupter, const S
             }
         },
         threaded);
-    if (stop) throwIfInterrupted(interrupter);
+    if (stop) throwInterrupted(interrupter);
 }
 
 std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t i) {

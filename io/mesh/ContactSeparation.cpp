@@ -171,7 +171,7 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
             }
         },
         options.threaded);
-    if (stopped) throwIfInterrupted(interrupter);
+    if (stopped) throwInterrupted(interrupter);
     std::vector<CandidatePair> candidates;
     for (auto& slab : perSlab) candidates.insert(candidates.end(), slab.begin(), slab.end());
     perSlab.clear();
@@ -207,7 +207,7 @@ ContactSeparation separateContacts(const TriangleMesh& mesh, MaskVolume& mask,
             far[r] = !graph.nearOnMesh(p.ta, p.pa, p.tb, p.pb, limit);
         },
         options.threaded, 16);
-    if (stopped) throwIfInterrupted(interrupter);
+    if (stopped) throwInterrupted(interrupter);
 
     // 3. The shallower voxel of every contact pair is to be cleared.
     //    Both voxels of each pair are kept too, for the wider seam of step 5.

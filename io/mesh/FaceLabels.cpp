@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -179,12 +180,16 @@ std::vector<std::uint32_t> labelFaces(const TriangleMesh& mesh, const LabelVolum
     const double voxelSize = labels.geometry.voxelSize();
     std::vector<std::uint32_t> voxelLabel(faceCount, kNoLabel);
 
+    std::atomic<bool> stop{false};
     auto labelRange = [&](std::size_t begin, std::size_t end) {
         std::vector<Vote> votes;
         for (std::size_t face = begin; face < end; ++face) {
             if ((face & 1023) == 0 &&
-                interrupter.wasInterrupted(0.9 * double(face) / double(faceCount)))
+                (stop.load(std::memory_order_relaxed) ||
+                 interrupter.wasInterrupted(0.9 * double(face) / double(faceCount)))) {
+                stop = true;
                 return;
+            }
             votes.clear();
             for (std::uint32_t k = faceOffsets[face]; k < faceOffsets[face + 1]; ++k) {
                 const auto& triangle = mesh.triangles[faceTriangles[k]];
@@ -225,7 +230,7 @@ std::vector<std::uint32_t> labelFaces(const TriangleMesh& mesh, const LabelVolum
         }
     };
     parallelFor(faceCount, labelRange, options.threaded, 256);
-    throwIfInterrupted(interrupter, 0.9);
+    if (stop) throwInterrupted(interrupter);
 
     FaceLabelStatistics stats;
     std::vector<std::uint32_t> unlabelled;

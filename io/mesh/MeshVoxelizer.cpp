@@ -7,6 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -108,11 +109,19 @@ public:
     void start(const char* = nullptr) override {}
     void end() override {}
     bool wasInterrupted(int percent = -1) override {
-        return mInterrupter.wasInterrupted(percent < 0 ? -1.0 : 0.8 * percent / 100.0);
+        if (mInterrupter.wasInterrupted(percent < 0 ? -1.0 : 0.8 * percent / 100.0))
+            mStopped = true;
+        return mStopped;
+    }
+    /// Throws if OpenVDB was told to stop: its result is then incomplete,
+    /// whatever our interrupter would answer now.
+    void throwIfStopped() {
+        if (mStopped) throwInterrupted(mInterrupter);
     }
 
 private:
     Interrupter& mInterrupter;
+    std::atomic<bool> mStopped{false};
 };
 
 /// The length OpenVDB's distances are measured in. MeshAdapter hands it
@@ -141,14 +150,20 @@ openvdb::math::Transform::Ptr transformFor(const VoxelGrid& grid) {
 /// Calls visit(x, y, z, value) for every voxel of the box [offset, offset+dims)
 /// of `grid`, a z-slab per task. Whole 8-voxel runs inside one OpenVDB leaf
 /// are read from the leaf, runs without a leaf from one tile lookup.
+/// @throw InterruptedError when asked to stop.
 template <typename Grid, typename Visit>
 void forEachGridValue(const Grid& grid, const Dims& dims, const std::array<int, 3>& offset,
                       Interrupter& interrupter, Visit visit) {
+    std::atomic<bool> stop{false};
     tbb::parallel_for(
         tbb::blocked_range<int>(0, dims.z), [&](const tbb::blocked_range<int>& slabs) {
             auto accessor = grid.getConstAccessor();
             for (int z = slabs.begin(); z < slabs.end(); ++z) {
-                if (interrupter.wasInterrupted(0.8 + 0.1 * z / dims.z)) return;
+                if (stop.load(std::memory_order_relaxed)) return;
+                if (interrupter.wasInterrupted(0.8 + 0.1 * z / dims.z)) {
+                    stop = true;
+                    return;
+                }
                 for (int y = 0; y < dims.y; ++y) {
                     int x = 0;
                     while (x < dims.x) {
@@ -170,6 +185,7 @@ void forEachGridValue(const Grid& grid, const Dims& dims, const std::array<int, 
                 }
             }
         });
+    if (stop) throwInterrupted(interrupter);
 }
 
 /// nearestTriangle: when not null, filled with the index of the triangle
@@ -189,7 +205,7 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, d
         static_cast<openvdb::util::NullInterrupter&>(vdbInterrupter), adapter.vdbAdapter(),
         *transformFor(grid), float(bandWidth), float(bandWidth), 0,
         nearestTriangle ? &polygonIndex : nullptr);
-    throwIfInterrupted(interrupter);
+    vdbInterrupter.throwIfStopped();
     if (nearestTriangle) {
         // Outside the band the index grid holds its background; voxels whose
         // distance OpenVDB did not compute get -1.
@@ -205,7 +221,6 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, d
                                          (std::size_t(y) + std::size_t(dims.y) * std::size_t(z))] =
                                      std::int32_t(adapter.triangleOf(std::size_t(value)));
                          });
-        throwIfInterrupted(interrupter);
     }
     MaskVolume mask(grid.dims, 0);
     mask.geometry = grid.geometry;
@@ -217,7 +232,6 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, d
                 std::size_t(dims.x) * (std::size_t(y) + std::size_t(dims.y) * std::size_t(z))] =
                 value < 0.0f ? 1 : 0;
         });
-    throwIfInterrupted(interrupter);
     return mask;
 }
 
@@ -246,7 +260,7 @@ MaskVolume shellVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, do
         static_cast<openvdb::util::NullInterrupter&>(vdbInterrupter), adapter.vdbAdapter(),
         *transformFor(grid), float(shellWidth + 1.5), 0.0f,
         openvdb::tools::UNSIGNED_DISTANCE_FIELD);
-    throwIfInterrupted(interrupter);
+    vdbInterrupter.throwIfStopped();
 
     const int pad = shellPadding(holeClosing);
     const Dims work = paddedShellGrid(grid.dims, holeClosing);
@@ -268,7 +282,6 @@ MaskVolume shellVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, do
                                               : value <= shellLimit ? kShell
                                                                     : kFree;
                      });
-    throwIfInterrupted(interrupter);
     distance.reset();
 
     // Flood the outside from the border through free voxels (6-connected).

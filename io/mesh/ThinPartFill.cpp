@@ -385,7 +385,7 @@ ThinPartFill fillThinParts(const TriangleMesh& mesh, MaskVolume& mask,
             filled.insert(filled.end(), local.begin(), local.end());
         },
         options.threaded, 256);
-    if (stopped) throwIfInterrupted(interrupter);
+    if (stopped) throwInterrupted(interrupter);
     std::sort(filled.begin(), filled.end());
     filled.erase(std::unique(filled.begin(), filled.end()), filled.end());
     std::uint8_t* data = mask.data();

@@ -351,8 +351,7 @@ std::optional<std::string> reserializeInChildProcess(const std::string& name,
             throw InputError(name, "corrupt OpenVDB file: OpenVDB's reader crashed on it (" +
                                        signalName(outcome.signal) + ")");
         case Ending::Interrupted:
-            throwIfInterrupted(*guards.interrupter);
-            throw InterruptedError(InterruptedError::Reason::UserInterrupt, "interrupted");
+            throwInterrupted(*guards.interrupter);
     }
     return std::nullopt;
 }

@@ -8,8 +8,11 @@
 //     from any thread), where fraction in [0,1] is the stage's progress or
 //     negative when unknown,
 //   - on a true answer stops its work and throws InterruptedError through
-//     throwIfInterrupted(). A kernel that was interrupted leaves its output
-//     arguments in an unspecified (but destructible) state.
+//     throwIfInterrupted(); a kernel whose workers saw the answer and stopped
+//     throws through throwInterrupted() without asking again, since an
+//     interrupter need not repeat a true answer and the work is incomplete.
+//     A kernel that was interrupted leaves its output arguments in an
+//     unspecified (but destructible) state.
 // Implementations must make wasInterrupted() thread-safe and cheap.
 #pragma once
 
@@ -43,7 +46,6 @@ inline Interrupter& nullInterrupter() {
     return instance;
 }
 
-/// Throws InterruptedError if the interrupter asks to stop.
 /// Throws the InterruptedError of a stop `interrupter` asked for, without
 /// polling it again: for a kernel that saw the stop, put its outputs back,
 /// and must not go on whatever a second poll would say.
@@ -54,6 +56,7 @@ inline Interrupter& nullInterrupter() {
                                        : "interrupted");
 }
 
+/// Throws InterruptedError if the interrupter asks to stop.
 inline void throwIfInterrupted(Interrupter& interrupter, double fraction = -1.0) {
     if (interrupter.wasInterrupted(fraction)) throwInterrupted(interrupter);
 }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "tests/support/StopAtOnce.h"
+
 namespace skelseg {
 namespace {
 
@@ -118,6 +120,19 @@ TEST(CubicVoxels, SerialAndParallelAgreeBitForBit) {
     for (std::size_t i = 0; i < labels.size(); ++i) labels[i] = std::uint16_t(i % 7);
     EXPECT_EQ(labelsOnInputGrid(labels, grid, {false}).values(),
               labelsOnInputGrid(labels, grid, {true}).values());
+}
+
+TEST(CubicVoxels, AStopAnsweredOnceAtAnyPollThrows) {
+    const Dims dims{31, 17, 12};
+    const MaskVolume mask = randomMask(dims, steps(0.8, 0.8, 2.1), 11);
+    const CubicGrid grid = cubicGridFor(dims, mask.geometry);
+    for (const bool threaded : {false, true}) {
+        SCOPED_TRACE(threaded ? "threaded" : "serial");
+        EXPECT_GT(test::expectAStopAtAnyPollThrows([&](Interrupter& interrupter) {
+                      resampleToCubicVoxels(mask, grid, {threaded}, interrupter);
+                  }),
+                  3);
+    }
 }
 
 }  // namespace

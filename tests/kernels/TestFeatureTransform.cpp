@@ -9,6 +9,7 @@
 #include "io/shapes/SyntheticShapes.h"
 #include "kernels/BoundaryGraph.h"
 #include "tests/kernels/KernelTestSupport.h"
+#include "tests/support/StopAtOnce.h"
 
 namespace skelseg {
 namespace {
@@ -149,6 +150,17 @@ TEST(FeatureTransform, InterruptionThrows) {
     } stop;
     const MaskVolume sites = test::randomMask(Dims{16, 16, 16}, 0.05, 3);
     EXPECT_THROW(featureTransform(sites, {false}, stop), InterruptedError);
+}
+
+TEST(FeatureTransform, AStopAnsweredOnceAtAnyPollThrows) {
+    const MaskVolume sites = test::randomMask(Dims{16, 16, 16}, 0.05, 3);
+    for (const bool threaded : {false, true}) {
+        SCOPED_TRACE(threaded ? "threaded" : "serial");
+        EXPECT_GT(test::expectAStopAtAnyPollThrows([&](Interrupter& interrupter) {
+                      featureTransform(sites, {threaded}, interrupter);
+                  }),
+                  3);
+    }
 }
 
 }  // namespace

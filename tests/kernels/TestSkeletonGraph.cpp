@@ -520,5 +520,19 @@ TEST(SkeletonGraph, EmptyInput) {
     EXPECT_EQ(g.pieceCount, 0u);
 }
 
+TEST(SkeletonGraph, AStopAnsweredOnceAtAnyPollOfTheForkTestsThrows) {
+    const test::SkeletonPointSet set = test::bodyWithOneLimb(1, 40);
+    const std::vector<SkeletonPoint> points = set.points();
+    for (const bool threaded : {false, true}) {
+        SCOPED_TRACE(threaded ? "threaded" : "serial");
+        SkeletonGraphOptions options;
+        options.threaded = threaded;
+        EXPECT_GT(test::expectAStopAtAnyPollThrows([&](Interrupter& interrupter) {
+                      buildSkeletonGraph(points, set.dims(), options, interrupter);
+                  }),
+                  0);
+    }
+}
+
 }  // namespace
 }  // namespace skelseg

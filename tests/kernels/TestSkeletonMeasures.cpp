@@ -12,6 +12,7 @@
 #include "io/shapes/SyntheticShapes.h"
 #include "kernels/FeatureTransform.h"
 #include "tests/kernels/KernelTestSupport.h"
+#include "tests/support/StopAtOnce.h"
 
 namespace skelseg {
 namespace {
@@ -486,6 +487,20 @@ INSTANTIATE_TEST_SUITE_P(Landmarks, MeasurePointAgreement, ::testing::Values(fal
                              return param.param ? std::string("WithLandmarks")
                                                 : std::string("WithoutLandmarks");
                          });
+
+TEST(SkeletonMeasures, AStopAnsweredOnceAtAnyPollThrows) {
+    const ShapeToMeasure& p = shapeToMeasure("capsule", 40);
+    for (const bool threaded : {false, true}) {
+        SCOPED_TRACE(threaded ? "threaded" : "serial");
+        const SkeletonMeasureOptions options = p.options(0.03, false, threaded);
+        EXPECT_GT(test::expectAStopAtAnyPollThrows(
+                      [&](Interrupter& interrupter) {
+                          measureSkeleton(p.graph, p.candidates, options, nullptr, interrupter);
+                      },
+                      16),
+                  3);
+    }
+}
 
 }  // namespace
 }  // namespace skelseg

@@ -4,6 +4,7 @@
 
 #include "io/shapes/SyntheticShapes.h"
 #include "tests/kernels/KernelTestSupport.h"
+#include "tests/support/StopAtOnce.h"
 
 namespace skelseg {
 namespace {
@@ -167,6 +168,18 @@ TEST(VoxelGenus, SerialEqualsParallel) {
     EXPECT_EQ(a.cavities, b.cavities);
     EXPECT_EQ(a.genus, 1);
     EXPECT_EQ(b.genus, 1);
+}
+
+TEST(VoxelGenus, AStopAnsweredOnceAtAnyPollThrows) {
+    // The runs, their components and the Euler sum each poll per slab.
+    const MaskVolume mask = test::randomMask(Dims{24, 20, 40}, 0.4, 5);
+    for (const bool threaded : {false, true}) {
+        SCOPED_TRACE(threaded ? "threaded" : "serial");
+        EXPECT_GT(test::expectAStopAtAnyPollThrows([&](Interrupter& interrupter) {
+                      voxelTopology(mask, {threaded}, interrupter);
+                  }),
+                  3);
+    }
 }
 
 }  // namespace

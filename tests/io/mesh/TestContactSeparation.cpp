@@ -6,6 +6,7 @@
 #include "io/mesh/MeshVoxelizer.h"
 #include "kernels/VoxelGenus.h"
 #include "tests/support/ShapeMeshes.h"
+#include "tests/support/StopAtOnce.h"
 #include "tests/support/TestPaths.h"
 
 namespace skelseg {
@@ -179,6 +180,29 @@ TEST(ContactSeparation, RefusesAMismatchedTriangleGrid) {
     MaskVolume mask(Dims{4, 4, 4}, 1);
     const std::vector<std::int32_t> tooShort(10, -1);
     EXPECT_THROW(separateContacts(cutRing(), mask, tooShort), UsageError);
+}
+
+TEST(ContactSeparation, AStopAnsweredOnceAtAnyPollThrows) {
+    const TriangleMesh mesh = cutRing();
+    SignedVoxelization conversion;
+    voxelizeMeshWithContacts(mesh, coarse(true), nullInterrupter(), &conversion);
+    ASSERT_FALSE(conversion.nearestTriangle.empty());
+    for (const bool threaded : {false, true}) {
+        SCOPED_TRACE(threaded ? "threaded" : "serial");
+        ContactSeparationOptions options;
+        options.threaded = threaded;
+        MaskVolume separated = conversion.mask;
+        ASSERT_EQ(separateContacts(mesh, separated, conversion.nearestTriangle, options).contacts,
+                  1u);
+        EXPECT_GT(test::expectAStopAtAnyPollThrows(
+                      [&](Interrupter& interrupter) {
+                          MaskVolume mask = conversion.mask;
+                          separateContacts(mesh, mask, conversion.nearestTriangle, options,
+                                           interrupter);
+                      },
+                      12),
+                  1);
+    }
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "io/mesh/MeshVoxelizer.h"
 #include "io/mesh/SegFile.h"
 #include "kernels/base/Error.h"
+#include "tests/support/StopAtOnce.h"
 #include "tests/support/TempDir.h"
 
 namespace skelseg {
@@ -195,6 +196,22 @@ TEST(FaceLabels, SegFileHasOneLabelPerFaceWithoutGaps) {
     ASSERT_EQ(read.size(), mesh.faceCount);
     const std::set<std::int64_t> distinct(read.begin(), read.end());
     EXPECT_EQ(distinct, (std::set<std::int64_t>{0, 1, 2, 3}));
+}
+
+TEST(FaceLabels, AStopAnsweredOnceAtAnyPollThrows) {
+    const TriangleMesh mesh = shuffledSplitBox();
+    VoxelizeOptions voxelize;
+    voxelize.resolution = 48;
+    const LabelVolume labels = labelsByGeometry(voxelizeMesh(mesh, voxelize), 7, 3);
+    for (const bool threaded : {false, true}) {
+        SCOPED_TRACE(threaded ? "threaded" : "serial");
+        FaceLabelOptions options;
+        options.threaded = threaded;
+        EXPECT_GT(test::expectAStopAtAnyPollThrows([&](Interrupter& interrupter) {
+                      labelFaces(mesh, labels, options, interrupter);
+                  }),
+                  0);
+    }
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "tests/io/mesh/SphereTestMeshes.h"
 #include "tests/support/Pi.h"
 #include "tests/support/ShapeMeshes.h"
+#include "tests/support/StopAtOnce.h"
 
 namespace skelseg {
 namespace {
@@ -345,6 +346,21 @@ TEST(MeshVoxelizer, KnownClosednessSelectsTheMethodWithoutRechecking) {
     const MaskVolume declaredOpen = voxelizeMesh(sphere, options);
     EXPECT_FALSE(unset.values() == declaredOpen.values());
     EXPECT_GE(solidCount(declaredOpen), solidCount(unset));
+}
+
+TEST(MeshVoxelizer, AStopAnsweredOnceAtAnyPollThrows) {
+    // A closed sphere takes the signed conversion, an open one the shell.
+    const TriangleMesh closed = icosphere(3, 1.5, {0, 0, 0});
+    const TriangleMesh open = withoutCap(closed, 1.2);
+    for (const TriangleMesh* mesh : {&closed, &open}) {
+        SCOPED_TRACE(mesh == &closed ? "closed" : "open");
+        VoxelizeOptions options;
+        options.resolution = 16;
+        EXPECT_GT(
+            test::expectAStopAtAnyPollThrows(
+                [&](Interrupter& interrupter) { voxelizeMesh(*mesh, options, interrupter); }, 16),
+            3);
+    }
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "kernels/VoxelGenus.h"
 #include "tests/support/BoxMeshes.h"
 #include "tests/support/CurledTube.h"
+#include "tests/support/StopAtOnce.h"
 
 namespace skelseg {
 namespace {
@@ -153,6 +154,23 @@ TEST(ThinPartFill, SecondVoxelisationFromTheKeptConversionIsTheSame) {
         voxelizeMeshWithContacts(mesh, options(true, 48), nullInterrupter(), &kept);
     EXPECT_EQ(other.mask.values(), voxelizeMesh(mesh, options(true, 48)).values());
     EXPECT_EQ(kept.dims, other.mask.dims());
+}
+
+TEST(ThinPartFill, AStopAnsweredOnceAtAnyPollThrows) {
+    const TriangleMesh mesh = sheet(0.3, rotation({1, 2, 3}, 37));
+    const MaskVolume unfilled = voxelizeMesh(mesh, options(false, 32));
+    for (const bool threaded : {false, true}) {
+        SCOPED_TRACE(threaded ? "threaded" : "serial");
+        ThinPartOptions thin;
+        thin.threaded = threaded;
+        MaskVolume filled = unfilled;
+        ASSERT_GT(fillThinParts(mesh, filled, thin).voxelsAdded, 0u);
+        EXPECT_GT(test::expectAStopAtAnyPollThrows([&](Interrupter& interrupter) {
+                      MaskVolume mask = unfilled;
+                      fillThinParts(mesh, mask, thin, interrupter);
+                  }),
+                  1);
+    }
 }
 
 }  // namespace
