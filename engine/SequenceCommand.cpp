@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -40,6 +41,12 @@ const std::vector<std::string>& sequenceOutputNames() {
 }
 
 namespace {
+
+/// Whether the file's faces name their vertices (every format but STL,
+/// whose facets carry their corners' positions).
+bool hasSharedVertices(const fs::path& frame) {
+    return meshFormatFromPath(frame) != MeshFormat::Stl;
+}
 
 /// The frames' names (their stems, told apart by their folders as a batch
 /// tells its inputs apart) and the check that they share their faces: the
@@ -95,20 +102,46 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
     // (take_001/mesh.obj, take_002/mesh.obj): they were refused as two frames
     // of one name, and now get the folder in front that tells them apart.
     const std::vector<std::string> names = uniqueOutputNames(absolutePaths);
+    // STL has no shared vertices: the reader makes one vertex of the corners
+    // at one position, so corners that touch in one pose only (hands
+    // together) are one vertex in that frame alone and its triangle list is
+    // not the others'. An STL frame's faces are its facets in file order:
+    // their count and corners are compared, vertex indices only between
+    // frames whose files have them. Nothing downstream depends on which
+    // corners a file shares (the mesh checks, the genus and the contacts
+    // count corners at one position as one vertex in every format:
+    // canonicalVertices, io/mesh/MeshCheck.h), so each frame is segmented as
+    // `segment` reads it.
     const TriangleMesh first = readMesh(options.frames.front());
+    // The first frame with shared vertices, which the others with them match.
+    std::optional<TriangleMesh> laterIndexed;
+    const TriangleMesh* indexed = hasSharedVertices(options.frames.front()) ? &first : nullptr;
+    std::size_t indexedFrame = 0;
     for (std::size_t f = 1; f < options.frames.size(); ++f) {
-        const TriangleMesh mesh = readMesh(options.frames[f]);
+        TriangleMesh mesh = readMesh(options.frames[f]);
         if (mesh.faceCount != first.faceCount)
             throw InputError(options.frames[f].string(),
                              "has " + std::to_string(mesh.faceCount) + " faces, " +
                                  options.frames.front().string() + " has " +
                                  std::to_string(first.faceCount) +
                                  "; the frames of a sequence share their faces");
-        if (mesh.triangles != first.triangles || mesh.triangleFace != first.triangleFace)
+        std::size_t reference = 0;
+        bool differ = mesh.triangleFace != first.triangleFace;
+        if (!differ && indexed && hasSharedVertices(options.frames[f])) {
+            reference = indexedFrame;
+            differ = mesh.triangles != indexed->triangles;
+        }
+        if (differ)
             throw InputError(options.frames[f].string(),
-                             "its faces differ from those of " + options.frames.front().string() +
+                             "its faces differ from those of " +
+                                 options.frames[reference].string() +
                                  "; the frames of a sequence share their faces (same faces in "
                                  "the same order)");
+        if (!indexed && hasSharedVertices(options.frames[f])) {
+            laterIndexed = std::move(mesh);
+            indexed = &*laterIndexed;
+            indexedFrame = f;
+        }
     }
     return names;
 }

@@ -49,8 +49,9 @@ const OutputLayout& sequenceOutputLayout();
 /// two frames of one name, a frame whose name is only dots before its
 /// extension ("..off": no folder frames/NAME of its own), a frame inside
 /// OUTDIR's outputs, or OUTDIR holding earlier results without force; InputError
-/// naming the frame whose faces differ from the first frame's, or any
-/// error of `skelseg segment` on a frame.
+/// naming the frame whose faces differ from the first frame's (face count,
+/// corners per face; vertex indices between frames whose files have them,
+/// which STL files have not), or any error of `skelseg segment` on a frame.
 void runSequenceCommand(const SequenceCommandOptions& options, ProgressReporter& progress);
 
 }  // namespace skelseg

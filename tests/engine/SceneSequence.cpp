@@ -8,9 +8,11 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/SegFile.h"
+#include "tests/support/BoxMeshes.h"
 #include "tests/support/CliRunner.h"
 #include "tests/support/CurledTube.h"
 #include "tests/support/FileBytes.h"
@@ -33,6 +35,68 @@ TriangleMesh posed(TriangleMesh mesh, double degrees, double stretch) {
 
 std::size_t distinct(const std::vector<std::int64_t>& labels) {
     return std::set<std::int64_t>(labels.begin(), labels.end()).size();
+}
+
+/// Two arms (boxes of 1 x 1 x 3), the second centred at `second`; vertices
+/// numbered in the order the triangles first use them, as the STL reader
+/// numbers the corners it merges, so the mesh an STL file of it reads as is
+/// this one wherever no corners of the two arms coincide.
+TriangleMesh twoArms(const std::array<double, 3>& second) {
+    TriangleMesh boxes;
+    const test::Rotation none = test::rotation({0, 0, 1}, 0);
+    test::addBox(boxes, {1, 1, 3}, none);
+    test::addBox(boxes, {1, 1, 3}, none, second);
+    TriangleMesh mesh = boxes;
+    mesh.vertices.clear();
+    std::map<std::uint32_t, std::uint32_t> renumbered;
+    for (auto& triangle : mesh.triangles)
+        for (std::uint32_t& v : triangle) {
+            const auto [entry, added] = renumbered.emplace(v, std::uint32_t(mesh.vertices.size()));
+            if (added) mesh.vertices.push_back(boxes.vertices[v]);
+            v = entry->second;
+        }
+    return mesh;
+}
+
+/// A binary STL of `mesh` (its coordinates must be floats: these are).
+void writeBinaryStl(const std::filesystem::path& path, const TriangleMesh& mesh) {
+    std::string out(80, ' ');
+    const auto append = [&](const void* bytes, std::size_t size) {
+        out.append(static_cast<const char*>(bytes), size);
+    };
+    const auto count = std::uint32_t(mesh.triangles.size());
+    append(&count, 4);
+    for (const auto& triangle : mesh.triangles) {
+        const float normal[3] = {0, 0, 0};
+        append(normal, 12);
+        for (std::uint32_t v : triangle)
+            for (double coordinate : mesh.vertices[v]) {
+                const auto value = float(coordinate);
+                append(&value, 4);
+            }
+        out += std::string(2, '\0');
+    }
+    std::ofstream(path, std::ios::binary) << out;
+}
+
+void writeAsciiStl(const std::filesystem::path& path, const TriangleMesh& mesh) {
+    std::ostringstream out;
+    out.precision(17);
+    out << "solid arms\n";
+    for (const auto& triangle : mesh.triangles) {
+        out << "facet normal 0 0 0\nouter loop\n";
+        for (std::uint32_t v : triangle)
+            out << "vertex " << mesh.vertices[v][0] << ' ' << mesh.vertices[v][1] << ' '
+                << mesh.vertices[v][2] << '\n';
+        out << "endloop\nendfacet\n";
+    }
+    out << "endsolid arms\n";
+    std::ofstream(path) << out.str();
+}
+
+nlohmann::json reportInput(const std::filesystem::path& frameOutputs) {
+    std::ifstream in(frameOutputs / "report.json");
+    return nlohmann::json::parse(in).at("input");
 }
 
 class SceneSequence : public ::testing::Test {
@@ -146,6 +210,116 @@ TEST_F(SceneSequence, FramesWithOtherFacesAreRefusedAndNothingIsWritten) {
     ASSERT_EQ(run.errLines().size(), 1u) << run.err;
     EXPECT_NE(run.err.find((dir / "b.off").string()), std::string::npos) << run.err;
     EXPECT_NE(run.err.find("share their faces"), std::string::npos) << run.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// STL has no shared vertices: its reader makes one vertex of the corners at
+// one position, so the corners where the arms touch in the second frame only
+// are one vertex there alone, and the frame's triangle list was not the
+// others'. A valid sequence was refused ("its faces differ from those of
+// apart_1.stl"). Each STL frame is segmented as the same pose written as OFF,
+// whose touching corners stay two vertices: every check counts corners at
+// one position as one.
+TEST_F(SceneSequence, StlFramesWhoseCornersTouchInOnePoseOnlyShareTheirFaces) {
+    const std::vector<std::string> names = {"apart_1", "touching", "apart_2"};
+    const std::vector<TriangleMesh> poses = {twoArms({1.5, 1, 3}), twoArms({1, 1, 3}),
+                                             twoArms({1, 1.5, 3})};
+    const std::vector<std::string> arguments = {"--resolution", "40", "-q", "--no-preview"};
+    const auto runSequence = [&](const std::string& kind,
+                                 const std::vector<std::string>& extensions) {
+        std::vector<std::string> command = {"sequence"};
+        for (std::size_t f = 0; f < poses.size(); ++f) {
+            const auto path = dir / (kind + "_" + names[f] + extensions[f]);
+            if (extensions[f] == ".off")
+                writeOff(path, poses[f]);
+            else if (kind == "ascii" || kind == "mixed")
+                writeAsciiStl(path, poses[f]);
+            else
+                writeBinaryStl(path, poses[f]);
+            command.push_back(path.string());
+        }
+        const auto out = dir / ("out_" + kind);
+        command.insert(command.end(), {"-o", out.string()});
+        command.insert(command.end(), arguments.begin(), arguments.end());
+        return std::make_pair(test::runSkelseg(command), out);
+    };
+
+    const auto [offRun, offOut] = runSequence("off", {".off", ".off", ".off"});
+    ASSERT_EQ(offRun.exitCode, 0) << offRun.describe();
+    const auto frameOutputs = [&](const std::filesystem::path& out, const std::string& kind,
+                                  std::size_t f) {
+        return out / "frames" / (kind + "_" + names[f]);
+    };
+    // The touching corners are two vertices in the OFF file and one read
+    // from STL (below).
+    EXPECT_EQ(reportInput(frameOutputs(offOut, "off", 1)).at("vertices"), 16);
+
+    // Binary, ASCII, and STL between OFF frames (each frame's own vertices
+    // are compared only with another file that has them).
+    for (const auto& [kind, extensions] :
+         std::vector<std::pair<std::string, std::vector<std::string>>>{
+             {"binary", {".stl", ".stl", ".stl"}},
+             {"ascii", {".stl", ".stl", ".stl"}},
+             {"mixed", {".off", ".stl", ".off"}}}) {
+        SCOPED_TRACE(kind);
+        const auto [run, out] = runSequence(kind, extensions);
+        ASSERT_EQ(run.exitCode, 0) << run.describe();
+        // The apart frames' "2 separate pieces", as for OFF.
+        EXPECT_EQ(run.errLines().size(), offRun.errLines().size()) << run.err;
+        EXPECT_EQ(readSeg(out / "segmentation.seg").size(), 24u);
+        for (std::size_t f = 0; f < poses.size(); ++f) {
+            SCOPED_TRACE(names[f]);
+            const auto own = frameOutputs(out, kind, f), off = frameOutputs(offOut, "off", f);
+            EXPECT_EQ(readSeg(own / "segmentation.seg").size(), 24u);
+            EXPECT_EQ(test::fileBytes(own / "segmentation.seg"),
+                      test::fileBytes(off / "segmentation.seg"));
+            const nlohmann::json input = reportInput(own), offInput = reportInput(off);
+            for (const char* key :
+                 {"mesh_closed", "mesh_pieces", "mesh_genus", "mesh_closed_pieces", "voxel_genus"})
+                EXPECT_EQ(input.at(key), offInput.at(key)) << key;
+            if (f == 1 && extensions[f] == ".stl") EXPECT_EQ(input.at("vertices"), 15);
+        }
+        EXPECT_EQ(test::fileBytes(out / "segmentation.seg"),
+                  test::fileBytes(offOut / "segmentation.seg"));
+        // Touching or apart, the arms are two parts of genus 0.
+        std::ifstream in(out / "sequence.json");
+        const nlohmann::json summary = nlohmann::json::parse(in);
+        for (std::size_t f = 0; f < poses.size(); ++f) {
+            EXPECT_EQ(summary["frames"][f]["parts"], 2) << names[f];
+            EXPECT_EQ(reportInput(frameOutputs(out, kind, f)).at("mesh_genus"), 0) << names[f];
+        }
+    }
+}
+
+TEST_F(SceneSequence, StlFramesOfAnotherTriangleCountAreRefused) {
+    writeBinaryStl(dir / "a.stl", twoArms({1.5, 1, 3}));
+    TriangleMesh oneArm;
+    test::addBox(oneArm, {1, 1, 3}, test::rotation({0, 0, 1}, 0));
+    writeAsciiStl(dir / "b.stl", oneArm);
+    const auto out = dir / "out";
+    auto run = test::runSkelseg(
+        {"sequence", (dir / "a.stl").string(), (dir / "b.stl").string(), "-o", out.string(), "-q"});
+    EXPECT_EQ(run.exitCode, 2) << run.describe();
+    EXPECT_EQ(run.errLines(),
+              std::vector<std::string>{"skelseg: error: " + (dir / "b.stl").string() +
+                                       ": has 12 faces, " + (dir / "a.stl").string() +
+                                       " has 24; the frames of a sequence share their faces"});
+    EXPECT_FALSE(std::filesystem::exists(out));
+
+    // After an STL frame, a frame with vertices of its own is held to the
+    // first such frame's.
+    writeOff(dir / "c.off", twoArms({1.5, 1, 3}));
+    TriangleMesh swapped = twoArms({1.5, 1, 3});
+    std::swap(swapped.triangles[0], swapped.triangles[12]);
+    writeOff(dir / "d.off", swapped);
+    run = test::runSkelseg({"sequence", (dir / "a.stl").string(), (dir / "c.off").string(),
+                            (dir / "d.off").string(), "-o", out.string(), "-q"});
+    EXPECT_EQ(run.exitCode, 2) << run.describe();
+    EXPECT_EQ(run.errLines(),
+              std::vector<std::string>{
+                  "skelseg: error: " + (dir / "d.off").string() +
+                  ": its faces differ from those of " + (dir / "c.off").string() +
+                  "; the frames of a sequence share their faces (same faces in the same order)"});
     EXPECT_FALSE(std::filesystem::exists(out));
 }
 
