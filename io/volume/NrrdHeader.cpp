@@ -514,6 +514,10 @@ private:
             axis = byDirection[0];
         } else if (ofSizeOne.size() == 1) {
             axis = ofSizeOne[0];
+        } else if (ofSizeOne.empty() && std::count(sizes.begin(), sizes.end(), 1) > 0) {
+            fail(
+                "kinds gives every axis of size 1 a spatial kind, and all 4 axes cannot be "
+                "spatial; give the one that is not the kind 'scalar'");
         } else if (ofSizeOne.empty()) {
             std::string sizesText;
             for (const auto size : sizes)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -423,14 +424,21 @@ std::vector<fs::path> nrrdDetachedDataFiles(const fs::path& header) {
             return nrrd::parseNrrdHeader(
                 header.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
         };
-        nrrd::NrrdHeader parsed = parse();
-        if (parsed.severalDataFiles && bytes.size() == kHeaderBytes) {
-            // The list may go on past the first MiB (a detached header is
-            // all header), and a name cut there is no file it names.
+        // A list of data files may go on past the first MiB (a detached
+        // header is all header): cut there, the list is too short, or its
+        // last name is no file it names.
+        const bool cut = bytes.size() == kHeaderBytes;
+        std::optional<nrrd::NrrdHeader> parsed;
+        try {
+            parsed = parse();
+        } catch (const InputError&) {
+            if (!cut) throw;
+        }
+        if (cut && (!parsed || parsed->severalDataFiles)) {
             bytes = readFileBytes(header);
             parsed = parse();
         }
-        for (const std::string& dataFile : parsed.dataFiles)
+        for (const std::string& dataFile : parsed->dataFiles)
             files.push_back(resolveDataFile(dataFile, directoryOf(header)));
     } catch (const InputError&) {
         return {};

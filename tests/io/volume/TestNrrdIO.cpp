@@ -721,6 +721,8 @@ TEST(NrrdIO, FourDimensionsRefuseAnAxisOfMoreThanOneSample) {
          "spatial"},
         {"two-kinds.nrrd", uint16Fields("4", "1 5 24 1") + "kinds: scalar domain domain time\n",
          "axes 0 and 3 are of kinds that are not spatial"},
+        {"all-spatial.nrrd", uint16Fields("4", "1 5 4 6") + "kinds: domain domain domain domain\n",
+         "kinds gives every axis of size 1 a spatial kind"},
         {"spatial-none.nrrd",
          uint16Fields("4", "1 5 4 6") + "kinds: scalar domain domain domain\n" +
              "space directions: (1,0,0) none (0,1,0) (0,0,1)\n",
@@ -795,6 +797,31 @@ TEST(NrrdIO, DataInSeveralFilesReadsAsOneFile) {
     EXPECT_EQ(inputs[1], dir / "down005.raw");
     EXPECT_EQ(inputs[6], dir / "down000.raw");
     EXPECT_EQ(volumeInputFiles(dir / "list.nhdr").back(), dir / "slices" / "slice5.raw");
+}
+
+TEST(NrrdIO, AListPastTheFirstMebibyteIsListedWhole) {
+    // Outputs are checked against the data files before the run reads them,
+    // from the header's first MiB: a list that goes on past it was cut.
+    test::TempDir dir;
+    const std::string folder(250, 'd');
+    fs::create_directories(dir / folder);
+    std::string list = "LIST 1\n";
+    for (int row = 0; row < 64 * 64; ++row) {
+        char name[32];
+        std::snprintf(name, sizeof(name), "/r%04d.raw", row);
+        writeBytes(dir / (folder + name), std::string(64, char(row % 3 == 0)));
+        list += folder + name + "\n";
+    }
+    writeBytes(dir / "rows.nhdr",
+               "NRRD0004\n" + basicFields("uint8", "64 64 64", "raw") + "data file: " + list);
+    ASSERT_GT(fileBytes(dir / "rows.nhdr").size(), std::size_t(1) << 20);
+    const std::vector<fs::path> inputs = volumeInputFiles(dir / "rows.nhdr");
+    ASSERT_EQ(inputs.size(), 1u + 64 * 64);
+    EXPECT_EQ(inputs.back(), dir / (folder + "/r4095.raw"));
+    const MaskVolume mask = readNrrdMask(dir / "rows.nhdr");
+    EXPECT_EQ(countNonzero(mask), std::size_t(64 * ((64 * 64 + 2) / 3)));
+    EXPECT_EQ(mask(5, 3, 0), 1);
+    EXPECT_EQ(mask(5, 4, 0), 0);
 }
 
 TEST(NrrdIO, DataInSeveralFilesRefusesWhatDoesNotAddUp) {
