@@ -62,6 +62,11 @@ write("nrrd", "two-members-double.nrrd",
       b"NRRD0004\ntype: double\ndimension: 3\nsizes: 2 1 1\nendian: little\nencoding: gzip\n\n"
       + gz(struct.pack("<d", 0.0)) + gz(struct.pack("<d", 2.0)))
 write("nrrd", "detached.nhdr", "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\ndata file: x.raw\n")
+write("nrrd", "dim4-scalar.nrrd",
+      b"NRRD0004\ntype: uint8\ndimension: 4\nsizes: 1 2 2 2\nencoding: raw\n"
+      b"kinds: scalar domain domain domain\nspace directions: none (1,0,0) (0,1,0) (0,0,1)\n\n" + cube)
+write("nrrd", "list.nhdr", "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\ndata file: LIST\nz0.raw\nz1.raw\n")
+write("nrrd", "pattern.nhdr", "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: gzip\ndata file: z%03d.gz 1 0 -1 2\n")
 
 # --- binvox -------------------------------------------------------------------
 write("binvox", "v1.binvox", b"#binvox 1\ndim 4 4 4\ntranslate -1 0 0.5\nscale 2\ndata\n" + bytes([0, 20, 1, 24, 0, 20]))

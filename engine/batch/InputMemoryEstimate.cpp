@@ -1,5 +1,6 @@
 #include "engine/batch/InputMemoryEstimate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -47,8 +48,12 @@ std::optional<std::vector<std::string>> peekHeaderWords(const fs::path& file,
 
 std::optional<Dims> peekVolumeDims(const fs::path& file) {
     const std::string keyword = volumeFormatFromPath(file) == VolumeFormat::Nrrd ? "sizes:" : "dim";
-    const std::optional<std::vector<std::string>> words = peekHeaderWords(file, keyword);
+    std::optional<std::vector<std::string>> words = peekHeaderWords(file, keyword);
     if (!words || words->size() < 3) return std::nullopt;
+    // A 4-D NRRD's axis of size 1 is no axis of the volume (io/volume/NrrdHeader.h).
+    if (words->size() == 4)
+        if (const auto one = std::find(words->begin(), words->end(), "1"); one != words->end())
+            words->erase(one);
     long long extent[3] = {0, 0, 0};
     for (int axis = 0; axis < 3; ++axis) {
         std::istringstream number((*words)[std::size_t(axis)]);

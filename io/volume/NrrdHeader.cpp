@@ -167,6 +167,140 @@ int spaceDimension(const std::string& space) {
     return 0;
 }
 
+/// A kind without its quotes, in lower case.
+std::string normalKind(std::string kind) {
+    if (kind.size() >= 2 && kind.front() == '"' && kind.back() == '"')
+        kind = kind.substr(1, kind.size() - 2);
+    return lowercase(kind);
+}
+
+/// "domain" and "space" say an axis is spatial; "???" and "none" say
+/// nothing, and are taken as spatial, as a header without kinds is.
+bool isSpatialKind(const std::string& kind) {
+    const std::string name = normalKind(kind);
+    return name == "domain" || name == "space";
+}
+
+bool isUnknownKind(const std::string& kind) {
+    const std::string name = normalKind(kind);
+    return name == "???" || name == "none";
+}
+
+/// "0", "0 and 3", "0, 1 and 3".
+std::string axisList(const std::vector<int>& axes) {
+    std::string text;
+    for (std::size_t i = 0; i < axes.size(); ++i)
+        text += (i == 0 ? "" : i + 1 == axes.size() ? " and " : ", ") + std::to_string(axes[i]);
+    return text;
+}
+
+/// The most data files a list or a pattern may name: every one is opened,
+/// and a pattern's names are made before the first is read.
+constexpr std::uint64_t kMaxDataFiles = std::uint64_t(1) << 20;
+
+/// A data file name pattern ("slice%03d.raw"): the text around its one
+/// integer conversion. The header's text never reaches printf: format()
+/// writes the number itself, as printf would.
+struct NamePattern {
+    std::string prefix;
+    std::string suffix;
+    std::string flags;  // of "-+ #0"
+    int width = 0;
+    int precision = -1;  // -1: none given
+    char conversion = 'd';
+
+    bool hasFlag(char flag) const { return flags.find(flag) != std::string::npos; }
+
+    bool isSigned() const { return conversion == 'd' || conversion == 'i'; }
+
+    std::string format(std::int64_t index) const {
+        const bool negative = index < 0;
+        const std::uint64_t magnitude =
+            negative ? std::uint64_t(0) - std::uint64_t(index) : std::uint64_t(index);
+        const int base = conversion == 'o' ? 8 : conversion == 'x' || conversion == 'X' ? 16 : 10;
+        char buffer[32];
+        const auto result = std::to_chars(buffer, buffer + sizeof(buffer), magnitude, base);
+        std::string digits(buffer, result.ptr);
+        if (conversion == 'X')
+            std::transform(digits.begin(), digits.end(), digits.begin(),
+                           [](unsigned char c) { return char(std::toupper(c)); });
+        if (precision == 0 && magnitude == 0) digits.clear();
+        if (precision > int(digits.size()))
+            digits.insert(0, std::size_t(precision) - digits.size(), '0');
+        std::string lead = negative                     ? "-"
+                           : isSigned() && hasFlag('+') ? "+"
+                           : isSigned() && hasFlag(' ') ? " "
+                                                        : "";
+        if (hasFlag('#') && conversion == 'o' && (digits.empty() || digits[0] != '0'))
+            digits.insert(0, "0");
+        if (hasFlag('#') && (conversion == 'x' || conversion == 'X') && magnitude != 0)
+            lead += conversion == 'x' ? "0x" : "0X";
+        std::string body = lead + digits;
+        if (std::size_t(width) > body.size()) {
+            const std::size_t pad = std::size_t(width) - body.size();
+            if (hasFlag('-'))
+                body.append(pad, ' ');
+            else if (hasFlag('0') && precision < 0)
+                body.insert(lead.size(), pad, '0');
+            else
+                body.insert(0, pad, ' ');
+        }
+        return prefix + body + suffix;
+    }
+};
+
+/// Parses `text` into `pattern`: "%%" is a '%', and there must be exactly one
+/// conversion, of an integer (d, i, u, o, x or X, with flags, a width and a
+/// precision of up to 3 digits each). Returns the problem, or "".
+std::string parseNamePattern(const std::string& text, NamePattern& pattern) {
+    int conversions = 0;
+    std::string* literal = &pattern.prefix;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        if (text[i] != '%') {
+            *literal += text[i];
+            continue;
+        }
+        if (i + 1 < text.size() && text[i + 1] == '%') {
+            *literal += '%';
+            ++i;
+            continue;
+        }
+        const std::size_t start = i++;
+        std::string flags;
+        while (i < text.size() && std::string_view("-+ #0").find(text[i]) != std::string_view::npos)
+            flags += text[i++];
+        const auto number = [&](int& value) {
+            int digits = 0;
+            value = 0;
+            for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i)
+                if (++digits <= 3) value = value * 10 + (text[i] - '0');
+            return digits <= 3;
+        };
+        int width = 0;
+        int precision = -1;
+        bool small = number(width);
+        if (small && i < text.size() && text[i] == '.') {
+            ++i;
+            small = number(precision);
+        }
+        const std::string spec = text.substr(start, std::min(text.size(), i + 1) - start);
+        if (!small) return "has a width or precision of more than 3 digits in " + quote(spec);
+        if (i >= text.size() || std::string_view("diuoxX").find(text[i]) == std::string_view::npos)
+            return "has " + quote(spec) +
+                   ", which is not an integer conversion (such as %d or %03d)";
+        ++conversions;
+        pattern.flags = flags;
+        pattern.width = width;
+        pattern.precision = precision;
+        pattern.conversion = text[i];
+        literal = &pattern.suffix;
+    }
+    if (conversions != 1)
+        return "has " + std::to_string(conversions) +
+               " conversions; it must have exactly one integer conversion (such as %03d)";
+    return {};
+}
+
 /// Parses the header of an in-memory NRRD and checks every field it needs.
 class HeaderParser {
 public:
@@ -192,7 +326,10 @@ public:
                 mHeader.endsWithBlankLine = true;
                 break;
             }
-            parseLine(line);
+            if (mListing)
+                addListedFile(line);
+            else
+                parseLine(line);
         }
         mHeader.dataOffset = mSize - mLines.bytesLeft();
         finish();
@@ -242,7 +379,7 @@ private:
 
     void parseField(const std::string& field, const std::string& value) {
         if (field == "dimension") {
-            // Clamped only so that the int holds it; anything but 3 is rejected later.
+            // Clamped only so that the int holds it; anything but 3 and 4 is rejected later.
             mHeader.dimension =
                 int(std::clamp<std::int64_t>(parseInteger(field, value), -1000, 1000));
         } else if (field == "type") {
@@ -289,13 +426,12 @@ private:
                 fail("line skip " + quote(value) + " is invalid (it is at least 0)");
         } else if (field == "data file" || field == "datafile") {
             if (value.empty()) fail("'data file' field is empty");
-            if (value.compare(0, 4, "LIST") == 0 || value.find('%') != std::string::npos)
-                fail("data file " + quote(value) + ": multiple data files are not supported");
             // The system ends a file name at its first NUL byte: "d.raw\0x"
             // would read d.raw, a file the header does not name.
             if (value.find('\0') != std::string::npos)
                 fail("data file " + quote(value) + ": the name holds a NUL byte");
-            mHeader.dataFile = value;
+            mHeader.dataFileField = value;
+            parseDataFile(value);
         } else if (field == "space") {
             const int dimension = spaceDimension(value);
             if (dimension == 0) fail("unknown space " + quote(value));
@@ -327,20 +463,185 @@ private:
     /// is an image of two dimensions (or a series): its samples along that
     /// axis are components, not voxels, and were segmented as a slab of
     /// voxels without a word. Unknown kinds ("???", "none") are taken as
-    /// spatial, as a header without kinds is.
-    void checkKinds(const std::vector<std::string>& kinds) const {
-        if (kinds.size() != 3)
-            fail("kinds lists " + std::to_string(kinds.size()) + " values for a dimension of 3");
-        for (std::size_t axis = 0; axis < 3; ++axis) {
-            std::string kind = kinds[axis];
-            if (kind.size() >= 2 && kind.front() == '"' && kind.back() == '"')
-                kind = kind.substr(1, kind.size() - 2);
-            std::transform(kind.begin(), kind.end(), kind.begin(),
-                           [](unsigned char c) { return char(std::tolower(c)); });
-            if (kind != "domain" && kind != "space" && kind != "???" && kind != "none")
-                fail("axis " + std::to_string(axis) + " is of kind " + quote(kinds[axis]) +
+    /// spatial, as a header without kinds is. `axes`: the volume's axes.
+    void checkKinds(const std::vector<std::string>& kinds, const std::array<int, 3>& axes) const {
+        if (kinds.size() != std::size_t(*mHeader.dimension))
+            fail("kinds lists " + std::to_string(kinds.size()) + " values for a dimension of " +
+                 std::to_string(*mHeader.dimension));
+        for (const int axis : axes) {
+            const std::string& kind = kinds[std::size_t(axis)];
+            if (!isSpatialKind(kind) && !isUnknownKind(kind))
+                fail("axis " + std::to_string(axis) + " is of kind " + quote(kind) +
                      ", not a spatial axis; only 3-D volumes can be segmented");
         }
+    }
+
+    /// The axis of a 4-D header that is no axis of the volume: the one
+    /// "kinds" gives a kind that is not spatial ("scalar", "vector", "list",
+    /// "time", ...), else the one whose space direction is "none", else the
+    /// one of size 1 (among those "kinds" does not call spatial). It must
+    /// have size 1: more samples along it are a series, or the components of
+    /// a colour or vector volume, several volumes of which the user picks.
+    int nonSpatialAxis() const {
+        const auto& sizes = *mHeader.sizes;
+        if (mKinds && mKinds->size() != 4)
+            fail("kinds lists " + std::to_string(mKinds->size()) + " values for a dimension of 4");
+        const auto& directions = mHeader.spaceDirections;
+        if (directions && directions->size() != 4)
+            fail("space directions lists " + std::to_string(directions->size()) +
+                 " vectors for a dimension of 4");
+        std::vector<int> byKind, byDirection, ofSizeOne;
+        for (int axis = 0; axis < 4; ++axis) {
+            const std::string* kind = mKinds ? &(*mKinds)[std::size_t(axis)] : nullptr;
+            if (kind && !isSpatialKind(*kind) && !isUnknownKind(*kind)) byKind.push_back(axis);
+            if (directions && !(*directions)[std::size_t(axis)]) byDirection.push_back(axis);
+            if (sizes[std::size_t(axis)] == 1 && !(kind && isSpatialKind(*kind)))
+                ofSizeOne.push_back(axis);
+        }
+        const std::string several =
+            "several 3-D volumes (a time series, or the components of a colour or vector "
+            "volume), not one";
+        int axis = -1;
+        if (byKind.size() > 1)
+            fail("axes " + axisList(byKind) +
+                 " are of kinds that are not spatial; only 3-D volumes can be segmented");
+        if (byKind.size() == 1) {
+            axis = byKind[0];
+        } else if (byDirection.size() > 1) {
+            fail("space directions: axes " + axisList(byDirection) +
+                 " are 'none'; only one axis of a 4-D volume may be (the one of size 1)");
+        } else if (byDirection.size() == 1) {
+            axis = byDirection[0];
+        } else if (ofSizeOne.size() == 1) {
+            axis = ofSizeOne[0];
+        } else if (ofSizeOne.empty() && std::count(sizes.begin(), sizes.end(), 1) > 0) {
+            fail(
+                "kinds gives every axis of size 1 a spatial kind, and all 4 axes cannot be "
+                "spatial; give the one that is not the kind 'scalar'");
+        } else if (ofSizeOne.empty()) {
+            std::string sizesText;
+            for (const auto size : sizes)
+                sizesText += (sizesText.empty() ? "" : " ") + std::to_string(size);
+            fail("dimension 4 with no axis of size 1 (sizes " + sizesText + "): the file holds " +
+                 several +
+                 "; keep one with 'unu slice -a AXIS -p 0' (AXIS its axis that is not "
+                 "spatial) and segment that");
+        } else {
+            fail("axes " + axisList(ofSizeOne) +
+                 " have size 1, and neither 'kinds' nor 'space directions' says which is not "
+                 "spatial; give it the kind 'scalar' in 'kinds' or the direction 'none'");
+        }
+        const std::int64_t size = sizes[std::size_t(axis)];
+        if (size != 1)
+            fail("axis " + std::to_string(axis) +
+                 (mKinds ? " (kind " + quote((*mKinds)[std::size_t(axis)]) + ")" : std::string()) +
+                 " has size " + std::to_string(size) + ": the file holds " + several +
+                 "; keep one with 'unu slice -a " + std::to_string(axis) +
+                 " -p 0' (or take one component) and segment that");
+        return axis;
+    }
+
+    void parseDataFile(const std::string& value) {
+        const std::vector<std::string> words = splitWhitespace(value);
+        if (words[0] == "LIST") {
+            if (words.size() > 2)
+                fail("data file " + quote(value) +
+                     ": LIST takes one number at most (the dimension of each file's data)");
+            if (words.size() == 2)
+                mDataFileDimension = parseInteger("data file LIST dimension", words[1]);
+            // The names follow, one a line, to the end of the header.
+            mListing = true;
+            mHeader.severalDataFiles = true;
+            return;
+        }
+        if (words[0].find('%') == std::string::npos) {
+            mHeader.dataFiles = {value};
+            return;
+        }
+        const std::string what = "data file pattern " + quote(value);
+        if (words.size() < 4 || words.size() > 5)
+            fail(what +
+                 ": a pattern takes its first and last number and a step, and the "
+                 "dimension of each file's data at most (as 'slice%03d.raw 0 15 1')");
+        const std::string problem = parseNamePattern(words[0], mPattern);
+        if (!problem.empty()) fail(what + " " + problem);
+        const auto number = [&](const char* name, const std::string& text) {
+            const std::int64_t n = parseInteger(what + " " + name, text);
+            if (n < -2147483647 || n > 2147483647)
+                fail(what + ": its " + name + " " + quote(text) + " is out of range");
+            return n;
+        };
+        mPatternFirst = number("first number", words[1]);
+        mPatternLast = number("last number", words[2]);
+        mPatternStep = number("step", words[3]);
+        if (words.size() == 5) mDataFileDimension = parseInteger(what + " dimension", words[4]);
+        if (mPatternStep == 0) fail(what + ": the step is 0");
+        if ((mPatternStep > 0 && mPatternLast < mPatternFirst) ||
+            (mPatternStep < 0 && mPatternLast > mPatternFirst))
+            fail(what + ": names no file (a step of " + std::to_string(mPatternStep) +
+                 " never goes from " + std::to_string(mPatternFirst) + " to " +
+                 std::to_string(mPatternLast) + ")");
+        if (!mPattern.isSigned() && std::min(mPatternFirst, mPatternLast) < 0)
+            fail(what + ": a negative number cannot be written with %" +
+                 std::string(1, mPattern.conversion));
+        mHeader.severalDataFiles = true;
+    }
+
+    void addListedFile(const std::string& line) {
+        if (line.find('\0') != std::string::npos)
+            fail("data file " + quote(line) + " (of the LIST): the name holds a NUL byte");
+        if (mListedFiles.size() >= kMaxDataFiles)
+            fail("data file LIST names more than " + std::to_string(kMaxDataFiles) + " files");
+        mListedFiles.push_back(line);
+    }
+
+    /// The names of a list or a pattern, once the sizes say how many files
+    /// the data is in: one per piece of as many axes as each file's data
+    /// has (by default all but the slowest, a slice a file); or, when each
+    /// file's data has every axis, equal runs of slices of the slowest axis.
+    void expandDataFiles() {
+        if (!mHeader.severalDataFiles) return;
+        const std::string what = "data file " + quote(*mHeader.dataFileField);
+        if (mListing && mListedFiles.empty())
+            fail(what + ": no file names follow it (one a line, to the end of the header)");
+        const int dimension = *mHeader.dimension;
+        const auto& sizes = *mHeader.sizes;
+        const std::int64_t fileDimension = mDataFileDimension.value_or(dimension - 1);
+        if (fileDimension < 1 || fileDimension > dimension)
+            fail(what + ": the dimension of each file's data, " + std::to_string(fileDimension) +
+                 ", is not between 1 and " + std::to_string(dimension));
+        const std::uint64_t count =
+            mListing ? mListedFiles.size()
+                     : std::uint64_t((mPatternLast - mPatternFirst) / mPatternStep) + 1;
+        std::string sizesText;
+        for (const auto size : sizes)
+            sizesText += (sizesText.empty() ? "" : " ") + std::to_string(size);
+        const std::string files = std::to_string(count) + (count == 1 ? " file" : " files");
+        if (fileDimension < dimension) {
+            std::uint64_t pieces = 1;
+            for (int axis = int(fileDimension); axis < dimension; ++axis)
+                pieces *= std::uint64_t(sizes[std::size_t(axis)]);
+            if (count != pieces)
+                fail(what + " names " + files + ", but sizes " + sizesText + " are " +
+                     std::to_string(pieces) + " pieces of " + std::to_string(fileDimension) +
+                     " dimensions, one a file");
+        } else {
+            const std::uint64_t slices = std::uint64_t(sizes[std::size_t(dimension - 1)]);
+            if (count > slices || slices % count != 0)
+                fail(what + " names " + files + ", but the " + std::to_string(slices) +
+                     " slices of the slowest axis do not split into as many equal runs");
+        }
+        if (count > kMaxDataFiles)
+            fail(what + " names " + std::to_string(count) + " files; at most " +
+                 std::to_string(kMaxDataFiles) + " are read");
+        if (mListing) {
+            mHeader.dataFiles = mListedFiles;
+            return;
+        }
+        mHeader.dataFiles.reserve(std::size_t(count));
+        for (std::uint64_t i = 0; i < count; ++i)
+            mHeader.dataFiles.push_back(
+                mPattern.format(mPatternFirst + std::int64_t(i) * mPatternStep));
     }
 
     std::int64_t parseInteger(const std::string& what, const std::string& text) const {
@@ -391,8 +692,9 @@ private:
                 parseReal(what, parts[2], false)};
     }
 
-    std::vector<std::array<double, 3>> parseDirections(const std::string& text) const {
-        std::vector<std::array<double, 3>> directions;
+    std::vector<std::optional<std::array<double, 3>>> parseDirections(
+        const std::string& text) const {
+        std::vector<std::optional<std::array<double, 3>>> directions;
         std::size_t i = 0;
         while (i < text.size()) {
             if (isSpace(text[i])) {
@@ -407,7 +709,8 @@ private:
                     parseVector("space directions", text.substr(i, close - i + 1)));
                 i = close + 1;
             } else if (text.compare(i, 4, "none") == 0) {
-                fail("space directions: an axis is 'none'; all 3 axes must be spatial");
+                directions.emplace_back();
+                i += 4;
             } else {
                 fail("space directions: " + quote(text.substr(i)) +
                      " is not a vector like (1,0,0)");
@@ -418,49 +721,73 @@ private:
 
     void finish() {
         if (!mHeader.dimension) fail("missing required field 'dimension'");
-        if (*mHeader.dimension != 3)
-            fail("dimension " + std::to_string(*mHeader.dimension) +
-                 " is not supported (only 3D volumes)");
+        const int dimension = *mHeader.dimension;
+        if (dimension != 3 && dimension != 4)
+            fail("dimension " + std::to_string(dimension) +
+                 " is not supported (only 3D volumes, and 4D ones with one axis of size 1)");
         if (!mHeader.type) fail("missing required field 'type'");
         if (!mHeader.sizes) fail("missing required field 'sizes'");
         if (!mHeader.encoding) fail("missing required field 'encoding'");
         const auto& sizes = *mHeader.sizes;
-        if (sizes.size() != 3)
-            fail("sizes lists " + std::to_string(sizes.size()) + " values for a dimension of 3");
-        mHeader.dims = Dims::checked(sizes[0], sizes[1], sizes[2], mName);
+        if (sizes.size() != std::size_t(dimension))
+            fail("sizes lists " + std::to_string(sizes.size()) + " values for a dimension of " +
+                 std::to_string(dimension));
+        std::array<int, 3> axes = {0, 1, 2};
+        if (dimension == 4) {
+            for (int axis = 0; axis < 4; ++axis)
+                if (sizes[std::size_t(axis)] < 1)
+                    fail("grid size " + std::to_string(sizes[std::size_t(axis)]) + " along axis " +
+                         std::to_string(axis) + " is not positive");
+            mHeader.droppedAxis = nonSpatialAxis();
+            for (int axis = 0, kept = 0; axis < 4; ++axis)
+                if (axis != mHeader.droppedAxis) axes[std::size_t(kept++)] = axis;
+        }
+        const auto sizeOf = [&](int axis) { return sizes[std::size_t(axis)]; };
+        mHeader.dims = Dims::checked(sizeOf(axes[0]), sizeOf(axes[1]), sizeOf(axes[2]), mName);
         if (sampleBytes(*mHeader.type) > 1 && encodingHasByteOrder(*mHeader.encoding) &&
             !mHeader.bigEndian)
             fail(std::string("missing field 'endian' (required for type ") +
                  sampleTypeName(*mHeader.type) + ")");
-        if (!mHeader.dataFile && !mHeader.endsWithBlankLine)
+        if (!mHeader.dataFileField && !mHeader.endsWithBlankLine)
             fail(
                 "header does not end with a blank line before the data, and has no 'data file' "
                 "field");
 
-        if (mKinds) checkKinds(*mKinds);
+        if (mKinds) checkKinds(*mKinds, axes);
 
         VolumeGeometry& geometry = mHeader.geometry;
         if (mHeader.spaceDirections) {
-            if (mHeader.spaceDirections->size() != 3)
-                fail("space directions lists " + std::to_string(mHeader.spaceDirections->size()) +
-                     " vectors for a dimension of 3");
-            for (int axis = 0; axis < 3; ++axis)
-                geometry.directions[axis] = (*mHeader.spaceDirections)[axis];
+            const auto& directions = *mHeader.spaceDirections;
+            if (directions.size() != std::size_t(dimension))
+                fail("space directions lists " + std::to_string(directions.size()) +
+                     " vectors for a dimension of " + std::to_string(dimension));
+            for (int i = 0; i < 3; ++i) {
+                const auto& direction = directions[std::size_t(axes[std::size_t(i)])];
+                if (!direction && dimension == 3)
+                    fail("space directions: an axis is 'none'; all 3 axes must be spatial");
+                if (!direction)
+                    fail("space directions: axis " + std::to_string(axes[std::size_t(i)]) +
+                         " is 'none', but only axis " + std::to_string(mHeader.droppedAxis) +
+                         " is not spatial");
+                geometry.directions[std::size_t(i)] = *direction;
+            }
         } else if (mHeader.spacings) {
-            if (mHeader.spacings->size() != 3)
+            if (mHeader.spacings->size() != std::size_t(dimension))
                 fail("spacings lists " + std::to_string(mHeader.spacings->size()) +
-                     " values for a dimension of 3");
-            for (int axis = 0; axis < 3; ++axis) {
-                const double spacing = (*mHeader.spacings)[axis];
+                     " values for a dimension of " + std::to_string(dimension));
+            for (int i = 0; i < 3; ++i) {
+                const double spacing = (*mHeader.spacings)[std::size_t(axes[std::size_t(i)])];
                 // NaN marks a non-spatial axis in NRRD; treat it as unit spacing.
-                geometry.directions[axis] = {0.0, 0.0, 0.0};
-                geometry.directions[axis][axis] = std::isnan(spacing) ? 1.0 : spacing;
+                geometry.directions[std::size_t(i)] = {0.0, 0.0, 0.0};
+                geometry.directions[std::size_t(i)][std::size_t(i)] =
+                    std::isnan(spacing) ? 1.0 : spacing;
             }
         }
         if (mHeader.spaceOrigin) geometry.origin = *mHeader.spaceOrigin;
         if (mHeader.space) geometry.spaceName = *mHeader.space;
         const std::string problem = geometry.problemOver(mHeader.dims);
         if (!problem.empty()) fail(problem);
+        expandDataFiles();
     }
 
     const std::string& mName;
@@ -469,6 +796,13 @@ private:
     TextTokenizer mLines;
     std::set<std::string> mSeenFields;
     std::optional<std::vector<std::string>> mKinds;
+    bool mListing = false;  // the lines left in the header name data files
+    std::vector<std::string> mListedFiles;
+    NamePattern mPattern;
+    std::int64_t mPatternFirst = 0;
+    std::int64_t mPatternLast = 0;
+    std::int64_t mPatternStep = 1;
+    std::optional<std::int64_t> mDataFileDimension;
     NrrdHeader mHeader;
 };
 

@@ -2,8 +2,10 @@
 //
 // NrrdIO.cpp decodes the samples that follow a header, NrrdWriter.cpp writes
 // one; both share the sample types declared here. parseNrrdHeader() checks
-// every field the reader needs (docs/formats.md lists the rules) and turns
-// "space directions", "space origin" or "spacings" into the VolumeGeometry.
+// every field the reader needs (docs/formats.md lists the rules), turns
+// "space directions", "space origin" or "spacings" into the VolumeGeometry,
+// finds the axis a 4-D header adds to a volume, and expands "data file: LIST"
+// or a name pattern into the data files' names.
 #pragma once
 
 #include <array>
@@ -85,9 +87,19 @@ struct NrrdHeader {
     std::optional<std::vector<std::int64_t>> sizes;
     std::optional<Encoding> encoding;
     std::optional<bool> bigEndian;
-    std::optional<std::string> dataFile;
+    /// The value of a detached header's "data file" field, for messages.
+    std::optional<std::string> dataFileField;
+    /// The data files of a detached header, in order, as the header names
+    /// them; empty for attached data. Several files ("data file: LIST" or a
+    /// name pattern) hold consecutive runs of the samples, all of one length
+    /// (parseNrrdHeader checked that the sizes split into as many).
+    std::vector<std::string> dataFiles;
+    /// The data files came from a list or a pattern: messages about one of
+    /// them name it, as the header names several.
+    bool severalDataFiles = false;
     std::optional<std::string> space;
-    std::optional<std::vector<std::array<double, 3>>> spaceDirections;
+    /// One per axis; nullopt for an axis whose direction is "none".
+    std::optional<std::vector<std::optional<std::array<double, 3>>>> spaceDirections;
     std::optional<std::array<double, 3>> spaceOrigin;
     std::optional<std::vector<double>> spacings;
     bool endsWithBlankLine = false;
@@ -100,12 +112,17 @@ struct NrrdHeader {
     /// gzip, bzip2): the samples are the data's last bytes, after a header of
     /// any length (a detached header over another format's file).
     std::int64_t byteSkip = 0;
+    /// The axis of a 4-D header that is not spatial (its size is 1), dropped
+    /// from dims and geometry; -1 for a 3-D header.
+    int droppedAxis = -1;
     Dims dims;
     VolumeGeometry geometry;
 };
 
 /// Parses and checks the header at the start of `size` bytes; `name` is used
-/// in messages only. On return dimension, type, sizes and encoding are set,
+/// in messages only. A 4-D header whose one non-spatial axis has size 1 gives
+/// the 3-D volume of the other three axes (droppedAxis). On return dimension,
+/// type, sizes and encoding are set,
 /// bigEndian is set for multi-byte samples of an encoding with a byte order
 /// (encodingHasByteOrder), and dataOffset is where attached
 /// data starts. @throw InputError(name, problem) for any header problem.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -48,9 +49,10 @@ Sample loadSample(const std::uint8_t* bytes, bool swapBytes) {
 template <typename T>
 class SampleSink final : public ByteSink {
 public:
-    SampleSink(Volume<T>& volume, SampleType type, bool swapBytes, bool keepValues)
-        : mOutput(volume.data()),
-          mCapacity(volume.size()),
+    /// Fills the `capacity` values from `output` on.
+    SampleSink(T* output, std::size_t capacity, SampleType type, bool swapBytes, bool keepValues)
+        : mOutput(output),
+          mCapacity(capacity),
           mType(type),
           mSampleBytes(sampleBytes(type)),
           mSwap(swapBytes),
@@ -140,7 +142,7 @@ public:
         mBytes.insert(mBytes.end(), bytes, bytes + count);
     }
 
-    const std::vector<std::uint8_t>& bytes() const { return mBytes; }
+    std::vector<std::uint8_t> take() { return std::move(mBytes); }
 
 private:
     std::uint64_t mLimit;
@@ -191,6 +193,142 @@ fs::path directoryOf(const fs::path& file) {
     return file.has_parent_path() ? file.parent_path() : fs::path(".");
 }
 
+/// The data of one data file, or what follows an attached header: the
+/// file's bytes, and where the samples start after the line skip (and the
+/// byte skip, for raw and text data).
+struct DataBlock {
+    std::string fileBytes;  // a data file's content; empty for attached data
+    const std::uint8_t* fileStart = nullptr;
+    const std::uint8_t* data = nullptr;
+    std::size_t size = 0;
+    /// "data file 'NAME': " before a message about one of several data
+    /// files; "" where the header names one place of data.
+    std::string label;
+    std::vector<std::uint8_t> staged;  // decompressed first (bzip2, byte skip -1)
+};
+
+/// Runs `step`, putting block.label before the problem of an InputError.
+template <typename Step>
+void labelled(const std::string& name, const DataBlock& block, Step&& step) {
+    if (block.label.empty()) return step();
+    try {
+        step();
+    } catch (const InputError& error) {
+        throw InputError(name, block.label + error.problem());
+    }
+}
+
+/// Everything a block's samples need: checked before the volume is
+/// allocated, so that data that cannot hold them allocates nothing.
+void checkBlock(const std::string& name, const NrrdHeader& header, DataBlock& block,
+                std::uint64_t samples) {
+    const Encoding encoding = *header.encoding;
+    const std::uint64_t expectedBytes = samples * sampleBytes(*header.type);
+    skipLines(name, block.data, block.size, header.lineSkip);
+    if (encoding == Encoding::Raw) {
+        skipBytes(name, block.data, block.size,
+                  header.byteSkip == -1
+                      ? std::max<std::uint64_t>(block.size, expectedBytes) - expectedBytes
+                      : std::uint64_t(header.byteSkip));
+        if (block.size < expectedBytes)
+            throw InputError(name, "data is too short: " + std::to_string(block.size) +
+                                       " bytes, header says " + std::to_string(expectedBytes));
+        if (block.size > expectedBytes)
+            throw InputError(name, "data is too long: " + std::to_string(block.size) +
+                                       " bytes, header says " + std::to_string(expectedBytes));
+        return;
+    }
+    if (encoding == Encoding::Ascii || encoding == Encoding::Hex) {
+        if (header.byteSkip == -1)
+            throw InputError(name, std::string("byte skip -1 (the data's last bytes) is not "
+                                               "supported for ") +
+                                       encodingName(encoding) + " data (raw, gzip and bzip2 only)");
+        skipBytes(name, block.data, block.size, std::uint64_t(header.byteSkip));
+        const std::uint64_t fewest =
+            nrrd::minimumTextBytes(encoding, samples, sampleBytes(*header.type));
+        // Ascii is told in numbers, as the decoder tells it, and a short
+        // block costs little to count.
+        if (block.size < fewest && encoding == Encoding::Ascii)
+            throw InputError(name, "data is too short: ascii data has " +
+                                       std::to_string(nrrd::countAsciiWords(
+                                           reinterpret_cast<const char*>(block.data), block.size)) +
+                                       " numbers, header says " + std::to_string(samples));
+        if (block.size < fewest)
+            throw InputError(name, "data is too short: " + std::to_string(block.size) +
+                                       " bytes of " + encodingName(encoding) +
+                                       " data cannot hold the " + std::to_string(samples) +
+                                       " samples the header says");
+        return;
+    }
+    // gzip and bzip2: teem skips bytes of the decompressed data.
+    const std::uint64_t skip = header.byteSkip == -1 ? 0 : std::uint64_t(header.byteSkip);
+    if (expectedBytes + skip > nrrd::maxDecompressedBytes(encoding, block.size))
+        throw InputError(name, "data is too short: " + std::to_string(block.size) + " bytes of " +
+                                   encodingName(encoding) + " data cannot hold the " +
+                                   std::to_string(expectedBytes + skip) + " bytes the header says");
+}
+
+/// bzip2 expands up to 2 million to 1, and byte skip -1 needs the data's
+/// end: such samples are decompressed before the volume is allocated, into
+/// memory that grows with what the stream really holds, so that a tiny file
+/// claiming gigabytes allocates nothing it cannot fill. Gzip (deflate's
+/// bound, 1032:1, keeps the volume in proportion to the file) streams
+/// straight into the volume.
+bool isStaged(const NrrdHeader& header) {
+    const Encoding encoding = *header.encoding;
+    return encoding == Encoding::Bzip2 || (encoding == Encoding::Gzip && header.byteSkip == -1);
+}
+
+void stageBlock(const std::string& name, const NrrdHeader& header, DataBlock& block,
+                std::uint64_t expectedBytes) {
+    const bool tail = header.byteSkip == -1;
+    const std::uint64_t skip = tail ? 0 : std::uint64_t(header.byteSkip);
+    const nrrd::DecompressedLength length{
+        expectedBytes + skip,
+        tail ? expectedBytes + maxTailPrefix(expectedBytes) : expectedBytes + skip};
+    GrowingBuffer decompressed(length.atMost);
+    SkipFirstBytes skipping(decompressed, skip);
+    nrrd::decompress(name, *header.encoding, block.data, block.size, length, skipping);
+    block.staged = decompressed.take();
+    // The compressed bytes are done with: no need to hold both.
+    std::string().swap(block.fileBytes);
+}
+
+/// Decodes a checked (and, if isStaged(), staged) block into `sink`.
+template <typename T>
+void decodeBlock(const std::string& name, const NrrdHeader& header, const DataBlock& block,
+                 std::uint64_t samples, T* output, bool keepValues) {
+    const SampleType type = *header.type;
+    const Encoding encoding = *header.encoding;
+    const std::uint64_t expectedBytes = samples * sampleBytes(type);
+    const bool swapBytes = header.bigEndian.value_or(hostIsBigEndian()) != hostIsBigEndian();
+    SampleSink<T> sink(output, std::size_t(samples), type,
+                       encoding == Encoding::Ascii ? false : swapBytes, keepValues);
+    if (isStaged(header)) {
+        const std::vector<std::uint8_t>& staged = block.staged;
+        sink.append(staged.data() + (staged.size() - expectedBytes), std::size_t(expectedBytes));
+    } else if (encoding == Encoding::Raw) {
+        sink.append(block.data, block.size);
+    } else if (encoding == Encoding::Ascii || encoding == Encoding::Hex) {
+        // A block of several data files is named by its label instead.
+        const bool namedHere = header.dataFiles.size() == 1 && block.label.empty();
+        const nrrd::TextOrigin origin{
+            namedHere ? "data file " + quote(header.dataFiles[0]) + ", " : std::string(),
+            std::size_t(1 + std::count(block.fileStart, block.data, '\n'))};
+        const char* text = reinterpret_cast<const char*>(block.data);
+        // Ascii numbers become samples in the host's byte order.
+        if (encoding == Encoding::Ascii)
+            nrrd::decodeAscii(name, text, block.size, type, samples, origin, sink);
+        else
+            nrrd::decodeHex(name, text, block.size, expectedBytes, origin, sink);
+    } else {
+        const std::uint64_t skip = std::uint64_t(header.byteSkip);
+        SkipFirstBytes skipping(sink, skip);
+        nrrd::decompress(name, encoding, block.data, block.size,
+                         {expectedBytes + skip, expectedBytes + skip}, skipping);
+    }
+}
+
 template <typename T>
 Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std::size_t size,
                          const fs::path* headerDirectory, bool keepValues,
@@ -202,123 +340,51 @@ Volume<T> readNrrdVolume(const std::string& name, const std::uint8_t* bytes, std
                          std::string("labels must be uint8 or uint16 samples, file has type ") +
                              sampleTypeName(type));
 
-    const std::uint8_t* data = bytes + header.dataOffset;
-    std::size_t dataSize = size - header.dataOffset;
-    std::string detachedBytes;
-    if (header.dataFile) {
-        if (!headerDirectory)
-            throw InputError(name, "detached header (data file " + quote(*header.dataFile) +
-                                       ") cannot be read from memory");
-        const fs::path dataPath = resolveDataFile(*header.dataFile, *headerDirectory);
+    // One block for attached data or each data file; several files hold
+    // equal runs of the samples (parseNrrdHeader checked that they split).
+    const std::size_t blockCount = std::max<std::size_t>(1, header.dataFiles.size());
+    const std::uint64_t blockSamples = header.dims.voxelCount() / blockCount;
+    std::vector<DataBlock> blocks(blockCount);  // filled in place: no block moves
+    if (header.dataFiles.empty()) {
+        blocks[0].fileStart = bytes;
+        blocks[0].data = bytes + header.dataOffset;
+        blocks[0].size = size - header.dataOffset;
+    } else if (!headerDirectory) {
+        throw InputError(name, "detached header (data file " + quote(*header.dataFileField) +
+                                   ") cannot be read from memory");
+    }
+    // Every file is read and checked before the volume is allocated: the
+    // files' bytes are the data a single file would hold.
+    for (std::size_t i = 0; i < header.dataFiles.size(); ++i) {
+        DataBlock& block = blocks[i];
+        const std::string& dataFile = header.dataFiles[i];
+        if (header.severalDataFiles) block.label = "data file " + quote(dataFile) + ": ";
         try {
-            detachedBytes = readFileBytes(dataPath);
+            block.fileBytes = readFileBytes(resolveDataFile(dataFile, *headerDirectory));
         } catch (const InputError& error) {
-            throw InputError(name, "data file " + quote(*header.dataFile) + ": " + error.problem());
+            throw InputError(name, "data file " + quote(dataFile) + ": " + error.problem());
         }
-        data = reinterpret_cast<const std::uint8_t*>(detachedBytes.data());
-        dataSize = detachedBytes.size();
+        block.fileStart = reinterpret_cast<const std::uint8_t*>(block.fileBytes.data());
+        block.data = block.fileStart;
+        block.size = block.fileBytes.size();
+        labelled(name, block, [&] { checkBlock(name, header, block, blockSamples); });
     }
+    if (header.dataFiles.empty()) checkBlock(name, header, blocks[0], blockSamples);
 
-    // teem skips the lines of the data file, or of what follows an attached
-    // header, for every encoding, and then the byte skip.
-    const std::uint8_t* const fileStart =
-        header.dataFile ? reinterpret_cast<const std::uint8_t*>(detachedBytes.data()) : bytes;
-    skipLines(name, data, dataSize, header.lineSkip);
-
-    const Encoding encoding = *header.encoding;
-    const std::uint64_t samples = header.dims.voxelCount();
-    const std::uint64_t expectedBytes = samples * sampleBytes(type);
-    const bool swapBytes = header.bigEndian.value_or(hostIsBigEndian()) != hostIsBigEndian();
-    const auto finish = [&](Volume<T>& volume) {
-        volume.geometry = header.geometry;
-        return std::move(volume);
-    };
-    if (encoding == Encoding::Raw) {
-        skipBytes(name, data, dataSize,
-                  header.byteSkip == -1
-                      ? std::max<std::uint64_t>(dataSize, expectedBytes) - expectedBytes
-                      : std::uint64_t(header.byteSkip));
-        if (dataSize < expectedBytes)
-            throw InputError(name, "data is too short: " + std::to_string(dataSize) +
-                                       " bytes, header says " + std::to_string(expectedBytes));
-        if (dataSize > expectedBytes)
-            throw InputError(name, "data is too long: " + std::to_string(dataSize) +
-                                       " bytes, header says " + std::to_string(expectedBytes));
-        if (guards.checkGrid) guards.checkGrid(header.dims);
-        Volume<T> volume(header.dims);
-        SampleSink<T> sink(volume, type, swapBytes, keepValues);
-        sink.append(data, dataSize);
-        return finish(volume);
-    }
-
-    if (encoding == Encoding::Ascii || encoding == Encoding::Hex) {
-        if (header.byteSkip == -1)
-            throw InputError(name, std::string("byte skip -1 (the data's last bytes) is not "
-                                               "supported for ") +
-                                       encodingName(encoding) + " data (raw, gzip and bzip2 only)");
-        skipBytes(name, data, dataSize, std::uint64_t(header.byteSkip));
-        const std::uint64_t fewest = nrrd::minimumTextBytes(encoding, samples, sampleBytes(type));
-        // Refused before the volume is allocated; ascii is told in numbers,
-        // as the decoder tells it, and a short block costs little to count.
-        if (dataSize < fewest && encoding == Encoding::Ascii)
-            throw InputError(name, "data is too short: ascii data has " +
-                                       std::to_string(nrrd::countAsciiWords(
-                                           reinterpret_cast<const char*>(data), dataSize)) +
-                                       " numbers, header says " + std::to_string(samples));
-        if (dataSize < fewest)
-            throw InputError(name, "data is too short: " + std::to_string(dataSize) + " bytes of " +
-                                       encodingName(encoding) + " data cannot hold the " +
-                                       std::to_string(samples) + " samples the header says");
-        if (guards.checkGrid) guards.checkGrid(header.dims);
-        const nrrd::TextOrigin origin{
-            header.dataFile ? "data file " + quote(*header.dataFile) + ", " : std::string(),
-            std::size_t(1 + std::count(fileStart, data, '\n'))};
-        const char* text = reinterpret_cast<const char*>(data);
-        Volume<T> volume(header.dims);
-        if (encoding == Encoding::Ascii) {
-            // The numbers become samples in the host's byte order.
-            SampleSink<T> sink(volume, type, false, keepValues);
-            nrrd::decodeAscii(name, text, dataSize, type, samples, origin, sink);
-        } else {
-            SampleSink<T> sink(volume, type, swapBytes, keepValues);
-            nrrd::decodeHex(name, text, dataSize, expectedBytes, origin, sink);
-        }
-        return finish(volume);
-    }
-
-    // gzip and bzip2: teem skips bytes of the decompressed data.
-    const bool tail = header.byteSkip == -1;
-    const std::uint64_t skip = tail ? 0 : std::uint64_t(header.byteSkip);
-    const nrrd::DecompressedLength length{
-        expectedBytes + skip,
-        tail ? expectedBytes + maxTailPrefix(expectedBytes) : expectedBytes + skip};
-    if (expectedBytes + skip > nrrd::maxDecompressedBytes(encoding, dataSize))
-        throw InputError(name, "data is too short: " + std::to_string(dataSize) + " bytes of " +
-                                   encodingName(encoding) + " data cannot hold the " +
-                                   std::to_string(expectedBytes + skip) + " bytes the header says");
-    // Before bzip2's staging buffer too: it grows to the samples' bytes.
+    // Before bzip2's staging buffers too: they grow to the samples' bytes.
     if (guards.checkGrid) guards.checkGrid(header.dims);
-    if (encoding == Encoding::Gzip && !tail) {
-        // Deflate's bound (1032:1) keeps the volume allocated here in
-        // proportion to the file; the samples stream straight into it.
-        Volume<T> volume(header.dims);
-        SampleSink<T> sink(volume, type, swapBytes, keepValues);
-        SkipFirstBytes skipping(sink, skip);
-        nrrd::decompress(name, encoding, data, dataSize, length, skipping);
-        return finish(volume);
-    }
-    // bzip2 expands up to 2 million to 1, and byte skip -1 needs the data's
-    // end: the samples are decompressed first, into memory that grows with
-    // what the stream really holds, so that a tiny file claiming gigabytes
-    // allocates nothing it cannot fill.
-    GrowingBuffer decompressed(length.atMost);
-    SkipFirstBytes skipping(decompressed, skip);
-    nrrd::decompress(name, encoding, data, dataSize, length, skipping);
-    const std::vector<std::uint8_t>& staged = decompressed.bytes();
+    const std::uint64_t blockBytes = blockSamples * sampleBytes(type);
+    if (isStaged(header))
+        for (DataBlock& block : blocks)
+            labelled(name, block, [&] { stageBlock(name, header, block, blockBytes); });
     Volume<T> volume(header.dims);
-    SampleSink<T> sink(volume, type, swapBytes, keepValues);
-    sink.append(staged.data() + (staged.size() - expectedBytes), std::size_t(expectedBytes));
-    return finish(volume);
+    for (std::size_t i = 0; i < blockCount; ++i)
+        labelled(name, blocks[i], [&] {
+            decodeBlock(name, header, blocks[i], blockSamples,
+                        volume.data() + i * std::size_t(blockSamples), keepValues);
+        });
+    volume.geometry = header.geometry;
+    return volume;
 }
 
 template <typename T>
@@ -341,24 +407,43 @@ MaskVolume readNrrdMaskFromMemory(const std::string& name, const std::uint8_t* b
     return readNrrdVolume<std::uint8_t>(name, bytes, size, nullptr, false);
 }
 
-std::optional<fs::path> nrrdDetachedDataFile(const fs::path& header) {
+std::vector<fs::path> nrrdDetachedDataFiles(const fs::path& header) {
     // A header is text before the data; the first MiB holds any header the
-    // readers accept, and reading no more keeps this cheap on large volumes.
+    // readers accept but a long list of data files, and reading no more
+    // keeps this cheap on large volumes.
     constexpr std::size_t kHeaderBytes = std::size_t(1) << 20;
     std::string bytes;
+    std::vector<fs::path> files;
     try {
         checkReadableFile(header);
         std::ifstream in(header, std::ios::binary);
         bytes.resize(kHeaderBytes);
         in.read(bytes.data(), std::streamsize(bytes.size()));
         bytes.resize(std::size_t(in.gcount()));
-        const nrrd::NrrdHeader parsed = nrrd::parseNrrdHeader(
-            header.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
-        if (!parsed.dataFile) return std::nullopt;
-        return resolveDataFile(*parsed.dataFile, directoryOf(header));
+        const auto parse = [&] {
+            return nrrd::parseNrrdHeader(
+                header.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+        };
+        // A list of data files may go on past the first MiB (a detached
+        // header is all header): cut there, the list is too short, or its
+        // last name is no file it names.
+        const bool cut = bytes.size() == kHeaderBytes;
+        std::optional<nrrd::NrrdHeader> parsed;
+        try {
+            parsed = parse();
+        } catch (const InputError&) {
+            if (!cut) throw;
+        }
+        if (cut && (!parsed || parsed->severalDataFiles)) {
+            bytes = readFileBytes(header);
+            parsed = parse();
+        }
+        for (const std::string& dataFile : parsed->dataFiles)
+            files.push_back(resolveDataFile(dataFile, directoryOf(header)));
     } catch (const InputError&) {
-        return std::nullopt;
+        return {};
     }
+    return files;
 }
 
 LabelVolume readNrrdLabels(const fs::path& file) {

@@ -1,7 +1,9 @@
 // skelseg: NRRD volumes (the input mask and the labels.nrrd output).
 //
-// A strict hand-written reader for 3D NRRD files (NRRD0001..NRRD0005):
-// attached or detached (.nhdr + "data file") headers; int8, uint8, int16,
+// A strict hand-written reader for 3D NRRD files (NRRD0001..NRRD0005), and
+// 4D ones whose fourth, non-spatial axis has size 1 (it is dropped):
+// attached or detached (.nhdr + "data file", one file, a LIST or a name
+// pattern such as "slice%03d.raw 0 15 1") headers; int8, uint8, int16,
 // uint16, int32, uint32, int64, uint64, float and double samples in the raw,
 // ascii, hex, gzip and bzip2 encodings, either endianness, with line and
 // byte skips. The first axis runs fastest and becomes
@@ -19,6 +21,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "io/volume/ReadGuards.h"
 #include "kernels/base/Volume.h"
@@ -38,11 +41,12 @@ MaskVolume readNrrdMask(const std::filesystem::path& file, const VolumeReadGuard
 MaskVolume readNrrdMaskFromMemory(const std::string& name, const std::uint8_t* bytes,
                                   std::size_t size);
 
-/// The data file a detached header (`data file:`) names, resolved against the
-/// header's directory as the readers resolve it; nullopt for an attached
-/// header, and for a header the readers would refuse anyway (they say why).
-/// Lets a command make sure that no output replaces a file it reads.
-std::optional<std::filesystem::path> nrrdDetachedDataFile(const std::filesystem::path& header);
+/// The data files a detached header (`data file:`, a LIST or a name pattern)
+/// names, resolved against the header's directory as the readers resolve
+/// them; none for an attached header, and for a header the readers would
+/// refuse anyway (they say why). Lets a command make sure that no output
+/// replaces a file it reads.
+std::vector<std::filesystem::path> nrrdDetachedDataFiles(const std::filesystem::path& header);
 
 /// Reads a 3D NRRD file of uint8 or uint16 samples as labels (values kept).
 /// @throw InputError as readNrrdMask(), and for any other sample type.

@@ -43,7 +43,7 @@ MaskVolume readVolume(const fs::path& file, const VolumeReadOptions& options) {
 std::vector<fs::path> volumeInputFiles(const fs::path& file) {
     std::vector<fs::path> files{file};
     if (volumeFormatFromPath(file) == VolumeFormat::Nrrd)
-        if (auto dataFile = nrrdDetachedDataFile(file)) files.push_back(std::move(*dataFile));
+        for (fs::path& dataFile : nrrdDetachedDataFiles(file)) files.push_back(std::move(dataFile));
     return files;
 }
 

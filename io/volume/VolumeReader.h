@@ -41,7 +41,7 @@ VolumeFormat volumeFormatFromPath(const std::filesystem::path& file);
 MaskVolume readVolume(const std::filesystem::path& file, const VolumeReadOptions& options = {});
 
 /// Every file reading `file` reads: `file`, and a detached NRRD header's
-/// data file (any other path, a mesh included, reads only itself). A command checks them against
+/// data files (any other path, a mesh included, reads only itself). A command checks them against
 /// its outputs so that --force never replaces what it reads.
 std::vector<std::filesystem::path> volumeInputFiles(const std::filesystem::path& file);
 

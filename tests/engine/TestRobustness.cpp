@@ -166,9 +166,15 @@ std::vector<BadCase> nrrdCases() {
         bytes("nrrd_dimension_2", "dim2.nrrd",
               nrrd("type: uint8\ndimension: 2\nsizes: 4 2\nencoding: raw\n", kEightVoxels),
               "dimension 2 is not supported"),
-        bytes("nrrd_dimension_4", "dim4.nrrd",
-              nrrd("type: uint8\ndimension: 4\nsizes: 2 2 2 1\nencoding: raw\n", kEightVoxels),
-              "dimension 4"),
+        // A 4-D file of one volume (the size-1 axis) is read: UnusualInputCli.
+        bytes("nrrd_dimension_4_axis_of_size_2", "dim4.nrrd",
+              nrrd("type: uint8\ndimension: 4\nsizes: 2 2 1 2\nencoding: raw\n"
+                   "kinds: domain domain domain time\n",
+                   kEightVoxels),
+              "axis 3 (kind 'time') has size 2: the file holds several 3-D volumes"),
+        bytes("nrrd_dimension_5", "dim5.nrrd",
+              nrrd("type: uint8\ndimension: 5\nsizes: 2 2 2 1 1\nencoding: raw\n", kEightVoxels),
+              "dimension 5 is not supported"),
         bytes("nrrd_sizes_count", "sizes2.nrrd",
               nrrd("type: uint8\ndimension: 3\nsizes: 4 2\nencoding: raw\n", kEightVoxels),
               "sizes lists 2 values"),
@@ -266,8 +272,6 @@ std::vector<BadCase> nrrdCases() {
         bytes("nrrd_spacing_zero", "flat.nrrd",
               nrrd(kUint8Fields + "spacings: 1 0 1\n", kEightVoxels),
               "the voxel step along axis 1 is zero: the voxels have no volume"),
-        bytes("nrrd_data_file_list", "list.nhdr",
-              "NRRD0004\n" + kUint8Fields + "data file: LIST\na.raw\n", "multiple data files"),
         bytes("nrrd_data_file_missing", "detached.nhdr",
               "NRRD0004\n" + kUint8Fields + "data file: missing.raw\n", "no such file"),
     };
@@ -289,6 +293,35 @@ std::vector<BadCase> nrrdCases() {
         writeBytes(f.parent_path() / "short.raw", "abc");
     };
     cases.push_back(shortData);
+    // Data in several files (one 2x2 slice a file): each file is checked
+    // as one data file is, and they must add up to the sizes.
+    const auto severalFiles = [&](std::string name, std::string fileName, std::string dataFile,
+                                  std::string problem) {
+        BadCase c =
+            bytes(std::move(name), std::move(fileName),
+                  "NRRD0004\n" + kUint8Fields + "data file: " + dataFile, std::move(problem));
+        const auto writeHeader = c.make;
+        c.make = [writeHeader](const fs::path& f) {
+            writeHeader(f);
+            writeBytes(f.parent_path() / "s0.raw", kEightVoxels.substr(0, 4));
+            writeBytes(f.parent_path() / "s1.raw", kEightVoxels.substr(4));
+            writeBytes(f.parent_path() / "short.raw", kEightVoxels.substr(4, 3));
+        };
+        cases.push_back(c);
+    };
+    severalFiles("nrrd_data_file_list_missing_file", "missing.nhdr", "LIST\ns0.raw\nabsent.raw\n",
+                 "data file 'absent.raw': no such file");
+    severalFiles("nrrd_data_file_list_too_few", "few.nhdr", "LIST\ns0.raw\n",
+                 "data file 'LIST' names 1 file, but sizes 2 2 2 are 2 pieces of 2 dimensions, "
+                 "one a file");
+    severalFiles("nrrd_data_file_list_short_slice", "short.nhdr", "LIST\ns0.raw\nshort.raw\n",
+                 "data file 'short.raw': data is too short: 3 bytes, header says 4");
+    severalFiles("nrrd_data_file_pattern_two_conversions", "two.nhdr", "s%d%d.raw 0 1 1\n",
+                 "has 2 conversions; it must have exactly one integer conversion");
+    severalFiles("nrrd_data_file_pattern_of_a_string", "string.nhdr", "s%s.raw 0 1 1\n",
+                 "has '%s', which is not an integer conversion");
+    severalFiles("nrrd_data_file_pattern_too_many", "many.nhdr", "s%d.raw 0 2 1\n",
+                 "names 3 files, but sizes 2 2 2 are 2 pieces");
     // The system ends a name at its first NUL byte: the header named
     // "d.raw\0x" and d.raw was read.
     BadCase nulInName =
@@ -1358,6 +1391,41 @@ TEST(UnusualInputCli, ByteOrderMarkBeforeTheFirstObjVertexIsSkipped) {
     ASSERT_EQ(bom.exitCode, 0) << bom.describe();
     ASSERT_EQ(runSegment(dir / "plain.obj", dir / "b", {"--resolution", "16"}).exitCode, 0);
     EXPECT_EQ(fileBytes(dir / "a" / "segmentation.seg"), fileBytes(dir / "b" / "segmentation.seg"));
+}
+
+// Valid NRRD forms that were refused (docs/robustness.md, "A fifth probe"):
+// a 4-D file whose fourth axis has size 1, and data in a list of files,
+// give the labels of the one 3-D file.
+TEST(UnusualInputCli, NrrdOfDimensionFourOrInSeveralFilesIsSegmentedAsTheVolume) {
+    TempDir dir;
+    const MaskVolume mask = makeMask(Dims{8, 8, 8}, [](int x, int y, int z) {
+        return (x > 1 && x < 6 && y > 1 && y < 6 && z > 0 && z < 7) || (x < 2 && y < 2);
+    });
+    std::string voxels(mask.data(), mask.data() + mask.size());
+    const std::string fields = "type: uint8\nencoding: raw\nspacings: 1 1 2";
+    writeBytes(dir / "volume.nrrd",
+               "NRRD0004\n" + fields + "\ndimension: 3\nsizes: 8 8 8\n\n" + voxels);
+    writeBytes(dir / "dim4.nrrd",
+               "NRRD0004\n" + fields + " nan\ndimension: 4\nsizes: 8 8 8 1\n\n" + voxels);
+    std::string list = "LIST\n";
+    for (int z = 0; z < 8; ++z) {
+        const std::string name = "z" + std::to_string(z) + ".raw";
+        writeBytes(dir / name, voxels.substr(std::size_t(z) * 64, 64));
+        list += name + "\n";
+    }
+    writeBytes(dir / "list.nhdr",
+               "NRRD0004\n" + fields + "\ndimension: 3\nsizes: 8 8 8\ndata file: " + list);
+    ASSERT_EQ(runSegment(dir / "volume.nrrd", dir / "a").exitCode, 0);
+    const LabelVolume expected = readNrrdLabels(dir / "a" / "labels.nrrd");
+    for (const char* input : {"dim4.nrrd", "list.nhdr"}) {
+        const fs::path out = dir / (std::string(input) + ".out");
+        const CliResult result = runSegment(dir / input, out);
+        ASSERT_EQ(result.exitCode, 0) << result.describe();
+        const LabelVolume labels = readNrrdLabels(out / "labels.nrrd");
+        ASSERT_EQ(labels.dims(), expected.dims()) << input;
+        EXPECT_TRUE(std::equal(labels.data(), labels.data() + labels.size(), expected.data()))
+            << input;
+    }
 }
 
 TEST(UnusualInputCli, MoreThreadsThanCoresPrintNothing) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -607,6 +608,286 @@ TEST(NrrdIO, LabelsRejectNonIntegerLabelTypes) {
     expectInputError([&] { readNrrdLabels(dir / "float.nrrd"); }, "float.nrrd", "uint8 or uint16");
 }
 
+// ---------------------------------------------------------------------------
+// 4-D headers with a size-1 axis, and data in several files: each form of the
+// same volume reads as the one 3-D file does.
+// ---------------------------------------------------------------------------
+
+/// 5 x 4 x 6 uint16 labels, every value distinct in both bytes, as raw
+/// little-endian samples (x fastest).
+std::string sixSlices() {
+    std::string data;
+    for (int i = 0; i < 5 * 4 * 6; ++i) {
+        const std::uint16_t value = std::uint16_t(i % 7 == 0 ? 0 : 300 * i + 1);
+        data += char(value & 0xff);
+        data += char(value >> 8);
+    }
+    return data;
+}
+constexpr std::size_t kSliceBytes = 5 * 4 * 2;
+
+/// The geometry every form of sixSlices() gives.
+const std::string kSixSlicesGeometry = "space: left-posterior-superior\nspace origin: (1.5,-2,3)\n";
+const std::string kDirections = "(0.5,0,0) (0,0.75,0) (0,0,1.25)";
+
+std::string uint16Fields(const std::string& dimension, const std::string& sizes,
+                         const std::string& encoding = "raw") {
+    return "type: uint16\nendian: little\ndimension: " + dimension + "\nsizes: " + sizes +
+           "\nencoding: " + encoding + "\n" + kSixSlicesGeometry;
+}
+
+/// The reference: sixSlices() as one attached 3-D file.
+LabelVolume sixSlicesVolume(const fs::path& dir) {
+    writeBytes(
+        dir / "reference.nrrd",
+        nrrd(uint16Fields("3", "5 4 6") + "space directions: " + kDirections + "\n", sixSlices()));
+    return readNrrdLabels(dir / "reference.nrrd");
+}
+
+/// `file` reads as `reference`: dims, geometry and every voxel.
+void expectSameVolume(const fs::path& file, const LabelVolume& reference) {
+    SCOPED_TRACE(file.filename().string());
+    LabelVolume volume;
+    try {
+        volume = readNrrdLabels(file);
+    } catch (const InputError& error) {
+        ADD_FAILURE() << error.what();
+        return;
+    }
+    ASSERT_EQ(volume.dims(), reference.dims());
+    expectSameGeometry(volume.geometry, reference.geometry);
+    EXPECT_TRUE(std::equal(volume.data(), volume.data() + volume.size(), reference.data()));
+    // The mask reader takes the same path.
+    const MaskVolume mask = readNrrdMask(file);
+    for (std::size_t i = 0; i < mask.size(); ++i)
+        ASSERT_EQ(mask[i], reference[i] != 0 ? 1 : 0) << "voxel " << i;
+}
+
+TEST(NrrdIO, FourDimensionsWithASizeOneAxisReadAsTheThreeOthers) {
+    test::TempDir dir;
+    const LabelVolume reference = sixSlicesVolume(dir.path());
+    ASSERT_EQ(reference.dims(), (Dims{5, 4, 6}));
+    const std::string data = sixSlices();
+    const std::vector<std::pair<std::string, std::string>> forms = {
+        // The size-1 axis first (a scalar or one-component vector axis), as
+        // ITK and Slicer write it; its direction is "none".
+        {"first.nrrd", uint16Fields("4", "1 5 4 6") +
+                           "kinds: scalar domain domain domain\nspace directions: none " +
+                           kDirections + "\n"},
+        {"first-vector.nrrd", uint16Fields("4", "1 5 4 6") +
+                                  "kinds: vector space space space\nspace directions: none " +
+                                  kDirections + "\n"},
+        // Last, without kinds: the axis of size 1 that has no direction.
+        {"last.nrrd",
+         uint16Fields("4", "5 4 6 1") + "space directions: " + kDirections + " none\n"},
+        {"last-list.nrrd",
+         uint16Fields("4", "5 4 6 1") +
+             "kinds: domain domain domain list\nspace directions: " + kDirections + " none\n"},
+        // Neither kinds nor directions: the one axis of size 1 (spacings
+        // list four values, NaN for it).
+        {"spacings.nrrd",
+         "type: uint16\nendian: little\ndimension: 4\nsizes: 5 4 1 6\n"
+         "encoding: raw\nspace: left-posterior-superior\n"
+         "space origin: (1.5,-2,3)\nspacings: 0.5 0.75 nan 1.25\n"},
+        {"unknown-kind.nrrd", uint16Fields("4", "5 1 4 6") +
+                                  "kinds: domain ??? domain domain\nspacings: 0.5 nan 0.75 1.25\n"},
+    };
+    for (const auto& [name, fields] : forms) {
+        writeBytes(dir / name, nrrd(fields, data));
+        expectSameVolume(dir / name, reference);
+    }
+}
+
+TEST(NrrdIO, FourDimensionsRefuseAnAxisOfMoreThanOneSample) {
+    test::TempDir dir;
+    const std::string data = sixSlices();
+    const struct {
+        const char* name;
+        std::string fields;
+        const char* problem;
+    } cases[] = {
+        {"rgb.nrrd", uint16Fields("4", "3 5 4 2") + "kinds: RGB-color domain domain domain\n",
+         "axis 0 (kind 'RGB-color') has size 3: the file holds several 3-D volumes (a time "
+         "series, or the components of a colour or vector volume), not one; keep one with 'unu "
+         "slice -a 0 -p 0' (or take one component) and segment that"},
+        {"series.nrrd", uint16Fields("4", "5 4 3 2") + "kinds: domain domain domain time\n",
+         "axis 3 (kind 'time') has size 2"},
+        {"none.nrrd", uint16Fields("4", "5 4 3 2") + "space directions: " + kDirections + " none\n",
+         "axis 3 has size 2: the file holds several 3-D volumes"},
+        {"no-size-1.nrrd", uint16Fields("4", "5 4 3 2"),
+         "dimension 4 with no axis of size 1 (sizes 5 4 3 2)"},
+        {"two-size-1.nrrd", uint16Fields("4", "1 5 24 1"),
+         "axes 0 and 3 have size 1, and neither 'kinds' nor 'space directions' says which is not "
+         "spatial"},
+        {"two-kinds.nrrd", uint16Fields("4", "1 5 24 1") + "kinds: scalar domain domain time\n",
+         "axes 0 and 3 are of kinds that are not spatial"},
+        {"all-spatial.nrrd", uint16Fields("4", "1 5 4 6") + "kinds: domain domain domain domain\n",
+         "kinds gives every axis of size 1 a spatial kind"},
+        {"spatial-none.nrrd",
+         uint16Fields("4", "1 5 4 6") + "kinds: scalar domain domain domain\n" +
+             "space directions: (1,0,0) none (0,1,0) (0,0,1)\n",
+         "space directions: axis 1 is 'none', but only axis 0 is not spatial"},
+        {"dimension-5.nrrd", uint16Fields("5", "1 5 4 6 1"), "dimension 5 is not supported"},
+        {"dimension-2.nrrd", uint16Fields("2", "20 24"), "dimension 2 is not supported"},
+    };
+    for (const auto& c : cases) {
+        writeBytes(dir / c.name, nrrd(c.fields, data));
+        expectInputError([&] { readNrrdMask(dir / c.name); }, c.name, c.problem);
+    }
+}
+
+/// A detached header over sixSlices(): `dataFile` is the "data file" field
+/// and what follows it.
+void writeDetached(const fs::path& file, const std::string& dataFile,
+                   const std::string& encoding = "raw", const std::string& extra = "") {
+    writeBytes(file, "NRRD0004\n" + uint16Fields("3", "5 4 6", encoding) + "space directions: " +
+                         kDirections + "\n" + extra + "data file: " + dataFile);
+}
+
+TEST(NrrdIO, DataInSeveralFilesReadsAsOneFile) {
+    test::TempDir dir;
+    const LabelVolume reference = sixSlicesVolume(dir.path());
+    const std::string data = sixSlices();
+    const auto slice = [&](int z) {
+        return data.substr(std::size_t(z) * kSliceBytes, kSliceBytes);
+    };
+    fs::create_directories(dir / "slices");
+    std::string list;
+    for (int z = 0; z < 6; ++z) {
+        const std::string name = "slice" + std::to_string(z) + ".raw";
+        writeBytes(dir / "slices" / name, slice(z));
+        list += "slices/" + name + "\n";
+        // Numbered down: file 005 holds slice 0.
+        char down[32];
+        std::snprintf(down, sizeof(down), "down%03d.raw", 5 - z);
+        writeBytes(dir / down, slice(z));
+        char up[32];
+        std::snprintf(up, sizeof(up), "up-%02d.raw", 10 + 2 * z);
+        writeBytes(dir / up, slice(z));
+        writeBytes(dir / ("z" + std::to_string(z) + ".raw.gz"), compress("ab" + slice(z)));
+        writeBytes(
+            dir / ("z" + std::to_string(z) + ".txt"), "# slice\n" + [&] {
+                std::string numbers;
+                for (std::size_t i = 0; i < kSliceBytes; i += 2)
+                    numbers += std::to_string(std::uint8_t(slice(z)[i]) +
+                                              256 * std::uint8_t(slice(z)[i + 1])) +
+                               " ";
+                return numbers + "\n";
+            }());
+    }
+    writeBytes(dir / "half0.raw", data.substr(0, 3 * kSliceBytes));
+    writeBytes(dir / "half1.raw", data.substr(3 * kSliceBytes));
+
+    writeDetached(dir / "list.nhdr", "LIST\n" + list);
+    writeDetached(dir / "list-2d.nhdr", "LIST 2\n" + list + "\n");
+    writeDetached(dir / "up.nhdr", "up-%02d.raw 10 20 2\n");
+    writeDetached(dir / "down.nhdr", "down%03d.raw 5 0 -1\n");
+    writeDetached(dir / "halves.nhdr", "LIST 3\nhalf0.raw\nhalf1.raw\n");
+    writeDetached(dir / "halves-pattern.nhdr", "half%d.raw 0 1 1 3\n");
+    // Skips apply to each file; gzip's byte skip to its decompressed data.
+    writeDetached(dir / "gzip.nhdr", "z%d.raw.gz 0 5 1\n", "gzip", "byte skip: 2\n");
+    writeDetached(dir / "ascii.nhdr", "z%d.txt 0 5 1\n", "ascii", "line skip: 1\n");
+    for (const char* name : {"list.nhdr", "list-2d.nhdr", "up.nhdr", "down.nhdr", "halves.nhdr",
+                             "halves-pattern.nhdr", "gzip.nhdr", "ascii.nhdr"})
+        expectSameVolume(dir / name, reference);
+
+    // Every file is an input of the header: outputs are checked against them.
+    const std::vector<fs::path> inputs = volumeInputFiles(dir / "down.nhdr");
+    ASSERT_EQ(inputs.size(), 7u);
+    EXPECT_EQ(inputs[1], dir / "down005.raw");
+    EXPECT_EQ(inputs[6], dir / "down000.raw");
+    EXPECT_EQ(volumeInputFiles(dir / "list.nhdr").back(), dir / "slices" / "slice5.raw");
+}
+
+TEST(NrrdIO, AListPastTheFirstMebibyteIsListedWhole) {
+    // Outputs are checked against the data files before the run reads them,
+    // from the header's first MiB: a list that goes on past it was cut.
+    test::TempDir dir;
+    const std::string folder(250, 'd');
+    fs::create_directories(dir / folder);
+    std::string list = "LIST 1\n";
+    for (int row = 0; row < 64 * 64; ++row) {
+        char name[32];
+        std::snprintf(name, sizeof(name), "/r%04d.raw", row);
+        writeBytes(dir / (folder + name), std::string(64, char(row % 3 == 0)));
+        list += folder + name + "\n";
+    }
+    writeBytes(dir / "rows.nhdr",
+               "NRRD0004\n" + basicFields("uint8", "64 64 64", "raw") + "data file: " + list);
+    ASSERT_GT(fileBytes(dir / "rows.nhdr").size(), std::size_t(1) << 20);
+    const std::vector<fs::path> inputs = volumeInputFiles(dir / "rows.nhdr");
+    ASSERT_EQ(inputs.size(), 1u + 64 * 64);
+    EXPECT_EQ(inputs.back(), dir / (folder + "/r4095.raw"));
+    const MaskVolume mask = readNrrdMask(dir / "rows.nhdr");
+    EXPECT_EQ(countNonzero(mask), std::size_t(64 * ((64 * 64 + 2) / 3)));
+    EXPECT_EQ(mask(5, 3, 0), 1);
+    EXPECT_EQ(mask(5, 4, 0), 0);
+}
+
+TEST(NrrdIO, DataInSeveralFilesRefusesWhatDoesNotAddUp) {
+    test::TempDir dir;
+    const std::string data = sixSlices();
+    for (int z = 0; z < 6; ++z)
+        writeBytes(dir / ("s" + std::to_string(z) + ".raw"),
+                   data.substr(std::size_t(z) * kSliceBytes, kSliceBytes));
+    writeBytes(dir / "short.raw", data.substr(0, kSliceBytes - 2));
+    writeBytes(dir / "long.raw", data.substr(0, kSliceBytes + 1));
+    std::string five;
+    for (int z = 0; z < 5; ++z) five += "s" + std::to_string(z) + ".raw\n";
+    const struct {
+        const char* name;
+        std::string dataFile;
+        const char* problem;
+    } cases[] = {
+        {"five.nhdr", "LIST\n" + five,
+         "data file 'LIST' names 5 files, but sizes 5 4 6 are 6 pieces of 2 dimensions, one a "
+         "file"},
+        {"seven.nhdr", "LIST\n" + five + "s5.raw\ns0.raw\n", "names 7 files"},
+        {"empty-list.nhdr", "LIST\n", "no file names follow it"},
+        {"missing.nhdr", "LIST\n" + five + "absent.raw\n", "data file 'absent.raw': no such file"},
+        {"short.nhdr", "LIST\n" + five + "short.raw\n",
+         "data file 'short.raw': data is too short: 38 bytes, header says 40"},
+        {"long.nhdr", "LIST\n" + five + "long.raw\n",
+         "data file 'long.raw': data is too long: 41 bytes, header says 40"},
+        {"uneven.nhdr", "LIST 3\ns0.raw\ns1.raw\ns2.raw\ns3.raw\n",
+         "names 4 files, but the 6 slices of the slowest axis do not split into as many equal "
+         "runs"},
+        {"subdim-4.nhdr", "LIST 4\ns0.raw\n", "the dimension of each file's data, 4, is not"},
+        {"pattern-few.nhdr", "s%d.raw 0 4 1\n", "names 5 files"},
+        {"pattern-two.nhdr", "s%d%d.raw 0 5 1\n",
+         "data file pattern 's%d%d.raw 0 5 1' has 2 conversions; it must have exactly one "
+         "integer conversion (such as %03d)"},
+        {"pattern-none.nhdr", "s%%.raw 0 5 1\n", "has 0 conversions"},
+        {"pattern-s.nhdr", "s%s.raw 0 5 1\n",
+         "has '%s', which is not an integer conversion (such as %d or %03d)"},
+        {"pattern-n.nhdr", "s%n%d.raw 0 5 1\n", "'%n', which is not an integer conversion"},
+        {"pattern-star.nhdr", "s%*d.raw 0 5 1\n", "'%*', which is not an integer conversion"},
+        {"pattern-long.nhdr", "s%ld.raw 0 5 1\n", "'%l', which is not an integer conversion"},
+        {"pattern-wide.nhdr", "s%9999d.raw 0 5 1\n", "more than 3 digits"},
+        {"pattern-step-0.nhdr", "s%d.raw 0 5 0\n", "the step is 0"},
+        {"pattern-backwards.nhdr", "s%d.raw 5 0 1\n", "names no file"},
+        {"pattern-no-step.nhdr", "s%d.raw 0 5\n", "a pattern takes its first and last number"},
+        {"pattern-missing.nhdr", "s%d.raw 1 6 1\n", "data file 's6.raw': no such file"},
+        {"pattern-negative-x.nhdr", "s%x.raw -1 4 1\n", "cannot be written with %x"},
+        {"nul.nhdr", "LIST\n" + five + "s5.raw" + std::string(1, '\0') + "x\n",
+         "the name holds a NUL byte"},
+        {"directory.nhdr", "LIST\n" + five + ".\n", "data file '.': is a directory"},
+    };
+    for (const auto& c : cases) {
+        writeDetached(dir / c.name, c.dataFile);
+        expectInputError([&] { readNrrdMask(dir / c.name); }, c.name, c.problem);
+    }
+    // Six good files, from memory: a detached header cannot be read there.
+    const std::string header =
+        "NRRD0004\n" + uint16Fields("3", "5 4 6") + "data file: s%d.raw 0 5 1\n";
+    expectInputError(
+        [&] {
+            readNrrdMaskFromMemory("mem.nhdr", reinterpret_cast<const std::uint8_t*>(header.data()),
+                                   header.size());
+        },
+        "mem.nhdr", "cannot be read from memory");
+}
+
 TEST(NrrdIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
     test::TempDir dir;
     const std::string raw24(2 * 3 * 4, '\0');
@@ -637,8 +918,8 @@ TEST(NrrdIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
         {"dimension-2",
          nrrd("type: uint8\ndimension: 2\nsizes: 2 3\nencoding: raw\n", raw24.substr(0, 6)),
          "dimension 2"},
-        {"dimension-4", nrrd("type: uint8\ndimension: 4\nsizes: 1 2 3 4\nencoding: raw\n", raw24),
-         "dimension 4"},
+        {"dimension-4", nrrd("type: uint8\ndimension: 4\nsizes: 2 3 4 2\nencoding: raw\n", raw24),
+         "dimension 4 with no axis of size 1"},
         {"sizes-count", nrrd("type: uint8\ndimension: 3\nsizes: 2 3\nencoding: raw\n", raw24),
          "sizes"},
         {"negative-size", nrrd(basicFields("uint8", "2 -3 4", "raw"), raw24), "not positive"},
@@ -742,7 +1023,8 @@ TEST(NrrdIO, MalformedFilesGiveOneLineErrorsNamingFileAndProblem) {
         {"kinds-time", nrrd(ok + "kinds: domain domain time\n", raw24), "axis 2 is of kind"},
         {"kinds-vector", nrrd(ok + "kinds: domain 3-vector domain\n", raw24), "axis 1"},
         {"kinds-count", nrrd(ok + "kinds: domain domain\n", raw24), "kinds lists 2 values"},
-        {"data-file-list", "NRRD0004\n" + ok + "data file: LIST\na.raw\n", "multiple data files"},
+        {"data-file-list", "NRRD0004\n" + ok + "data file: LIST\na.raw\n",
+         "data file 'LIST' names 1 file, but sizes 2 3 4 are 4 pieces"},
         {"data-file-missing", "NRRD0004\n" + ok + "data file: absent.raw\n", "no such file"},
     };
     for (const auto& c : cases) {
