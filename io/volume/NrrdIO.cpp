@@ -412,21 +412,30 @@ std::vector<fs::path> nrrdDetachedDataFiles(const fs::path& header) {
     // readers accept but a long list of data files, and reading no more
     // keeps this cheap on large volumes.
     constexpr std::size_t kHeaderBytes = std::size_t(1) << 20;
+    // A list of a million names of 64 bytes; a longer one is refused as
+    // unread rather than reading a file of any size to find its end.
+    constexpr std::size_t kListedHeaderBytes = std::size_t(64) << 20;
     std::string bytes;
     std::vector<fs::path> files;
     try {
         checkReadableFile(header);
-        std::ifstream in(header, std::ios::binary);
-        bytes.resize(kHeaderBytes);
-        in.read(bytes.data(), std::streamsize(bytes.size()));
-        bytes.resize(std::size_t(in.gcount()));
+        const auto readPrefix = [&](std::size_t limit) {
+            std::ifstream in(header, std::ios::binary);
+            bytes.resize(limit);
+            in.read(bytes.data(), std::streamsize(bytes.size()));
+            bytes.resize(std::size_t(in.gcount()));
+        };
+        readPrefix(kHeaderBytes);
         const auto parse = [&] {
             return nrrd::parseNrrdHeader(
                 header.string(), reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
         };
         // A list of data files may go on past the first MiB (a detached
         // header is all header): cut there, the list is too short, or its
-        // last name is no file it names.
+        // last name is no file it names. Only a header that starts a list is
+        // read further: a large file of anything else (a sparse file of
+        // zeros under a NRRD magic) must not be read whole before the
+        // memory check refuses it.
         const bool cut = bytes.size() == kHeaderBytes;
         std::optional<nrrd::NrrdHeader> parsed;
         try {
@@ -434,10 +443,13 @@ std::vector<fs::path> nrrdDetachedDataFiles(const fs::path& header) {
         } catch (const InputError&) {
             if (!cut) throw;
         }
-        if (cut && (!parsed || parsed->severalDataFiles)) {
-            bytes = readFileBytes(header);
+        const bool startsAList = bytes.find("\ndata file: LIST") != std::string::npos ||
+                                 bytes.find("\ndatafile: LIST") != std::string::npos;
+        if (cut && (!parsed || parsed->severalDataFiles) && startsAList) {
+            readPrefix(kListedHeaderBytes);
             parsed = parse();
         }
+        if (!parsed) return {};
         for (const std::string& dataFile : parsed->dataFiles)
             files.push_back(resolveDataFile(dataFile, directoryOf(header)));
     } catch (const InputError&) {
