@@ -11,6 +11,7 @@
 #include "io/files/ForeignContent.h"
 #include "io/files/TextFile.h"
 #include "io/files/TextTokenizer.h"
+#include "io/volume/NrrdIO.h"
 #include "kernels/base/Error.h"
 
 namespace skelseg::nrrd {
@@ -720,6 +721,10 @@ private:
     }
 
     void finish() {
+        if (mHeader.dataOffset >= kMaxNrrdHeaderBytes)
+            fail("the header is " + std::to_string(mHeader.dataOffset) + " bytes long; at most " +
+                 std::to_string(kMaxNrrdHeaderBytes - 1) +
+                 " are read (a LIST of that many data files is more than one volume needs)");
         if (!mHeader.dimension) fail("missing required field 'dimension'");
         const int dimension = *mHeader.dimension;
         if (dimension != 3 && dimension != 4)

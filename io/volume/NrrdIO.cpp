@@ -412,9 +412,6 @@ std::vector<fs::path> nrrdDetachedDataFiles(const fs::path& header) {
     // readers accept but a long list of data files, and reading no more
     // keeps this cheap on large volumes.
     constexpr std::size_t kHeaderBytes = std::size_t(1) << 20;
-    // A list of a million names of 64 bytes; a longer one is refused as
-    // unread rather than reading a file of any size to find its end.
-    constexpr std::size_t kListedHeaderBytes = std::size_t(64) << 20;
     std::string bytes;
     std::vector<fs::path> files;
     try {
@@ -446,7 +443,7 @@ std::vector<fs::path> nrrdDetachedDataFiles(const fs::path& header) {
         const bool startsAList = bytes.find("\ndata file: LIST") != std::string::npos ||
                                  bytes.find("\ndatafile: LIST") != std::string::npos;
         if (cut && (!parsed || parsed->severalDataFiles) && startsAList) {
-            readPrefix(kListedHeaderBytes);
+            readPrefix(kMaxNrrdHeaderBytes);
             parsed = parse();
         }
         if (!parsed) return {};

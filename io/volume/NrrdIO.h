@@ -41,6 +41,12 @@ MaskVolume readNrrdMask(const std::filesystem::path& file, const VolumeReadGuard
 MaskVolume readNrrdMaskFromMemory(const std::string& name, const std::uint8_t* bytes,
                                   std::size_t size);
 
+/// The longest NRRD header read: room for a LIST of a million data files
+/// with names of 64 bytes. A longer one is refused, so that the checks that
+/// read only a header's list (nrrdDetachedDataFiles) see what the reader
+/// reads.
+constexpr std::size_t kMaxNrrdHeaderBytes = std::size_t(64) << 20;
+
 /// The data files a detached header (`data file:`, a LIST or a name pattern)
 /// names, resolved against the header's directory as the readers resolve
 /// them; none for an attached header, and for a header the readers would

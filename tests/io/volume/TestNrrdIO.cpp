@@ -824,6 +824,23 @@ TEST(NrrdIO, AListPastTheFirstMebibyteIsListedWhole) {
     EXPECT_EQ(mask(5, 4, 0), 0);
 }
 
+TEST(NrrdIO, AListLongerThanTheLongestHeaderIsRefusedAsTheListingReadsIt) {
+    // The output checks read a list from the header's first
+    // kMaxNrrdHeaderBytes; the reader refuses a longer header, so no listed
+    // file goes unchecked. A million names of 71 bytes: over the limit.
+    test::TempDir dir;
+    std::string header =
+        "NRRD0004\n" + basicFields("uint8", "2 1000 1000", "raw") + "data file: LIST 1\n";
+    const std::string name(70, 'n');
+    header.reserve(header.size() + 1000000 * (name.size() + 1));
+    for (int row = 0; row < 1000000; ++row) header += name + "\n";
+    ASSERT_GT(header.size(), kMaxNrrdHeaderBytes);
+    writeBytes(dir / "long.nhdr", header);
+    EXPECT_EQ(volumeInputFiles(dir / "long.nhdr").size(), 1u);
+    expectInputError([&] { readNrrdMask(dir / "long.nhdr"); }, "long.nhdr",
+                     "at most " + std::to_string(kMaxNrrdHeaderBytes - 1) + " are read");
+}
+
 TEST(NrrdIO, DataInSeveralFilesRefusesWhatDoesNotAddUp) {
     test::TempDir dir;
     const std::string data = sixSlices();
