@@ -46,14 +46,23 @@ std::string unknownInputFormatProblem(const fs::path& file) {
 }
 
 void checkInputFileSize(const fs::path& file, std::uint64_t memoryLimit) {
-    std::error_code ec;
-    const auto fileSize = fs::is_regular_file(file, ec) ? fs::file_size(file, ec) : 0;
-    // Files over kMaxInputFileBytes are bad input whatever the memory: the
-    // reader refuses them.
-    if (!ec && fileSize > memoryLimit && fileSize <= kMaxInputFileBytes)
-        throw MemoryLimitError(file.string() + ": reading the file needs at least " +
-                               formatBytes(fileSize) + ", over the limit of " +
-                               formatBytes(memoryLimit) + " (--max-memory)");
+    // A detached NRRD header's data files are read into memory with it
+    // (all of them before the volume is allocated).
+    const std::vector<fs::path> files = volumeInputFiles(file);
+    std::uint64_t totalBytes = 0;
+    for (const fs::path& part : files) {
+        std::error_code ec;
+        const auto size = fs::is_regular_file(part, ec) ? fs::file_size(part, ec) : 0;
+        // Files over kMaxInputFileBytes are bad input whatever the memory:
+        // the reader refuses them.
+        if (ec || size > kMaxInputFileBytes) return;
+        totalBytes += size;
+    }
+    if (totalBytes > memoryLimit)
+        throw MemoryLimitError(
+            file.string() + ": reading the file" + (files.size() > 1 ? " and its data files" : "") +
+            " needs at least " + formatBytes(totalBytes) + ", over the limit of " +
+            formatBytes(memoryLimit) + " (--max-memory)");
 }
 
 void refuseVolumeGridOverMemory(const fs::path& file, const Dims& dims,

@@ -184,8 +184,9 @@ CoarseningMemoryCaps finestCoarseningsWithinMemory(const MaskVolume& mask,
                                                    const SegmentInputOptions& options,
                                                    Interrupter& interrupter = nullInterrupter());
 
-/// @throw MemoryLimitError when `file` is larger than `memoryLimit` (and
-/// small enough for the readers, which refuse larger files themselves).
+/// @throw MemoryLimitError when `file`, with the data files of a detached
+/// NRRD header, is larger than `memoryLimit` (and each small enough for the
+/// readers, which refuse larger files themselves).
 void checkInputFileSize(const std::filesystem::path& file, std::uint64_t memoryLimit);
 
 /// @throw MemoryLimitError naming `file` when even the least a run could need

@@ -1571,6 +1571,26 @@ TEST(Limits, HugeFileOverMaxMemoryIsRefusedWithoutReadingIt) {
     EXPECT_TRUE(leftNothing(dir / "out"));
 }
 
+TEST(Limits, DetachedDataFilesOverMaxMemoryAreRefusedBeforeTheyAreRead) {
+    // The header is a few bytes; its data files are read whole with it, so
+    // their sizes count against --max-memory before a byte of them is read
+    // (the grid check comes after reading, and names no file size).
+    TempDir dir;
+    const fs::path input = dir / "slabs.nhdr";
+    writeBytes(input,
+               "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 1024 1024 3072\n"
+               "encoding: raw\ndata file: slab%d.raw 0 2 1 3\n");
+    for (int slab = 0; slab < 3; ++slab) {
+        const fs::path data = dir / ("slab" + std::to_string(slab) + ".raw");
+        writeBytes(data, "");
+        fs::resize_file(data, std::uintmax_t(1) << 30);  // 1 GiB each, sparse
+    }
+    const CliResult result = runSegment(input, dir / "out", {"--max-memory", "2G"});
+    EXPECT_TRUE(failsWithOneLine(result, 4, input.string(),
+                                 "reading the file and its data files needs at least 3.2"));
+    EXPECT_TRUE(leftNothing(dir / "out"));
+}
+
 // A run-length or gzip volume of a few megabytes may claim billions of
 // voxels: the reader hands the grid to the --max-memory check before it
 // allocates it (a byte per voxel). A file too short to encode its grid at
