@@ -10,8 +10,24 @@ namespace skelseg {
 
 namespace {
 std::atomic<bool> gInterruptRequested{false};
-extern "C" void onSignal(int) {
+// Signals received, apart from requestInterrupt(): a test's or the Python
+// module's raised flag must not turn a later real signal into the second one.
+std::atomic<int> gSignalsReceived{0};
+static_assert(std::atomic<int>::is_always_lock_free, "used in a signal handler");
+
+// The first signal asks the stages to stop at their next poll, which ends the
+// run within a second or so and leaves no output. The stages cannot poll
+// while the process waits in a system call (a pipe nobody reads, a stalled
+// network file), so a second SIGINT or SIGTERM ends the process at once by
+// the signal's default action, as if the handler were not there: outputs are
+// staged, so nothing half-written is left under a final name, and the next
+// run on the folder removes the staging directory.
+extern "C" void onSignal(int signalNumber) {
     gInterruptRequested.store(true);
+    if (gSignalsReceived.fetch_add(1) > 0) {
+        std::signal(signalNumber, SIG_DFL);
+        std::raise(signalNumber);
+    }
 }
 }  // namespace
 

@@ -9,7 +9,8 @@
 //   kernels poll it every few milliseconds, so a run stops within about a
 //   second of the limit.
 // - User interrupt: installSignalHandlers() routes SIGINT/SIGTERM to a flag
-//   that wasInterrupted() reports.
+//   that wasInterrupted() reports; a second signal ends the process at once
+//   (a run waiting in a system call does not poll the flag).
 // All members are safe to call from any thread.
 #pragma once
 
@@ -47,7 +48,8 @@ public:
     /// Seconds from construction; <= 0: no limit.
     double timeLimit() const { return mTimeLimit.load(); }
 
-    /// SIGINT and SIGTERM set a process-wide flag that every reporter sees.
+    /// SIGINT and SIGTERM set a process-wide flag that every reporter sees;
+    /// the second of them (either) ends the process by its default action.
     static void installSignalHandlers();
     /// For tests: raise the flag as a signal would.
     static void requestInterrupt() noexcept;

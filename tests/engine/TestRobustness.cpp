@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/BatchCommand.h"
+#include "io/files/OutputDirectory.h"
 #include "io/mesh/MeshIO.h"
 #include "io/shapes/SyntheticShapes.h"
 #include "io/volume/NrrdIO.h"
@@ -1778,6 +1779,36 @@ TEST(Outputs, SigintIsExitThreeAndLeavesNothing) {
 }
 TEST(Outputs, SigtermIsExitThreeAndLeavesNothing) {
     expectInterruptedBy(SIGTERM);
+}
+
+// The first signal waits for the next poll, which a run blocked in a system
+// call never reaches; the second must end it there and then. Killed, the run
+// leaves only its staging directory, and the same command completes after.
+TEST(Outputs, ASecondSignalEndsTheRunAtOnceAndTheNextRunCompletes) {
+    TempDir dir;
+    const fs::path input = writeLargeInput(dir);
+    const fs::path out = dir / "out";
+    const std::vector<std::string> command = {"segment",    input.string(), "-o",
+                                              out.string(), "--quiet",      "--no-preview"};
+    bool sent = false;
+    const CliResult killed = runSkelseg(command, [&](pid_t pid) {
+        if (!sent && hasStagingDirectory(out)) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(200));
+            ::kill(pid, SIGINT);
+            ::kill(pid, SIGTERM);
+            sent = true;
+        }
+    });
+    ASSERT_TRUE(sent) << "the run ended before it could be interrupted: " << killed.describe();
+    // Both are pending at once, and the kernel picks which to deliver first.
+    EXPECT_TRUE(killed.signal == SIGINT || killed.signal == SIGTERM) << killed.describe();
+    for (const std::string& entry : directoryEntries(out))
+        EXPECT_TRUE(isStagingDirectoryName(entry)) << entry << " left under a final name";
+
+    const CliResult again = runSkelseg(command);
+    ASSERT_EQ(again.exitCode, 0) << again.describe();
+    EXPECT_TRUE(fs::is_regular_file(out / "report.json"));
+    EXPECT_FALSE(hasStagingDirectory(out));
 }
 
 TEST(Outputs, EarlierResultsNeedForce) {
