@@ -10,8 +10,8 @@ namespace skelseg {
 
 namespace {
 std::atomic<bool> gInterruptRequested{false};
-// Signals received, apart from requestInterrupt(): a test's or the Python
-// module's raised flag must not turn a later real signal into the second one.
+// Signals received: requestInterrupt() raises the flag without counting, so
+// that a signal after it is still the first.
 std::atomic<int> gSignalsReceived{0};
 static_assert(std::atomic<int>::is_always_lock_free, "used in a signal handler");
 
