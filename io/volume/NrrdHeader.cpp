@@ -168,22 +168,23 @@ int spaceDimension(const std::string& space) {
     return 0;
 }
 
-/// A kind without its quotes, in lower case.
-std::string normalKind(std::string kind) {
-    if (kind.size() >= 2 && kind.front() == '"' && kind.back() == '"')
-        kind = kind.substr(1, kind.size() - 2);
-    return lowercase(kind);
+/// A word of a per-axis field ("kinds", "centers") without its quotes, in
+/// lower case.
+std::string unquotedLowercase(std::string word) {
+    if (word.size() >= 2 && word.front() == '"' && word.back() == '"')
+        word = word.substr(1, word.size() - 2);
+    return lowercase(word);
 }
 
 /// "domain" and "space" say an axis is spatial; "???" and "none" say
 /// nothing, and are taken as spatial, as a header without kinds is.
 bool isSpatialKind(const std::string& kind) {
-    const std::string name = normalKind(kind);
+    const std::string name = unquotedLowercase(kind);
     return name == "domain" || name == "space";
 }
 
 bool isUnknownKind(const std::string& kind) {
-    const std::string name = normalKind(kind);
+    const std::string name = unquotedLowercase(kind);
     return name == "???" || name == "none";
 }
 
@@ -454,10 +455,16 @@ private:
             for (const auto& token : splitWhitespace(value))
                 spacings.push_back(parseReal(field, token, true));
             mHeader.spacings = spacings;
+        } else if (field == "axis mins" || field == "axismins") {
+            mHeader.axisMins = parseReals(field, value);
+        } else if (field == "axis maxs" || field == "axismaxs") {
+            mHeader.axisMaxs = parseReals(field, value);
+        } else if (field == "centers" || field == "centerings") {
+            mHeader.centers = splitWhitespace(value);
         }
-        // Every other field (centers, units, content, min, max,
-        // thicknesses, labels, measurement frame, ...) does not change which
-        // voxels are object or where they are, and is ignored.
+        // Every other field (units, content, min, max, thicknesses, labels,
+        // measurement frame, ...) does not change which voxels are object or
+        // where they are, and is ignored.
     }
 
     /// A NRRD of three axes with a kind such as RGB-color, 3-vector or time
@@ -671,6 +678,14 @@ private:
         return value;
     }
 
+    /// One real per axis, "nan" allowed (an axis without the value).
+    std::vector<double> parseReals(const std::string& what, const std::string& text) const {
+        std::vector<double> values;
+        for (const auto& token : splitWhitespace(text))
+            values.push_back(parseReal(what, token, true));
+        return values;
+    }
+
     /// "(a,b,c)" with optional spaces inside.
     std::array<double, 3> parseVector(const std::string& what, const std::string& text) const {
         const std::string body(trim(text));
@@ -788,11 +803,55 @@ private:
                     std::isnan(spacing) ? 1.0 : spacing;
             }
         }
-        if (mHeader.spaceOrigin) geometry.origin = *mHeader.spaceOrigin;
+        if (mHeader.spaceOrigin)
+            geometry.origin = *mHeader.spaceOrigin;
+        else if (!mHeader.spaceDirections && mHeader.axisMins)
+            placeByAxisMins(axes, dimension, geometry);
         if (mHeader.space) geometry.spaceName = *mHeader.space;
         const std::string problem = geometry.problemOver(mHeader.dims);
         if (!problem.empty()) fail(problem);
         expandDataFiles();
+    }
+
+    /// The per-axis way of placing a volume, as teem reads it: "axis mins"
+    /// is where each axis's range starts; a cell-centred axis (teem's
+    /// default) has its first sample half a step inside the range, a
+    /// node-centred one on its start. Without "spacings", the step is the
+    /// range ("axis maxs" minus "axis mins") over the samples (cell) or the
+    /// intervals (node). Only read where the header has neither "space
+    /// directions" nor "space origin", which replace these fields in NRRD.
+    void placeByAxisMins(const std::array<int, 3>& axes, int dimension,
+                         VolumeGeometry& geometry) const {
+        const auto checkCount = [&](const char* what, std::size_t count) {
+            if (count != std::size_t(dimension))
+                fail(std::string(what) + " lists " + std::to_string(count) +
+                     " values for a dimension of " + std::to_string(dimension));
+        };
+        checkCount("axis mins", mHeader.axisMins->size());
+        if (mHeader.axisMaxs) checkCount("axis maxs", mHeader.axisMaxs->size());
+        if (mHeader.centers) checkCount("centers", mHeader.centers->size());
+        for (int i = 0; i < 3; ++i) {
+            const auto axis = std::size_t(axes[std::size_t(i)]);
+            const double axisMin = (*mHeader.axisMins)[axis];
+            if (std::isnan(axisMin)) continue;
+            bool nodeCentred = false;
+            if (mHeader.centers) {
+                const std::string center = unquotedLowercase((*mHeader.centers)[axis]);
+                if (center == "node")
+                    nodeCentred = true;
+                else if (center != "cell" && center != "???" && center != "none")
+                    fail("centers: unknown centering " + quote((*mHeader.centers)[axis]) +
+                         " (expected cell, node, ??? or none)");
+            }
+            double& step = geometry.directions[std::size_t(i)][std::size_t(i)];
+            const bool spacingGiven = mHeader.spacings && !std::isnan((*mHeader.spacings)[axis]);
+            const std::int64_t samples = (*mHeader.sizes)[axis];
+            const std::int64_t intervals = nodeCentred ? samples - 1 : samples;
+            if (!spacingGiven && mHeader.axisMaxs && !std::isnan((*mHeader.axisMaxs)[axis]) &&
+                intervals > 0)
+                step = ((*mHeader.axisMaxs)[axis] - axisMin) / double(intervals);
+            geometry.origin[std::size_t(i)] = nodeCentred ? axisMin : axisMin + step / 2.0;
+        }
     }
 
     const std::string& mName;

@@ -3,7 +3,8 @@
 // NrrdIO.cpp decodes the samples that follow a header, NrrdWriter.cpp writes
 // one; both share the sample types declared here. parseNrrdHeader() checks
 // every field the reader needs (docs/formats.md lists the rules), turns
-// "space directions", "space origin" or "spacings" into the VolumeGeometry,
+// "space directions", "space origin", or "spacings" with "axis mins", "axis
+// maxs" and "centers" into the VolumeGeometry,
 // finds the axis a 4-D header adds to a volume, and expands "data file: LIST"
 // or a name pattern into the data files' names.
 #pragma once
@@ -102,6 +103,12 @@ struct NrrdHeader {
     std::optional<std::vector<std::optional<std::array<double, 3>>>> spaceDirections;
     std::optional<std::array<double, 3>> spaceOrigin;
     std::optional<std::vector<double>> spacings;
+    /// "axis mins", "axis maxs" (NaN for an axis without one) and "centers"
+    /// as written; they place the volume only where the header has neither
+    /// "space directions" nor "space origin".
+    std::optional<std::vector<double>> axisMins;
+    std::optional<std::vector<double>> axisMaxs;
+    std::optional<std::vector<std::string>> centers;
     bool endsWithBlankLine = false;
     std::size_t dataOffset = 0;  // where attached data starts
     /// Lines of the data (the data file, or what follows the header) skipped

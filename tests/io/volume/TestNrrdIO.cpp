@@ -565,6 +565,85 @@ TEST(NrrdIO, GeometryFromSpaceFieldsAndSpacings) {
     EXPECT_EQ(readNrrdMask(dir / "kinds.nrrd").dims().x, 2);
 }
 
+// The per-axis placement ("axis mins", "axis maxs", "centers") that teem's
+// nrrdOriginCalculate and nrrdSpacingCalculate read: cell centring (teem's
+// default) puts the first sample half a step past the axis's minimum.
+TEST(NrrdIO, AxisMinsPlaceAVolumeThatHasNoSpaceFields) {
+    test::TempDir dir;
+    const std::string data(2 * 4 * 5, '\1');
+    const auto geometryOf = [&](const std::string& name, const std::string& fields) {
+        writeBytes(dir / name, nrrd(basicFields("uint8", "2 4 5", "raw", fields), data));
+        return readNrrdMask(dir / name).geometry;
+    };
+    const VolumeGeometry cells =
+        geometryOf("cells.nrrd", "spacings: 0.5 2 1\naxis mins: 10 -4 nan\n");
+    EXPECT_DOUBLE_EQ(cells.origin[0], 10.25);
+    EXPECT_DOUBLE_EQ(cells.origin[1], -3.0);
+    EXPECT_DOUBLE_EQ(cells.origin[2], 0.0);  // nan: no minimum on that axis
+    EXPECT_DOUBLE_EQ(cells.directions[1][1], 2.0);
+
+    const VolumeGeometry nodes = geometryOf(
+        "nodes.nrrd", "spacings: 0.5 2 1\naxismins: 10 -4 7\ncenterings: cell node \"???\"\n");
+    EXPECT_DOUBLE_EQ(nodes.origin[0], 10.25);
+    EXPECT_DOUBLE_EQ(nodes.origin[1], -4.0);
+    EXPECT_DOUBLE_EQ(nodes.origin[2], 7.5);
+
+    // Without spacings, the step is the range over the samples (cell) or
+    // over the intervals between them (node).
+    const VolumeGeometry ranges =
+        geometryOf("ranges.nrrd", "axis mins: 0 0 1\naxis maxs: 1 2 3\ncenters: cell Node none\n");
+    EXPECT_DOUBLE_EQ(ranges.directions[0][0], 0.5);
+    EXPECT_DOUBLE_EQ(ranges.directions[1][1], 2.0 / 3.0);
+    EXPECT_DOUBLE_EQ(ranges.directions[2][2], 0.4);
+    EXPECT_DOUBLE_EQ(ranges.origin[0], 0.25);
+    EXPECT_DOUBLE_EQ(ranges.origin[1], 0.0);
+    EXPECT_DOUBLE_EQ(ranges.origin[2], 1.2);
+    const auto last = ranges.indexToWorld(1, 3, 4);
+    EXPECT_DOUBLE_EQ(last[0], 0.75);  // half a step inside the cell range's end
+    EXPECT_DOUBLE_EQ(last[1], 2.0);   // on the node range's end
+    EXPECT_NEAR(last[2], 2.8, 1e-12);
+
+    // "space origin" and "space directions" replace the per-axis fields.
+    const VolumeGeometry spaced =
+        geometryOf("spaced.nrrd", "space origin: (1,2,3)\nspacings: 1 1 1\naxis mins: 10 10 10\n");
+    EXPECT_DOUBLE_EQ(spaced.origin[0], 1.0);
+    const VolumeGeometry directed =
+        geometryOf("directed.nrrd",
+                   "space: RAS\nspace directions: (1,0,0) (0,1,0) (0,0,1)\naxis mins: 10 10 10\n");
+    EXPECT_DOUBLE_EQ(directed.origin[0], 0.0);
+
+    // A 4-D header's dropped axis has its own entry in every per-axis field.
+    writeBytes(dir / "four.nrrd", nrrd("type: uint8\ndimension: 4\nsizes: 1 2 4 5\nencoding: raw\n"
+                                       "kinds: scalar domain domain domain\nspacings: nan 0.5 2 1\n"
+                                       "axis mins: nan 10 -4 6\ncenters: none cell node node\n",
+                                       data));
+    const VolumeGeometry four = readNrrdMask(dir / "four.nrrd").geometry;
+    EXPECT_DOUBLE_EQ(four.origin[0], 10.25);
+    EXPECT_DOUBLE_EQ(four.origin[1], -4.0);
+    EXPECT_DOUBLE_EQ(four.origin[2], 6.0);
+
+    // Written out, the placement is kept as space origin and directions.
+    LabelVolume labels(Dims{2, 4, 5}, 1);
+    labels.geometry = ranges;
+    writeNrrdLabels(dir / "labels.nrrd", labels);
+    expectSameGeometry(readNrrdLabels(dir / "labels.nrrd").geometry, ranges);
+
+    writeBytes(dir / "count.nrrd",
+               nrrd(basicFields("uint8", "2 4 5", "raw", "axis mins: 0 0\n"), data));
+    expectInputError([&] { readNrrdMask(dir / "count.nrrd"); }, "count.nrrd",
+                     "axis mins lists 2 values for a dimension of 3");
+    writeBytes(
+        dir / "centre.nrrd",
+        nrrd(basicFields("uint8", "2 4 5", "raw", "axis mins: 0 0 0\ncenters: cell middle cell\n"),
+             data));
+    expectInputError([&] { readNrrdMask(dir / "centre.nrrd"); }, "centre.nrrd",
+                     "centers: unknown centering 'middle' (expected cell, node, ??? or none)");
+    // Centers are read only to place a volume by its axis mins.
+    writeBytes(dir / "unused.nrrd",
+               nrrd(basicFields("uint8", "2 4 5", "raw", "centers: cell middle\n"), data));
+    EXPECT_EQ(readNrrdMask(dir / "unused.nrrd").dims().z, 5);
+}
+
 TEST(NrrdIO, LabelsOutputReproducesInputGeometry) {
     test::TempDir dir;
     const std::string data(3 * 2 * 2, '\1');
