@@ -2,6 +2,7 @@
 
 #include <cstdint>
 
+#include "io/files/OffKeyword.h"
 #include "io/files/TextFile.h"
 #include "io/files/TextTokenizer.h"
 #include "kernels/base/Error.h"
@@ -27,20 +28,6 @@ std::string_view firstStatementWord(std::string_view text) {
     std::string_view line;
     if (!lines.nextSignificantLine(line)) return {};
     return TextTokenizer(line).nextToken();
-}
-
-/// Geomview's OFF keyword, [ST][C][N][4][n]OFF, maybe followed by the first
-/// count or BINARY glued to it.
-bool isOffKeyword(std::string_view word) {
-    const std::size_t off = word.find("OFF");
-    if (off == std::string_view::npos) return false;
-    for (char c : word.substr(0, off))
-        if (c != 'S' && c != 'T' && c != 'C' && c != 'N' && c != '4' && c != 'n') return false;
-    const std::string_view rest = word.substr(off + 3);
-    if (rest == "BINARY") return true;
-    for (char c : rest)
-        if (c < '0' || c > '9') return false;
-    return true;
 }
 
 /// The triangle count of a binary STL whose size matches it (84 bytes, then

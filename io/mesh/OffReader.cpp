@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "io/files/ForeignContent.h"
+#include "io/files/OffKeyword.h"
 #include "io/files/TextFile.h"
 #include "io/files/TextTokenizer.h"
 #include "io/mesh/MeshBuilder.h"
@@ -71,19 +72,6 @@ bool holdsMoreLines(TextTokenizer lines, std::uint64_t count) {
     for (std::uint64_t n = 0; n <= count; ++n)
         if (!lines.nextSignificantLine(line)) return false;
     return true;
-}
-
-/// Length of `keyword` up to the end of its "OFF" (any case) when the rest is
-/// empty or digits (the first count glued to it), 0 when it is no OFF keyword.
-std::size_t offKeywordEnd(std::string_view keyword) {
-    const std::string lower = lowercase(keyword);
-    for (std::size_t end = lower.size(); end >= 3; --end) {
-        if (lower.compare(end - 3, 3, "off") != 0) continue;
-        for (std::size_t i = end; i < lower.size(); ++i)
-            if (lower[i] < '0' || lower[i] > '9') return 0;
-        return end;
-    }
-    return 0;
 }
 
 /// Reads the data of a binary OFF file (Geomview's "OFF BINARY"): 32-bit
@@ -243,13 +231,11 @@ TriangleMesh readOff(const std::string& name, const char* data, std::size_t size
     // the counts; only 3 (4 with the '4') is a shape in space.
     bool homogeneous = false;
     if (const std::size_t keywordEnd = offKeywordEnd(keyword); keywordEnd != 0) {
-        // The prefix is case-sensitive: 'N' = normals, 'n' = dimension given.
         const std::string_view prefix = keyword.substr(0, keywordEnd - 3);
-        for (char c : prefix)
-            if (c != 'S' && c != 'T' && c != 'C' && c != 'N' && c != '4' && c != 'n') {
-                refuseForeignContent(name, std::string_view(data, size), "OFF");
-                builder.fail("not an OFF file (header " + quote(keyword) + ")");
-            }
+        if (!isOffKeywordPrefix(prefix)) {
+            refuseForeignContent(name, std::string_view(data, size), "OFF");
+            builder.fail("not an OFF file (header " + quote(keyword) + ")");
+        }
         homogeneous = prefix.find('4') != std::string_view::npos;
         std::string_view token = keyword.substr(keywordEnd);
         if (token.empty()) token = headerTokens.nextToken();
