@@ -58,6 +58,7 @@ json methodParameters(const SegmentationParameters& p) {
             {"grow_regions_to_splits", p.growRegionsToSplits},
             {"junction_merge_radii", p.junctionMergeRadii},
             {"sibling_tolerance", cut.siblingTolerance},
+            {"end_body_ratio", cut.endBodyRatio},
             {"siblings_both_ways", cut.siblingsBothWays},
             {"limb_taper", cut.limbTaper},
             {"corner_length", cut.cornerLength},

@@ -192,6 +192,10 @@ void addSegmentOptions(CLI::App* command, SegmentOptionTexts& cli) {
                  "A candidate whose limb is within this fraction of the thinner of two body "
                  "candidates is body too",
                  1.0);
+    addThreshold("--end-body-ratio", rules.endBodyRatio,
+                 "Where the body goes on through a junction, a branch that ends there is on the "
+                 "body only from this circumference similarity up (0: off)",
+                 1.0);
     addThreshold("--limb-taper", rules.limbTaper,
                  "A cut moves out along its limb while the loop shrinks by more than this fraction "
                  "over one loop diameter",

@@ -245,8 +245,10 @@ void placeObjectCuts(ObjectState& state) {
             orderCutLoop(graph, gamma, a, b, searchOnce(), *rims);
         const Coord at = state.skeleton.coord[state.skeleton.junctions[junction].representative];
         if (!reach) reach = std::make_unique<PieceReachMeasurer>(graph);
-        return reach->measure(gamma, loop, {double(at.x), double(at.y), double(at.z)},
-                              2.0 * options.cornerReach);
+        // Far enough for every reach the rules compare with.
+        return reach->measure(
+            gamma, loop, {double(at.x), double(at.y), double(at.z)},
+            std::max({2.0 * options.cornerReach, options.stubReach, options.endReach}));
     };
     state.plan = placeCuts(
         state.skeleton, state.points, options,

@@ -359,7 +359,23 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
     // junctions so joined (docs/algorithm.md §8.6).
     std::vector<float> bodyOf(g.junctions.size(), 0.0f);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> passageLinks;
-    const auto planWith = [&](const std::vector<float>& bodyFloor) {
+    // Each junction's branches: the skeleton pieces touching its region.
+    std::vector<std::vector<std::uint32_t>> branchesOf(g.junctions.size());
+    for (std::uint32_t j = 0; j < g.junctions.size(); ++j) {
+        std::vector<std::uint32_t>& branches = branchesOf[j];
+        for (std::uint32_t n : g.junctions[j].region)
+            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
+                const std::uint32_t piece = g.pieceOf[g.neighbour[e]];
+                if (piece != kNoJunction &&
+                    std::find(branches.begin(), branches.end(), piece) == branches.end())
+                    branches.push_back(piece);
+            }
+        std::sort(branches.begin(), branches.end());
+    }
+    // limbsLeave: per junction, whether a plan without the end rule cut a
+    // limb there (the rule reads it); nullptr: the end rule is off.
+    const auto planWith = [&](const std::vector<float>& bodyFloor,
+                              const std::vector<std::uint8_t>* limbsLeave) {
         CutPlan plan;
         passageLinks.clear();
         // Per candidate of the plan: its walk's tight levels, where its
@@ -370,16 +386,7 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
         plan.junctions.resize(g.junctions.size());
         for (std::uint32_t j = 0; j < g.junctions.size(); ++j) {
             const SkeletonJunction& junction = g.junctions[j];
-            // Branches: pieces touching the region, in order of first contact.
-            std::vector<std::uint32_t> branches;
-            for (std::uint32_t n : junction.region)
-                for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
-                    const std::uint32_t piece = g.pieceOf[g.neighbour[e]];
-                    if (piece != kNoJunction &&
-                        std::find(branches.begin(), branches.end(), piece) == branches.end())
-                        branches.push_back(piece);
-                }
-            std::sort(branches.begin(), branches.end());
+            const std::vector<std::uint32_t>& branches = branchesOf[j];
             plan.junctions[j].branches = std::uint32_t(branches.size());
 
             if (options.mode == CutMode::Junctions) {
@@ -398,6 +405,7 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
             // there (too short a walk for the run of levels, counted in voxels).
             std::vector<TightLevel> passages;
             std::vector<float> passageRhoS;
+            std::vector<std::uint32_t> passageTo;  // the junction each passage reaches
             for (std::uint32_t piece : branches) {
                 BranchWalk walk = walkBranch(g, points, j, piece, options, taken);
                 if (walk.candidate == kNoJunction && walk.passage.node != kNoJunction) {
@@ -406,6 +414,7 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
                     if (options.passagesAreBody) {
                         passages.push_back(walk.passage);
                         passageRhoS.push_back(walk.passage.rhoS);
+                        passageTo.push_back(walk.otherJunction);
                     }
                     continue;
                 }
@@ -484,6 +493,7 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
                 passages.push_back(
                     {node, 0, p.sigma, std::min(p.rhoS, points[g.point[across]].rhoS)});
                 passageRhoS.push_back(passages.back().rhoS);
+                passageTo.push_back(mine ? contact.other : contact.junction);
             }
             markBodyCandidates(junction.rhoS, options, plan.candidates.data() + first,
                                plan.candidates.size() - first, passageRhoS, bodyFloor[j]);
@@ -586,6 +596,45 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
             const auto roundAnArtefact = [&](std::uint32_t node) {
                 return options.handleLoopsCarryNoArea && std::isinf(exactRhoC(g.point[node]));
             };
+            // Where the body goes on through this junction (a body member
+            // or a passage leads to a junction where limbs leave it), a
+            // branch that ends here (free, or at a junction where no limb
+            // leaves) and reaches past its loop as a part does (a stump a
+            // little longer than a corner's cap is the body's own end) is the
+            // body's end only
+            // when nearly as thick as the body: a head or a tail about 0.6 of
+            // the body's girth reads either side of bodyRatio from pose to
+            // pose (docs/algorithm.md §8.14). Loops round the model's
+            // artefact handles show no way on.
+            if (limbsLeave) {
+                const auto leadsOn = [&](std::uint32_t other) {
+                    return other == kNoJunction || (*limbsLeave)[other] != 0;
+                };
+                const auto goesOn = [&](std::size_t i) {
+                    return skeletonEndOf[i - first] == kNoJunction &&
+                           leadsOn(otherJunctionOf[i - first]);
+                };
+                // 0: no piece lies past the loop's plane (a head bent back
+                // over its neck), so the reach tells nothing.
+                const auto reachesAsAPart = [&](std::uint32_t node) {
+                    if (!pieceReach) return true;
+                    const double reach = pieceReach(node, j);
+                    return reach == 0.0 || reach >= options.endReach;
+                };
+                bool bodyGoesOn = false;
+                for (std::size_t k = 0; k < passages.size(); ++k)
+                    bodyGoesOn |= leadsOn(passageTo[k]) && !roundAnArtefact(passages[k].node);
+                for (std::size_t i = first; i < plan.candidates.size(); ++i)
+                    if (const CutCandidate& c = plan.candidates[i];
+                        c.onBody && goesOn(i) && !roundAnArtefact(c.node))
+                        bodyGoesOn = true;
+                if (bodyGoesOn)
+                    for (std::size_t i = first; i < plan.candidates.size(); ++i)
+                        if (CutCandidate& c = plan.candidates[i];
+                            c.onBody && !goesOn(i) && c.similarity < float(options.endBodyRatio) &&
+                            reachesAsAPart(c.node))
+                            c.onBody = false;
+            }
             std::vector<std::size_t> body;
             for (std::size_t i = first; i < plan.candidates.size(); ++i)
                 if (plan.candidates[i].onBody && !roundAnArtefact(plan.candidates[i].node))
@@ -690,9 +739,25 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
                             plan.cutNodes.end());
         return plan;
     };
-    CutPlan plan = planWith(std::vector<float>(g.junctions.size(), 0.0f));
-    if (options.passagesAreBody && options.shareBodyAcrossPassages && !passageLinks.empty())
-        plan = planWith(sharedBodyReference(bodyOf, passageLinks));
+    std::vector<float> bodyFloor(g.junctions.size(), 0.0f);
+    CutPlan plan = planWith(bodyFloor, nullptr);
+    if (options.passagesAreBody && options.shareBodyAcrossPassages && !passageLinks.empty()) {
+        bodyFloor = sharedBodyReference(bodyOf, passageLinks);
+        plan = planWith(bodyFloor, nullptr);
+    }
+    // The end rule reads where the plan without it cut limbs: a junction
+    // where limbs leave is where the body goes on.
+    const bool endRuleCanAct =
+        std::any_of(plan.candidates.begin(), plan.candidates.end(), [&](const CutCandidate& c) {
+            return !c.isCut && c.similarity < float(options.endBodyRatio);
+        });
+    if (options.endBodyRatio > 0.0 && options.mode != CutMode::Junctions &&
+        g.junctions.size() > 1 && endRuleCanAct) {
+        std::vector<std::uint8_t> limbsLeave(g.junctions.size(), 0);
+        for (std::uint32_t j = 0; j < g.junctions.size(); ++j)
+            limbsLeave[j] = plan.junctions[j].cuts > 0;
+        plan = planWith(bodyFloor, &limbsLeave);
+    }
     return plan;
 }
 

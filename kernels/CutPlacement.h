@@ -126,6 +126,17 @@ struct CutOptions {
     /// passes through; the one-branch junction cuts nothing on it
     /// (docs/algorithm.md §8.9).
     bool oneBranchJunctionsEndTheBody = true;
+    /// Where the body goes on through a junction (a body candidate or a
+    /// passage leads to a junction of three or more branches), a body
+    /// candidate whose branch ends (free, or at a junction of one or two
+    /// branches) stays on the body only from this similarity up: a head or
+    /// a tail read near bodyRatio is cut in every pose (docs/algorithm.md
+    /// §8.14). 0, or anything up to bodyRatio: off.
+    double endBodyRatio = 0.75;
+    /// ... and only where the piece the candidate's loop cuts off reaches at
+    /// least this many times the loop's size from its centre (pieceReach;
+    /// a stump of the body's end, such as a hand's wrist, reaches about 1.4).
+    double endReach = 1.75;
     /// A cut loop must separate what it cuts off: with every cut's band
     /// removed from the surface, the pieces on its two sides differ. A loop
     /// round a limb that a handle (genus > 0) joins to the rest again, with

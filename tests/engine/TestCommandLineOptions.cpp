@@ -41,6 +41,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     const nlohmann::json defaults = reportedParameters(dir, "defaults", {});
     const CutOptions cut;
     EXPECT_EQ(defaults.at("sibling_tolerance"), cut.siblingTolerance);
+    EXPECT_EQ(defaults.at("end_body_ratio"), cut.endBodyRatio);
     EXPECT_EQ(defaults.at("limb_taper"), cut.limbTaper);
     EXPECT_EQ(defaults.at("corner_length"), cut.cornerLength);
     EXPECT_EQ(defaults.at("corner_reach"), cut.cornerReach);
@@ -63,6 +64,8 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
     const nlohmann::json set = reportedParameters(dir, "set",
                                                   {"--sibling-tolerance",
                                                    "0.125",
+                                                   "--end-body-ratio",
+                                                   "0",
                                                    "--limb-taper",
                                                    "0.5",
                                                    "--corner-length",
@@ -90,6 +93,7 @@ TEST(CommandLineOptions, RuleFlagsReachReportJson) {
                                                    "--no-grow-regions",
                                                    "--handles-on-genus-zero"});
     EXPECT_EQ(set.at("sibling_tolerance"), 0.125);
+    EXPECT_EQ(set.at("end_body_ratio"), 0.0);
     EXPECT_EQ(set.at("limb_taper"), 0.5);
     EXPECT_EQ(set.at("corner_length"), 1.5);
     EXPECT_EQ(set.at("corner_reach"), 2.5);

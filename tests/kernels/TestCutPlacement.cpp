@@ -1004,22 +1004,114 @@ TEST(CutPlacement, NeckIsJudgedAgainstTheBodyAcrossAPassageAtTwoScales) {
             ASSERT_NE(torso, nullptr);
             EXPECT_FALSE(torso->isCut);
         }
+        // Against the shoulder junction alone the neck is body-similar; the
+        // end rule (§8.14), off here, would cut it too.
         CutOptions without;
         without.shareBodyAcrossPassages = false;
+        without.endBodyRatio = 0.0;
         const CutPlan plan = torsoAndShoulder(scale, 8, without);
         const CutCandidate* neck = candidateOfLimb(plan, 44.0f * float(scale));
         ASSERT_NE(neck, nullptr);
         EXPECT_FALSE(neck->isCut) << "against the shoulder junction alone the neck is body";
+        without.endBodyRatio = CutOptions{}.endBodyRatio;
+        const CutCandidate* ended =
+            candidateOfLimb(torsoAndShoulder(scale, 8, without), 44.0f * float(scale));
+        ASSERT_NE(ended, nullptr);
+        EXPECT_TRUE(ended->isCut) << "the body goes on through the passage; the neck ends";
     }
     // Where the branch between the junctions is long enough to give
     // candidates (gap 16) it is no passage: each junction keeps its own
-    // reference, and the neck, body-similar at the shoulder, is not cut.
+    // reference, and the neck reads body-similar at the shoulder (0.65).
+    // The body goes on through the shoulder to the torso junction, where the
+    // leg leaves it, and the neck ends there: the end rule (§8.14) cuts it,
+    // as in the two layouts above; without that rule it stays.
     const CutPlan apart = torsoAndShoulder(1, 16, {});
     ASSERT_EQ(apart.junctions.size(), 2u);
     const CutCandidate* neck = candidateOfLimb(apart, 44.0f);
     ASSERT_NE(neck, nullptr);
     EXPECT_FLOAT_EQ(neck->bodyRhoS, 68.0f);
-    EXPECT_FALSE(neck->isCut);
+    EXPECT_TRUE(neck->isCut);
+    CutOptions noEndRule;
+    noEndRule.endBodyRatio = 0.0;
+    const CutCandidate* kept = candidateOfLimb(torsoAndShoulder(1, 16, noEndRule), 44.0f);
+    ASSERT_NE(kept, nullptr);
+    EXPECT_FALSE(kept->isCut);
+}
+
+/// A shoulder junction and a hip junction (rho_S 80 s each) 20 s voxels
+/// apart along x, joined by the torso (80 s), at scale s. At the shoulder a
+/// head (rho_S `head` s) and an arm (20 s) end free; at the hips two legs (20 s) do, or with `legs`
+/// false one branch as thick as the torso (nothing leaves the body there).
+CutPlan headBesideTheTorso(int scale, float head, bool legs, const CutOptions& options,
+                           const PieceReach& pieceReach = {}) {
+    const int arm = 15 * scale, gap = 20 * scale, a = arm + 2, c = arm + 2, b = a + gap;
+    const float s = float(scale);
+    SkeletonPointSet set{Dims{a + gap + arm + 5, 2 * arm + 5, 3}};
+    set.add({a, c, 1}, 80.0f * s, 9000.0, 3);
+    set.add({b, c, 1}, 80.0f * s, 9000.0, 3);
+    std::vector<std::vector<std::uint32_t>> branches;
+    branches.push_back(set.chain({a - 1, c - 1, 1}, {-1, -1, 0}, arm, head * s, 2000.0));
+    branches.push_back(set.chain({a - 1, c + 1, 1}, {-1, 1, 0}, arm, 20.0f * s));
+    branches.push_back(set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, 80.0f * s, 6000.0));
+    if (legs) {
+        branches.push_back(set.chain({b + 1, c - 1, 1}, {1, -1, 0}, arm, 20.0f * s));
+        branches.push_back(set.chain({b + 1, c + 1, 1}, {1, 1, 0}, arm, 20.0f * s));
+    } else {
+        branches.push_back(set.chain({b + 1, c, 1}, {1, 0, 0}, arm, 76.0f * s));
+    }
+    for (const auto& branch : branches)
+        for (std::uint32_t v : branch) set.point(v).sigma = 0.9f;
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    return placeCuts(
+        g, points, options, [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; },
+        {}, pieceReach);
+}
+
+TEST(CutPlacement, HeadBesideTheWayOnIsCutBelowTheEndRatioAtTwoScales) {
+    // wolfp1 (a held-out pose sequence): the head reads 0.595, 0.554, 0.615
+    // and 0.610 of the body at the shoulders, so bodyRatio cut it in two
+    // poses of four. The body goes on through the shoulders (the torso leads
+    // to the hips, where legs leave it) and the head ends there: below
+    // endBodyRatio (0.75) it is cut in every pose (docs/algorithm.md §8.14).
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const float s = float(scale);
+        const CutPlan plan = headBesideTheTorso(scale, 52.0f, true, {});
+        ASSERT_EQ(plan.junctions.size(), 2u);
+        const CutCandidate* head = candidateOfLimb(plan, 52.0f * s);
+        ASSERT_NE(head, nullptr);
+        EXPECT_NEAR(head->similarity, 0.65f, 1e-4f);
+        EXPECT_TRUE(head->isCut);
+        EXPECT_EQ(plan.junctions[0].cuts, 2u) << "the head and the arm";
+        EXPECT_EQ(plan.junctions[1].cuts, 2u) << "the legs";
+
+        CutOptions off;
+        off.endBodyRatio = 0.0;
+        const CutPlan without = headBesideTheTorso(scale, 52.0f, true, off);
+        ASSERT_NE(candidateOfLimb(without, 52.0f * s), nullptr);
+        EXPECT_FALSE(candidateOfLimb(without, 52.0f * s)->isCut) << "the rule this test guards";
+
+        // Nearly as thick as the body (0.8): the body's end, not cut.
+        const CutPlan thick = headBesideTheTorso(scale, 64.0f, true, {});
+        ASSERT_NE(candidateOfLimb(thick, 64.0f * s), nullptr);
+        EXPECT_FALSE(candidateOfLimb(thick, 64.0f * s)->isCut);
+        // The piece past the head's loop must reach as a part does: a stump
+        // of the body's end (reach 1.4, a hand's wrist) stays; a reach of 0
+        // (no piece past the loop's plane: a head bent back) tells nothing.
+        for (const double reach : {1.4, 0.0, 2.0}) {
+            const auto reachOf = [reach](std::uint32_t, std::uint32_t) { return reach; };
+            const CutPlan reached = headBesideTheTorso(scale, 52.0f, true, {}, reachOf);
+            ASSERT_NE(candidateOfLimb(reached, 52.0f * s), nullptr);
+            EXPECT_EQ(candidateOfLimb(reached, 52.0f * s)->isCut, reach != 1.4)
+                << "reach " << reach;
+        }
+        // No limb leaves at the hips: the torso is no way on to the rest of
+        // the shape, and the head is judged by bodyRatio alone.
+        const CutPlan noLegs = headBesideTheTorso(scale, 52.0f, false, {});
+        ASSERT_NE(candidateOfLimb(noLegs, 52.0f * s), nullptr);
+        EXPECT_FALSE(candidateOfLimb(noLegs, 52.0f * s)->isCut);
+    }
 }
 
 TEST(CutPlacement, JunctionModeCutsAtTheJunction) {
@@ -1141,15 +1233,19 @@ TEST(CutPlacement, TorsoCarryingMoreSurfaceThanAPassageStaysBodyAtTwoScales) {
     // branch, short passages join the junction to its neighbours inside the
     // body. The passage carries less surface than the torso, so it does not
     // push the torso off the body; the thin limbs of the other junction are
-    // cut as before.
+    // cut as before. The end rule (§8.14) is off: on the mannequin no limb
+    // leaves the body at any junction, so it does not act there, while here
+    // the thin limbs would make the passage a way on.
+    CutOptions options;
+    options.endBodyRatio = 0.0;
     for (const int scale : {1, 2}) {
         SCOPED_TRACE("scale " + std::to_string(scale));
-        const CutPlan plan = torsoBesideAPassage(scale, {});
+        const CutPlan plan = torsoBesideAPassage(scale, options);
         ASSERT_EQ(plan.junctions.size(), 2u);
         ASSERT_EQ(plan.candidates.size(), 4u) << "no candidate on the passage";
         EXPECT_EQ(plan.junctions[0].cuts, 0u);
         EXPECT_EQ(plan.junctions[1].cuts, 2u);
-        CutOptions without;
+        CutOptions without = options;
         without.passageCutsOnlySmallerCandidates = false;
         EXPECT_EQ(torsoBesideAPassage(scale, without).junctions[0].cuts, 1u)
             << "the rule this test guards";

@@ -126,6 +126,7 @@ def test_flags_take_booleans_only():
 RULES = [
     ("sigma_min", 0.7, "sigma_min"), ("body_ratio", 0.5, "body_ratio"),
     ("sibling_tolerance", 0.2, "sibling_tolerance"), ("limb_taper", 0.25, "limb_taper"),
+    ("end_body_ratio", 0.0, "end_body_ratio"),
     ("corner_length", 0.6, "corner_length"), ("corner_reach", 1.2, "corner_reach"),
     ("junction_merge_radii", 0.7, "junction_merge_radii"),
     ("limb_sigma_margin", 0.04, "limb_sigma_margin"),

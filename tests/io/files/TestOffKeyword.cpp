@@ -38,8 +38,7 @@ TEST(OffKeyword, PrefixLettersAreGeomviewsAndCaseSensitive) {
 TEST(OffKeyword, ForeignContentNamesAFileAsOffByTheReadersKeyword) {
     const std::string tetrahedron = "4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n";
     EXPECT_NE(foreignContentProblem("off " + tetrahedron, "OBJ").find("OFF"), std::string::npos);
-    EXPECT_NE(foreignContentProblem("NOFF8 " + tetrahedron, "OBJ").find("OFF"),
-              std::string::npos);
+    EXPECT_NE(foreignContentProblem("NOFF8 " + tetrahedron, "OBJ").find("OFF"), std::string::npos);
     EXPECT_EQ(foreignContentProblem("XOFF " + tetrahedron, "OBJ").find("OFF"), std::string::npos);
 }
 
