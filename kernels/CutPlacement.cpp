@@ -359,18 +359,11 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
     // junctions so joined (docs/algorithm.md §8.6).
     std::vector<float> bodyOf(g.junctions.size(), 0.0f);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> passageLinks;
-    // Each junction's branches: the skeleton pieces touching its region.
+    // Each junction's branches, in piece order.
     std::vector<std::vector<std::uint32_t>> branchesOf(g.junctions.size());
     for (std::uint32_t j = 0; j < g.junctions.size(); ++j) {
-        std::vector<std::uint32_t>& branches = branchesOf[j];
-        for (std::uint32_t n : g.junctions[j].region)
-            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
-                const std::uint32_t piece = g.pieceOf[g.neighbour[e]];
-                if (piece != kNoJunction &&
-                    std::find(branches.begin(), branches.end(), piece) == branches.end())
-                    branches.push_back(piece);
-            }
-        std::sort(branches.begin(), branches.end());
+        branchesOf[j] = junctionBranches(g, j);
+        std::sort(branchesOf[j].begin(), branchesOf[j].end());
     }
     // limbsLeave: per junction, whether a plan without the end rule cut a
     // limb there (the rule reads it); nullptr: the end rule is off.
@@ -607,8 +600,10 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
             // pose (docs/algorithm.md §8.14). Loops round the model's
             // artefact handles show no way on.
             if (limbsLeave) {
+                // A branch back to this junction (round a handle) leads on
+                // to nothing new.
                 const auto leadsOn = [&](std::uint32_t other) {
-                    return other == kNoJunction || (*limbsLeave)[other] != 0;
+                    return other != kNoJunction && (*limbsLeave)[other] != 0;
                 };
                 const auto goesOn = [&](std::size_t i) {
                     return skeletonEndOf[i - first] == kNoJunction &&
@@ -746,17 +741,19 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
         plan = planWith(bodyFloor, nullptr);
     }
     // The end rule reads where the plan without it cut limbs: a junction
-    // where limbs leave is where the body goes on.
-    const bool endRuleCanAct =
-        std::any_of(plan.candidates.begin(), plan.candidates.end(), [&](const CutCandidate& c) {
-            return !c.isCut && c.similarity < float(options.endBodyRatio);
-        });
+    // where limbs leave is where the body goes on. It can act only on an
+    // uncut candidate below endBodyRatio, and only where some limb leaves.
     if (options.endBodyRatio > 0.0 && options.mode != CutMode::Junctions &&
-        g.junctions.size() > 1 && endRuleCanAct) {
+        g.junctions.size() > 1) {
         std::vector<std::uint8_t> limbsLeave(g.junctions.size(), 0);
         for (std::uint32_t j = 0; j < g.junctions.size(); ++j)
             limbsLeave[j] = plan.junctions[j].cuts > 0;
-        plan = planWith(bodyFloor, &limbsLeave);
+        const bool canAct =
+            std::find(limbsLeave.begin(), limbsLeave.end(), 1) != limbsLeave.end() &&
+            std::any_of(plan.candidates.begin(), plan.candidates.end(), [&](const CutCandidate& c) {
+                return !c.isCut && c.similarity < float(options.endBodyRatio);
+            });
+        if (canAct) plan = planWith(bodyFloor, &limbsLeave);
     }
     return plan;
 }

@@ -184,14 +184,7 @@ std::vector<std::uint32_t> jointBranches(const SkeletonGraph& g, std::uint32_t& 
     };
     std::vector<std::uint32_t> throughPiece(g.junctions.size(), kNoJunction);
     for (std::uint32_t j = 0; j < g.junctions.size(); ++j) {
-        std::vector<std::uint32_t> pieces;
-        for (std::uint32_t n : g.junctions[j].region)
-            for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
-                const std::uint32_t piece = g.pieceOf[g.neighbour[e]];
-                if (piece != kNoJunction &&
-                    std::find(pieces.begin(), pieces.end(), piece) == pieces.end())
-                    pieces.push_back(piece);
-            }
+        const std::vector<std::uint32_t> pieces = junctionBranches(g, j);
         if (pieces.size() != 2) continue;
         const std::uint32_t a = find(pieces[0]), b = find(pieces[1]);
         if (a == b) continue;  // the two ends of one loop: not a limb

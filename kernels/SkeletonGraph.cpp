@@ -240,4 +240,16 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
     return g;
 }
 
+std::vector<std::uint32_t> junctionBranches(const SkeletonGraph& g, std::uint32_t junction) {
+    std::vector<std::uint32_t> branches;
+    for (std::uint32_t n : g.junctions[junction].region)
+        for (std::uint32_t e = g.offset[n]; e < g.offset[n + 1]; ++e) {
+            const std::uint32_t piece = g.pieceOf[g.neighbour[e]];
+            if (piece != kNoJunction &&
+                std::find(branches.begin(), branches.end(), piece) == branches.end())
+                branches.push_back(piece);
+        }
+    return branches;
+}
+
 }  // namespace skelseg

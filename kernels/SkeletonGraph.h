@@ -113,4 +113,9 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
                                  const SkeletonGraphOptions& options,
                                  Interrupter& interrupter = nullInterrupter());
 
+/// The branches of junction `junction` of `g`: the pieces (pieceOf) of the
+/// nodes next to its region, each once, in the order the region first
+/// touches them.
+std::vector<std::uint32_t> junctionBranches(const SkeletonGraph& g, std::uint32_t junction);
+
 }  // namespace skelseg
