@@ -593,12 +593,11 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
             // or a passage leads to a junction where limbs leave it), a
             // branch that ends here (free, or at a junction where no limb
             // leaves) and reaches past its loop as a part does (a stump a
-            // little longer than a corner's cap is the body's own end) is the
-            // body's end only
-            // when nearly as thick as the body: a head or a tail about 0.6 of
-            // the body's girth reads either side of bodyRatio from pose to
-            // pose (docs/algorithm.md §8.14). Loops round the model's
-            // artefact handles show no way on.
+            // little longer than a corner's cap is the body's own end) stays
+            // on the body only when nearly as thick as the body: a head or a
+            // tail about 0.6 of the body's girth reads either side of
+            // bodyRatio from pose to pose (docs/algorithm.md §8.14). Loops
+            // round the model's artefact handles show no way on.
             if (limbsLeave) {
                 // A branch back to this junction (round a handle) leads on
                 // to nothing new.
