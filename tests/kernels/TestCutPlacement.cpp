@@ -1014,8 +1014,8 @@ TEST(CutPlacement, NeckIsJudgedAgainstTheBodyAcrossAPassageAtTwoScales) {
         ASSERT_NE(neck, nullptr);
         EXPECT_FALSE(neck->isCut) << "against the shoulder junction alone the neck is body";
         without.endBodyRatio = CutOptions{}.endBodyRatio;
-        const CutCandidate* ended =
-            candidateOfLimb(torsoAndShoulder(scale, 8, without), 44.0f * float(scale));
+        const CutPlan endRulePlan = torsoAndShoulder(scale, 8, without);
+        const CutCandidate* ended = candidateOfLimb(endRulePlan, 44.0f * float(scale));
         ASSERT_NE(ended, nullptr);
         EXPECT_TRUE(ended->isCut) << "the body goes on through the passage; the neck ends";
     }
@@ -1033,7 +1033,8 @@ TEST(CutPlacement, NeckIsJudgedAgainstTheBodyAcrossAPassageAtTwoScales) {
     EXPECT_TRUE(neck->isCut);
     CutOptions noEndRule;
     noEndRule.endBodyRatio = 0.0;
-    const CutCandidate* kept = candidateOfLimb(torsoAndShoulder(1, 16, noEndRule), 44.0f);
+    const CutPlan withoutEndRule = torsoAndShoulder(1, 16, noEndRule);
+    const CutCandidate* kept = candidateOfLimb(withoutEndRule, 44.0f);
     ASSERT_NE(kept, nullptr);
     EXPECT_FALSE(kept->isCut);
 }
