@@ -451,10 +451,7 @@ private:
         } else if (field == "kinds") {
             mKinds = splitWhitespace(value);
         } else if (field == "spacings") {
-            std::vector<double> spacings;
-            for (const auto& token : splitWhitespace(value))
-                spacings.push_back(parseReal(field, token, true));
-            mHeader.spacings = spacings;
+            mHeader.spacings = parseReals(field, value);
         } else if (field == "axis mins" || field == "axismins") {
             mHeader.axisMins = parseReals(field, value);
         } else if (field == "axis maxs" || field == "axismaxs") {
