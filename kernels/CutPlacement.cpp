@@ -440,7 +440,15 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
                     for (std::size_t k = 1; k < walk.levels.size(); ++k)
                         if (walk.levels[k].sigma > walk.levels[best].sigma) best = k;
                     const TightLevel at = walk.levels[best];
-                    if (pieceReach(at.node, j) >= options.stubReach) {
+                    // Past the best loop the loops leave the base for the
+                    // limb: the piece past one of them may reach out as a
+                    // part where the best loop's, still round the base, does
+                    // not. The cut stays at the best loop; the move to the
+                    // limb's border below reads the levels past it.
+                    bool reaches = false;
+                    for (std::size_t k = best; k < walk.levels.size() && !reaches; ++k)
+                        reaches = pieceReach(walk.levels[k].node, j) >= options.stubReach;
+                    if (reaches) {
                         walk.candidate = at.node;
                         walk.level = at.level;
                         walk.sigma = at.sigma;

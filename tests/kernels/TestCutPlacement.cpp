@@ -688,8 +688,9 @@ const CutCandidate* limbCandidate(const CutPlan& plan) {
 /// Cut placement on a Y junction whose arm 0 is a limb of area about tau:
 /// C_tau holds only its base, 12 levels whose loops (8 around against a body
 /// of 20) still wrap the body (sigma 0.6 to 0.7, no run even below
-/// sigma_min). pieceReach answers `reach` for every loop.
-CutPlan stubLimbPlan(double reach, bool stubLimbs) {
+/// sigma_min; the best loop is level 4's). pieceReach answers
+/// reachAtLevel(level) for arm 0's loops.
+CutPlan stubLimbPlan(const std::function<double(int)>& reachAtLevel, bool stubLimbs) {
     Junction y;
     y.setRhoS(0, 8.0f);
     y.setSigma(0, {0.62f, 0.66f, 0.6f, 0.7f, 0.64f, 0.68f, 0.6f, 0.66f, 0.62f, 0.7f, 0.6f, 0.64f});
@@ -698,9 +699,19 @@ CutPlan stubLimbPlan(double reach, bool stubLimbs) {
     const SkeletonGraph g = buildSkeletonGraph(points, y.set.dims(), {});
     CutOptions options;
     options.stubLimbs = stubLimbs;
+    const int width = y.set.dims().x;
     return placeCuts(
         g, points, options, [](std::uint32_t) { return 0.0; }, {},
-        [reach](std::uint32_t, std::uint32_t) { return reach; });
+        [&](std::uint32_t node, std::uint32_t) {
+            // Arm 0 runs along +x from the centre (22, 22): level l at x = 25 + l.
+            const std::uint32_t voxel = points[g.point[node]].voxel;
+            const int x = int(voxel) % width, row = int(voxel) / width % width;
+            return row == 22 && x > 25 ? reachAtLevel(x - 25) : 0.0;
+        });
+}
+
+CutPlan stubLimbPlan(double reach, bool stubLimbs) {
+    return stubLimbPlan([reach](int) { return reach; }, stubLimbs);
 }
 
 TEST(CutPlacement, LimbOfAboutTauWhoseLoopsNeverTightenIsCutWhereItsPieceReachesFar) {
@@ -720,6 +731,28 @@ TEST(CutPlacement, LimbOfAboutTauWhoseLoopsNeverTightenIsCutWhereItsPieceReaches
     EXPECT_FLOAT_EQ(cut->sigma, 0.7f) << "the stub's best loop";
     EXPECT_TRUE(stubLimbPlan(1.0, true).cutNodes.empty()) << "a cap is no limb";
     EXPECT_TRUE(stubLimbPlan(2.32, false).cutNodes.empty()) << "the rule this test guards";
+}
+
+TEST(CutPlacement, LimbOfAboutTauIsCutWhereALoopPastItsBestReachesAsAPart) {
+    // The best loop (level 4) still wraps the base and its piece reaches
+    // only 1.5 loop sizes; from level 9 on the loops are the limb's and the
+    // piece past them reaches 1.8: a limb, cut at its best loop. A stump of
+    // the body's end reaches about 1.4 (a hand's wrist), a part 1.75 or
+    // more, as in the end rule (docs/algorithm.md §8.12).
+    const auto outerLoopsReach = [](int level) { return level >= 9 ? 1.8 : 1.5; };
+    const CutPlan limb = stubLimbPlan(outerLoopsReach, true);
+    ASSERT_EQ(limb.cutNodes.size(), 1u);
+    const auto cut = std::find_if(limb.candidates.begin(), limb.candidates.end(),
+                                  [](const CutCandidate& c) { return c.isCut; });
+    ASSERT_NE(cut, limb.candidates.end());
+    EXPECT_TRUE(cut->stubLimb);
+    EXPECT_FLOAT_EQ(cut->sigma, 0.7f) << "cut at the best loop, not where the reach was read";
+    EXPECT_EQ(stubLimbPlan(1.8, true).cutNodes.size(), 1u) << "1.75 loop sizes make a part";
+    EXPECT_TRUE(stubLimbPlan(1.7, true).cutNodes.empty()) << "a stump";
+    // Loops before the best one are the base's: their reach tells nothing.
+    const auto innerLoopsReach = [](int level) { return level < 4 ? 1.8 : 1.5; };
+    EXPECT_TRUE(stubLimbPlan(innerLoopsReach, true).cutNodes.empty());
+    EXPECT_TRUE(stubLimbPlan(outerLoopsReach, false).cutNodes.empty());
 }
 
 TEST(CutPlacement, CornerOfTheBodyIsNotALimb) {
