@@ -365,12 +365,18 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
         branchesOf[j] = junctionBranches(g, j);
         std::sort(branchesOf[j].begin(), branchesOf[j].end());
     }
+    // Per junction, the junctions its uncut branches and passages lead to
+    // (the body's ways on) in the last plan made, and in the plan the end
+    // rule reads.
+    std::vector<std::vector<std::uint32_t>> bodyLinksOf(g.junctions.size()), wayOnOf;
     // limbsLeave: per junction, whether a plan without the end rule cut a
-    // limb there (the rule reads it); nullptr: the end rule is off.
+    // limb there (the rule reads it, with wayOnOf); nullptr: the end rule is
+    // off.
     const auto planWith = [&](const std::vector<float>& bodyFloor,
                               const std::vector<std::uint8_t>* limbsLeave) {
         CutPlan plan;
         passageLinks.clear();
+        for (std::vector<std::uint32_t>& links : bodyLinksOf) links.clear();
         // Per candidate of the plan: its walk's tight levels, where its
         // skeleton ends (kNoJunction: at another junction) and the junction
         // its walk reached (for moveToSeparatingLoops).
@@ -441,13 +447,17 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
                         if (walk.levels[k].sigma > walk.levels[best].sigma) best = k;
                     const TightLevel at = walk.levels[best];
                     // Past the best loop the loops leave the base for the
-                    // limb: the piece past one of them may reach out as a
-                    // part where the best loop's, still round the base, does
-                    // not. The cut stays at the best loop; the move to the
-                    // limb's border below reads the levels past it.
-                    bool reaches = false;
-                    for (std::size_t k = best; k < walk.levels.size() && !reaches; ++k)
-                        reaches = pieceReach(walk.levels[k].node, j) >= options.stubReach;
+                    // limb: the piece past the branch's last loop, the
+                    // limb's own, may reach out as a part where the best
+                    // loop's, still round the base, does not. Only these two
+                    // are flooded (each flood costs as much as the piece it
+                    // covers, and a body's end has many levels). The cut
+                    // stays at the best loop; the move to the limb's border
+                    // below reads the levels past it.
+                    const TightLevel last = walk.levels.back();
+                    const bool reaches =
+                        pieceReach(at.node, j) >= options.stubReach ||
+                        (last.node != at.node && pieceReach(last.node, j) >= options.stubReach);
                     if (reaches) {
                         walk.candidate = at.node;
                         walk.level = at.level;
@@ -597,46 +607,6 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
             const auto roundAnArtefact = [&](std::uint32_t node) {
                 return options.handleLoopsCarryNoArea && std::isinf(exactRhoC(g.point[node]));
             };
-            // Where the body goes on through this junction (a body member
-            // or a passage leads to a junction where limbs leave it), a
-            // branch that ends here (free, or at a junction where no limb
-            // leaves) and reaches past its loop as a part does (a stump a
-            // little longer than a corner's cap is the body's own end) stays
-            // on the body only when nearly as thick as the body: a head or a
-            // tail about 0.6 of the body's girth reads either side of
-            // bodyRatio from pose to pose (docs/algorithm.md §8.14). Loops
-            // round the model's artefact handles show no way on.
-            if (limbsLeave) {
-                // A branch back to this junction (round a handle) leads on
-                // to nothing new.
-                const auto leadsOn = [&](std::uint32_t other) {
-                    return other != kNoJunction && (*limbsLeave)[other] != 0;
-                };
-                const auto goesOn = [&](std::size_t i) {
-                    return skeletonEndOf[i - first] == kNoJunction &&
-                           leadsOn(otherJunctionOf[i - first]);
-                };
-                // 0: no piece lies past the loop's plane (a head bent back
-                // over its neck), so the reach tells nothing.
-                const auto reachesAsAPart = [&](std::uint32_t node) {
-                    if (!pieceReach) return true;
-                    const double reach = pieceReach(node, j);
-                    return reach == 0.0 || reach >= options.endReach;
-                };
-                bool bodyGoesOn = false;
-                for (std::size_t k = 0; k < passages.size(); ++k)
-                    bodyGoesOn |= leadsOn(passageTo[k]) && !roundAnArtefact(passages[k].node);
-                for (std::size_t i = first; i < plan.candidates.size(); ++i)
-                    if (const CutCandidate& c = plan.candidates[i];
-                        c.onBody && goesOn(i) && !roundAnArtefact(c.node))
-                        bodyGoesOn = true;
-                if (bodyGoesOn)
-                    for (std::size_t i = first; i < plan.candidates.size(); ++i)
-                        if (CutCandidate& c = plan.candidates[i];
-                            c.onBody && !goesOn(i) && c.similarity < float(options.endBodyRatio) &&
-                            reachesAsAPart(c.node))
-                            c.onBody = false;
-            }
             std::vector<std::size_t> body;
             for (std::size_t i = first; i < plan.candidates.size(); ++i)
                 if (plan.candidates[i].onBody && !roundAnArtefact(plan.candidates[i].node))
@@ -675,6 +645,65 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
                         i == keepOnBody ||
                         (options.passageCutsOnlySmallerCandidates && body.size() == 2 &&
                          plan.candidates[i].exactRhoC > passageArea);
+            }
+            // Where the body goes on through this junction (a body member
+            // or a passage leads to a junction where limbs leave it), a
+            // branch that ends here (free, or at a junction where no limb
+            // leaves) and reaches past its loop as a part does (a stump a
+            // little longer than a corner's cap is the body's own end) stays
+            // on the body only when nearly as thick as the body: a head or a
+            // tail about 0.6 of the body's girth reads either side of
+            // bodyRatio from pose to pose (docs/algorithm.md §8.14). Loops
+            // round the model's artefact handles show no way on. It reads
+            // what the rule above left on the body: taking a branch off
+            // first would leave that rule fewer members to compare (a tail's
+            // two prongs beside the way on, one each side of
+            // endBodyRatio), and a plan where the rule cannot act (no uncut
+            // candidate below endBodyRatio) is not made at all.
+            if (limbsLeave) {
+                // A branch back to this junction (round a handle) leads on
+                // to nothing new; one to a junction where nothing leaves the
+                // body leads on where the body goes on from there (a hip
+                // where only the tail's stub branches, between the chest
+                // and the hind legs).
+                const auto leadsOn = [&](std::uint32_t other) {
+                    if (other == kNoJunction || other == j) return false;
+                    std::vector<std::uint8_t> seen(g.junctions.size(), 0);
+                    std::vector<std::uint32_t> open{other};
+                    seen[j] = seen[other] = 1;
+                    while (!open.empty()) {
+                        const std::uint32_t k = open.back();
+                        open.pop_back();
+                        if ((*limbsLeave)[k]) return true;
+                        for (const std::uint32_t next : wayOnOf[k])
+                            if (!seen[next]) seen[next] = 1, open.push_back(next);
+                    }
+                    return false;
+                };
+                const auto goesOn = [&](std::size_t i) {
+                    return skeletonEndOf[i - first] == kNoJunction &&
+                           leadsOn(otherJunctionOf[i - first]);
+                };
+                // 0: no piece lies past the loop's plane (a head bent back
+                // over its neck), so the reach tells nothing.
+                const auto reachesAsAPart = [&](std::uint32_t node) {
+                    if (!pieceReach) return true;
+                    const double reach = pieceReach(node, j);
+                    return reach == 0.0 || reach >= options.endReach;
+                };
+                bool bodyGoesOn = false;
+                for (std::size_t k = 0; k < passages.size(); ++k)
+                    bodyGoesOn |= leadsOn(passageTo[k]) && !roundAnArtefact(passages[k].node);
+                for (std::size_t i = first; i < plan.candidates.size(); ++i)
+                    if (const CutCandidate& c = plan.candidates[i];
+                        c.onBody && goesOn(i) && !roundAnArtefact(c.node))
+                        bodyGoesOn = true;
+                if (bodyGoesOn)
+                    for (std::size_t i = first; i < plan.candidates.size(); ++i)
+                        if (CutCandidate& c = plan.candidates[i];
+                            c.onBody && !goesOn(i) && c.similarity < float(options.endBodyRatio) &&
+                            reachesAsAPart(c.node))
+                            c.onBody = false;
             }
             // Nothing leaves a one-branch junction but its branch: the body
             // ends there, and a branch that reaches another junction is the
@@ -723,6 +752,16 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
                 }
             }
             for (std::size_t i = first; i < plan.candidates.size(); ++i) {
+                const CutCandidate& c = plan.candidates[i];
+                const std::uint32_t other = otherJunctionOf[i - first];
+                if (!c.isCut && skeletonEndOf[i - first] == kNoJunction && other != kNoJunction &&
+                    !roundAnArtefact(c.node))
+                    bodyLinksOf[j].push_back(other), bodyLinksOf[other].push_back(j);
+            }
+            for (std::size_t k = 0; k < passages.size(); ++k)
+                if (passageTo[k] != kNoJunction && !roundAnArtefact(passages[k].node))
+                    bodyLinksOf[j].push_back(passageTo[k]), bodyLinksOf[passageTo[k]].push_back(j);
+            for (std::size_t i = first; i < plan.candidates.size(); ++i) {
                 tightOfPlan.push_back(std::move(tightOf[i - first]));
                 skeletonEndOfPlan.push_back(skeletonEndOf[i - first]);
                 otherJunctionOfPlan.push_back(otherJunctionOf[i - first]);
@@ -760,7 +799,10 @@ CutPlan placeCutsOn(const SkeletonGraph& g, const std::vector<SkeletonPoint>& po
             std::any_of(plan.candidates.begin(), plan.candidates.end(), [&](const CutCandidate& c) {
                 return !c.isCut && c.similarity < float(options.endBodyRatio);
             });
-        if (canAct) plan = planWith(bodyFloor, &limbsLeave);
+        if (canAct) {
+            wayOnOf = bodyLinksOf;
+            plan = planWith(bodyFloor, &limbsLeave);
+        }
     }
     return plan;
 }

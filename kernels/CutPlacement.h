@@ -12,8 +12,8 @@
 // free; such a candidate that reads body is dropped unless a free-ending
 // candidate at sigmaMin reads alike (a twin prong). A free branch with no
 // run at all (a limb of about tau, whose C_tau holds only its base) gives
-// its best level as such a candidate when the piece past that loop or a
-// loop further out reaches stubReach loop sizes (stubLimbs).
+// its best level as such a candidate when the piece past that loop or past
+// the branch's last loop reaches stubReach loop sizes (stubLimbs).
 // Candidates whose circumference rho_S is similar to the junction's (body
 // test) lie on the body and are dropped; a candidate's circumference is the
 // smallest rho_S of the tight levels (sigma >= sigmaMin) from the candidate
@@ -127,9 +127,10 @@ struct CutOptions {
     /// (docs/algorithm.md §8.9).
     bool oneBranchJunctionsEndTheBody = true;
     /// Where the body goes on through a junction (a body candidate or a
-    /// passage leads to a junction where the plan without this rule cut a
-    /// limb), a body candidate whose branch ends (free, or at a junction
-    /// where no limb was cut) stays on the body only from this similarity up: a head or
+    /// passage leads, directly or through junctions where nothing was cut,
+    /// to a junction where the plan without this rule cut a limb), a body
+    /// candidate whose branch ends (free, or at a junction that leads to no
+    /// limb) stays on the body only from this similarity up: a head or
     /// a tail read near bodyRatio is cut in every pose (docs/algorithm.md
     /// §8.14). 0, or anything up to bodyRatio: off.
     double endBodyRatio = 0.75;
@@ -176,7 +177,7 @@ struct CutOptions {
     bool tightLevelsInRuns = false;
     /// A branch that ends free with no run of tight levels, even below
     /// sigmaMin, is a limb whose area is about tau when the piece past its
-    /// best loop, or past a loop further out, reaches at least stubReach
+    /// best loop, or past the branch's last loop, reaches at least stubReach
     /// times that loop's size from its centre (pieceReach; a corner's piece
     /// is a cap within cornerReach, a stump of the body's end within
     /// endReach): C_tau holds only the limb's base, whose loops still wrap

@@ -1076,17 +1076,26 @@ TEST(CutPlacement, NeckIsJudgedAgainstTheBodyAcrossAPassageAtTwoScales) {
 /// apart along x, joined by the torso (80 s), at scale s. At the shoulder a
 /// head (rho_S `head` s) and an arm (20 s) end free; at the hips two legs (20 s) do, or with `legs`
 /// false one branch as thick as the torso (nothing leaves the body there).
+/// With `waist`, a third junction on the torso halfway (40 s voxels between
+/// shoulder and hips) where only the torso passes; `arm2` sets the arm's
+/// rho_S (s).
 CutPlan headBesideTheTorso(int scale, float head, bool legs, const CutOptions& options,
-                           const PieceReach& pieceReach = {}) {
-    const int arm = 15 * scale, gap = 20 * scale, a = arm + 2, c = arm + 2, b = a + gap;
+                           const PieceReach& pieceReach = {}, bool waist = false,
+                           float arm2 = 20.0f) {
+    const int arm = 15 * scale, gap = 20 * scale, a = arm + 2, c = arm + 2;
+    const int b = a + (waist ? 2 : 1) * gap;
     const float s = float(scale);
-    SkeletonPointSet set{Dims{a + gap + arm + 5, 2 * arm + 5, 3}};
+    SkeletonPointSet set{Dims{b + arm + 5, 2 * arm + 5, 3}};
     set.add({a, c, 1}, 80.0f * s, 9000.0, 3);
     set.add({b, c, 1}, 80.0f * s, 9000.0, 3);
     std::vector<std::vector<std::uint32_t>> branches;
     branches.push_back(set.chain({a - 1, c - 1, 1}, {-1, -1, 0}, arm, head * s, 2000.0));
-    branches.push_back(set.chain({a - 1, c + 1, 1}, {-1, 1, 0}, arm, 20.0f * s));
+    branches.push_back(set.chain({a - 1, c + 1, 1}, {-1, 1, 0}, arm, arm2 * s));
     branches.push_back(set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, 80.0f * s, 6000.0));
+    if (waist) {
+        set.add({a + gap, c, 1}, 80.0f * s, 9000.0, 3);
+        branches.push_back(set.chain({a + gap + 1, c, 1}, {1, 0, 0}, gap - 1, 80.0f * s, 6000.0));
+    }
     if (legs) {
         branches.push_back(set.chain({b + 1, c - 1, 1}, {1, -1, 0}, arm, 20.0f * s));
         branches.push_back(set.chain({b + 1, c + 1, 1}, {1, 1, 0}, arm, 20.0f * s));
@@ -1145,6 +1154,83 @@ TEST(CutPlacement, HeadBesideTheWayOnIsCutBelowTheEndRatioAtTwoScales) {
         const CutPlan noLegs = headBesideTheTorso(scale, 52.0f, false, {});
         ASSERT_NE(candidateOfLimb(noLegs, 52.0f * s), nullptr);
         EXPECT_FALSE(candidateOfLimb(noLegs, 52.0f * s)->isCut);
+    }
+}
+
+TEST(CutPlacement, HeadIsCutWhereTheWayOnReachesLimbsThroughAJunctionWhereNothingLeaves) {
+    // pcow (a held-out pose sequence), frame 50: the neck reads 0.63 of the
+    // body at the chest, whose torso leads to a junction where only the
+    // body passes (the tail's stub gives no cut) and on to the hind legs.
+    // The body goes on through the chest all the same: the head ends there
+    // and is cut (docs/algorithm.md §8.14).
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const float s = float(scale);
+        const CutPlan plan = headBesideTheTorso(scale, 52.0f, true, {}, {}, true);
+        ASSERT_EQ(plan.junctions.size(), 3u);
+        EXPECT_EQ(plan.junctions[2].cuts, 0u) << "nothing leaves the body at the waist";
+        const CutCandidate* head = candidateOfLimb(plan, 52.0f * s);
+        ASSERT_NE(head, nullptr);
+        EXPECT_NEAR(head->similarity, 0.65f, 1e-4f);
+        EXPECT_TRUE(head->isCut);
+        EXPECT_EQ(plan.cutNodes.size(), 4u) << "the head, the arm and the legs";
+        // No limb anywhere past the waist: no way on, the head stays.
+        const CutPlan noLegs = headBesideTheTorso(scale, 52.0f, false, {}, {}, true);
+        ASSERT_NE(candidateOfLimb(noLegs, 52.0f * s), nullptr);
+        EXPECT_FALSE(candidateOfLimb(noLegs, 52.0f * s)->isCut);
+    }
+}
+
+/// Two prongs (rho_S 52 s and 62 s: 0.65 and 0.775 of the body) end at a
+/// shoulder junction whose torso (80 s, the most surface) leads to the hips,
+/// where two legs (20 s) leave and a tail (56 s: 0.7) ends, at scale s.
+CutPlan prongsBesideTheTorso(int scale) {
+    const int arm = 15 * scale, gap = 20 * scale, a = arm + 2, c = arm + 2, b = a + gap;
+    const float s = float(scale);
+    SkeletonPointSet set{Dims{b + arm + 5, 2 * arm + 5, 3}};
+    set.add({a, c, 1}, 80.0f * s, 9000.0, 3);
+    set.add({b, c, 1}, 80.0f * s, 9000.0, 3);
+    std::vector<std::vector<std::uint32_t>> branches;
+    branches.push_back(set.chain({a - 1, c - 1, 1}, {-1, -1, 0}, arm, 52.0f * s, 2000.0));
+    branches.push_back(set.chain({a - 1, c + 1, 1}, {-1, 1, 0}, arm, 62.0f * s, 2000.0));
+    branches.push_back(set.chain({a + 1, c, 1}, {1, 0, 0}, gap - 1, 80.0f * s, 6000.0));
+    branches.push_back(set.chain({b + 1, c - 1, 1}, {1, -1, 0}, arm, 20.0f * s));
+    branches.push_back(set.chain({b + 1, c + 1, 1}, {1, 1, 0}, arm, 20.0f * s));
+    branches.push_back(set.chain({b + 1, c, 1}, {1, 0, 0}, arm, 56.0f * s, 2000.0));
+    for (const auto& branch : branches)
+        for (std::uint32_t v : branch) set.point(v).sigma = 0.9f;
+    const std::vector<SkeletonPoint> points = set.points();
+    const SkeletonGraph g = buildSkeletonGraph(points, set.dims(), {});
+    return placeCuts(g, points, {},
+                     [&points](std::uint32_t pointIndex) { return points[pointIndex].rhoC; });
+}
+
+TEST(CutPlacement, EndRuleReadsWhatTheMoreThanTwoRuleLeftOnTheBodyAtTwoScales) {
+    // PSB fish 223: the tail's two prongs read 0.659 and 0.789 of the body
+    // where the body goes on. Three body members there (the prongs and the
+    // way on): the "more than two" rule keeps the one with the most surface
+    // and cuts both prongs. The end rule reads what that rule left; had it
+    // taken the thinner prong off first, the thicker one would have been
+    // left alone on the body beside the way on (docs/algorithm.md §8.14).
+    // The tail at the hips (0.7, ending beside the way on) makes the end
+    // rule's plan happen at all.
+    for (const int scale : {1, 2}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const float s = float(scale);
+        const CutPlan plan = prongsBesideTheTorso(scale);
+        ASSERT_EQ(plan.junctions.size(), 2u);
+        for (const float prong : {52.0f, 62.0f}) {
+            const CutCandidate* c = candidateOfLimb(plan, prong * s);
+            ASSERT_NE(c, nullptr) << prong;
+            EXPECT_TRUE(c->isCut) << prong;
+        }
+        const CutCandidate* tail = candidateOfLimb(plan, 56.0f * s);
+        ASSERT_NE(tail, nullptr);
+        EXPECT_NEAR(tail->similarity, 0.7f, 1e-4f);
+        EXPECT_TRUE(tail->isCut) << "the end rule acts at the hips";
+        const CutCandidate* torso = candidateOfLimb(plan, 80.0f * s);
+        ASSERT_NE(torso, nullptr);
+        EXPECT_FALSE(torso->isCut);
     }
 }
 
