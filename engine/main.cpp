@@ -71,7 +71,8 @@ int runCommandLine(int argc, char** argv) {
     batch
         ->add_option("manifest", manifestText,
                      "Text file with one input path per line (# comments; relative to the "
-                     "manifest), or a folder of inputs")
+                     "manifest), a .csv whose header names a path column (path, input or "
+                     "file), or a folder of inputs")
         ->check(nonEmptyPath);
     batch->add_option("-o,--output", outrootText, "Output root: one folder per input")
         ->check(nonEmptyPath);

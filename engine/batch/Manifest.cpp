@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <queue>
@@ -16,6 +17,7 @@
 
 #include "engine/SegmentCommand.h"
 #include "engine/batch/DoneMarker.h"
+#include "io/files/CsvRecords.h"
 #include "io/files/OutputDirectory.h"
 #include "io/files/TextFile.h"
 #include "kernels/base/Error.h"
@@ -323,6 +325,71 @@ std::string missingPathNote(const fs::path& base, const std::string& listed) {
 
 }  // namespace
 
+/// A manifest named *.csv whose first record names a path column: each
+/// later record's field in that column is a listed path (addListed), as a
+/// line is in a text manifest. false: no such file, read line by line (a
+/// .csv listing one path per line). The column is the first of path, input,
+/// file, filename, file_name, filepath, file_path, mesh, volume, shape
+/// (any case) in the header; a summary.csv of an earlier batch names its
+/// inputs "input" (as that batch read them: relative ones are relative to
+/// the folder it ran in).
+bool readCsvManifest(const fs::path& source, std::string_view text,
+                     const std::function<void(int, const std::string&)>& addListed,
+                     std::vector<std::string>& warnings) {
+    if (lowerExtension(source) != ".csv" || text.find('\0') != std::string_view::npos) return false;
+    const std::vector<CsvRecord> records = readCsvRecords(source.string(), text);
+    const auto blank = [](const CsvRecord& r) {
+        return std::all_of(r.fields.begin(), r.fields.end(),
+                           [](const std::string& f) { return trim(f).empty(); });
+    };
+    const auto comment = [](const CsvRecord& r) {
+        return !r.fields.empty() && trim(r.fields[0]).rfind('#', 0) == 0;
+    };
+    std::size_t header = 0;
+    while (header < records.size() && (blank(records[header]) || comment(records[header])))
+        ++header;
+    if (header == records.size()) return false;
+    std::vector<std::string> names;
+    for (const std::string& field : records[header].fields) {
+        std::string name = trim(field);
+        std::transform(name.begin(), name.end(), name.begin(),
+                       [](unsigned char c) { return char(std::tolower(c)); });
+        names.push_back(name);
+    }
+    std::size_t column = names.size();
+    for (const char* wanted : {"path", "input", "file", "filename", "file_name", "filepath",
+                               "file_path", "mesh", "volume", "shape"}) {
+        column = std::size_t(std::find(names.begin(), names.end(), wanted) - names.begin());
+        if (column < names.size()) break;
+    }
+    if (column == names.size()) {
+        // Several columns and none named: the rows' commas would be read as
+        // parts of paths, and every row would fail as a missing file.
+        std::error_code ec;
+        const std::string firstLine = trim(std::string(text.substr(0, text.find('\n'))));
+        if (names.size() > 1 && !fs::exists(resolveListedPath(source.parent_path(), firstLine), ec))
+            throw InputError(source.string(),
+                             "line " + std::to_string(records[header].line) +
+                                 ": a CSV manifest's first line names its path column (path, "
+                                 "input or file); this one names none: " +
+                                 cutToBytes(firstLine, 200));
+        return false;
+    }
+    for (std::size_t r = header + 1; r < records.size(); ++r) {
+        const CsvRecord& record = records[r];
+        if (blank(record) || comment(record)) continue;
+        const std::string path = column < record.fields.size() ? trim(record.fields[column]) : "";
+        if (path.empty()) {
+            warnings.push_back(source.string() + ":" + std::to_string(record.line) +
+                               ": no path in column '" + trim(records[header].fields[column]) +
+                               "'; row skipped");
+            continue;
+        }
+        addListed(record.line, path);
+    }
+    return true;
+}
+
 Manifest readManifest(const fs::path& source) {
     Manifest manifest;
     manifest.source = source;
@@ -353,38 +420,9 @@ Manifest readManifest(const fs::path& source) {
         std::string_view text(bytes);
         text.remove_prefix(textContentStart(source.string(), text));
         const fs::path base = source.parent_path();
-        std::size_t start = 0, contentLines = 0;
-        for (int line = 1; start < text.size(); ++line) {
-            std::size_t end = text.find('\n', start);
-            if (end == std::string_view::npos) end = text.size();
-            const std::string_view rawLine = text.substr(start, end - start);
-            start = end + 1;
-            // No path holds a NUL byte: this is binary data, not a list.
-            if (rawLine.find('\0') != std::string_view::npos)
-                throw InputError(source.string(), "line " + std::to_string(line) +
-                                                      " holds a NUL byte: not a text manifest");
-            const std::string path = trim(std::string(rawLine));
-            if (path.empty()) continue;
-            if (path[0] == '#') {
-                // `ls > list.txt` lists "#1.off" as it is, and the line read
-                // as a comment dropped the shape without a word.
-                if (isSupportedInputPath(path) &&
-                    fs::is_regular_file(resolveListedPath(base, path), ec))
-                    manifest.warnings.push_back(
-                        source.string() + ":" + std::to_string(line) + ": " + path +
-                        " is a comment, though a shape of that name exists; write ./" + path +
-                        " to segment it");
-                continue;
-            }
-            // A JSON list of paths had its quoted lines without a comma read
-            // as paths and the others failed as missing files: half a batch.
-            if (++contentLines == 1 && (path == "[" || path == "{" || path.rfind("[\"", 0) == 0 ||
-                                        path.rfind("{\"", 0) == 0))
-                throw InputError(source.string(),
-                                 "line " + std::to_string(line) + " starts with '" +
-                                     path.substr(0, 1) +
-                                     "': this looks like JSON, and a manifest is a text file "
-                                     "with one path per line");
+        // One listed path (a line, or a CSV record's path field) as the
+        // inputs it stands for.
+        const auto addListed = [&](int line, const std::string& path) {
             // A path longer than the system takes names no file; as an input
             // it was echoed in every message and summary (a line of 50 MB
             // wrote 350 MB of them).
@@ -414,11 +452,52 @@ Manifest readManifest(const fs::path& source) {
                                  : " is a directory holding no supported input file") +
                         "; nothing to do for it");
                 for (const auto& file : files) listed.emplace_back(file, line);
-                continue;
+                return;
             }
             if (!fs::exists(resolved, ec))
                 missingNotes[listed.size()] = missingPathNote(base, path);
             listed.emplace_back(resolved, line);
+        };
+        // `ls` writes "#1.off" as it is, and the line read as a comment
+        // dropped the shape without a word.
+        const auto warnOfShapeCommentedOut = [&](int line, const std::string& path) {
+            if (isSupportedInputPath(path) &&
+                fs::is_regular_file(resolveListedPath(base, path), ec))
+                manifest.warnings.push_back(source.string() + ":" + std::to_string(line) + ": " +
+                                            path +
+                                            " is a comment, though a shape of that name exists; "
+                                            "write ./" +
+                                            path + " to segment it");
+        };
+        if (!readCsvManifest(source, text, addListed, manifest.warnings)) {
+            std::size_t start = 0, contentLines = 0;
+            for (int line = 1; start < text.size(); ++line) {
+                std::size_t end = text.find('\n', start);
+                if (end == std::string_view::npos) end = text.size();
+                const std::string_view rawLine = text.substr(start, end - start);
+                start = end + 1;
+                // No path holds a NUL byte: this is binary data, not a list.
+                if (rawLine.find('\0') != std::string_view::npos)
+                    throw InputError(source.string(), "line " + std::to_string(line) +
+                                                          " holds a NUL byte: not a text manifest");
+                const std::string path = trim(std::string(rawLine));
+                if (path.empty()) continue;
+                if (path[0] == '#') {
+                    warnOfShapeCommentedOut(line, path);
+                    continue;
+                }
+                // A JSON list of paths had its quoted lines without a comma
+                // read as paths and the others failed as missing files: half
+                // a batch.
+                if (++contentLines == 1 && (path == "[" || path == "{" ||
+                                            path.rfind("[\"", 0) == 0 || path.rfind("{\"", 0) == 0))
+                    throw InputError(source.string(),
+                                     "line " + std::to_string(line) + " starts with '" +
+                                         path.substr(0, 1) +
+                                         "': this looks like JSON, and a manifest is a text file "
+                                         "with one path per line");
+                addListed(line, path);
+            }
         }
     }
     std::map<std::string, int> firstLine;

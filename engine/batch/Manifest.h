@@ -1,6 +1,8 @@
 // skelseg: the list of inputs of a batch, their output names and shards.
 //
-// A manifest is a text file with one input path per line. Blank lines and
+// A manifest is a text file with one input path per line, or a *.csv whose
+// header names a path column (path, input, file, ...; readCsvManifest in
+// Manifest.cpp): that column's fields are read as lines are. Blank lines and
 // lines whose first non-blank character is '#' are skipped (a '#' later in a
 // line is part of the path: file names may hold one; a comment that names an
 // existing shape, "#1.off" as `ls` lists it, is a warning); a first line

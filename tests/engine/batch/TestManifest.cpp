@@ -741,3 +741,50 @@ TEST(ShardSpec, SlurmTaskIdBetweenTheArraysStepsIsRefused) {
     env["SLURM_ARRAY_TASK_ID"] = "5";
     EXPECT_THROW(shardFromEnvironment(lookup, 0), UsageError);
 }
+
+// A spreadsheet's or a script's CSV: `path,label` with a header was every
+// row a failed input (the whole line read as one path).
+TEST(Manifest, ACsvManifestReadsItsPathColumn) {
+    TempDir dir;
+    touch(dir / "a.off");
+    touch(dir / "my, shapes" / "b.nrrd");
+    touch(dir / "c.obj");
+    writeBytes(dir / "list.csv",
+               "\xEF\xBB\xBF# exported\nlabel,Path,parts\r\ncat,a.off,4\r\n,,\r\n"
+               "dog,\"my, shapes/b.nrrd\",5\r\n# ignored,c.obj\r\nfish,,2\r\nbird,c.obj\r\n");
+    const Manifest m = readManifest(dir / "list.csv");
+    ASSERT_EQ(m.entries.size(), 3u);
+    EXPECT_EQ(m.entries[0].input, dir / "a.off");
+    EXPECT_EQ(m.entries[0].line, 3);
+    EXPECT_EQ(m.entries[1].input, dir / "my, shapes" / "b.nrrd");
+    EXPECT_TRUE(m.entries[1].exists);
+    EXPECT_EQ(m.entries[1].line, 5);
+    EXPECT_EQ(m.entries[2].input, dir / "c.obj");
+    EXPECT_EQ(m.entries[2].line, 8);
+    ASSERT_EQ(m.warnings.size(), 1u);
+    EXPECT_EQ(m.warnings[0],
+              (dir / "list.csv").string() + ":7: no path in column 'Path'; row skipped");
+
+    // An earlier batch's summary.csv lists its inputs in "input".
+    fs::create_directories(dir / "old");
+    writeBytes(dir / "old" / "summary.csv",
+               "name,input,status,parts\na," + (dir / "a.off").string() + ",done,4\n");
+    const Manifest again = readManifest(dir / "old" / "summary.csv");
+    ASSERT_EQ(again.entries.size(), 1u);
+    EXPECT_EQ(again.entries[0].input, dir / "a.off");
+
+    // One path per line in a file named .csv is read as before.
+    writeBytes(dir / "plain.csv", "a.off\nc.obj\n");
+    EXPECT_EQ(readManifest(dir / "plain.csv").entries.size(), 2u);
+
+    // Several columns, none of them named: refused on one line.
+    writeBytes(dir / "unnamed.csv", "a.off,4\nc.obj,5\n");
+    EXPECT_EQ(thrownMessage<InputError>([&] { readManifest(dir / "unnamed.csv"); }),
+              (dir / "unnamed.csv").string() +
+                  ": line 1: a CSV manifest's first line names its path column (path, input or "
+                  "file); this one names none: a.off,4");
+    // The same lines in a text manifest are paths with commas, as ever.
+    touch(dir / "a.off,4");
+    writeBytes(dir / "list.txt", "a.off,4\n");
+    EXPECT_EQ(readManifest(dir / "list.txt").entries[0].input, dir / "a.off,4");
+}
