@@ -323,8 +323,6 @@ std::string missingPathNote(const fs::path& base, const std::string& listed) {
            fs::absolute(text, ec).lexically_normal().string();
 }
 
-}  // namespace
-
 /// A manifest named *.csv whose first record names a path column: each
 /// later record's field in that column is a listed path (addListed), as a
 /// line is in a text manifest. false: no such file, read line by line (a
@@ -366,7 +364,11 @@ bool readCsvManifest(const fs::path& source, std::string_view text,
         // Several columns and none named: the rows' commas would be read as
         // parts of paths, and every row would fail as a missing file.
         std::error_code ec;
-        const std::string firstLine = trim(std::string(text.substr(0, text.find('\n'))));
+        std::size_t lineStart = 0;
+        for (int line = 1; line < records[header].line; ++line)
+            lineStart = text.find('\n', lineStart) + 1;
+        const std::string firstLine =
+            trim(std::string(text.substr(lineStart, text.find('\n', lineStart) - lineStart)));
         if (names.size() > 1 && !fs::exists(resolveListedPath(source.parent_path(), firstLine), ec))
             throw InputError(source.string(),
                              "line " + std::to_string(records[header].line) +
@@ -389,6 +391,8 @@ bool readCsvManifest(const fs::path& source, std::string_view text,
     }
     return true;
 }
+
+}  // namespace
 
 Manifest readManifest(const fs::path& source) {
     Manifest manifest;
@@ -458,17 +462,6 @@ Manifest readManifest(const fs::path& source) {
                 missingNotes[listed.size()] = missingPathNote(base, path);
             listed.emplace_back(resolved, line);
         };
-        // `ls` writes "#1.off" as it is, and the line read as a comment
-        // dropped the shape without a word.
-        const auto warnOfShapeCommentedOut = [&](int line, const std::string& path) {
-            if (isSupportedInputPath(path) &&
-                fs::is_regular_file(resolveListedPath(base, path), ec))
-                manifest.warnings.push_back(source.string() + ":" + std::to_string(line) + ": " +
-                                            path +
-                                            " is a comment, though a shape of that name exists; "
-                                            "write ./" +
-                                            path + " to segment it");
-        };
         if (!readCsvManifest(source, text, addListed, manifest.warnings)) {
             std::size_t start = 0, contentLines = 0;
             for (int line = 1; start < text.size(); ++line) {
@@ -483,7 +476,14 @@ Manifest readManifest(const fs::path& source) {
                 const std::string path = trim(std::string(rawLine));
                 if (path.empty()) continue;
                 if (path[0] == '#') {
-                    warnOfShapeCommentedOut(line, path);
+                    // `ls > list.txt` lists "#1.off" as it is, and the line
+                    // read as a comment dropped the shape without a word.
+                    if (isSupportedInputPath(path) &&
+                        fs::is_regular_file(resolveListedPath(base, path), ec))
+                        manifest.warnings.push_back(
+                            source.string() + ":" + std::to_string(line) + ": " + path +
+                            " is a comment, though a shape of that name exists; write ./" + path +
+                            " to segment it");
                     continue;
                 }
                 // A JSON list of paths had its quoted lines without a comma

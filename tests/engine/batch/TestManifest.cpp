@@ -783,6 +783,11 @@ TEST(Manifest, ACsvManifestReadsItsPathColumn) {
               (dir / "unnamed.csv").string() +
                   ": line 1: a CSV manifest's first line names its path column (path, input or "
                   "file); this one names none: a.off,4");
+    writeBytes(dir / "unnamed.csv", "# exported\n\na.off,4\n");
+    EXPECT_EQ(thrownMessage<InputError>([&] { readManifest(dir / "unnamed.csv"); }),
+              (dir / "unnamed.csv").string() +
+                  ": line 3: a CSV manifest's first line names its path column (path, input or "
+                  "file); this one names none: a.off,4");
     // The same lines in a text manifest are paths with commas, as ever.
     touch(dir / "a.off,4");
     writeBytes(dir / "list.txt", "a.off,4\n");
