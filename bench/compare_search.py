@@ -11,7 +11,12 @@ byte-identical, the Rand Index error between the two face labellings
 (meshes), the part counts, candidates measured, nodes settled and the CPU
 seconds of the path-set stage of each. Writes OUT/compare.json. CPU seconds
 and the work counters are the comparison to read on a loaded machine; wall
-seconds are printed for completeness.
+seconds are printed for completeness. An input that skelseg refuses both
+ways with the same exit code (a flat mesh, a broken file) is the same
+answer and is listed as refused by both; one that fails only one way, or
+with different codes, is a difference. Either way the other inputs are still
+compared. Exit code 1 when any input's answers differ beyond issue 14's
+tolerance (Rand Index error 0.005, equal part counts) or fail unlike.
 """
 import argparse, json, os, statistics, subprocess, sys, time
 from pathlib import Path
@@ -62,6 +67,19 @@ def read_run(out, wall):
     }
 
 
+class RunFailed(RuntimeError):
+    """skelseg exited non-zero; `code` is its exit code, the message says why."""
+
+    def __init__(self, code, message):
+        super().__init__(message)
+        self.code = code
+
+
+def last_line(text):
+    lines = text.strip().splitlines()
+    return lines[-1] if lines else "no message"
+
+
 def run(skelseg, inp, out, resolution, threads, extra, exhaustive, reuse):
     if reuse:
         return read_run(out, 0.0)
@@ -74,7 +92,7 @@ def run(skelseg, inp, out, resolution, threads, extra, exhaustive, reuse):
     proc = subprocess.run(cmd, capture_output=True, text=True)
     wall = time.monotonic() - start
     if proc.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}): {proc.stderr.strip()[-300:]}")
+        raise RunFailed(proc.returncode, f"exit {proc.returncode}: {last_line(proc.stderr)}")
     return read_run(out, wall)
 
 
@@ -100,12 +118,23 @@ def main():
     print("| --- | ---: | --- | --- | --- | ---: | --- | --- | ---: | ---: | ---: | --- | --- | --- | --- |")
     for inp in map(Path, args.inputs):
         name = inp.stem
-        runs = {}
+        runs, failures = {}, {}
         for mode in ("band", "exhaustive"):
-            runs[mode] = run(args.skelseg, inp, out / f"{name}-{mode}", args.resolution,
-                             args.threads, args.extra.split(), mode == "exhaustive",
-                             args.reuse or (args.reuse_exhaustive and mode == "exhaustive"
-                                            and (out / f"{name}-exhaustive" / "report.json").exists()))
+            try:
+                runs[mode] = run(args.skelseg, inp, out / f"{name}-{mode}", args.resolution,
+                                 args.threads, args.extra.split(), mode == "exhaustive",
+                                 args.reuse or (args.reuse_exhaustive and mode == "exhaustive"
+                                                and (out / f"{name}-exhaustive" / "report.json").exists()))
+            except RunFailed as failure:
+                failures[mode] = failure
+        if failures:
+            alike = len(failures) == 2 and failures["band"].code == failures["exhaustive"].code
+            said = "; ".join(f"{mode} {failure}" for mode, failure in failures.items())
+            rows.append({"input": str(inp), "resolution": args.resolution, "identical": alike,
+                         "refused_by_both": alike, "failed": {m: str(f) for m, f in failures.items()}})
+            print(f"| {inp.name} | {args.resolution} | "
+                  f"{'refused by both' if alike else 'FAILED'}: {said} |", flush=True)
+            continue
         files = {f: (out / f"{name}-band" / f).read_bytes() == (out / f"{name}-exhaustive" / f).read_bytes()
                  for f in ("skeleton.ply", "cuts.ply", "labels.nrrd")}
         same = all(files.values())
@@ -124,16 +153,25 @@ def main():
               f"{b['nodes_settled']} / {e['nodes_settled']} | {b['stage_cpu']:.2f} / {e['stage_cpu']:.2f} | "
               f"{b['cpu']:.2f} / {e['cpu']:.2f} |", flush=True)
     (out / "compare.json").write_text(json.dumps(rows, indent=1))
-    bad = [r for r in rows if not r["identical"] and (r["ri_error"] > 0.005 or r["band"]["parts"] != r["exhaustive"]["parts"])]
+    failed = [r for r in rows if "failed" in r]
+    bad = [r for r in failed if not r["refused_by_both"]]
+    rows = [r for r in rows if "failed" not in r]
+    bad += [r for r in rows if not r["identical"] and (r["ri_error"] > 0.005 or r["band"]["parts"] != r["exhaustive"]["parts"])]
     identical = sum(r["identical"] for r in rows)
     labels = sum(r["files"]["labels.nrrd"] and r["files"]["cuts.ply"] for r in rows)
+    refused = len(failed) - sum(not r["refused_by_both"] for r in failed)
+    refusals = f"; {refused} refused by both" if refused else ""
+    if not rows:
+        print(f"\nnone of {len(failed)} compared{refusals}; {len(bad)} failed one way only")
+        return 1 if bad else 0
     ratio = lambda key: statistics.median(r["band"][key] / max(r["exhaustive"][key], 1e-9) for r in rows)
     print(f"\nmedian ratios band / exhaustive: path-set CPU s {ratio('stage_cpu'):.2f}, "
           f"CPU s {ratio('cpu'):.2f}, nodes settled {ratio('nodes_settled'):.2f}, "
           f"candidates measured {statistics.median(r['band']['measured'] / max(r['band']['candidates'], 1) for r in rows):.2f}; "
           f"summed path-set CPU s {sum(r['band']['stage_cpu'] for r in rows):.1f} / "
           f"{sum(r['exhaustive']['stage_cpu'] for r in rows):.1f}; 1-minute load average {os.getloadavg()[0]:.1f}")
-    print(f"\n{identical} of {len(rows)} byte-identical in all three files, {labels} in cuts and labels; {len(bad)} outside RI error 0.005 or with other part counts")
+    print(f"\n{identical} of {len(rows)} byte-identical in all three files, {labels} in cuts and labels{refusals}; "
+          f"{len(bad)} outside RI error 0.005, with other part counts or failing one way only")
     return 1 if bad else 0
 
 

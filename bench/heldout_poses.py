@@ -6,7 +6,7 @@ nobody tuned on. The shared poses (../shared/data/poses) come from the
 public repository CraGL/Hyperspectral-Inverse-Skinning, whose models/ folder
 holds many more frames and characters. Give this script a copy of that
 repository (a clone with a work tree, or a bare clone: files are then read
-with `git show`) and it writes three sets of frames, each in the layout
+with `git show`) and it writes four sets of frames, each in the layout
 bench/invariance.py and bench/sequence_consensus.py read (`--data OUT/SET`):
 
     OUT/traced/poses/NAME_FRAME.obj    12 sequences, 4 frames each: the
@@ -21,6 +21,10 @@ bench/invariance.py and bench/sequence_consensus.py read (`--data OUT/SET`):
                                        of four others (horse-collapse, a
                                        horse squashed flat, is no pose
                                        sequence and is left out)
+    OUT/fourth/poses/NAME_FRAME.obj    4 sequences read first on 2026-12-07:
+                                       the models no set held before (a
+                                       twisted cube, two bent open tubes, a
+                                       face's expressions)
 
 The tables of docs/quality.md name the set they were measured on. Files
 are copied byte for byte; nothing is written into the repository, and the
@@ -51,6 +55,10 @@ SEQUENCES = {
     "cheburashka": ("cheburashka", "cheburashka-{}.obj"),
     "chicken": ("chickenCrossing", "{}.obj"),
     "cow": ("cow", "cow-{}.obj"),
+    "cube": ("cube", "cube-{}.obj"),
+    "cylinder": ("cylinder", "cylinder-{}.obj"),
+    "cylp2": ("cylinder-all/poses-2", "cylinder-{}.obj"),
+    "face": ("face-poses", "{}.obj"),
     "crane": ("crane", "mesh_{:04d}.obj"),
     "elephantgallop": ("elephant-gallop", "{}.obj"),
     "elephantposes": ("elephant-poses", "{}.obj"),
@@ -85,6 +93,10 @@ FRAMES = {
         "elephantgallop": [7, 19, 31, 43], "samba": [20, 60, 100, 140],
         "pdance": [25, 75, 125, 175], "chicken": [26, 126, 226, 326],
         "pcow": [10, 60, 110, 160], "pjump": [10, 60, 110, 160], "crane": [10, 60, 110, 160],
+    },
+    "fourth": {
+        "cube": [1, 2, 3, 4], "cylinder": [1, 2, 3, 4],
+        "cylp2": [1, 2, 3, 4], "face": [1, 4, 7, 9],
     },
 }
 

@@ -33,7 +33,12 @@ placement "faces" keeps the geometry and writes the faces in another order
 (a fixed shuffle), each started at another corner, as another exporter
 might; its labels are mapped back to the original faces.
 
-Where DATA is absent it says so and exits 0. Needs numpy.
+Where DATA is absent it says so and exits 0. A run that skelseg refuses or
+fails (a flat mesh, a broken file: skelseg exits non-zero) does not stop the
+others: its sequence, mesh or placement is listed as failed with skelseg's
+message, counts as not keeping its part count, and is left out of the mean
+error; the tables and --json are written, and the exit code is then 1.
+Needs numpy.
 """
 
 import argparse
@@ -121,6 +126,10 @@ def rand_index_error(a, b):
     return disagree / (n * (n - 1) / 2.0)
 
 
+class RunFailed(RuntimeError):
+    """skelseg exited non-zero on one input; the message names it and says why."""
+
+
 def segment(skelseg, mesh, out, resolution):
     cmd = [skelseg, "segment", str(mesh), "-o", str(out), "--resolution", str(resolution),
            "-q", "--no-preview", "--force"]
@@ -129,7 +138,7 @@ def segment(skelseg, mesh, out, resolution):
     seconds = time.monotonic() - start
     if run.returncode != 0:
         lines = (run.stderr or run.stdout).strip().splitlines()
-        raise RuntimeError(f"{mesh}: skelseg exited {run.returncode}: "
+        raise RunFailed(f"{mesh}: skelseg exited {run.returncode}: "
                            f"{lines[-1] if lines else 'no message'}")
     labels = read_labels(out / "segmentation.seg")
     report = json.loads((out / "report.json").read_text())
@@ -282,6 +291,31 @@ def fmt_set(values):
     return fmt_list(sorted({v for v in values if v is not None}) or [None])
 
 
+def failed(failure):
+    """The entry of a sequence, mesh or placement one of whose runs failed."""
+    return {"failed": str(failure), "same_parts": False}
+
+
+def summary(entry):
+    if "failed" in entry:
+        return f"failed: {entry['failed']}"
+    return f"parts {fmt_list(entry['parts'])}, mean RI error {entry['mean_ri_error']:.3f}"
+
+
+def failures_note(entries):
+    count = sum("failed" in e for e in entries.values())
+    return f" ({count} failed)" if count else ""
+
+
+def mean_error(entries):
+    """The mean of the measured entries' errors, saying over how many when some failed."""
+    errors = [e["mean_ri_error"] for e in entries.values() if "failed" not in e]
+    if not errors:
+        return "not measured"
+    text = f"{np.mean(errors):.3f}"
+    return text if len(errors) == len(entries) else f"{text} (over the {len(errors)} measured)"
+
+
 def main(argv):
     args = parse_args(argv)
     skelseg = Path(args.skelseg)
@@ -308,13 +342,15 @@ def main(argv):
         if wanted and name not in wanted or "none" in wanted:
             continue
         grids = frame_resolutions(frames, args.pose_resolution, args.pose_grid)
-        runs = [segment(skelseg, f, work / "poses" / f.stem, r) for f, r in zip(frames, grids)]
-        entry = compare(runs)
+        try:
+            entry = compare([segment(skelseg, f, work / "poses" / f.stem, r)
+                             for f, r in zip(frames, grids)])
+        except RunFailed as failure:
+            entry = failed(failure)
         entry["frames"] = [f.stem.rpartition("_")[2] for f in frames]
         entry["frame_resolutions"] = grids
         results["sequences"][name] = entry
-        print(f"{name}: parts {fmt_list(entry['parts'])}, mean RI error "
-              f"{entry['mean_ri_error']:.3f}", file=sys.stderr)
+        print(f"{name}: {summary(entry)}", file=sys.stderr)
 
     resolutions = [int(r) for r in args.resolutions.split(",") if r]
     sweeps = []  # (key, mesh, out stem, table)
@@ -366,23 +402,29 @@ def main(argv):
         futures = {(key, r): pool.submit(segment, skelseg, mesh, Path(f"{stem}-{r}"), r)
                    for key, mesh, stem, _ in sweeps for r in resolutions}
         for key, mesh, stem, table in sweeps if resolutions else []:
-            runs = [futures[(key, r)].result() for r in resolutions]
-            entry = compare(runs)
+            try:
+                entry = compare([futures[(key, r)].result() for r in resolutions])
+            except RunFailed as failure:
+                entry = failed(failure)
             entry["resolution"] = resolutions
             results[table][key] = entry
-            print(f"{key}: parts {fmt_list(entry['parts'])}, mean RI error "
-                  f"{entry['mean_ri_error']:.3f}", file=sys.stderr)
+            print(f"{key}: {summary(entry)}", file=sys.stderr)
         for key, _ in turned:
-            original = placed[(key, "")].result()
-            runs = []
-            for o in placements:
-                future, order = placed[(key, o)]
-                run = dict(future.result())
-                if run["labels"].size == order.size:  # back to the original faces
-                    labels = np.empty_like(run["labels"])
-                    labels[order] = run["labels"]
-                    run["labels"] = labels
-                runs.append(run)
+            try:
+                original = placed[(key, "")].result()
+                runs = []
+                for o in placements:
+                    future, order = placed[(key, o)]
+                    run = dict(future.result())
+                    if run["labels"].size == order.size:  # back to the original faces
+                        labels = np.empty_like(run["labels"])
+                        labels[order] = run["labels"]
+                        run["labels"] = labels
+                    runs.append(run)
+            except RunFailed as failure:
+                results["orientations"][key] = dict(failed(failure), placements=placements)
+                print(f"{key}: failed: {failure}", file=sys.stderr)
+                continue
             errors = [rand_index_error(original["labels"], r["labels"]) for r in runs]
             results["orientations"][key] = {
                 "placements": placements, "parts": original["parts"],
@@ -406,14 +448,17 @@ def main(argv):
             frames = fmt_list(e["frames"])
             if args.pose_grid != "frame":
                 frames += f" (at {fmt_list(e['frame_resolutions'])})"
+            if "failed" in e:
+                lines.append(f"| {name} | {frames} | failed: {e['failed']} | | | |")
+                continue
             lines.append(f"| {name} | {frames} | {fmt_list(e['parts'])} | "
                          f"{e['mean_ri_error']:.3f} | {fmt_list(e['voxel_genus'])} "
                          f"({fmt_set(e['mesh_genus'])}) | "
                          f"{fmt_list(e['contacts_separated'])} |")
         same = sum(e["same_parts"] for e in results["sequences"].values())
-        mean = np.mean([e["mean_ri_error"] for e in results["sequences"].values()])
         lines += ["", f"Same part count in every frame: {same} of {len(results['sequences'])} "
-                  f"sequences; mean RI error between frames {mean:.3f}.", ""]
+                  f"sequences{failures_note(results['sequences'])}; mean RI error between "
+                  f"frames {mean_error(results['sequences'])}.", ""]
     for table, title, plural in (("resolutions", "mesh", "meshes"),
                                  ("psb", "PSB model", "PSB models")):
         if not results[table]:
@@ -423,32 +468,39 @@ def main(argv):
                   "| voxel genus (mesh genus) | contacts separated |",
                   "| --- | --- | --- | --- | --- |"]
         for name, e in results[table].items():
+            if "failed" in e:
+                lines.append(f"| {name} | failed: {e['failed']} | | | |")
+                continue
             lines.append(f"| {name} | {fmt_list(e['parts'])} | {e['mean_ri_error']:.3f} | "
                          f"{fmt_list(e['voxel_genus'])} "
                          f"({fmt_set(e['mesh_genus'])}) | "
                          f"{fmt_list(e['contacts_separated'])} |")
         same = sum(e["same_parts"] for e in results[table].values())
-        mean = np.mean([e["mean_ri_error"] for e in results[table].values()])
         lines += ["", f"Same part count at every resolution: {same} of "
-                  f"{len(results[table])} {plural}; mean RI error {mean:.3f}.", ""]
+                  f"{len(results[table])} {plural}{failures_note(results[table])}; mean RI "
+                  f"error {mean_error(results[table])}.", ""]
     if results["orientations"]:
         lines += [f"Orientations (resolution {args.pose_resolution}), each against the mesh "
                   "as it lies:", "",
                   f"| mesh | parts | parts {', '.join(placements)} | RI error to the mesh as "
                   "it lies | same labels |", "| --- | --- | --- | --- | --- |"]
         for name, e in results["orientations"].items():
+            if "failed" in e:
+                lines.append(f"| {name} | failed: {e['failed']} | | | |")
+                continue
             lines.append(f"| {name} | {e['parts']} | {fmt_list(e['placed_parts'])} | "
                          f"{', '.join(f'{x:.3f}' for x in e['ri_error'])} | "
                          f"{e['identical']} of {len(placements)} |")
         same = sum(e["same_parts"] for e in results["orientations"].values())
-        mean = np.mean([e["mean_ri_error"] for e in results["orientations"].values()])
         lines += ["", f"Same part count in every placement: {same} of "
-                  f"{len(results['orientations'])} meshes; mean RI error to the mesh as it "
-                  f"lies {mean:.3f}.", ""]
+                  f"{len(results['orientations'])} meshes"
+                  f"{failures_note(results['orientations'])}; mean RI error to the mesh as it "
+                  f"lies {mean_error(results['orientations'])}.", ""]
     print("\n".join(lines))
     if args.json:
         Path(args.json).write_text(json.dumps(results, indent=2) + "\n")
-    return 0
+    tables = ("sequences", "resolutions", "psb", "orientations")
+    return 1 if any("failed" in e for t in tables for e in results[t].values()) else 0
 
 
 if __name__ == "__main__":

@@ -65,7 +65,7 @@ def test_the_sets_name_distinct_frames_and_every_sequence_has_several():
         assert min(sequences.values()) >= 3, name
     # The traced frames are not read again as untraced or third ones.
     traced = {p for _, _, p in heldout_poses.SETS["traced"]}
-    for name in ("untraced", "third"):
+    for name in ("untraced", "third", "fourth"):
         assert not traced & {p for _, _, p in heldout_poses.SETS[name]}, name
 
 
@@ -99,5 +99,5 @@ def test_a_copy_without_models_and_an_output_in_the_repository_are_refused(tmp_p
     assert "inside the repository" in capsys.readouterr().err
     assert not (ROOT / "poses-out").exists()
     assert heldout_poses.main(["--repo", str(copy), "--out", str(tmp_path / "out"),
-                               "--sets", "fourth"]) == 2
-    assert "no set 'fourth'" in capsys.readouterr().err
+                               "--sets", "fifth"]) == 2
+    assert "no set 'fifth'" in capsys.readouterr().err

@@ -80,3 +80,53 @@ def test_the_psb_sweep_compares_the_resolutions_of_each_model(tmp_path):
     assert entry["mean_ri_error"] == pytest.approx((6 / 45 + 6 / 45 + 0) / 3)
     assert "| 1 (Human) | 2, 3, 3 |" in run.stdout
     assert "Same part count at every resolution: 0 of 3 PSB models" in run.stdout
+
+
+FAILING_SKELSEG = """#!/usr/bin/python3
+# Refuses any mesh whose name holds "flat" (exit 2, one line naming it), as
+# skelseg refuses a flat mesh; labels the others' 10 faces in two parts.
+import json, pathlib, sys
+args = sys.argv[1:]
+mesh = args[1]
+if "flat" in pathlib.Path(mesh).name:
+    print(f"skelseg: error: {mesh}: the mesh is flat", file=sys.stderr)
+    sys.exit(2)
+out = pathlib.Path(args[args.index("-o") + 1])
+out.mkdir(parents=True, exist_ok=True)
+(out / "segmentation.seg").write_text("0\\n" * 5 + "1\\n" * 5)
+(out / "report.json").write_text(json.dumps({"segment_count": 2,
+    "input": {"mesh_genus": 0, "voxel_genus": 0, "contacts_separated": 0}}))
+"""
+
+
+def test_a_run_that_fails_is_listed_and_the_others_are_measured(tmp_path):
+    data = tmp_path / "data"
+    (data / "poses").mkdir(parents=True)
+    (data / "shapes").mkdir()
+    triangle = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+    for name in ("walk_1.off", "walk_2.off", "flat_1.off", "flat_2.off"):
+        (data / "poses" / name).write_text(triangle)
+    for name in ("a.off", "flat.off"):
+        (data / "shapes" / name).write_text(triangle)
+    fake = tmp_path / "skelseg"
+    fake.write_text(FAILING_SKELSEG)
+    fake.chmod(fake.stat().st_mode | stat.S_IXUSR)
+    result = tmp_path / "sweep.json"
+    run = subprocess.run([sys.executable, str(SCRIPT), "--skelseg", str(fake), "--data", str(data),
+                          "--shapes", "a.off,flat.off", "--resolutions", "128,192",
+                          "--orientations", "rz", "--jobs", "2", "--json", str(result)],
+                         capture_output=True, text=True)
+    assert run.returncode == 1, run.stderr
+    sweep = json.loads(result.read_text())
+    assert sweep["sequences"]["walk"]["parts"] == [2, 2]
+    assert "flat_1.off: skelseg exited 2" in sweep["sequences"]["flat"]["failed"]
+    assert not sweep["sequences"]["flat"]["same_parts"]
+    assert sweep["resolutions"]["a.off"]["same_parts"]
+    assert "the mesh is flat" in sweep["resolutions"]["flat.off"]["failed"]
+    assert "failed" in sweep["orientations"]["flat.off"]
+    assert sweep["orientations"]["a.off"]["same_parts"]
+    assert "| flat | 1, 2 | failed: " in run.stdout
+    assert ("Same part count in every frame: 1 of 2 sequences (1 failed); mean RI error "
+            "between frames 0.000 (over the 1 measured).") in run.stdout
+    assert "Same part count at every resolution: 1 of 2 meshes (1 failed)" in run.stdout
+    assert "flat: failed: " in run.stderr
