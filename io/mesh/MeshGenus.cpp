@@ -1,72 +1,85 @@
 #include "io/mesh/MeshGenus.h"
 
 #include <algorithm>
-#include <numeric>
+#include <array>
+#include <utility>
 #include <vector>
 
 #include "io/mesh/MeshCheck.h"
+#include "kernels/DisjointSets.h"
 
 namespace skelseg {
 
 MeshTopology meshTopology(const TriangleMesh& mesh) {
     const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
-    const std::size_t vertexCount = mesh.vertices.size();
-
-    // Pieces: union-find over canonical vertices joined by triangles.
-    std::vector<std::uint32_t> parent(vertexCount);
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
     std::vector<std::array<std::uint32_t, 3>> triangles;
     triangles.reserve(mesh.triangles.size());
     for (const auto& t : mesh.triangles) {
         const std::array<std::uint32_t, 3> c{canonical[t[0]], canonical[t[1]], canonical[t[2]]};
-        if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;
-        triangles.push_back(c);
-        for (int k = 1; k < 3; ++k) {
-            const std::uint32_t a = find(c[0]), b = find(c[std::size_t(k)]);
-            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) triangles.push_back(c);
+    }
+    const auto count = std::uint32_t(triangles.size());
+    // Every use of an edge with its triangle, sorted so that the uses of one
+    // edge are adjacent.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> uses;
+    uses.reserve(std::size_t(count) * 3);
+    for (std::uint32_t i = 0; i < count; ++i)
+        for (int k = 0; k < 3; ++k)
+            uses.emplace_back(undirectedEdgeKey(triangles[i][std::size_t(k)],
+                                                triangles[i][std::size_t((k + 1) % 3)]),
+                              i);
+    std::sort(uses.begin(), uses.end());
+
+    // Pieces: triangles joined through shared edges. Fans: the corners at a
+    // vertex joined through the edges at it (corner 3i + k is corner k of
+    // triangle i). A vertex where fans meet only at the point (a pinch: two
+    // parts that touch in one vertex) counts once per fan, as if pulled
+    // apart, so a closed piece's V - E + F is that of a surface; counted as
+    // one vertex it made chi odd and the piece was left out of the genus.
+    DisjointSets piece(count), fan(std::size_t(count) * 3);
+    const auto corner = [&](std::uint32_t t, std::uint32_t vertex) {
+        const auto& c = triangles[t];
+        return 3 * t + (c[0] == vertex ? 0u : c[1] == vertex ? 1u : 2u);
+    };
+    std::vector<std::array<std::uint32_t, 2>> edgeRuns;  // first use, use count
+    for (std::size_t first = 0; first < uses.size();) {
+        std::size_t last = first + 1;
+        while (last < uses.size() && uses[last].first == uses[first].first) ++last;
+        for (std::size_t u = first + 1; u < last; ++u)
+            piece.unite(uses[first].second, uses[u].second);
+        if (last - first == 2) {
+            const std::uint64_t key = uses[first].first;
+            for (const auto vertex : {std::uint32_t(key >> 32), std::uint32_t(key)})
+                fan.unite(corner(uses[first].second, vertex),
+                          corner(uses[first + 1].second, vertex));
         }
+        edgeRuns.push_back({std::uint32_t(first), std::uint32_t(last - first)});
+        first = last;
     }
 
     struct PieceCounts {
-        std::int64_t vertices = 0, edges = 0, faces = 0;
+        std::int64_t fans = 0, edges = 0, faces = 0;
         bool manifold = true;
     };
-    // Indexed by the piece's root vertex; edge uses are counted in a sorted
-    // list (forEachEdgeUseCount).
-    std::vector<PieceCounts> pieces(vertexCount);
-    std::vector<char> isPiece(vertexCount, 0);
-    std::vector<char> used(vertexCount, 0);
-    std::vector<std::uint64_t> edgeKeys;
-    edgeKeys.reserve(triangles.size() * 3);
-    for (const auto& t : triangles) {
-        const std::uint32_t root = find(t[0]);
-        isPiece[root] = 1;
-        ++pieces[root].faces;
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)];
-            if (!used[a]) {
-                used[a] = 1;
-                ++pieces[find(a)].vertices;
-            }
-            edgeKeys.push_back(undirectedEdgeKey(a, b));
-        }
+    std::vector<PieceCounts> pieces(count);  // by the piece's root triangle
+    for (std::uint32_t t = 0; t < count; ++t) {
+        PieceCounts& p = pieces[piece.find(t)];
+        ++p.faces;
+        for (std::uint32_t k = 0; k < 3; ++k)
+            if (fan.find(3 * t + k) == 3 * t + k) ++p.fans;
     }
-    forEachEdgeUseCount(edgeKeys, [&](std::uint64_t key, std::size_t uses) {
-        PieceCounts& piece = pieces[find(std::uint32_t(key >> 32))];
-        ++piece.edges;
-        if (uses != 2) piece.manifold = false;
-    });
+    for (const auto& [first, useCount] : edgeRuns) {
+        PieceCounts& p = pieces[piece.find(uses[first].second)];
+        ++p.edges;
+        if (useCount != 2) p.manifold = false;
+    }
 
     MeshTopology topology;
-    for (std::size_t root = 0; root < vertexCount; ++root) {
-        if (!isPiece[root]) continue;
-        const PieceCounts& piece = pieces[root];
-        const std::int64_t chi = piece.vertices - piece.edges + piece.faces;
-        if (!piece.manifold || chi % 2 != 0) {
+    for (std::uint32_t t = 0; t < count; ++t) {
+        if (piece.find(t) != t) continue;
+        const PieceCounts& p = pieces[t];
+        const std::int64_t chi = p.fans - p.edges + p.faces;
+        if (!p.manifold || chi % 2 != 0) {
             ++topology.otherPieces;
             continue;
         }

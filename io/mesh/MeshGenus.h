@@ -2,14 +2,15 @@
 // each of its closed pieces (V - E + F = 2 - 2g), to compare with the genus
 // of its voxel model (kernels/VoxelGenus.h).
 //
-// Vertices at identical positions count as one (canonicalVertices), so seams
-// where a writer duplicated vertices do not open the surface. A piece is the
-// set of triangles joined through shared vertices; it is closed when each of
-// its edges is used by exactly two triangles (a manifold without border).
-// Open and non-manifold pieces have no genus in this sense: they are counted
-// apart and left out of the sum. The sum is the voxel shape's genus only when
-// the pieces neither intersect each other nor themselves (overlapping closed
-// pieces are voxelised as their union, whose genus the pieces do not tell).
+// Vertices at identical positions count as one (canonicalVertices), so seams where a writer
+// duplicated vertices do not open the surface. A piece is the set of triangles joined through
+// shared edges; it is closed when each of its edges is used by exactly two triangles (a
+// manifold without border). A vertex where a piece's triangles meet in several fans joined
+// only at that point (a pinch), or where two pieces touch, counts once per fan, as if pulled
+// apart. Open and non-manifold pieces have no genus in this sense: they are counted apart and
+// left out of the sum. The sum is the voxel shape's genus only when the pieces neither
+// intersect each other nor themselves (overlapping closed pieces are voxelised as their union,
+// whose genus the pieces do not tell).
 #pragma once
 
 #include <cstddef>
@@ -20,13 +21,15 @@
 namespace skelseg {
 
 struct MeshTopology {
-    /// Pieces whose every edge is used by exactly two triangles.
+    /// Pieces (triangles joined through edges) whose every edge is used by
+    /// exactly two triangles.
     std::size_t closedPieces = 0;
     /// Pieces with border edges or edges used by more than two triangles.
     std::size_t otherPieces = 0;
     /// Sum of (2 - chi) / 2 over the closed pieces.
     std::int64_t genus = 0;
-    /// Sum of V - E + F over the closed pieces.
+    /// Sum of V - E + F over the closed pieces, V counting a vertex once per
+    /// fan of triangles around it.
     std::int64_t eulerCharacteristic = 0;
 };
 

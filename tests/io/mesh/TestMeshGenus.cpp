@@ -63,6 +63,43 @@ TEST(MeshGenus, DuplicatedVerticesAreOneVertex) {
     EXPECT_EQ(t.genus, 0);
 }
 
+/// `mesh` and a tetrahedron one of whose corners lies on `mesh`'s vertex
+/// `at` (the same position, so one vertex once positions are merged) and
+/// the others away from it: the two touch in that vertex only.
+TriangleMesh withTetrahedronTouchingAt(TriangleMesh mesh, std::size_t at) {
+    const auto base = std::uint32_t(mesh.vertices.size());
+    const auto p = mesh.vertices[at];
+    for (const auto& q : tetrahedron().vertices)
+        mesh.vertices.push_back({p[0] + 5 * q[0], p[1] + 5 * q[1], p[2] + 5 * q[2] + 1});
+    mesh.vertices[base] = p;  // corner 0 of the tetrahedron sits on vertex `at`
+    for (const auto& t : tetrahedron().triangles) {
+        mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+        mesh.triangleFace.push_back(std::uint32_t(mesh.faceCount++));
+    }
+    return mesh;
+}
+
+TEST(MeshGenus, PiecesTouchingInOneVertexAreTwoClosedPieces) {
+    // Two tetrahedra sharing one vertex: counted as one vertex it made
+    // V - E + F = 7 - 12 + 8 = 3, odd, and no closed piece at all.
+    const MeshTopology t = meshTopology(withTetrahedronTouchingAt(tetrahedron(), 3));
+    EXPECT_EQ(t.closedPieces, 2u);
+    EXPECT_EQ(t.otherPieces, 0u);
+    EXPECT_EQ(t.eulerCharacteristic, 4);
+    EXPECT_EQ(t.genus, 0);
+}
+
+TEST(MeshGenus, ATorusTouchedInOneVertexKeepsItsHandle) {
+    const TriangleMesh torus = meshOfShape(torusShape(), {-42, -42, -12}, {42, 42, 12});
+    ASSERT_EQ(meshTopology(torus).genus, 1);
+    // The handle counted (genus 1, not 0) is what keeps a voxel model of
+    // genus 1 from being read as one with a handle the mesh lacks.
+    const MeshTopology t = meshTopology(withTetrahedronTouchingAt(torus, 0));
+    EXPECT_EQ(t.closedPieces, 2u);
+    EXPECT_EQ(t.otherPieces, 0u);
+    EXPECT_EQ(t.genus, 1);
+}
+
 TEST(MeshGenus, SphereTorusAndDoubleTorusMeshesAndTheirVoxels) {
     Shape sphere;
     sphere.sphere({0, 0, 0}, 30);
