@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <utility>
 #include <vector>
 
 #include "io/mesh/MeshCheck.h"
@@ -19,16 +18,33 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
         if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) triangles.push_back(c);
     }
     const auto count = std::uint32_t(triangles.size());
-    // Every use of an edge with its triangle, sorted so that the uses of one
-    // edge are adjacent.
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> uses;
+    // Every use of an edge by a triangle, sorted so that the uses of one edge
+    // are adjacent (12 bytes a use: a mesh's own size, not a hash map's).
+    struct EdgeUse {
+        std::uint32_t low, high, triangle;
+    };
+    std::vector<EdgeUse> uses;
     uses.reserve(std::size_t(count) * 3);
     for (std::uint32_t i = 0; i < count; ++i)
-        for (int k = 0; k < 3; ++k)
-            uses.emplace_back(undirectedEdgeKey(triangles[i][std::size_t(k)],
-                                                triangles[i][std::size_t((k + 1) % 3)]),
-                              i);
-    std::sort(uses.begin(), uses.end());
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::uint32_t a = triangles[i][k], b = triangles[i][(k + 1) % 3];
+            uses.push_back({std::min(a, b), std::max(a, b), i});
+        }
+    std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+        return x.low != y.low     ? x.low < y.low
+               : x.high != y.high ? x.high < y.high
+                                  : x.triangle < y.triangle;
+    });
+    const auto forEachEdge = [&](auto&& visit) {  // visit(first use, use count)
+        for (std::size_t first = 0; first < uses.size();) {
+            std::size_t last = first + 1;
+            while (last < uses.size() && uses[last].low == uses[first].low &&
+                   uses[last].high == uses[first].high)
+                ++last;
+            visit(first, last - first);
+            first = last;
+        }
+    };
 
     // Pieces: triangles joined through shared edges. Fans: the corners at a
     // vertex joined through the edges at it (corner 3i + k is corner k of
@@ -41,43 +57,40 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
         const auto& c = triangles[t];
         return 3 * t + (c[0] == vertex ? 0u : c[1] == vertex ? 1u : 2u);
     };
-    std::vector<std::array<std::uint32_t, 2>> edgeRuns;  // first use, use count
-    for (std::size_t first = 0; first < uses.size();) {
-        std::size_t last = first + 1;
-        while (last < uses.size() && uses[last].first == uses[first].first) ++last;
-        for (std::size_t u = first + 1; u < last; ++u)
-            piece.unite(uses[first].second, uses[u].second);
-        if (last - first == 2) {
-            const std::uint64_t key = uses[first].first;
-            for (const auto vertex : {std::uint32_t(key >> 32), std::uint32_t(key)})
-                fan.unite(corner(uses[first].second, vertex),
-                          corner(uses[first + 1].second, vertex));
-        }
-        edgeRuns.push_back({std::uint32_t(first), std::uint32_t(last - first)});
-        first = last;
-    }
+    forEachEdge([&](std::size_t first, std::size_t useCount) {
+        for (std::size_t u = first + 1; u < first + useCount; ++u)
+            piece.unite(uses[first].triangle, uses[u].triangle);
+        if (useCount == 2)
+            for (const std::uint32_t vertex : {uses[first].low, uses[first].high})
+                fan.unite(corner(uses[first].triangle, vertex),
+                          corner(uses[first + 1].triangle, vertex));
+    });
 
     struct PieceCounts {
         std::int64_t fans = 0, edges = 0, faces = 0;
         bool manifold = true;
     };
-    std::vector<PieceCounts> pieces(count);  // by the piece's root triangle
+    // The pieces in order of their root (smallest) triangle.
+    std::vector<std::uint32_t> pieceOfRoot(count, 0);
+    std::vector<PieceCounts> pieces;
+    for (std::uint32_t t = 0; t < count; ++t)
+        if (piece.find(t) == t)
+            pieceOfRoot[t] = std::uint32_t(pieces.size()), pieces.emplace_back();
+    forEachEdge([&](std::size_t first, std::size_t useCount) {
+        PieceCounts& p = pieces[pieceOfRoot[piece.find(uses[first].triangle)]];
+        ++p.edges;
+        if (useCount != 2) p.manifold = false;
+    });
+    uses = {};
     for (std::uint32_t t = 0; t < count; ++t) {
-        PieceCounts& p = pieces[piece.find(t)];
+        PieceCounts& p = pieces[pieceOfRoot[piece.find(t)]];
         ++p.faces;
         for (std::uint32_t k = 0; k < 3; ++k)
             if (fan.find(3 * t + k) == 3 * t + k) ++p.fans;
     }
-    for (const auto& [first, useCount] : edgeRuns) {
-        PieceCounts& p = pieces[piece.find(uses[first].second)];
-        ++p.edges;
-        if (useCount != 2) p.manifold = false;
-    }
 
     MeshTopology topology;
-    for (std::uint32_t t = 0; t < count; ++t) {
-        if (piece.find(t) != t) continue;
-        const PieceCounts& p = pieces[t];
+    for (const PieceCounts& p : pieces) {
         const std::int64_t chi = p.fans - p.edges + p.faces;
         if (!p.manifold || chi % 2 != 0) {
             ++topology.otherPieces;
