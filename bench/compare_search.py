@@ -21,31 +21,11 @@ tolerance (Rand Index error 0.005, equal part counts) or fail unlike.
 import argparse, json, os, statistics, subprocess, sys, time
 from pathlib import Path
 
-import numpy as np
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from invariance import rand_index_error, read_labels  # noqa: E402  (one Rand Index)
 
 REPO = Path(__file__).resolve().parent.parent
 STAGE = "path sets, rims, areas, sigma"
-
-
-def read_seg(path):
-    return np.array([int(line) for line in path.read_text().split()], dtype=np.int64)
-
-
-def rand_index_error(a, b):
-    """1 - Rand Index of two labellings of the same faces (pairs of faces)."""
-    n = len(a)
-    if n < 2:
-        return 0.0
-    _, ai = np.unique(a, return_inverse=True)
-    _, bi = np.unique(b, return_inverse=True)
-    table = np.zeros((ai.max() + 1, bi.max() + 1), dtype=np.float64)
-    np.add.at(table, (ai, bi), 1.0)
-    pairs = lambda x: (x * (x - 1.0) / 2.0).sum()
-    total = n * (n - 1.0) / 2.0
-    same_both = pairs(table)
-    same_a, same_b = pairs(table.sum(axis=1)), pairs(table.sum(axis=0))
-    agree = total + 2.0 * same_both - same_a - same_b
-    return 1.0 - agree / total
 
 
 def read_run(out, wall):
@@ -140,7 +120,7 @@ def main():
         same = all(files.values())
         word = lambda f: "same" if files[f] else "DIFFER"
         seg_band, seg_exh = out / f"{name}-band" / "segmentation.seg", out / f"{name}-exhaustive" / "segmentation.seg"
-        ri = rand_index_error(read_seg(seg_band), read_seg(seg_exh)) if seg_band.exists() else 0.0
+        ri = rand_index_error(read_labels(seg_band), read_labels(seg_exh)) if seg_band.exists() else 0.0
         b, e = runs["band"], runs["exhaustive"]
         row = {"input": str(inp), "resolution": args.resolution, "identical": same, "files": files, "ri_error": ri,
                "band": b, "exhaustive": e}

@@ -16,8 +16,10 @@ answer"). A model that skelseg refuses or fails on (a flat mesh, a broken
 file) gets a row saying so and the others still run; the exit code is then 1.
 """
 import argparse, json, os, statistics, subprocess, sys, time
-from collections import Counter
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from invariance import rand_index_error, read_labels  # noqa: E402  (one Rand Index)
 
 REPO = Path(__file__).resolve().parent.parent
 TARGETS = {256: 5.0, 400: 20.0}  # seconds of wall time (issue 4)
@@ -28,18 +30,6 @@ COMPARED = ("skeleton.ply", "cuts.ply", "segmentation.seg", "labels.nrrd")
 
 class RunFailed(RuntimeError):
     """skelseg exited non-zero on one model; the message names it and says why."""
-
-
-def rand_index_error(a, b):
-    """1 - Rand Index of two labellings of the same faces, from pair counts."""
-    n = len(a)
-    if len(b) != n:
-        return 1.0
-    if n < 2:
-        return 0.0
-    pairs = lambda counts: sum(c * (c - 1) / 2 for c in counts.values())
-    disagree = pairs(Counter(a)) + pairs(Counter(b)) - 2 * pairs(Counter(zip(a, b)))
-    return disagree / (n * (n - 1) / 2)
 
 
 def same_outputs(band, exhaustive):
@@ -53,7 +43,8 @@ def same_outputs(band, exhaustive):
     seg = [band / "segmentation.seg", exhaustive / "segmentation.seg"]
     ri = 0.0
     if all(p.exists() for p in seg) and not files["segmentation.seg"]:
-        ri = rand_index_error(*[p.read_text().split() for p in seg])
+        labels = [read_labels(p) for p in seg]
+        ri = rand_index_error(*labels) if labels[0].size == labels[1].size else 1.0
     return files, ri
 
 

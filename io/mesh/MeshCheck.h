@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -58,19 +59,28 @@ inline std::uint64_t undirectedEdgeKey(std::uint32_t a, std::uint32_t b) noexcep
     return a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a;
 }
 
+/// Calls visit(first, count) once per run of adjacent elements of `values`
+/// that same(a, b) holds equal, in order: on a sorted list, once per
+/// distinct value with its count.
+template <class T, class Same, class Visit>
+void forEachRun(const std::vector<T>& values, Same&& same, Visit&& visit) {
+    for (std::size_t first = 0; first < values.size();) {
+        std::size_t last = first + 1;
+        while (last < values.size() && same(values[last], values[first])) ++last;
+        visit(first, last - first);
+        first = last;
+    }
+}
+
 /// Sorts `edgeKeys` (undirected edges, undirectedEdgeKey) and calls
 /// visit(key, uses) once per distinct edge in key order: equal keys are
 /// adjacent after sorting, which counts a million edges faster than a hash
-/// map. checkMesh() and meshTopology() count edge uses with it.
+/// map. checkMesh() counts edge uses with it.
 template <class Visit>
 void forEachEdgeUseCount(std::vector<std::uint64_t>& edgeKeys, Visit&& visit) {
     std::sort(edgeKeys.begin(), edgeKeys.end());
-    for (std::size_t first = 0; first < edgeKeys.size();) {
-        std::size_t last = first + 1;
-        while (last < edgeKeys.size() && edgeKeys[last] == edgeKeys[first]) ++last;
-        visit(edgeKeys[first], last - first);
-        first = last;
-    }
+    forEachRun(edgeKeys, std::equal_to<>{},
+               [&](std::size_t first, std::size_t uses) { visit(edgeKeys[first], uses); });
 }
 
 /// One line per problem found, each starting with "FILE: ", e.g.

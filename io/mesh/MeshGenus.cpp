@@ -36,22 +36,18 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
                                   : x.triangle < y.triangle;
     });
     const auto forEachEdge = [&](auto&& visit) {  // visit(first use, use count)
-        for (std::size_t first = 0; first < uses.size();) {
-            std::size_t last = first + 1;
-            while (last < uses.size() && uses[last].low == uses[first].low &&
-                   uses[last].high == uses[first].high)
-                ++last;
-            visit(first, last - first);
-            first = last;
-        }
+        forEachRun(
+            uses,
+            [](const EdgeUse& x, const EdgeUse& y) { return x.low == y.low && x.high == y.high; },
+            visit);
     };
 
     // Pieces: triangles joined through shared edges. Fans: the corners at a
     // vertex joined through the edges at it (corner 3i + k is corner k of
     // triangle i). A vertex where fans meet only at the point (a pinch: two
     // parts that touch in one vertex) counts once per fan, as if pulled
-    // apart, so a closed piece's V - E + F is that of a surface; counted as
-    // one vertex it made chi odd and the piece was left out of the genus.
+    // apart, so a closed piece's V - E + F is that of a surface (counted as
+    // one vertex, a pinch makes it odd and the piece has no genus).
     DisjointSets piece(count), fan(std::size_t(count) * 3);
     const auto corner = [&](std::uint32_t t, std::uint32_t vertex) {
         const auto& c = triangles[t];

@@ -67,7 +67,16 @@ def test_a_refused_model_is_a_row_and_the_searches_outputs_are_compared(tmp_path
     assert "differ: segmentation.seg; parts 2 / 2; RI error 0.5000" in run.stdout
 
 
-def test_the_rand_index_error_counts_face_pairs():
-    assert reference_runs.rand_index_error(list("aabb"), list("xxyy")) == 0.0
-    assert reference_runs.rand_index_error(list("aaab"), list("aabb")) == pytest.approx(0.5)
-    assert reference_runs.rand_index_error(list("ab"), list("abc")) == 1.0
+def test_labels_are_compared_face_pair_by_face_pair(tmp_path):
+    def outputs(name, labels):
+        folder = tmp_path / name
+        folder.mkdir()
+        (folder / "segmentation.seg").write_text("".join(f"{v}\n" for v in labels))
+        return folder
+
+    same, ri = reference_runs.same_outputs(outputs("a", [0, 0, 1, 1]), outputs("b", [5, 5, 7, 7]))
+    assert same == {"segmentation.seg": False} and ri == 0.0  # other ids, same parts
+    _, ri = reference_runs.same_outputs(outputs("c", [0, 0, 0, 1]), outputs("d", [0, 0, 1, 1]))
+    assert ri == pytest.approx(0.5)
+    _, ri = reference_runs.same_outputs(outputs("e", [0, 1]), outputs("f", [0, 1, 2]))
+    assert ri == 1.0  # other face counts: nothing compares
