@@ -162,37 +162,46 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
 }
 
 std::vector<std::string> meshWarnings(const MeshDiagnostics& diagnostics, const std::string& file) {
+    // "1 edge is", "2 edges are": a count with its noun and verb in number.
+    const auto counted = [](std::size_t n, const char* one, const char* many) {
+        return std::to_string(n) + (n == 1 ? one : many);
+    };
     std::vector<std::string> warnings;
     if (!diagnostics.closed) {
         if (diagnostics.boundaryEdges > 0)
-            warnings.push_back(file + ": mesh is not closed (" +
-                               std::to_string(diagnostics.boundaryEdges) +
-                               " boundary edges); the inside is estimated");
+            warnings.push_back(
+                file + ": mesh is not closed (" +
+                counted(diagnostics.boundaryEdges, " boundary edge", " boundary edges") +
+                "); the inside is estimated");
         else
             warnings.push_back(file +
                                ": mesh is not closed (edges shared by an odd number of faces); the "
                                "inside is estimated");
     }
     if (diagnostics.nonManifoldEdges > 0)
-        warnings.push_back(file + ": " + std::to_string(diagnostics.nonManifoldEdges) +
-                           " edges are shared by more than two faces (non-manifold)");
+        warnings.push_back(file + ": " +
+                           counted(diagnostics.nonManifoldEdges, " edge is", " edges are") +
+                           " shared by more than two faces (non-manifold)");
     if (diagnostics.misorientedEdges > 0)
-        warnings.push_back(file + ": " + std::to_string(diagnostics.misorientedEdges) +
-                           (diagnostics.misorientedEdges == 1 ? " edge joins" : " edges join") +
+        warnings.push_back(file + ": " +
+                           counted(diagnostics.misorientedEdges, " edge joins", " edges join") +
                            " faces wound against each other (some faces are flipped); where "
                            "surfaces touch there, they may stay joined in the voxel model");
     if (diagnostics.pieces > 1)
         warnings.push_back(file + ": mesh has " + std::to_string(diagnostics.pieces) +
                            " separate pieces");
     if (diagnostics.degenerateFaces > 0)
-        warnings.push_back(
-            file + ": " + std::to_string(diagnostics.degenerateFaces) +
-            " faces have zero area; they take the label of the voxels or faces around them");
-    if (diagnostics.unusedVertices == 1)
-        warnings.push_back(file + ": 1 vertex is used by no face; it is ignored");
-    if (diagnostics.unusedVertices > 1)
-        warnings.push_back(file + ": " + std::to_string(diagnostics.unusedVertices) +
-                           " vertices are used by no face; they are ignored");
+        warnings.push_back(file + ": " +
+                           counted(diagnostics.degenerateFaces,
+                                   " face has zero area; it takes the label of the voxels or "
+                                   "faces around it",
+                                   " faces have zero area; they take the label of the voxels or "
+                                   "faces around them"));
+    if (diagnostics.unusedVertices > 0)
+        warnings.push_back(file + ": " +
+                           counted(diagnostics.unusedVertices,
+                                   " vertex is used by no face; it is ignored",
+                                   " vertices are used by no face; they are ignored"));
     return warnings;
 }
 

@@ -2,30 +2,35 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "io/mesh/MeshCheck.h"
 #include "kernels/DisjointSets.h"
 
 namespace skelseg {
 
-MeshTopology meshTopology(const TriangleMesh& mesh) {
-    const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
-    std::vector<std::array<std::uint32_t, 3>> triangles;
-    triangles.reserve(mesh.triangles.size());
-    for (const auto& t : mesh.triangles) {
-        const std::array<std::uint32_t, 3> c{canonical[t[0]], canonical[t[1]], canonical[t[2]]};
-        if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) triangles.push_back(c);
-    }
-    const auto count = std::uint32_t(triangles.size());
-    // Every use of an edge by a triangle, sorted so that the uses of one edge
-    // are adjacent (12 bytes a use: a mesh's own size, not a hash map's).
-    struct EdgeUse {
-        std::uint32_t low, high, triangle;
-    };
+namespace {
+
+using Triangles = std::vector<std::array<std::uint32_t, 3>>;
+
+/// One use of the edge (low, high) by a triangle: 12 bytes, a mesh's own
+/// size, not a hash map's.
+struct EdgeUse {
+    std::uint32_t low, high, triangle;
+};
+
+bool sameEdge(const EdgeUse& x, const EdgeUse& y) {
+    return x.low == y.low && x.high == y.high;
+}
+
+std::vector<EdgeUse> sortedEdgeUses(const Triangles& triangles) {
     std::vector<EdgeUse> uses;
-    uses.reserve(std::size_t(count) * 3);
-    for (std::uint32_t i = 0; i < count; ++i)
+    uses.reserve(triangles.size() * 3);
+    for (std::uint32_t i = 0; i < triangles.size(); ++i)
         for (std::size_t k = 0; k < 3; ++k) {
             const std::uint32_t a = triangles[i][k], b = triangles[i][(k + 1) % 3];
             uses.push_back({std::min(a, b), std::max(a, b), i});
@@ -35,11 +40,146 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
                : x.high != y.high ? x.high < y.high
                                   : x.triangle < y.triangle;
     });
+    return uses;
+}
+
+Eigen::Vector3d point(const TriangleMesh& mesh, std::uint32_t vertex) {
+    return Eigen::Vector3d::Map(mesh.vertices[vertex].data());
+}
+
+/// Six times the volume the triangles enclose, positive when they face
+/// outwards (measured from the first vertex, which keeps the terms small).
+double signedVolume(const TriangleMesh& mesh, const Triangles& triangles) {
+    if (triangles.empty()) return 0;
+    const Eigen::Vector3d origin = point(mesh, triangles[0][0]);
+    double volume = 0;
+    for (const auto& t : triangles)
+        volume += (point(mesh, t[0]) - origin)
+                      .dot((point(mesh, t[1]) - origin).cross(point(mesh, t[2]) - origin));
+    return volume;
+}
+
+/// Drops every pair of triangles on the same three corners with opposite
+/// windings: a sheet of no thickness (a writer's double-sided face) that
+/// encloses nothing, and whose edges would otherwise be used by more than two
+/// triangles with nothing to tell the pairs apart. True if any was dropped.
+bool dropDoubleSidedTriangles(Triangles& triangles) {
+    struct Corners {
+        std::array<std::uint32_t, 3> sorted;
+        bool flipped;  // winding opposite to the sorted corners'
+        std::uint32_t triangle;
+    };
+    std::vector<Corners> corners(triangles.size());
+    for (std::uint32_t i = 0; i < triangles.size(); ++i) {
+        auto t = triangles[i];
+        std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+        const bool flipped = t[1] > t[2];
+        if (flipped) std::swap(t[1], t[2]);
+        corners[i] = {t, flipped, i};
+    }
+    std::sort(corners.begin(), corners.end(), [](const Corners& a, const Corners& b) {
+        return a.sorted != b.sorted     ? a.sorted < b.sorted
+               : a.flipped != b.flipped ? a.flipped < b.flipped
+                                        : a.triangle < b.triangle;
+    });
+    std::vector<bool> dropped(triangles.size(), false);
+    bool any = false;
+    forEachRun(
+        corners, [](const Corners& a, const Corners& b) { return a.sorted == b.sorted; },
+        [&](std::size_t first, std::size_t count) {
+            std::size_t firstFlipped = first;
+            while (firstFlipped < first + count && !corners[firstFlipped].flipped) ++firstFlipped;
+            const std::size_t pairs = std::min(firstFlipped - first, first + count - firstFlipped);
+            for (std::size_t k = 0; k < pairs; ++k) {
+                dropped[corners[first + k].triangle] = dropped[corners[firstFlipped + k].triangle] =
+                    true;
+                any = true;
+            }
+        });
+    if (!any) return false;
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < triangles.size(); ++i)
+        if (!dropped[i]) triangles[out++] = triangles[i];
+    triangles.resize(out);
+    return true;
+}
+
+/// The triangles of one edge used by more than two, paired as the surfaces
+/// of solids that touch along the edge, pulled apart: in their order round
+/// the edge, each triangle with the neighbour across the wedge its
+/// orientation says is inside (`outward`: the mesh's triangles face
+/// outwards). On success `pairing` holds positions in `run`, two by two.
+/// False (no pairing) for an odd count, a triangle with no direction away
+/// from the edge, two at the same angle, or orientations that do not
+/// alternate round the edge: the geometry does not tell which surface goes
+/// on where.
+bool pairTrianglesAroundEdge(const TriangleMesh& mesh, const Triangles& triangles,
+                             const EdgeUse* run, std::size_t useCount, bool outward,
+                             std::vector<std::uint32_t>& pairing) {
+    if (useCount % 2 != 0) return false;
+    const Eigen::Vector3d low = point(mesh, run[0].low);
+    const Eigen::Vector3d axis = point(mesh, run[0].high) - low;
+    if (!(axis.squaredNorm() > 0)) return false;
+    struct Side {
+        double angle;
+        bool insideAhead;  // the inside lies at larger angles
+        std::uint32_t use;
+    };
+    std::vector<Side> sides(useCount);
+    Eigen::Vector3d reference = Eigen::Vector3d::Zero();
+    for (std::uint32_t u = 0; u < useCount; ++u) {
+        const auto& c = triangles[run[u].triangle];
+        const std::size_t at = c[0] == run[u].low ? 0 : c[1] == run[u].low ? 1 : 2;
+        const bool forward = c[(at + 1) % 3] == run[u].high;  // low -> high in its winding
+        const std::uint32_t apex = c[(at + (forward ? 2 : 1)) % 3];
+        const Eigen::Vector3d toApex = point(mesh, apex) - low;
+        const Eigen::Vector3d away = toApex - toApex.dot(axis) / axis.squaredNorm() * axis;
+        if (!(away.squaredNorm() > 0)) return false;
+        if (u == 0) reference = away;
+        // A forward triangle's normal, axis x away, lies a quarter turn
+        // ahead of it round the axis: facing outwards, its inside is behind.
+        sides[u] = {std::atan2(axis.dot(reference.cross(away)), reference.dot(away)),
+                    forward != outward, u};
+        if (sides[u].angle < 0) sides[u].angle += 2 * M_PI;
+    }
+    std::sort(sides.begin(), sides.end(),
+              [](const Side& a, const Side& b) { return a.angle < b.angle; });
+    for (std::size_t k = 1; k < useCount; ++k)
+        if (!(sides[k].angle > sides[k - 1].angle)) return false;
+    const std::size_t start = sides[0].insideAhead ? 0 : 1;
+    pairing.clear();
+    for (std::size_t k = 0; k < useCount; k += 2) {
+        const Side& opening = sides[(start + k) % useCount];  // the inside wedge between
+        const Side& closing = sides[(start + k + 1) % useCount];
+        if (!opening.insideAhead || closing.insideAhead) return false;
+        pairing.push_back(opening.use);
+        pairing.push_back(closing.use);
+    }
+    return true;
+}
+
+}  // namespace
+
+MeshTopology meshTopology(const TriangleMesh& mesh) {
+    const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
+    Triangles triangles;
+    triangles.reserve(mesh.triangles.size());
+    for (const auto& t : mesh.triangles) {
+        const std::array<std::uint32_t, 3> c{canonical[t[0]], canonical[t[1]], canonical[t[2]]};
+        if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) triangles.push_back(c);
+    }
+    // Every use of an edge by a triangle, sorted so that the uses of one edge
+    // are adjacent.
+    std::vector<EdgeUse> uses = sortedEdgeUses(triangles);
+    bool anyEdgeOfMoreThanTwo = false;
+    forEachRun(uses, sameEdge,
+               [&](std::size_t, std::size_t useCount) { anyEdgeOfMoreThanTwo |= useCount > 2; });
+    // Only such edges can be a double-sided face's: most meshes skip the sort.
+    if (anyEdgeOfMoreThanTwo && dropDoubleSidedTriangles(triangles))
+        uses = sortedEdgeUses(triangles);
+    const auto count = std::uint32_t(triangles.size());
     const auto forEachEdge = [&](auto&& visit) {  // visit(first use, use count)
-        forEachRun(
-            uses,
-            [](const EdgeUse& x, const EdgeUse& y) { return x.low == y.low && x.high == y.high; },
-            visit);
+        forEachRun(uses, sameEdge, visit);
     };
 
     // Pieces: triangles joined through shared edges. Fans: the corners at a
@@ -47,19 +187,37 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
     // triangle i). A vertex where fans meet only at the point (a pinch: two
     // parts that touch in one vertex) counts once per fan, as if pulled
     // apart, so a closed piece's V - E + F is that of a surface (counted as
-    // one vertex, a pinch makes it odd and the piece has no genus).
+    // one vertex, a pinch makes it odd and the piece has no genus). An edge
+    // of more than two triangles is pulled apart the same way where their
+    // geometry tells how (pairTrianglesAroundEdge): each pair is an edge.
     DisjointSets piece(count), fan(std::size_t(count) * 3);
     const auto corner = [&](std::uint32_t t, std::uint32_t vertex) {
         const auto& c = triangles[t];
         return 3 * t + (c[0] == vertex ? 0u : c[1] == vertex ? 1u : 2u);
     };
+    const auto joinThroughEdge = [&](const EdgeUse& a, const EdgeUse& b) {
+        piece.unite(a.triangle, b.triangle);
+        for (const std::uint32_t vertex : {a.low, a.high})
+            fan.unite(corner(a.triangle, vertex), corner(b.triangle, vertex));
+    };
+    int outward = -1;  // the triangles face outwards (1) or in (0); -1: not needed yet
+    std::vector<std::uint32_t> pairing;
+    // Pairs the triangles of a run of more than two uses (pairTrianglesAroundEdge).
+    const auto paired = [&](const EdgeUse* run, std::size_t useCount) {
+        if (outward < 0) outward = signedVolume(mesh, triangles) >= 0;
+        return pairTrianglesAroundEdge(mesh, triangles, run, useCount, outward == 1, pairing);
+    };
     forEachEdge([&](std::size_t first, std::size_t useCount) {
-        for (std::size_t u = first + 1; u < first + useCount; ++u)
-            piece.unite(uses[first].triangle, uses[u].triangle);
-        if (useCount == 2)
-            for (const std::uint32_t vertex : {uses[first].low, uses[first].high})
-                fan.unite(corner(uses[first].triangle, vertex),
-                          corner(uses[first + 1].triangle, vertex));
+        const EdgeUse* run = uses.data() + first;
+        if (useCount == 2) {
+            joinThroughEdge(run[0], run[1]);
+        } else if (useCount > 2 && paired(run, useCount)) {
+            for (std::size_t k = 0; k < useCount; k += 2)
+                joinThroughEdge(run[pairing[k]], run[pairing[k + 1]]);
+        } else {
+            for (std::size_t u = 1; u < useCount; ++u)
+                piece.unite(run[0].triangle, run[u].triangle);
+        }
     });
 
     struct PieceCounts {
@@ -72,14 +230,24 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
     for (std::uint32_t t = 0; t < count; ++t)
         if (piece.find(t) == t)
             pieceOfRoot[t] = std::uint32_t(pieces.size()), pieces.emplace_back();
+    const auto pieceOf = [&](std::uint32_t t) -> PieceCounts& {
+        return pieces[pieceOfRoot[piece.find(t)]];
+    };
     forEachEdge([&](std::size_t first, std::size_t useCount) {
-        PieceCounts& p = pieces[pieceOfRoot[piece.find(uses[first].triangle)]];
-        ++p.edges;
-        if (useCount != 2) p.manifold = false;
+        const EdgeUse* run = uses.data() + first;
+        if (useCount == 2) {
+            ++pieceOf(run[0].triangle).edges;
+        } else if (useCount > 2 && paired(run, useCount)) {  // one edge per pair
+            for (std::size_t k = 0; k < useCount; k += 2) ++pieceOf(run[pairing[k]].triangle).edges;
+        } else {
+            PieceCounts& p = pieceOf(run[0].triangle);
+            ++p.edges;
+            p.manifold = false;
+        }
     });
     uses = {};
     for (std::uint32_t t = 0; t < count; ++t) {
-        PieceCounts& p = pieces[pieceOfRoot[piece.find(t)]];
+        PieceCounts& p = pieceOf(t);
         ++p.faces;
         for (std::uint32_t k = 0; k < 3; ++k)
             if (fan.find(3 * t + k) == 3 * t + k) ++p.fans;

@@ -417,6 +417,33 @@ TEST(MeshCheck, VerticesNoFaceUsesAreCountedAndNamedInAWarning) {
               std::vector<std::string>{"stray.off: 1 vertex is used by no face; it is ignored"});
 }
 
+// "1 edges are shared" read wrong on the meshes with one such edge.
+TEST(MeshCheck, OneProblemIsNamedInTheSingular) {
+    TriangleMesh fin = unitCube();  // a fin of two triangles on one edge of the cube
+    const auto corner = fin.triangles[0];
+    fin.vertices.push_back({-1, -1, -1});
+    fin.triangles.push_back({corner[0], corner[1], std::uint32_t(fin.vertices.size() - 1)});
+    fin.triangles.push_back({corner[1], corner[0], std::uint32_t(fin.vertices.size() - 1)});
+    fin.triangleFace.push_back(std::uint32_t(fin.faceCount++));
+    fin.triangleFace.push_back(std::uint32_t(fin.faceCount++));
+    TriangleMesh degenerate = unitCube();
+    degenerate.triangles.push_back({0, 0, 1});
+    degenerate.triangleFace.push_back(std::uint32_t(degenerate.faceCount++));
+    const MeshDiagnostics finCheck = checkMesh(fin), degenerateCheck = checkMesh(degenerate);
+    ASSERT_EQ(finCheck.nonManifoldEdges, 1u);
+    ASSERT_EQ(degenerateCheck.degenerateFaces, 1u);
+    const auto has = [](const std::vector<std::string>& warnings, const std::string& text) {
+        for (const std::string& w : warnings)
+            if (w.find(text) != std::string::npos) return true;
+        return false;
+    };
+    EXPECT_TRUE(has(meshWarnings(finCheck, "fin.off"),
+                    "fin.off: 1 edge is shared by more than two faces (non-manifold)"));
+    EXPECT_TRUE(has(meshWarnings(degenerateCheck, "flat.off"),
+                    "flat.off: 1 face has zero area; it takes the label of the voxels or faces "
+                    "around it"));
+}
+
 // One flipped face changed a shape's parts without a word (docs/meshes.md:
 // pieces not consistently oriented lose the rules that need their outside).
 TEST(MeshCheck, FlippedFacesAreCountedByTheirEdgesAndNamedInAWarning) {

@@ -2,6 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
 #include "io/mesh/MeshVoxelizer.h"
 #include "kernels/VoxelGenus.h"
 #include "tests/support/ShapeMeshes.h"
@@ -95,6 +101,135 @@ TEST(MeshGenus, ATorusTouchedInOneVertexKeepsItsHandle) {
     // The handle counted (genus 1, not 0) is what keeps a voxel model of
     // genus 1 from being read as one with a handle the mesh lacks.
     const MeshTopology t = meshTopology(withTetrahedronTouchingAt(torus, 0));
+    EXPECT_EQ(t.closedPieces, 2u);
+    EXPECT_EQ(t.otherPieces, 0u);
+    EXPECT_EQ(t.genus, 1);
+}
+
+/// Appends triangle `t`, wound so that it faces away from `centre` (or
+/// towards it, `outwards` false).
+void appendFacing(TriangleMesh& mesh, std::array<std::uint32_t, 3> t, const Eigen::Vector3d& centre,
+                  bool outwards = true) {
+    const auto at = [&](std::uint32_t v) { return Eigen::Vector3d(mesh.vertices[v].data()); };
+    const Eigen::Vector3d normal = (at(t[1]) - at(t[0])).cross(at(t[2]) - at(t[0]));
+    if ((normal.dot((at(t[0]) + at(t[1]) + at(t[2])) / 3 - centre) > 0) != outwards)
+        std::swap(t[1], t[2]);
+    mesh.triangles.push_back(t);
+    mesh.triangleFace.push_back(std::uint32_t(mesh.faceCount++));
+}
+
+/// Appends the box [lo, hi] as 12 triangles facing outwards (`outwards`
+/// false: all facing in).
+void appendBox(TriangleMesh& mesh, const std::array<double, 3>& lo, const std::array<double, 3>& hi,
+               bool outwards = true) {
+    const auto base = std::uint32_t(mesh.vertices.size());
+    for (int k = 0; k < 2; ++k)  // vertex base + i + 2j + 4k
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i)
+                mesh.vertices.push_back({i ? hi[0] : lo[0], j ? hi[1] : lo[1], k ? hi[2] : lo[2]});
+    const std::uint32_t quads[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                       {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+    const Eigen::Vector3d centre = (Eigen::Vector3d(lo.data()) + Eigen::Vector3d(hi.data())) / 2;
+    for (const auto& q : quads) {
+        appendFacing(mesh, {base + q[0], base + q[1], base + q[2]}, centre, outwards);
+        appendFacing(mesh, {base + q[0], base + q[2], base + q[3]}, centre, outwards);
+    }
+}
+
+/// Two unit cubes that share the edge from (1, 1, 0) to (1, 1, 1) and nothing else.
+TriangleMesh cubesSharingAnEdge(bool outwards = true) {
+    TriangleMesh mesh;
+    appendBox(mesh, {0, 0, 0}, {1, 1, 1}, outwards);
+    appendBox(mesh, {1, 1, 0}, {2, 2, 1}, outwards);
+    return mesh;
+}
+
+TEST(MeshGenus, ADoubleSidedFaceEnclosesNothing) {
+    // A flap on one edge of a tetrahedron, written twice with opposite
+    // windings (as writers of double-sided faces do): its edge is used by
+    // four triangles, two of them at one angle, which no pairing tells apart.
+    TriangleMesh mesh = tetrahedron();
+    mesh.vertices.push_back({0.5, -1, -1});
+    for (const std::array<std::uint32_t, 3> flap :
+         {std::array<std::uint32_t, 3>{0, 1, 4}, {0, 4, 1}}) {
+        mesh.triangles.push_back(flap);
+        mesh.triangleFace.push_back(std::uint32_t(mesh.faceCount++));
+    }
+    const MeshTopology t = meshTopology(mesh);
+    EXPECT_EQ(t.closedPieces, 1u);
+    EXPECT_EQ(t.otherPieces, 0u);
+    EXPECT_EQ(t.eulerCharacteristic, 2);
+    EXPECT_EQ(t.genus, 0);
+}
+
+TEST(MeshGenus, SolidsTouchingAlongAnEdgeAreTwoClosedPieces) {
+    // Four triangles use the shared edge. Until they were paired round it
+    // the two cubes were one non-manifold piece with no genus.
+    for (const bool outwards : {true, false}) {
+        SCOPED_TRACE(outwards ? "facing outwards" : "facing inwards");
+        const MeshTopology t = meshTopology(cubesSharingAnEdge(outwards));
+        EXPECT_EQ(t.closedPieces, 2u);
+        EXPECT_EQ(t.otherPieces, 0u);
+        EXPECT_EQ(t.eulerCharacteristic, 4);
+        EXPECT_EQ(t.genus, 0);
+    }
+}
+
+TEST(MeshGenus, WindingsThatDoNotAlternateRoundAnEdgeLeaveItsPieceOut) {
+    TriangleMesh mesh = cubesSharingAnEdge();
+    // Turn one triangle of the second cube that uses the shared edge: round
+    // the edge the windings no longer say which wedges are inside.
+    const Eigen::Vector3d a(1, 1, 0), b(1, 1, 1);
+    std::size_t turned = 0;
+    for (std::size_t i = 12; i < mesh.triangles.size() && turned == 0; ++i) {
+        int onEdge = 0;
+        for (const std::uint32_t v : mesh.triangles[i]) {
+            const Eigen::Vector3d p(mesh.vertices[v].data());
+            onEdge += p == a || p == b;
+        }
+        if (onEdge == 2) std::swap(mesh.triangles[i][1], mesh.triangles[i][2]), ++turned;
+    }
+    ASSERT_EQ(turned, 1u);
+    const MeshTopology t = meshTopology(mesh);
+    EXPECT_EQ(t.closedPieces, 0u);
+    EXPECT_EQ(t.otherPieces, 1u);
+    EXPECT_EQ(t.genus, 0);
+}
+
+TEST(MeshGenus, ATorusWithATetrahedronOnOneOfItsEdgesKeepsItsHandle) {
+    TriangleMesh mesh = meshOfShape(torusShape(), {-42, -42, -12}, {42, 42, 12});
+    ASSERT_EQ(meshTopology(mesh).genus, 1);
+    // The edge at the outer equator (largest x), where the surface is convex:
+    // a small tetrahedron standing on it lies outside the torus.
+    std::size_t outermost = 0;
+    for (std::size_t v = 1; v < mesh.vertices.size(); ++v)
+        if (mesh.vertices[v][0] > mesh.vertices[outermost][0]) outermost = v;
+    std::array<std::uint32_t, 3> facing{};
+    for (const auto& t : mesh.triangles)
+        if (std::find(t.begin(), t.end(), outermost) != t.end()) {
+            facing = t;
+            break;
+        }
+    const auto at = [&](std::uint32_t v) { return Eigen::Vector3d(mesh.vertices[v].data()); };
+    const std::size_t k = std::find(facing.begin(), facing.end(), outermost) - facing.begin();
+    const std::uint32_t a = facing[k], b = facing[(k + 1) % 3];
+    const Eigen::Vector3d edge = at(b) - at(a);
+    const Eigen::Vector3d outward(1, 0, 0);
+    const Eigen::Vector3d side = edge.cross(outward).normalized() * 0.3 * edge.norm();
+    const Eigen::Vector3d top = (at(a) + at(b)) / 2 + outward * 2.0;
+    const auto base = std::uint32_t(mesh.vertices.size());
+    for (const Eigen::Vector3d& p : {Eigen::Vector3d(top + side), Eigen::Vector3d(top - side)})
+        mesh.vertices.push_back({p.x(), p.y(), p.z()});
+    const Eigen::Vector3d centre = (at(a) + at(b) + at(base) + at(base + 1)) / 4;
+    for (const std::array<std::uint32_t, 3>& t : {std::array<std::uint32_t, 3>{a, b, base},
+                                                  {a, b, base + 1},
+                                                  {a, base, base + 1},
+                                                  {b, base, base + 1}})
+        appendFacing(mesh, t, centre);
+    // The torus and the tetrahedron, pulled apart along their edge. Counted
+    // as one non-manifold piece the handle was lost: genus 0, so a voxel
+    // model of genus 1 read as one with a handle the mesh lacks.
+    const MeshTopology t = meshTopology(mesh);
     EXPECT_EQ(t.closedPieces, 2u);
     EXPECT_EQ(t.otherPieces, 0u);
     EXPECT_EQ(t.genus, 1);
