@@ -587,7 +587,9 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
 
 std::int64_t handlesTheMeshLacks(bool meshClosed, const MeshTopology& mesh,
                                  const VoxelTopology& voxels) {
-    return meshClosed ? std::max<std::int64_t>(0, voxels.genus - mesh.genus) : 0;
+    return meshClosed && mesh.otherPieces == 0
+               ? std::max<std::int64_t>(0, voxels.genus - mesh.genus)
+               : 0;
 }
 
 }  // namespace skelseg

@@ -217,9 +217,11 @@ SegmentSource readSegmentSource(const std::filesystem::path& file,
                                 Interrupter& interrupter);
 
 /// How many handles the voxel model of a closed mesh has beyond the mesh's
-/// own (0 for an open mesh, which has no genus to compare): touching or
-/// interpenetrating surfaces stayed joined. It decides the thin-part fill,
-/// the warning and the cut rule for loops round handles (SegmentSteps.h,
+/// own (0 for an open mesh, which has no genus to compare, and for a mesh
+/// with a piece whose genus could not be counted, MeshTopology::otherPieces:
+/// its handles are unknown, and taking them as none would call real ones
+/// the voxel model's): touching or interpenetrating surfaces stayed joined. It decides the
+/// thin-part fill, the warning and the cut rule for loops round handles (SegmentSteps.h,
 /// parametersFor).
 std::int64_t handlesTheMeshLacks(bool meshClosed, const MeshTopology& mesh,
                                  const VoxelTopology& voxels);

@@ -66,6 +66,7 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
         context.input["mesh_degenerate_faces"] = source.meshDiagnostics.degenerateFaces;
         context.input["mesh_genus"] = shape.input->meshGenus.genus;
         context.input["mesh_closed_pieces"] = shape.input->meshGenus.closedPieces;
+        context.input["mesh_pieces_without_genus"] = shape.input->meshGenus.otherPieces;
         context.input["voxel_genus"] = shape.input->voxelGenus.genus;
         context.input["contacts_separated"] = shape.input->contacts.contacts;
         context.input["contact_voxels_cleared"] = shape.input->contacts.voxelsCleared;

@@ -147,11 +147,13 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
 }
 
 /// How many handles more than its mesh the voxel model of a frame has (the
-/// frame's report.json; 0 for an open mesh, which has no genus to compare).
+/// frame's report.json; 0 for an open mesh, which has no genus to compare,
+/// and for one with pieces whose genus is unknown: handlesTheMeshLacks()).
 std::int64_t handlesBeyondTheMesh(const fs::path& report) {
     const nlohmann::json document = nlohmann::json::parse(readFileBytes(report));
     const nlohmann::json& input = document.at("input");
     if (!input.value("mesh_closed", false)) return 0;
+    if (input.value("mesh_pieces_without_genus", 0) > 0) return 0;
     return std::max<std::int64_t>(0, input.at("voxel_genus").get<std::int64_t>() -
                                          input.at("mesh_genus").get<std::int64_t>());
 }

@@ -60,10 +60,11 @@ double signedVolume(const TriangleMesh& mesh, const Triangles& triangles) {
 }
 
 /// Drops every pair of triangles on the same three corners with opposite
-/// windings: a sheet of no thickness (a writer's double-sided face) that
-/// encloses nothing, and whose edges would otherwise be used by more than two
-/// triangles with nothing to tell the pairs apart. True if any was dropped.
-bool dropDoubleSidedTriangles(Triangles& triangles) {
+/// windings: a sheet of no thickness (a writer's double-sided face, or the
+/// face two solids share) that encloses nothing, and whose edges would
+/// otherwise be used by more than two triangles with nothing to tell the
+/// pairs apart. Appends one triangle of each pair dropped to `sheet`.
+void dropDoubleSidedTriangles(Triangles& triangles, Triangles& sheet) {
     struct Corners {
         std::array<std::uint32_t, 3> sorted;
         bool flipped;  // winding opposite to the sorted corners'
@@ -83,7 +84,6 @@ bool dropDoubleSidedTriangles(Triangles& triangles) {
                                         : a.triangle < b.triangle;
     });
     std::vector<bool> dropped(triangles.size(), false);
-    bool any = false;
     forEachRun(
         corners, [](const Corners& a, const Corners& b) { return a.sorted == b.sorted; },
         [&](std::size_t first, std::size_t count) {
@@ -93,15 +93,64 @@ bool dropDoubleSidedTriangles(Triangles& triangles) {
             for (std::size_t k = 0; k < pairs; ++k) {
                 dropped[corners[first + k].triangle] = dropped[corners[firstFlipped + k].triangle] =
                     true;
-                any = true;
+                sheet.push_back(triangles[corners[first + k].triangle]);
             }
         });
-    if (!any) return false;
+    if (sheet.empty()) return;
     std::size_t out = 0;
     for (std::size_t i = 0; i < triangles.size(); ++i)
         if (!dropped[i]) triangles[out++] = triangles[i];
     triangles.resize(out);
-    return true;
+}
+
+/// Of the sheets of dropped double-sided faces (`sheet`, one triangle per
+/// face; `kept`: the sorted edge uses of the triangles kept), how many have
+/// a genus the count cannot tell. A sheet whose every edge the kept surface
+/// still uses lies between solids, and the kept surface is their union's. A
+/// free sheet (some edge no kept triangle uses) is a part thinner than the
+/// voxels, which the voxel model holds thickened: a disk (V - E + F = 1, a
+/// fin) thickens to a ball and adds no handle; any other sheet (a strip
+/// with a hole, a closed surface written double-sided) adds handles or a
+/// cavity that no count of its triangles tells.
+std::size_t sheetsOfUnknownGenus(const Triangles& sheet, const std::vector<EdgeUse>& kept) {
+    if (sheet.empty()) return 0;
+    const std::vector<EdgeUse> uses = sortedEdgeUses(sheet);
+    DisjointSets component(sheet.size());
+    forEachRun(uses, sameEdge, [&](std::size_t first, std::size_t count) {
+        for (std::size_t u = first + 1; u < first + count; ++u)
+            component.unite(uses[first].triangle, uses[u].triangle);
+    });
+    struct SheetCounts {
+        std::int64_t vertices = 0, edges = 0, faces = 0;
+        bool free = false;
+    };
+    std::vector<SheetCounts> counts(sheet.size());
+    const auto keptUses = [&](const EdgeUse& e) {
+        return std::binary_search(kept.begin(), kept.end(), e,
+                                  [](const EdgeUse& x, const EdgeUse& y) {
+                                      return x.low != y.low ? x.low < y.low : x.high < y.high;
+                                  });
+    };
+    forEachRun(uses, sameEdge, [&](std::size_t first, std::size_t) {
+        SheetCounts& c = counts[component.find(uses[first].triangle)];
+        ++c.edges;
+        if (!keptUses(uses[first])) c.free = true;
+    });
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> vertexOfComponent;
+    for (std::uint32_t t = 0; t < sheet.size(); ++t) {
+        ++counts[component.find(t)].faces;
+        for (const std::uint32_t v : sheet[t]) vertexOfComponent.push_back({component.find(t), v});
+    }
+    std::sort(vertexOfComponent.begin(), vertexOfComponent.end());
+    vertexOfComponent.erase(std::unique(vertexOfComponent.begin(), vertexOfComponent.end()),
+                            vertexOfComponent.end());
+    for (const auto& [root, vertex] : vertexOfComponent) ++counts[root].vertices;
+    std::size_t unknown = 0;
+    for (std::uint32_t t = 0; t < sheet.size(); ++t) {
+        const SheetCounts& c = counts[t];
+        if (component.find(t) == t && c.free && c.vertices - c.edges + c.faces != 1) ++unknown;
+    }
+    return unknown;
 }
 
 /// The triangles of one edge used by more than two, paired as the surfaces
@@ -175,8 +224,11 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
     forEachRun(uses, sameEdge,
                [&](std::size_t, std::size_t useCount) { anyEdgeOfMoreThanTwo |= useCount > 2; });
     // Only such edges can be a double-sided face's: most meshes skip the sort.
-    if (anyEdgeOfMoreThanTwo && dropDoubleSidedTriangles(triangles))
-        uses = sortedEdgeUses(triangles);
+    Triangles sheet;
+    if (anyEdgeOfMoreThanTwo) dropDoubleSidedTriangles(triangles, sheet);
+    if (!sheet.empty()) uses = sortedEdgeUses(triangles);
+    const std::size_t unknownSheets = sheetsOfUnknownGenus(sheet, uses);
+    sheet = {};
     const auto count = std::uint32_t(triangles.size());
     const auto forEachEdge = [&](auto&& visit) {  // visit(first use, use count)
         forEachRun(uses, sameEdge, visit);
@@ -254,6 +306,7 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
     }
 
     MeshTopology topology;
+    topology.otherPieces = unknownSheets;
     for (const PieceCounts& p : pieces) {
         const std::int64_t chi = p.fans - p.edges + p.faces;
         if (!p.manifold || chi % 2 != 0) {

@@ -4,7 +4,10 @@
 //
 // Vertices at identical positions count as one (canonicalVertices), so seams where a writer
 // duplicated vertices do not open the surface, and two triangles on the same corners with
-// opposite windings (a double-sided face: a sheet that encloses nothing) are left out. A piece is
+// opposite windings (a double-sided face, or a face two solids share) are left out. Such faces
+// that form a free sheet (an edge no other triangle uses) other than a disk are counted as a
+// piece of unknown genus: the voxel model holds the sheet thickened, with whatever handles
+// or cavity that gives. A piece is
 // the set of triangles joined through shared edges; it is closed when each of its edges is used by
 // exactly two triangles (a manifold without border). A vertex where a piece's triangles meet in
 // several fans joined only at that point (a pinch), or where two pieces touch, counts once per fan,
@@ -30,7 +33,8 @@ struct MeshTopology {
     /// exactly two triangles.
     std::size_t closedPieces = 0;
     /// Pieces with border edges, or with edges of more than two triangles
-    /// that could not be paired.
+    /// that could not be paired, and free sheets of double-sided faces other
+    /// than disks: pieces whose genus is unknown.
     std::size_t otherPieces = 0;
     /// Sum of (2 - chi) / 2 over the closed pieces.
     std::int64_t genus = 0;

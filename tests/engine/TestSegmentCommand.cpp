@@ -179,6 +179,33 @@ TEST(SegmentCommand, ForceLeavesNoOutputOfTheEarlierRunThatThisRunDoesNotWrite) 
     EXPECT_FALSE(fs::exists(dir / "out" / "segmentation.seg"));
 }
 
+// A closed mesh whose genus could not be counted (a ring of cubes, one
+// shared face split two ways) was compared as if of genus 0: its own handle
+// was reported as one the mesh lacks, and loops round it lost their area.
+TEST(SegmentCommand, AMeshOfUnknownGenusHasNoHandlesItLacks) {
+    const test::TempDir dir;
+    for (const bool crossed : {false, true}) {
+        SCOPED_TRACE(crossed ? "a shared face split two ways" : "shared faces split alike");
+        const fs::path input = dir / (crossed ? "crossed.off" : "ring.off");
+        writeOff(input, ringOfUnitCubes(crossed));
+        SegmentCommandOptions options = optionsFor(input, dir / "out", 1);
+        options.resolution = 32;
+        options.force = true;
+        segment(options);
+        const nlohmann::json report =
+            nlohmann::json::parse(test::fileBytes(dir / "out" / "report.json"));
+        const nlohmann::json& reported = report.at("input");
+        EXPECT_EQ(reported.at("mesh_closed"), true);
+        EXPECT_EQ(reported.at("voxel_genus"), 1);
+        EXPECT_EQ(reported.at("mesh_pieces_without_genus"), crossed ? 1 : 0);
+        EXPECT_EQ(reported.at("mesh_genus"), crossed ? 0 : 1);
+        EXPECT_EQ(report.at("parameters").at("handle_loops_carry_no_area"), false);
+        for (const auto& warning : report.at("warnings"))
+            EXPECT_EQ(warning.get<std::string>().find("the mesh lacks"), std::string::npos)
+                << warning;
+    }
+}
+
 TEST(SegmentCommand, MoreSegmentsThanALabelVolumeHoldsIsABadInputNamingIt) {
     // 41^3 separate voxels: one segment each, more than uint16 labels hold.
     // Was a plain Error (exit 1, "internal error") naming no file. Refused

@@ -1,10 +1,13 @@
 // The mesh fuzz targets (FuzzOff, FuzzObj, FuzzStl, FuzzPly) share this body:
 // read, then check the invariants io/mesh/MeshIO.h promises for every mesh it
-// returns.
+// returns, and those of the mesh's checks and genus (io/mesh/MeshCheck.h,
+// io/mesh/MeshGenus.h) on whatever geometry the bytes make.
 #pragma once
 
 #include <cmath>
 
+#include "io/mesh/MeshCheck.h"
+#include "io/mesh/MeshGenus.h"
 #include "io/mesh/MeshIO.h"
 #include "tests/fuzz/FuzzCommon.h"
 
@@ -27,6 +30,15 @@ inline void readMeshChecked(MeshFormat format, const std::uint8_t* data, std::si
             if (f >= mesh.faceCount || f < previous) __builtin_trap();
             previous = f;
         }
+        const MeshDiagnostics diagnostics = checkMesh(mesh);
+        if (diagnostics.degenerateFaces > mesh.faceCount) __builtin_trap();
+        // Every closed piece is a connected closed surface once its pinched
+        // vertices and paired edges are pulled apart: V - E + F <= 2 each.
+        const MeshTopology topology = meshTopology(mesh);
+        if (topology.genus < 0 ||
+            topology.eulerCharacteristic > 2 * std::int64_t(topology.closedPieces) ||
+            topology.closedPieces + topology.otherPieces > mesh.triangles.size())
+            __builtin_trap();
     });
 }
 

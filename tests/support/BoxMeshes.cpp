@@ -37,4 +37,27 @@ void addBox(TriangleMesh& mesh, const std::array<double, 3>& size, const Rotatio
     mesh.faceCount = mesh.triangles.size();
 }
 
+TriangleMesh unitCubes(const std::vector<std::array<double, 3>>& corners) {
+    TriangleMesh mesh;
+    for (const auto& c : corners)
+        addBox(mesh, {1, 1, 1}, rotation({0, 0, 1}, 0), {c[0] + 0.5, c[1] + 0.5, c[2] + 0.5});
+    return mesh;
+}
+
+TriangleMesh ringOfUnitCubes(bool crossOneSharedFace) {
+    std::vector<std::array<double, 3>> corners;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (i != 1 || j != 1) corners.push_back({double(i), double(j), 0});
+    TriangleMesh mesh = unitCubes(corners);
+    if (crossOneSharedFace) {
+        // The first cube's +x face: addBox's triangles 10 and 11, (1, 3, 7)
+        // and (1, 7, 5); split along 3-5 instead, wound the same way.
+        const auto a = mesh.triangles[10], b = mesh.triangles[11];
+        mesh.triangles[10] = {a[1], a[2], b[2]};
+        mesh.triangles[11] = {a[1], b[2], a[0]};
+    }
+    return mesh;
+}
+
 }  // namespace skelseg::test

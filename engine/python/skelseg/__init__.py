@@ -726,7 +726,8 @@ def sequence_consensus(frame_labels: Sequence[np.ndarray],
     trusted: per frame, whether it may vote for the part count and be
     chosen (`skelseg sequence` trusts a frame unless it is a closed mesh
     whose voxel model has handles the mesh lacks: report["input"]
-    "mesh_closed" and "voxel_genus" above "mesh_genus"); None or no frame
+    "mesh_closed", "mesh_pieces_without_genus" 0 and "voxel_genus" above
+    "mesh_genus"); None or no frame
     trusted: every frame.
     Raises ValueError for a scalar instead of a sequence of frames, fewer
     than two frames, no faces, frames of different face counts or a trusted
