@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/SegmentationScore.h"
+#include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/SegFile.h"
 #include "kernels/base/Error.h"
@@ -41,11 +42,8 @@ int runScoreCommand(const std::filesystem::path& meshPath,
     const std::vector<double> areas = faceAreas(mesh);
     // The benchmark weights faces by area: a mesh without any cannot be scored.
     if (std::none_of(areas.begin(), areas.end(), [](double area) { return area > 0.0; }))
-        throw InputError(
-            meshPath.string(),
-            (mesh.faceCount == 1 ? std::string("its only face has")
-                                 : "all " + std::to_string(mesh.faceCount) + " faces have") +
-                " zero area; the scores weight faces by area");
+        throw InputError(meshPath.string(),
+                         noFaceHasArea(mesh.faceCount) + "; the scores weight faces by area");
     const std::vector<std::int64_t> candidate = readSegFor(candidatePath, mesh.faceCount);
     std::vector<std::vector<std::int64_t>> humans;
     for (const auto& path : humanPaths) humans.push_back(readSegFor(path, mesh.faceCount));

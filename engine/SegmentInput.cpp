@@ -310,11 +310,8 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
     // a wire of voxels and label it one part; refuse it, as the mesh
     // counterpart of an empty volume.
     if (mesh.faceCount > 0 && source.meshDiagnostics.degenerateFaces >= mesh.faceCount)
-        throw InputError(
-            source.file.string(),
-            (mesh.faceCount == 1 ? std::string("its only face has")
-                                 : "all " + std::to_string(mesh.faceCount) + " faces have") +
-                " zero area: the mesh has no surface to segment");
+        throw InputError(source.file.string(),
+                         noFaceHasArea(mesh.faceCount) + ": the mesh has no surface to segment");
     // Every face in one plane: the voxeliser would make a sheet one voxel
     // thick, which no skeleton crosses, and label it one part.
     if (source.meshDiagnostics.flat)

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/SegmentInput.h"
 #include "engine/SequenceConsensus.h"
 #include "engine/batch/Manifest.h"
 #include "io/files/OutputDirectory.h"
@@ -146,16 +147,19 @@ std::vector<std::string> checkFrames(const SequenceCommandOptions& options) {
     return names;
 }
 
-/// How many handles more than its mesh the voxel model of a frame has (the
-/// frame's report.json; 0 for an open mesh, which has no genus to compare,
-/// and for one with pieces whose genus is unknown: handlesTheMeshLacks()).
+/// How many handles more than its mesh the voxel model of a frame has, as
+/// handlesTheMeshLacks() decided it in the frame's run (read back from its
+/// report.json).
 std::int64_t handlesBeyondTheMesh(const fs::path& report) {
     const nlohmann::json document = nlohmann::json::parse(readFileBytes(report));
     const nlohmann::json& input = document.at("input");
     if (!input.value("mesh_closed", false)) return 0;
-    if (input.value("mesh_pieces_without_genus", 0) > 0) return 0;
-    return std::max<std::int64_t>(0, input.at("voxel_genus").get<std::int64_t>() -
-                                         input.at("mesh_genus").get<std::int64_t>());
+    MeshTopology mesh;
+    mesh.genus = input.at("mesh_genus").get<std::int64_t>();
+    mesh.otherPieces = input.value("mesh_pieces_without_genus", std::size_t(0));
+    VoxelTopology voxels;
+    voxels.genus = input.at("voxel_genus").get<std::int64_t>();
+    return handlesTheMeshLacks(true, mesh, voxels);
 }
 
 }  // namespace

@@ -161,6 +161,11 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
     return diagnostics;
 }
 
+std::string noFaceHasArea(std::size_t faceCount) {
+    return faceCount == 1 ? std::string("its only face has zero area")
+                          : "all " + std::to_string(faceCount) + " faces have zero area";
+}
+
 std::vector<std::string> meshWarnings(const MeshDiagnostics& diagnostics, const std::string& file) {
     // "1 edge is", "2 edges are": a count with its noun and verb in number.
     const auto counted = [](std::size_t n, const char* one, const char* many) {

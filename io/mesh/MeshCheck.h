@@ -83,6 +83,10 @@ void forEachEdgeUseCount(std::vector<std::uint64_t>& edgeKeys, Visit&& visit) {
                [&](std::size_t first, std::size_t uses) { visit(edgeKeys[first], uses); });
 }
 
+/// "its only face has zero area" or "all N faces have zero area": the start
+/// of a refusal of a mesh none of whose faces has an area.
+std::string noFaceHasArea(std::size_t faceCount);
+
 /// One line per problem found, each starting with "FILE: ", e.g.
 /// "hand.off: mesh is not closed (124 boundary edges); the inside is estimated".
 /// Empty for a sound mesh.

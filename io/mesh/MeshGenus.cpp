@@ -125,7 +125,7 @@ std::size_t sheetsOfUnknownGenus(const Triangles& sheet, const std::vector<EdgeU
         bool free = false;
     };
     std::vector<SheetCounts> counts(sheet.size());
-    const auto keptUses = [&](const EdgeUse& e) {
+    const auto usedByKept = [&](const EdgeUse& e) {
         return std::binary_search(kept.begin(), kept.end(), e,
                                   [](const EdgeUse& x, const EdgeUse& y) {
                                       return x.low != y.low ? x.low < y.low : x.high < y.high;
@@ -134,7 +134,7 @@ std::size_t sheetsOfUnknownGenus(const Triangles& sheet, const std::vector<EdgeU
     forEachRun(uses, sameEdge, [&](std::size_t first, std::size_t) {
         SheetCounts& c = counts[component.find(uses[first].triangle)];
         ++c.edges;
-        if (!keptUses(uses[first])) c.free = true;
+        if (!usedByKept(uses[first])) c.free = true;
     });
     std::vector<std::pair<std::uint32_t, std::uint32_t>> vertexOfComponent;
     for (std::uint32_t t = 0; t < sheet.size(); ++t) {

@@ -107,6 +107,16 @@ TEST(MeshGenus, ATorusTouchedInOneVertexKeepsItsHandle) {
     EXPECT_EQ(t.genus, 1);
 }
 
+/// Expects `t` to count these closed and other pieces, this Euler
+/// characteristic and this genus.
+void expectCounts(const MeshTopology& t, std::size_t closedPieces, std::size_t otherPieces,
+                  std::int64_t eulerCharacteristic, std::int64_t genus) {
+    EXPECT_EQ(t.closedPieces, closedPieces);
+    EXPECT_EQ(t.otherPieces, otherPieces);
+    EXPECT_EQ(t.eulerCharacteristic, eulerCharacteristic);
+    EXPECT_EQ(t.genus, genus);
+}
+
 /// Appends triangle `t`, wound so that it faces away from `centre` (or
 /// towards it, `outwards` false).
 void appendFacing(TriangleMesh& mesh, std::array<std::uint32_t, 3> t, const Eigen::Vector3d& centre,
@@ -138,11 +148,7 @@ TEST(MeshGenus, ADoubleSidedFaceEnclosesNothing) {
         mesh.triangles.push_back(flap);
         mesh.triangleFace.push_back(std::uint32_t(mesh.faceCount++));
     }
-    const MeshTopology t = meshTopology(mesh);
-    EXPECT_EQ(t.closedPieces, 1u);
-    EXPECT_EQ(t.otherPieces, 0u);
-    EXPECT_EQ(t.eulerCharacteristic, 2);
-    EXPECT_EQ(t.genus, 0);
+    expectCounts(meshTopology(mesh), 1, 0, 2, 0);
 }
 
 TEST(MeshGenus, AClosedSurfaceWrittenDoubleSidedHasNoKnownGenus) {
@@ -174,11 +180,7 @@ TEST(MeshGenus, SolidsTouchingAlongAnEdgeAreTwoClosedPieces) {
             TriangleMesh mesh = cubesSharingAnEdge(outwards);
             for (auto& v : mesh.vertices)
                 Eigen::Vector3d::Map(v.data()) = turn * Eigen::Vector3d(v.data());
-            const MeshTopology t = meshTopology(mesh);
-            EXPECT_EQ(t.closedPieces, 2u);
-            EXPECT_EQ(t.otherPieces, 0u);
-            EXPECT_EQ(t.eulerCharacteristic, 4);
-            EXPECT_EQ(t.genus, 0);
+            expectCounts(meshTopology(mesh), 2, 0, 4, 0);
         }
 }
 
