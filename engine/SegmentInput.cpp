@@ -111,6 +111,22 @@ void makeVoxelsCubic(SegmentSource& source, const SegmentInputOptions& options, 
     source.cubicGrid = grid;
 }
 
+void checkSourceMesh(SegmentSource& source) {
+    source.withoutFins.reset();
+    source.meshDiagnostics = checkMesh(*source.mesh);
+    // Only a mesh with both a free border and edges of more than two faces
+    // can have fins; the search costs a sort of its edges.
+    const MeshDiagnostics& found = source.meshDiagnostics;
+    if (found.closed || found.boundaryEdges == 0 || found.nonManifoldEdges == 0) return;
+    source.withoutFins = closedWithoutFins(*source.mesh);
+    if (!source.withoutFins) return;
+    const std::size_t unusedVertices = found.unusedVertices;
+    source.meshDiagnostics = checkMesh(source.withoutFins->mesh);
+    // A fin's own corners are used by the mesh as read: only the file's
+    // unused vertices are reported as such.
+    source.meshDiagnostics.unusedVertices = unusedVertices;
+}
+
 SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions& options,
                                 StageTimer& timer, Interrupter& interrupter) {
     SegmentSource source;
@@ -127,7 +143,7 @@ SegmentSource readSegmentSource(const fs::path& file, const SegmentInputOptions&
             source.mesh = readMesh(file);
         }
         Stage stage(timer, interrupter, "check mesh", false);
-        source.meshDiagnostics = checkMesh(*source.mesh);
+        checkSourceMesh(source);
     } else {
         Stage stage(timer, interrupter, "read volume", false);
         if (volumeFormatFromPath(file) == VolumeFormat::Unknown) {
@@ -287,7 +303,7 @@ MeshVoxelization voxelise(const SegmentSource& source, const SegmentInputOptions
                           StageTimer& timer, Interrupter& interrupter,
                           std::uint64_t& estimatedMemory, bool fillThinParts, const char* stageName,
                           std::uint64_t heldBytes, SignedVoxelization& signedVoxels) {
-    const TriangleMesh& mesh = *source.mesh;
+    const TriangleMesh& mesh = source.voxelisedMesh();
     VoxelizeOptions voxelizeOptions;
     voxelizeOptions.resolution = options.resolution;
     voxelizeOptions.meshIsClosed = source.meshDiagnostics.closed;
@@ -395,13 +411,13 @@ BudgetChoice planMeshBudget(const SegmentSource& source, const SegmentInputOptio
     voxelizeOptions.meshIsClosed = source.meshDiagnostics.closed;
     // Only what --max-memory allows is a choice; with none, the requested
     // resolution stays and its refusal names the limit.
-    const int memoryCap =
-        largestResolutionWithinMemory(*source.mesh, source.meshDiagnostics.closed, options);
+    const int memoryCap = largestResolutionWithinMemory(source.voxelisedMesh(),
+                                                        source.meshDiagnostics.closed, options);
     if (memoryCap > 0) voxelizeOptions.resolution = memoryCap;
     const ProbeCostModel probeModel = ProbeCostModel::fitted();
-    BudgetChoice choice =
-        planMeshRun(*source.mesh, voxelizeOptions, secondsLeft(options), CostModel::fitted(),
-                    options.calibrateTimeBudget ? &probeModel : nullptr, interrupter);
+    BudgetChoice choice = planMeshRun(
+        source.voxelisedMesh(), voxelizeOptions, secondsLeft(options), CostModel::fitted(),
+        options.calibrateTimeBudget ? &probeModel : nullptr, interrupter);
     choice.budgetSeconds = options.timeBudgetSeconds;
     choice.memoryCapResolution = memoryCap < options.resolution ? memoryCap : 0;
     if (choice.memoryCapResolution > 0) choice.coarsened = true;
@@ -410,10 +426,10 @@ BudgetChoice planMeshBudget(const SegmentSource& source, const SegmentInputOptio
     if (choice.fits && choice.coarsened) {
         SegmentInputOptions finer = options;
         voxelizeOptions.resolution = choice.resolution;
-        finer.heldBytes += heldResultBytes(voxelGridFor(*source.mesh, voxelizeOptions).dims,
-                                           options.levels, false);
-        const int finerCap =
-            largestResolutionWithinMemory(*source.mesh, source.meshDiagnostics.closed, finer);
+        finer.heldBytes += heldResultBytes(
+            voxelGridFor(source.voxelisedMesh(), voxelizeOptions).dims, options.levels, false);
+        const int finerCap = largestResolutionWithinMemory(source.voxelisedMesh(),
+                                                           source.meshDiagnostics.closed, finer);
         if (finerCap < options.resolution)
             choice.finerMemoryCapResolution = std::max(finerCap, choice.resolution);
     }
@@ -475,7 +491,7 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
                                               false, "voxelise", 0, signedVoxels);
         {
             Stage stage(timer, stop, "genus", true);
-            result.meshGenus = meshTopology(*source->mesh);
+            result.meshGenus = meshTopology(source->voxelisedMesh());
             result.voxelGenus = voxelTopology(voxelised.mask, {}, stop);
         }
         // Handles the mesh does not have: parts thinner than a voxel (an ear)
@@ -512,8 +528,11 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         result.selfOverlaps = voxelised.selfOverlaps;
         result.thinParts = voxelised.thinParts;
         result.objectSources = std::move(voxelised.objectSources);
-        std::vector<std::string> warnings =
-            meshWarnings(source->meshDiagnostics, source->file.string());
+        std::vector<std::string> warnings;
+        if (source->withoutFins)
+            warnings.push_back(finsWarning(source->file.string(), *source->withoutFins));
+        for (std::string& warning : meshWarnings(source->meshDiagnostics, source->file.string()))
+            warnings.push_back(std::move(warning));
         const std::int64_t extraHandles = handlesTheMeshLacks(source->meshDiagnostics.closed,
                                                               result.meshGenus, result.voxelGenus);
         if (extraHandles > 0)

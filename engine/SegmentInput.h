@@ -29,6 +29,7 @@
 #include "engine/StageTimer.h"
 #include "engine/TimeBudget.h"
 #include "io/mesh/MeshCheck.h"
+#include "io/mesh/MeshFins.h"
 #include "io/mesh/MeshGenus.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/MeshVoxelizer.h"
@@ -42,15 +43,27 @@ namespace skelseg {
 /// The input file as read.
 struct SegmentSource {
     std::filesystem::path file;
-    std::optional<TriangleMesh> mesh;   // mesh inputs
-    MeshDiagnostics meshDiagnostics{};  // mesh inputs: closedness, pieces
-    MaskVolume volumeMask;              // volume inputs: the mask as read (moves on)
+    std::optional<TriangleMesh> mesh;  // mesh inputs, as read (every face is labelled)
+    /// Mesh inputs closed but for fins (io/mesh/MeshFins.h, checkSourceMesh):
+    /// the mesh without them, which is voxelised and whose genus is counted.
+    std::optional<MeshWithoutFins> withoutFins;
+    /// Mesh inputs: closedness, pieces, of the mesh voxelised (voxelisedMesh()).
+    MeshDiagnostics meshDiagnostics{};
+    MaskVolume volumeMask;  // volume inputs: the mask as read (moves on)
     /// Volume inputs of anisotropic voxels (SegmentInputOptions::cubicVoxels):
     /// the cubic grid `volumeMask` was resampled to; the result goes back to
     /// the input's grid (refineStep).
     std::optional<CubicGrid> cubicGrid;
     bool isMesh() const noexcept { return mesh.has_value(); }
+    /// The mesh the voxel model is made of: without its fins where it has
+    /// been found closed without them, else as read.
+    const TriangleMesh& voxelisedMesh() const { return withoutFins ? withoutFins->mesh : *mesh; }
 };
+
+/// Checks source.mesh (checkMesh) into source.meshDiagnostics; a mesh that is
+/// open only through fins (closedWithoutFins) gets source.withoutFins, and
+/// the diagnostics are then those of the mesh without them.
+void checkSourceMesh(SegmentSource& source);
 
 /// The input as the mask to segment.
 struct SegmentMask {

@@ -124,6 +124,9 @@ write("nrrd", "bzip2-byte-skip.nrrd",
 
 # --- OBJ ----------------------------------------------------------------------
 write("obj", "tetra.obj", "# tetrahedron\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+# a tetrahedron with a small triangle standing on one edge: a fin (io/mesh/MeshFins.h)
+write("obj", "fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0.5 -0.02 -0.02\n"
+      "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 2 5\n")
 write("obj", "slashes.obj",
       "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 1\nvn 0 0 1\ng side\nusemtl red\ns off\n"
       "f 1/1/1 2/2/1 3/1/1 4/2/1\nf -4//1 -2//1 -1//1\nf 1/1 2/2 3/2\n")

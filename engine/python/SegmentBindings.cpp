@@ -339,7 +339,7 @@ py::dict segmentMeshArrays(const py::array_t<double>& vertices,
         [&] {
             {
                 Stage stage(call.timer, call.interrupter, "check mesh", false);
-                source->meshDiagnostics = checkMesh(*source->mesh);
+                checkSourceMesh(*source);
             }
             shape = call.segment(std::move(source));
         },

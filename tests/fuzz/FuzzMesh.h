@@ -1,12 +1,14 @@
 // The mesh fuzz targets (FuzzOff, FuzzObj, FuzzStl, FuzzPly) share this body:
 // read, then check the invariants io/mesh/MeshIO.h promises for every mesh it
 // returns, and those of the mesh's checks and genus (io/mesh/MeshCheck.h,
-// io/mesh/MeshGenus.h) on whatever geometry the bytes make.
+// io/mesh/MeshGenus.h, io/mesh/MeshFins.h) on whatever geometry the bytes
+// make.
 #pragma once
 
 #include <cmath>
 
 #include "io/mesh/MeshCheck.h"
+#include "io/mesh/MeshFins.h"
 #include "io/mesh/MeshGenus.h"
 #include "io/mesh/MeshIO.h"
 #include "tests/fuzz/FuzzCommon.h"
@@ -39,6 +41,18 @@ inline void readMeshChecked(MeshFormat format, const std::uint8_t* data, std::si
             topology.eulerCharacteristic > 2 * std::int64_t(topology.closedPieces) ||
             topology.closedPieces + topology.otherPieces > mesh.triangles.size())
             __builtin_trap();
+        // A mesh without its fins is closed, has at most the faces that are
+        // not fins, and numbers them within its face count.
+        if (const auto withoutFins = closedWithoutFins(mesh)) {
+            const TriangleMesh& rest = withoutFins->mesh;
+            if (!checkMesh(rest).closed ||
+                rest.faceCount + withoutFins->finFaces > mesh.faceCount ||
+                rest.triangleFace.size() != rest.triangles.size() ||
+                !(withoutFins->finAreaShare <= kMaxFinAreaShare))
+                __builtin_trap();
+            for (std::uint32_t f : rest.triangleFace)
+                if (f >= rest.faceCount) __builtin_trap();
+        }
     });
 }
 

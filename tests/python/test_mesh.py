@@ -99,6 +99,34 @@ def test_an_open_mesh_warns_and_still_segments(body_and_limb):
     assert any("not closed" in w for w in result.report["warnings"])
 
 
+def test_a_fin_is_left_out_of_the_voxel_model_as_in_the_cli(shapes, body_and_limb):
+    """A triangle standing on an edge of the body (a fin) keeps the mesh open
+    as read; without it the mesh is closed, and both the module and the CLI
+    voxelise it so and label every face."""
+    vertices, quads, _ = body_and_limb
+    triangles = [t for q in quads for t in ((q[0], q[1], q[2]), (q[0], q[2], q[3]))]
+    fin_vertices = np.vstack([vertices, [(2.0, -0.2, -0.2)]])
+    triangles.append((0, 1, len(vertices)))  # on the body's edge (0,0,0)-(4,0,0)
+    triangles = np.array(triangles)
+    with pytest.warns(skelseg.SkelsegWarning, match=r"^mesh: 1 face lies on fins"):
+        result = skelseg.segment_mesh(fin_vertices, triangles, resolution=32)
+    assert result.report["input"]["mesh_fin_faces"] == 1
+    assert result.report["input"]["mesh_closed"] is True
+    assert not any("not closed" in w for w in result.report["warnings"])
+    assert result.face_labels.shape == (len(triangles),)
+    assert result.face_labels[-1] == result.face_labels[0]  # the face it stands on
+
+    path = shapes.directory / "body-limb-fin.off"
+    lines = ["OFF", f"{len(fin_vertices)} {len(triangles)} 0"]
+    lines += [" ".join(repr(float(c)) for c in v) for v in fin_vertices]
+    lines += ["3 " + " ".join(str(i) for i in t) for t in triangles]
+    path.write_text("\n".join(lines) + "\n")
+    outdir, expected = cli_face_labels(shapes, path, 32)
+    np.testing.assert_array_equal(result.face_labels, expected)
+    report = json.loads((outdir / "report.json").read_text())
+    assert report["input"]["mesh_fin_faces"] == 1
+
+
 def psb_model(number):
     data = shared_data() / "psb"
     off = data / "off" / f"{number}.off"
