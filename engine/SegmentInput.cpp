@@ -114,10 +114,10 @@ void makeVoxelsCubic(SegmentSource& source, const SegmentInputOptions& options, 
 void checkSourceMesh(SegmentSource& source) {
     source.withoutFins.reset();
     source.meshDiagnostics = checkMesh(*source.mesh);
-    // Only a mesh with both a free border and edges of more than two faces
-    // can have fins; the search costs a sort of its edges.
+    // Only a mesh with a free border can have fins; the search costs a sort
+    // of its edges.
     const MeshDiagnostics& found = source.meshDiagnostics;
-    if (found.closed || found.boundaryEdges == 0 || found.nonManifoldEdges == 0) return;
+    if (found.closed || found.boundaryEdges == 0) return;
     source.withoutFins = closedWithoutFins(*source.mesh);
     if (!source.withoutFins) return;
     const std::size_t unusedVertices = found.unusedVertices;

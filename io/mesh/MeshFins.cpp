@@ -25,45 +25,45 @@ std::vector<char> finTriangles(const TriangleMesh& mesh) {
         }
     std::sort(uses.begin(), uses.end());
     DisjointSets sheets(count);
-    std::vector<char> hasFreeEdge(count, 0), hasSharedEdge(count, 0);
+    std::vector<char> hasFreeEdge(count, 0);
     forEachRun(
         uses, [](const auto& x, const auto& y) { return x.first == y.first; },
         [&](std::size_t first, std::size_t n) {
             if (n == 2) sheets.unite(uses[first].second, uses[first + 1].second);
-            for (std::size_t i = first; i < first + n; ++i) {
-                if (n == 1) hasFreeEdge[uses[i].second] = 1;
-                if (n > 2) hasSharedEdge[uses[i].second] = 1;
-            }
+            if (n == 1) hasFreeEdge[uses[first].second] = 1;
         });
-    std::vector<char> sheetFree(count, 0), sheetShared(count, 0);
-    for (std::uint32_t t = 0; t < std::uint32_t(count); ++t) {
-        const std::uint32_t sheet = sheets.find(t);
-        sheetFree[sheet] |= hasFreeEdge[t];
-        sheetShared[sheet] |= hasSharedEdge[t];
-    }
+    std::vector<char> sheetIsOpen(count, 0);
+    for (std::uint32_t t = 0; t < std::uint32_t(count); ++t)
+        sheetIsOpen[sheets.find(t)] |= hasFreeEdge[t];
     std::vector<char> fin(count, 0);
-    for (std::uint32_t t = 0; t < std::uint32_t(count); ++t) {
-        const std::uint32_t sheet = sheets.find(t);
-        fin[t] = sheetFree[sheet] && sheetShared[sheet];
-    }
+    for (std::uint32_t t = 0; t < std::uint32_t(count); ++t) fin[t] = sheetIsOpen[sheets.find(t)];
     return fin;
 }
 
 std::optional<MeshWithoutFins> closedWithoutFins(const TriangleMesh& mesh) {
     const std::vector<char> fin = finTriangles(mesh);
-    if (std::find(fin.begin(), fin.end(), 1) == fin.end()) return std::nullopt;
-    MeshWithoutFins result;
-    result.mesh.vertices = mesh.vertices;
     double finArea = 0.0, area = 0.0;
-    // Input faces whose triangles are all fins, and the kept faces' new numbers.
-    std::vector<std::uint32_t> keptFace(mesh.faceCount, UINT32_MAX);
-    std::vector<char> faceHasFin(mesh.faceCount, 0);
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const double triangle = triangleArea(mesh, t);
         area += triangle;
+        if (fin[t]) finArea += triangle;
+    }
+    // Checked before the rest is copied: an open mesh with holes, whose
+    // sheets round them are most of it, costs one pass more than its check.
+    // A mesh without area, or of an area too large for a double, has no
+    // share to compare (1 or NaN refuse it).
+    const double share = area > 0.0 ? finArea / area : 1.0;
+    if (std::find(fin.begin(), fin.end(), 1) == fin.end() || !(share <= kMaxFinAreaShare))
+        return std::nullopt;
+    MeshWithoutFins result;
+    result.finAreaShare = share;
+    result.mesh.vertices = mesh.vertices;
+    // The kept faces' new numbers, and the faces with a fin's triangle.
+    std::vector<std::uint32_t> keptFace(mesh.faceCount, UINT32_MAX);
+    std::vector<char> faceHasFin(mesh.faceCount, 0);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const std::uint32_t face = mesh.triangleFace[t];
         if (fin[t]) {
-            finArea += triangle;
             faceHasFin[face] = 1;
             continue;
         }
@@ -71,14 +71,12 @@ std::optional<MeshWithoutFins> closedWithoutFins(const TriangleMesh& mesh) {
         result.mesh.triangles.push_back(mesh.triangles[t]);
         result.mesh.triangleFace.push_back(keptFace[face]);
     }
+    if (result.mesh.triangles.empty()) return std::nullopt;
     // A polygon's triangles are joined across its fan diagonals, so they
     // lie in one sheet, unless a diagonal is also another face's edge: such
     // a face, partly kept, is not counted as a fin's.
     for (std::size_t face = 0; face < mesh.faceCount; ++face)
         result.finFaces += faceHasFin[face] && keptFace[face] == UINT32_MAX;
-    result.finAreaShare = area > 0.0 ? finArea / area : 1.0;
-    if (!(result.finAreaShare <= kMaxFinAreaShare) || result.mesh.triangles.empty())
-        return std::nullopt;
     const MeshDiagnostics rest = checkMesh(result.mesh);
     if (!rest.closed || rest.flat) return std::nullopt;
     return result;
@@ -87,9 +85,9 @@ std::optional<MeshWithoutFins> closedWithoutFins(const TriangleMesh& mesh) {
 std::string finsWarning(const std::string& file, const MeshWithoutFins& withoutFins) {
     const bool one = withoutFins.finFaces == 1;
     return fmt::format(
-        "{}: {} face{} on fins (sheets with a free border, joined to the surface only along "
-        "edges of more than two faces; {:.2g}% of its area): the mesh is closed without them, "
-        "so they are left out of its voxel model and take the labels of the parts they touch",
+        "{}: {} face{} on fins (open sheets standing on the surface or loose beside it; "
+        "{:.2g}% of its area): the mesh is closed without them, so they are left out of its "
+        "voxel model and take the labels of the parts they touch",
         file, withoutFins.finFaces, one ? " lies" : "s lie", 100.0 * withoutFins.finAreaShare);
 }
 

@@ -1,15 +1,15 @@
-// skelseg: fins, the sheets that keep an otherwise closed mesh open.
+// skelseg: fins, the open sheets that keep an otherwise closed mesh open.
 //
-// Exporters and modellers leave small sheets glued onto a closed surface: a
-// stray triangle standing on an edge of the surface, a flap along a seam.
-// Such a sheet has a free border (edges of one triangle) and meets the
-// surface only along edges of more than two triangles. One of them makes
-// the whole mesh "not closed", and an open mesh is voxelised by the shell
-// method, which neither keeps touching surfaces apart nor compares genera
-// (MeshVoxelizer.h). A fin encloses no volume, so the surface without it is
-// the shape: where dropping the fins leaves a closed mesh and they hold a
-// small share of its area, that mesh is the one voxelised, and the fins' faces
-// take the labels of the parts they touch (docs/meshes.md, "Fins").
+// Exporters and modellers leave small sheets on a closed surface: a stray
+// triangle standing on an edge of the surface, a flap along a seam, a loose
+// face touching it at a corner or floating beside it. Such a sheet has a
+// free border (edges of one triangle). One of them makes the whole mesh "not
+// closed", and an open mesh is voxelised by the shell method, which neither
+// keeps touching surfaces apart nor compares genera (MeshVoxelizer.h). A fin
+// encloses no volume, so the surface without it is the shape: where dropping
+// the fins leaves a closed mesh and they hold a small share of its area, that
+// mesh is the one voxelised, and the fins' faces take the labels of the parts
+// they touch (docs/meshes.md, "Fins").
 #pragma once
 
 #include <cstddef>
@@ -27,10 +27,13 @@ namespace skelseg {
 /// a larger open sheet (a wing modelled as one layer) keeps the shell method.
 constexpr double kMaxFinAreaShare = 0.01;
 
-/// Per triangle: 1 for the triangles of fins. A sheet is a set of triangles
-/// joined across edges of exactly two triangles (vertices at identical
-/// positions count as one, canonicalVertices); it is a fin when one of its
-/// edges is used by one triangle only and one by more than two.
+/// Per triangle: 1 for the triangles of sheets with a free border, the fins
+/// where the rest is closed. A sheet is a set of triangles joined across
+/// edges of exactly two triangles (vertices at identical positions count as
+/// one, canonicalVertices); its border is free where an edge is used by one
+/// triangle only. On an open mesh with holes, the sheets round the holes
+/// are marked too: closedWithoutFins() then finds the rest not closed, or
+/// the sheets too large.
 std::vector<char> finTriangles(const TriangleMesh& mesh);
 
 /// A mesh that is closed once its fins are dropped.

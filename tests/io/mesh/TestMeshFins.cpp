@@ -114,6 +114,43 @@ TEST(MeshFins, AFlapOfOnePolygonIsOneFinFaceAndTheOtherFacesAreRenumbered) {
     EXPECT_EQ(withoutFins->mesh.triangles, box.triangles);
 }
 
+TEST(MeshFins, LooseFacesAreFinsToo) {
+    // A triangle touching the cube at one corner, and one floating beside
+    // it: both open sheets, neither joined along an edge.
+    for (const bool touching : {true, false}) {
+        SCOPED_TRACE(touching ? "at a corner" : "floating");
+        TriangleMesh mesh = unitCubeOfTwelveFaces();
+        const CubeEdge edge = lowerFrontEdge(mesh);
+        std::uint32_t corner = edge.a;  // the cube's (0, 0, 0)
+        if (!touching) {
+            corner = std::uint32_t(mesh.vertices.size());
+            mesh.vertices.push_back({-0.02, -0.02, -0.02});
+        }
+        mesh.vertices.push_back({-0.05, -0.1, 0});
+        mesh.vertices.push_back({0, -0.1, -0.05});
+        const auto last = std::uint32_t(mesh.vertices.size() - 1);
+        mesh.triangles.push_back({corner, last - 1, last});
+        mesh.triangleFace.push_back(std::uint32_t(mesh.faceCount++));
+        const MeshDiagnostics asRead = checkMesh(mesh);
+        ASSERT_EQ(asRead.boundaryEdges, 3u);
+        ASSERT_EQ(asRead.nonManifoldEdges, 0u);
+        const auto withoutFins = closedWithoutFins(mesh);
+        ASSERT_TRUE(withoutFins.has_value());
+        EXPECT_EQ(withoutFins->finFaces, 1u);
+        EXPECT_EQ(withoutFins->mesh.triangles.size(), 12u);
+    }
+}
+
+TEST(MeshFins, AMeshWithAHoleHasNoneToDrop) {
+    // The sheet round the hole is the whole surface: far over the limit.
+    TriangleMesh mesh = unitCubeOfTwelveFaces();
+    mesh.triangles.pop_back();
+    mesh.triangleFace.pop_back();
+    const std::vector<char> fins = finTriangles(mesh);
+    EXPECT_EQ(std::count(fins.begin(), fins.end(), 1), 11);
+    EXPECT_FALSE(closedWithoutFins(mesh).has_value());
+}
+
 TEST(MeshFins, AnOpenMeshWithAFinStaysOpen) {
     // A hole elsewhere: the surface without the fin is still open.
     TriangleMesh mesh = unitCubeOfTwelveFaces();
@@ -134,6 +171,18 @@ TEST(MeshFins, ALargeSheetKeepsTheMeshOpen) {
     const std::vector<char> fins = finTriangles(mesh);
     EXPECT_EQ(fins.back(), 1);
     EXPECT_FALSE(closedWithoutFins(mesh).has_value());
+}
+
+TEST(MeshFins, AnAreaBeyondADoubleGivesNoShare) {
+    // At 1e160 every area overflows: the fins' share is inf / inf, which
+    // was taken for "under 1 %" (found by FuzzPly).
+    TriangleMesh mesh = unitCubeOfTwelveFaces();
+    const CubeEdge edge = lowerFrontEdge(mesh);
+    addFinTriangle(mesh, edge.a, edge.b, {0.5, -0.05, -0.05});
+    for (auto& vertex : mesh.vertices)
+        for (double& c : vertex) c *= 1e160;
+    const auto withoutFins = closedWithoutFins(mesh);
+    if (withoutFins) EXPECT_LE(withoutFins->finAreaShare, kMaxFinAreaShare);
 }
 
 TEST(MeshFins, SolidsTouchingAlongAnEdgeHaveNone) {
