@@ -121,7 +121,7 @@ void checkSourceMesh(SegmentSource& source) {
     source.withoutFins = closedWithoutFins(*source.mesh);
     if (!source.withoutFins) return;
     const std::size_t unusedVertices = found.unusedVertices;
-    source.meshDiagnostics = checkMesh(source.withoutFins->mesh);
+    source.meshDiagnostics = source.withoutFins->diagnostics;
     // A fin's own corners are used by the mesh as read: only the file's
     // unused vertices are reported as such.
     source.meshDiagnostics.unusedVertices = unusedVertices;

@@ -161,6 +161,22 @@ MeshDiagnostics checkMesh(const TriangleMesh& mesh) {
     return diagnostics;
 }
 
+std::vector<EdgeUse> sortedEdgeUses(const std::vector<std::array<std::uint32_t, 3>>& triangles) {
+    std::vector<EdgeUse> uses;
+    uses.reserve(triangles.size() * 3);
+    for (std::uint32_t i = 0; i < triangles.size(); ++i)
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::uint32_t a = triangles[i][k], b = triangles[i][(k + 1) % 3];
+            if (a != b) uses.push_back({std::min(a, b), std::max(a, b), i});
+        }
+    std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+        return x.low != y.low     ? x.low < y.low
+               : x.high != y.high ? x.high < y.high
+                                  : x.triangle < y.triangle;
+    });
+    return uses;
+}
+
 std::string noFaceHasArea(std::size_t faceCount) {
     return faceCount == 1 ? std::string("its only face has zero area")
                           : "all " + std::to_string(faceCount) + " faces have zero area";

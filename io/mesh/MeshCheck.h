@@ -9,6 +9,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -82,6 +83,22 @@ void forEachEdgeUseCount(std::vector<std::uint64_t>& edgeKeys, Visit&& visit) {
     forEachRun(edgeKeys, std::equal_to<>{},
                [&](std::size_t first, std::size_t uses) { visit(edgeKeys[first], uses); });
 }
+
+/// One use of the undirected edge (low, high) by a triangle: 12 bytes, a
+/// mesh's own size, not a hash map's.
+struct EdgeUse {
+    std::uint32_t low, high, triangle;
+};
+
+inline bool sameEdge(const EdgeUse& x, const EdgeUse& y) {
+    return x.low == y.low && x.high == y.high;
+}
+
+/// Every use of an edge by one of `triangles` (vertex triples, triangle =
+/// index in the list), sorted by edge and then triangle, so that the uses of
+/// one edge are adjacent (forEachRun with sameEdge). Edges between equal
+/// corners are left out, as checkMesh() leaves them out.
+std::vector<EdgeUse> sortedEdgeUses(const std::vector<std::array<std::uint32_t, 3>>& triangles);
 
 /// "its only face has zero area" or "all N faces have zero area": the start
 /// of a refusal of a mesh none of whose faces has an area.

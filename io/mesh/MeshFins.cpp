@@ -1,12 +1,11 @@
 #include "io/mesh/MeshFins.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
-#include <utility>
 
 #include <fmt/format.h>
 
-#include "io/mesh/MeshCheck.h"
 #include "kernels/DisjointSets.h"
 
 namespace skelseg {
@@ -14,24 +13,17 @@ namespace skelseg {
 std::vector<char> finTriangles(const TriangleMesh& mesh) {
     const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
     const std::size_t count = mesh.triangles.size();
-    // (edge, triangle) pairs: one sort gives each edge's triangles side by side.
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> uses;
-    uses.reserve(count * 3);
-    for (std::uint32_t t = 0; t < std::uint32_t(count); ++t)
-        for (std::size_t corner = 0; corner < 3; ++corner) {
-            const std::uint32_t a = canonical[mesh.triangles[t][corner]];
-            const std::uint32_t b = canonical[mesh.triangles[t][(corner + 1) % 3]];
-            if (a != b) uses.emplace_back(undirectedEdgeKey(a, b), t);
-        }
-    std::sort(uses.begin(), uses.end());
+    std::vector<std::array<std::uint32_t, 3>> corners(count);
+    for (std::size_t t = 0; t < count; ++t)
+        for (std::size_t k = 0; k < 3; ++k) corners[t][k] = canonical[mesh.triangles[t][k]];
+    const std::vector<EdgeUse> uses = sortedEdgeUses(corners);
+    corners = {};
     DisjointSets sheets(count);
     std::vector<char> hasFreeEdge(count, 0);
-    forEachRun(
-        uses, [](const auto& x, const auto& y) { return x.first == y.first; },
-        [&](std::size_t first, std::size_t n) {
-            if (n == 2) sheets.unite(uses[first].second, uses[first + 1].second);
-            if (n == 1) hasFreeEdge[uses[first].second] = 1;
-        });
+    forEachRun(uses, sameEdge, [&](std::size_t first, std::size_t n) {
+        if (n == 2) sheets.unite(uses[first].triangle, uses[first + 1].triangle);
+        if (n == 1) hasFreeEdge[uses[first].triangle] = 1;
+    });
     std::vector<char> sheetIsOpen(count, 0);
     for (std::uint32_t t = 0; t < std::uint32_t(count); ++t)
         sheetIsOpen[sheets.find(t)] |= hasFreeEdge[t];
@@ -77,8 +69,8 @@ std::optional<MeshWithoutFins> closedWithoutFins(const TriangleMesh& mesh) {
     // a face, partly kept, is not counted as a fin's.
     for (std::size_t face = 0; face < mesh.faceCount; ++face)
         result.finFaces += faceHasFin[face] && keptFace[face] == UINT32_MAX;
-    const MeshDiagnostics rest = checkMesh(result.mesh);
-    if (!rest.closed || rest.flat) return std::nullopt;
+    result.diagnostics = checkMesh(result.mesh);
+    if (!result.diagnostics.closed || result.diagnostics.flat) return std::nullopt;
     return result;
 }
 

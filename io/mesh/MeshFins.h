@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshIO.h"
 
 namespace skelseg {
@@ -45,6 +46,8 @@ struct MeshWithoutFins {
     std::size_t finFaces = 0;
     /// The fins' area over the whole mesh's.
     double finAreaShare = 0.0;
+    /// checkMesh() of `mesh`, made to find it closed.
+    MeshDiagnostics diagnostics;
 };
 
 /// The mesh without its fins, when it has fins, the rest is closed

@@ -17,32 +17,6 @@ namespace {
 
 using Triangles = std::vector<std::array<std::uint32_t, 3>>;
 
-/// One use of the edge (low, high) by a triangle: 12 bytes, a mesh's own
-/// size, not a hash map's.
-struct EdgeUse {
-    std::uint32_t low, high, triangle;
-};
-
-bool sameEdge(const EdgeUse& x, const EdgeUse& y) {
-    return x.low == y.low && x.high == y.high;
-}
-
-std::vector<EdgeUse> sortedEdgeUses(const Triangles& triangles) {
-    std::vector<EdgeUse> uses;
-    uses.reserve(triangles.size() * 3);
-    for (std::uint32_t i = 0; i < triangles.size(); ++i)
-        for (std::size_t k = 0; k < 3; ++k) {
-            const std::uint32_t a = triangles[i][k], b = triangles[i][(k + 1) % 3];
-            uses.push_back({std::min(a, b), std::max(a, b), i});
-        }
-    std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-        return x.low != y.low     ? x.low < y.low
-               : x.high != y.high ? x.high < y.high
-                                  : x.triangle < y.triangle;
-    });
-    return uses;
-}
-
 Eigen::Vector3d point(const TriangleMesh& mesh, std::uint32_t vertex) {
     return Eigen::Vector3d::Map(mesh.vertices[vertex].data());
 }
