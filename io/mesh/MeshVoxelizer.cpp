@@ -201,9 +201,18 @@ MaskVolume signedVoxelization(const TriangleMesh& mesh, const VoxelGrid& grid, d
     // Background -1: voxels OpenVDB gives no triangle (deep inside, far
     // outside) read as "unknown" rather than as triangle 0.
     openvdb::Int32Grid polygonIndex(-1);
+    // Without OpenVDB's removal of "self-intersecting" voxels: where two
+    // walls of the mesh are less than a voxel apart, it switches off every
+    // band voxel between them that has no boundary neighbour and prunes
+    // the leaves left empty, polygon index included. A contact across the
+    // middle of an 8^3 leaf then has no nearest triangles, and the contact
+    // separation cannot see it (docs/meshes.md, "Contacts across whole
+    // OpenVDB leaves"). The sign of every voxel came out the same on every
+    // mesh measured there.
     auto distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
         static_cast<openvdb::util::NullInterrupter&>(vdbInterrupter), adapter.vdbAdapter(),
-        *transformFor(grid), float(bandWidth), float(bandWidth), 0,
+        *transformFor(grid), float(bandWidth), float(bandWidth),
+        openvdb::tools::DISABLE_INTERSECTING_VOXEL_REMOVAL,
         nearestTriangle ? &polygonIndex : nullptr);
     vdbInterrupter.throwIfStopped();
     if (nearestTriangle) {

@@ -67,6 +67,24 @@ TEST(SceneMeshTopology, HandOnHipKeepsGenusAndParts) {
     EXPECT_GE(count, 6);  // body, head, two arms, two legs at least
 }
 
+TEST(SceneMeshTopology, BarsTouchingOverWholeOpenVdbLeavesSegmentLikeBarsApart) {
+    // Two bars on one base, a third of a voxel apart over a contact that
+    // crosses whole leaves of OpenVDB's grids, against the same bars three
+    // voxels apart: parted over only part of the contact, the bars read
+    // as joined there, and the U gained a junction and parts.
+    VoxelizeOptions options;
+    options.resolution = 80;
+    const MeshVoxelization touching = voxelizeMeshWithContacts(test::barsOnABase(1), options);
+    const MeshVoxelization apart = voxelizeMeshWithContacts(test::barsOnABase(10), options);
+    ASSERT_EQ(apart.contacts.contacts, 0u) << "three voxels apart, the bars must not touch";
+    const SegmentationResult touchingResult = segmentVolume(touching.mask, {});
+    const SegmentationResult apartResult = segmentVolume(apart.mask, {});
+    const int count = int(apartResult.segments.size());
+    EXPECT_EQ(int(touchingResult.segments.size()), count);
+    EXPECT_EQ(test::degreeSequence(test::segmentAdjacency(touchingResult.labels), count),
+              test::degreeSequence(test::segmentAdjacency(apartResult.labels), count));
+}
+
 TEST(SceneMeshTopology, TheFaceOrderGivesTheSameFaceLabels) {
     // The same figure written by another exporter (its triangles in another
     // order, each started at another corner) must give the same parts, face

@@ -70,6 +70,17 @@ TriangleMesh figureMesh(bool handOnHip) {
     return meshOfShape(shape, lo, hi);
 }
 
+TriangleMesh barsOnABase(int gap) {
+    Shape s;
+    // Fine voxel centres are integers, so faces lie at half-integers.
+    const double left = -30.5, right = gap - 0.5;  // the left side, the right bar's inner face
+    const double end = right + 30.0;
+    s.box({0.5 * (left + end), 7.0, 0.0}, {0.5 * (end - left), 7.5, 30.5});
+    s.box({-15.5, 127.0, 0.0}, {15.0, 112.5, 30.5});
+    s.box({right + 15.0, 127.0, 0.0}, {15.0, 112.5, 30.5});
+    return meshOfShape(s, {-32, -2, -32}, {32 + gap, 241, 32});
+}
+
 TriangleMesh reorderedTriangles(const TriangleMesh& mesh, unsigned seed) {
     std::vector<std::size_t> order(mesh.triangles.size());
     std::iota(order.begin(), order.end(), std::size_t(0));

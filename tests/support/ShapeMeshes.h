@@ -30,6 +30,14 @@ Shape figureWithHand(bool handOnHip);
 /// meshOfShape over the bounding box of figureWithHand.
 TriangleMesh figureMesh(bool handOnHip);
 
+/// Two square bars (60 x 225 x 61 fine voxels) standing on one base,
+/// facing each other across `gap` empty fine-voxel layers (the first at
+/// x = 0) over their whole height and depth: a U, 240 tall along y. At
+/// resolution 80 a gap of 1 is a third of a voxel, and the contact it makes
+/// is 75 voxels tall and 20 deep, so it crosses whole 8^3 leaves of
+/// OpenVDB's grids with no other surface in them.
+TriangleMesh barsOnABase(int gap);
+
 /// The same surface with its triangles shuffled (a permutation drawn from
 /// `seed`) and each triangle's corners rotated: what another exporter of the
 /// same mesh could write. triangleFace follows its triangle.

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "io/mesh/MeshGenus.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "kernels/VoxelGenus.h"
@@ -105,6 +107,44 @@ TEST(ContactSeparation, ThinPlateAndTorusAreLeftAlone) {
     const MeshVoxelization torusVoxels = voxelizeMeshWithContacts(torusMesh, options);
     EXPECT_EQ(torusVoxels.contacts.voxelsCleared, 0u);
     EXPECT_EQ(voxelTopology(torusVoxels.mask).genus, 1);
+}
+
+/// Rows of voxels across the gap plane of test::barsOnABase(1) (x = 0 in
+/// fine voxels) that are solid from one bar into the other, counted over the
+/// contact less a voxel at its ends and two above the base.
+std::size_t rowsJoinedAcrossTheGap(const MaskVolume& mask) {
+    const Dims d = mask.dims();
+    std::size_t joined = 0;
+    for (int z = 0; z < d.z; ++z)
+        for (int y = 0; y < d.y; ++y) {
+            const auto at = mask.geometry.indexToWorld(0.0, double(y), double(z));
+            if (at[1] < 14.5 + 6.0 || at[1] > 239.5 - 3.0 || std::abs(at[2]) > 30.5 - 3.0) continue;
+            const auto gapIndex = worldToIndex(mask.geometry, {0.0, at[1], at[2]});
+            const int gapX = int(std::lround(gapIndex[0]));
+            bool open = false;
+            for (int x = gapX - 1; x <= gapX + 1; ++x) open = open || mask(x, y, z) == 0;
+            if (!open) ++joined;
+        }
+    return joined;
+}
+
+TEST(ContactSeparation, AContactAcrossWholeOpenVdbLeavesIsPartedAlongItsLength) {
+    // OpenVDB's mesh conversion, by default, switches off the band voxels
+    // between walls closer than a voxel and prunes the leaves left empty,
+    // nearest triangles included; the middle of this contact (20 voxels
+    // deep) kept no nearest triangle, and stayed fused there.
+    const TriangleMesh mesh = test::barsOnABase(1);
+    ASSERT_EQ(meshTopology(mesh).genus, 0);
+    VoxelizeOptions options = coarse(false);
+    options.resolution = 80;
+    const MaskVolume fused = voxelizeMesh(mesh, options);
+    ASSERT_GT(rowsJoinedAcrossTheGap(fused), 500u) << "the bars must fuse without the separation";
+    options.keepMeshTopology = true;
+    const MeshVoxelization kept = voxelizeMeshWithContacts(mesh, options);
+    EXPECT_EQ(rowsJoinedAcrossTheGap(kept.mask), 0u)
+        << "pairs " << kept.contacts.contactPairs << " cleared " << kept.contacts.voxelsCleared;
+    EXPECT_EQ(kept.contacts.contacts, 1u);
+    EXPECT_EQ(voxelTopology(kept.mask).objects, 1u);
 }
 
 /// A thick slab with a thin rod lying on it across one fine voxel: the rod
