@@ -113,17 +113,23 @@ void makeVoxelsCubic(SegmentSource& source, const SegmentInputOptions& options, 
 
 void checkSourceMesh(SegmentSource& source) {
     source.withoutFins.reset();
+    source.withHolesCapped.reset();
     source.meshDiagnostics = checkMesh(*source.mesh);
-    // Only a mesh with a free border can have fins; the search costs a sort
-    // of its edges.
+    // Only a mesh with a free border can have fins or holes; each search
+    // costs a sort of its edges.
     const MeshDiagnostics& found = source.meshDiagnostics;
     if (found.closed || found.boundaryEdges == 0) return;
-    source.withoutFins = closedWithoutFins(*source.mesh);
-    if (!source.withoutFins) return;
     const std::size_t unusedVertices = found.unusedVertices;
-    source.meshDiagnostics = source.withoutFins->diagnostics;
-    // A fin's own corners are used by the mesh as read: only the file's
-    // unused vertices are reported as such.
+    source.withoutFins = closedWithoutFins(*source.mesh);
+    if (source.withoutFins) {
+        source.meshDiagnostics = source.withoutFins->diagnostics;
+    } else {
+        source.withHolesCapped = closedWithHolesCapped(*source.mesh);
+        if (!source.withHolesCapped) return;
+        source.meshDiagnostics = source.withHolesCapped->diagnostics;
+    }
+    // A fin's own corners are used by the mesh as read, and the caps use
+    // only border vertices: only the file's unused vertices are reported.
     source.meshDiagnostics.unusedVertices = unusedVertices;
 }
 
@@ -531,6 +537,8 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         std::vector<std::string> warnings;
         if (source->withoutFins)
             warnings.push_back(finsWarning(source->file.string(), *source->withoutFins));
+        if (source->withHolesCapped)
+            warnings.push_back(holesWarning(source->file.string(), *source->withHolesCapped));
         for (std::string& warning : meshWarnings(source->meshDiagnostics, source->file.string()))
             warnings.push_back(std::move(warning));
         const std::int64_t extraHandles = handlesTheMeshLacks(source->meshDiagnostics.closed,

@@ -31,6 +31,7 @@
 #include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshFins.h"
 #include "io/mesh/MeshGenus.h"
+#include "io/mesh/MeshHoles.h"
 #include "io/mesh/MeshIO.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "kernels/CubicVoxels.h"
@@ -47,6 +48,9 @@ struct SegmentSource {
     /// Mesh inputs closed but for fins (io/mesh/MeshFins.h, checkSourceMesh):
     /// the mesh without them, which is voxelised and whose genus is counted.
     std::optional<MeshWithoutFins> withoutFins;
+    /// Mesh inputs closed but for small holes (io/mesh/MeshHoles.h,
+    /// checkSourceMesh): the mesh with them capped, voxelised in its place.
+    std::optional<MeshWithHolesCapped> withHolesCapped;
     /// Mesh inputs: closedness, pieces, of the mesh voxelised (voxelisedMesh()).
     MeshDiagnostics meshDiagnostics{};
     MaskVolume volumeMask;  // volume inputs: the mask as read (moves on)
@@ -56,13 +60,18 @@ struct SegmentSource {
     std::optional<CubicGrid> cubicGrid;
     bool isMesh() const noexcept { return mesh.has_value(); }
     /// The mesh the voxel model is made of: without its fins where it has
-    /// been found closed without them, else as read.
-    const TriangleMesh& voxelisedMesh() const { return withoutFins ? withoutFins->mesh : *mesh; }
+    /// been found closed without them, with its holes capped where it has
+    /// been found closed so, else as read.
+    const TriangleMesh& voxelisedMesh() const {
+        if (withoutFins) return withoutFins->mesh;
+        return withHolesCapped ? withHolesCapped->mesh : *mesh;
+    }
 };
 
 /// Checks source.mesh (checkMesh) into source.meshDiagnostics; a mesh that is
-/// open only through fins (closedWithoutFins) gets source.withoutFins, and
-/// the diagnostics are then those of the mesh without them.
+/// open only through fins (closedWithoutFins) gets source.withoutFins, one
+/// open only through small holes (closedWithHolesCapped) gets
+/// source.withHolesCapped, and the diagnostics are then those of that mesh.
 void checkSourceMesh(SegmentSource& source);
 
 /// The input as the mask to segment.

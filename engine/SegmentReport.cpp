@@ -65,6 +65,8 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
         context.input["mesh_boundary_edges"] = source.meshDiagnostics.boundaryEdges;
         context.input["mesh_degenerate_faces"] = source.meshDiagnostics.degenerateFaces;
         context.input["mesh_fin_faces"] = source.withoutFins ? source.withoutFins->finFaces : 0;
+        context.input["mesh_holes_capped"] =
+            source.withHolesCapped ? source.withHolesCapped->holes : 0;
         context.input["mesh_genus"] = shape.input->meshGenus.genus;
         context.input["mesh_closed_pieces"] = shape.input->meshGenus.closedPieces;
         context.input["mesh_pieces_without_genus"] = shape.input->meshGenus.otherPieces;

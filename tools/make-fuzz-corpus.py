@@ -127,6 +127,21 @@ write("obj", "tetra.obj", "# tetrahedron\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 
 # a tetrahedron with a small triangle standing on one edge: a fin (io/mesh/MeshFins.h)
 write("obj", "fin.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0.5 -0.02 -0.02\n"
       "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 2 5\n")
+# an octahedron split into 32 triangles, one of them missing: a small hole (io/mesh/MeshHoles.h)
+octahedron = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)]
+octahedron_faces = [(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4), (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)]
+hole_vertices, midpoint, hole_faces = list(octahedron), {}, []
+def middle(a, b):
+    key = (min(a, b), max(a, b))
+    if key not in midpoint:
+        midpoint[key] = len(hole_vertices)
+        hole_vertices.append(tuple((p + q) / 2 for p, q in zip(hole_vertices[a], hole_vertices[b])))
+    return midpoint[key]
+for a, b, c in octahedron_faces:
+    ab, bc, ca = middle(a, b), middle(b, c), middle(c, a)
+    hole_faces += [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]
+write("obj", "hole.obj", "".join("v %g %g %g\n" % v for v in hole_vertices)
+      + "".join("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in hole_faces[:-1]))
 write("obj", "slashes.obj",
       "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 1\nvn 0 0 1\ng side\nusemtl red\ns off\n"
       "f 1/1/1 2/2/1 3/1/1 4/2/1\nf -4//1 -2//1 -1//1\nf 1/1 2/2 3/2\n")

@@ -34,6 +34,14 @@ std::vector<std::uint32_t> canonicalVertices(const TriangleMesh& mesh) {
     return canonical;
 }
 
+std::vector<std::array<std::uint32_t, 3>> canonicalTriangles(const TriangleMesh& mesh) {
+    const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
+    std::vector<std::array<std::uint32_t, 3>> corners(mesh.triangles.size());
+    for (std::size_t t = 0; t < corners.size(); ++t)
+        for (std::size_t k = 0; k < 3; ++k) corners[t][k] = canonical[mesh.triangles[t][k]];
+    return corners;
+}
+
 namespace {
 
 /// The vertices faces use and the squared diagonal of their box: the size

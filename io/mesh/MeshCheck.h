@@ -114,6 +114,10 @@ std::vector<std::string> meshWarnings(const MeshDiagnostics& diagnostics, const 
 /// meshes whose writers duplicated vertices.
 std::vector<std::uint32_t> canonicalVertices(const TriangleMesh& mesh);
 
+/// The triangles of `mesh` with every corner its canonical vertex
+/// (canonicalVertices): triangles that meet at a position share the corner.
+std::vector<std::array<std::uint32_t, 3>> canonicalTriangles(const TriangleMesh& mesh);
+
 /// The corner (0, 1 or 2) of triangle t with the smallest position (x, then
 /// y, then z). Where skelseg starts a triangle, winding kept, so that what is
 /// computed on it rounds the same whichever corner the file starts it at

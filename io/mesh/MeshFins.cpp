@@ -11,13 +11,8 @@
 namespace skelseg {
 
 std::vector<char> finTriangles(const TriangleMesh& mesh) {
-    const std::vector<std::uint32_t> canonical = canonicalVertices(mesh);
     const std::size_t count = mesh.triangles.size();
-    std::vector<std::array<std::uint32_t, 3>> corners(count);
-    for (std::size_t t = 0; t < count; ++t)
-        for (std::size_t k = 0; k < 3; ++k) corners[t][k] = canonical[mesh.triangles[t][k]];
-    const std::vector<EdgeUse> uses = sortedEdgeUses(corners);
-    corners = {};
+    const std::vector<EdgeUse> uses = sortedEdgeUses(canonicalTriangles(mesh));
     DisjointSets sheets(count);
     std::vector<char> hasFreeEdge(count, 0);
     forEachRun(uses, sameEdge, [&](std::size_t first, std::size_t n) {

@@ -1,15 +1,17 @@
 // The mesh fuzz targets (FuzzOff, FuzzObj, FuzzStl, FuzzPly) share this body:
 // read, then check the invariants io/mesh/MeshIO.h promises for every mesh it
 // returns, and those of the mesh's checks and genus (io/mesh/MeshCheck.h,
-// io/mesh/MeshGenus.h, io/mesh/MeshFins.h) on whatever geometry the bytes
-// make.
+// io/mesh/MeshGenus.h, io/mesh/MeshFins.h, io/mesh/MeshHoles.h) on whatever
+// geometry the bytes make.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshFins.h"
 #include "io/mesh/MeshGenus.h"
+#include "io/mesh/MeshHoles.h"
 #include "io/mesh/MeshIO.h"
 #include "tests/fuzz/FuzzCommon.h"
 
@@ -52,6 +54,26 @@ inline void readMeshChecked(MeshFormat format, const std::uint8_t* data, std::si
                 __builtin_trap();
             for (std::uint32_t f : rest.triangleFace)
                 if (f >= rest.faceCount) __builtin_trap();
+        }
+        // A mesh with its holes capped is closed, keeps every input
+        // triangle in place, adds one face per hole and one vertex per hole,
+        // and its caps hold at most their share of the area.
+        if (const auto capped = closedWithHolesCapped(mesh)) {
+            const TriangleMesh& whole = capped->mesh;
+            if (!checkMesh(whole).closed || capped->holes == 0 ||
+                whole.faceCount != mesh.faceCount + capped->holes ||
+                whole.vertices.size() != mesh.vertices.size() + capped->holes ||
+                whole.triangleFace.size() != whole.triangles.size() ||
+                whole.triangles.size() <= mesh.triangles.size() ||
+                !std::equal(mesh.triangles.begin(), mesh.triangles.end(),
+                            whole.triangles.begin()) ||
+                !(capped->capAreaShare <= kMaxHoleCapAreaShare))
+                __builtin_trap();
+            for (std::size_t t = 0; t < whole.triangles.size(); ++t) {
+                if (whole.triangleFace[t] >= whole.faceCount) __builtin_trap();
+                for (std::uint32_t i : whole.triangles[t])
+                    if (i >= whole.vertices.size()) __builtin_trap();
+            }
         }
     });
 }
