@@ -127,6 +127,60 @@ def test_a_fin_is_left_out_of_the_voxel_model_as_in_the_cli(shapes, body_and_lim
     assert report["input"]["mesh_fin_faces"] == 1
 
 
+def grid_box(n):
+    """The surface of the box [0, n]^3 in unit squares, two outward triangles
+    each: one closed piece."""
+    index, vertices, triangles = {}, [], []
+
+    def vertex(p):
+        if p not in index:
+            index[p] = len(vertices)
+            vertices.append(p)
+        return index[p]
+
+    for axis in range(3):
+        for side in (0, n):
+            for i in range(n):
+                for j in range(n):
+                    corners = []
+                    for di, dj in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                        p = [0, 0, 0]
+                        p[axis], p[(axis + 1) % 3], p[(axis + 2) % 3] = side, i + di, j + dj
+                        corners.append(vertex(tuple(p)))
+                    if side == 0:
+                        corners.reverse()
+                    a, b, c, d = corners
+                    triangles += [(a, b, c), (a, c, d)]
+    return np.array(vertices, dtype=float), np.array(triangles)
+
+
+def test_a_small_hole_is_capped_in_the_voxel_model_as_in_the_cli(shapes):
+    """One triangle missing of 192: the mesh as read is open, capped it is
+    closed, and both the module and the CLI voxelise it as the closed box and
+    label the faces given."""
+    vertices, triangles = grid_box(4)
+    with_hole = triangles[:-1]
+    with pytest.warns(skelseg.SkelsegWarning, match=r"^mesh: the mesh has 1 hole"):
+        result = skelseg.segment_mesh(vertices, with_hole, resolution=32)
+    assert result.report["input"]["mesh_holes_capped"] == 1
+    assert result.report["input"]["mesh_closed"] is True
+    assert not any("not closed" in w for w in result.report["warnings"])
+    assert result.face_labels.shape == (len(with_hole),)
+    closed = skelseg.segment_mesh(vertices, triangles, resolution=32)
+    assert closed.report["input"]["mesh_holes_capped"] == 0
+    assert result.report["counts"]["object_voxels"] == closed.report["counts"]["object_voxels"]
+
+    path = shapes.directory / "grid-box-hole.off"
+    lines = ["OFF", f"{len(vertices)} {len(with_hole)} 0"]
+    lines += [" ".join(repr(float(c)) for c in v) for v in vertices]
+    lines += ["3 " + " ".join(str(i) for i in t) for t in with_hole]
+    path.write_text("\n".join(lines) + "\n")
+    outdir, expected = cli_face_labels(shapes, path, 32)
+    np.testing.assert_array_equal(result.face_labels, expected)
+    report = json.loads((outdir / "report.json").read_text())
+    assert report["input"]["mesh_holes_capped"] == 1
+
+
 def psb_model(number):
     data = shared_data() / "psb"
     off = data / "off" / f"{number}.off"
