@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
+#include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -32,8 +34,8 @@ std::optional<MeshWithHolesCapped> closedWithHolesCapped(const TriangleMesh& mes
     DisjointSets pieces(count);
     // A hole's border runs against the windings of the triangles along it:
     // the cap triangle across the edge u -> v of triangle t has v -> u.
-    std::unordered_map<std::uint32_t, std::uint32_t> borderNext;
-    std::unordered_map<std::uint32_t, std::uint32_t> borderTriangle;
+    // Per border vertex v: u, and t (whose piece the hole opens).
+    std::unordered_map<std::uint32_t, std::pair<std::uint32_t, std::uint32_t>> borderNext;
     bool pinched = false;
     forEachRun(uses, sameEdge, [&](std::size_t first, std::size_t n) {
         for (std::size_t k = 1; k < n; ++k)
@@ -44,8 +46,7 @@ std::optional<MeshWithHolesCapped> closedWithHolesCapped(const TriangleMesh& mes
         std::uint32_t from = use.low, to = use.high;  // the triangle's direction
         for (std::size_t k = 0; k < 3; ++k)
             if (c[k] == use.high && c[(k + 1) % 3] == use.low) std::swap(from, to);
-        if (!borderNext.emplace(to, from).second) pinched = true;
-        borderTriangle.emplace(to, use.triangle);
+        if (!borderNext.emplace(to, std::make_pair(from, use.triangle)).second) pinched = true;
     });
     if (borderNext.empty() || pinched) return std::nullopt;
 
@@ -64,17 +65,17 @@ std::optional<MeshWithHolesCapped> closedWithHolesCapped(const TriangleMesh& mes
     starts.reserve(borderNext.size());
     for (const auto& [vertex, next] : borderNext) starts.push_back(vertex);
     std::sort(starts.begin(), starts.end());
-    std::unordered_map<std::uint32_t, char> walked;
+    std::unordered_set<std::uint32_t> walked;
     double capTotal = 0.0;
     for (const std::uint32_t start : starts) {
         if (walked.count(start)) continue;
         std::vector<std::uint32_t> loop;
         for (std::uint32_t v = start;;) {
-            walked.emplace(v, 1);
+            walked.insert(v);
             loop.push_back(v);
             const auto next = borderNext.find(v);
             if (next == borderNext.end()) return std::nullopt;  // a border that does not close
-            v = next->second;
+            v = next->second.first;
             if (v == start) break;
             if (walked.count(v) || loop.size() > borderNext.size()) return std::nullopt;
         }
@@ -93,12 +94,12 @@ std::optional<MeshWithHolesCapped> closedWithHolesCapped(const TriangleMesh& mes
             result.mesh.triangleFace.push_back(face);
             cap += areaOf(mesh.vertices[a], mesh.vertices[b], centre);
         }
-        capArea[pieces.find(borderTriangle.at(start))] += cap;
+        capArea[pieces.find(borderNext.at(start).second)] += cap;
         capTotal += cap;
         ++result.holes;
     }
-    // Every comparison is written so that a NaN (areas beyond a double)
-    // refuses the caps.
+    // Areas beyond a double: an infinite cap passes its piece's test
+    // (inf <= inf), and the share inf / inf, a NaN, refuses the caps.
     for (std::size_t p = 0; p < count; ++p)
         if (capArea[p] > 0.0 && !(capArea[p] <= kMaxHoleCapAreaShare * pieceArea[p]))
             return std::nullopt;

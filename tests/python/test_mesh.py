@@ -99,6 +99,13 @@ def test_an_open_mesh_warns_and_still_segments(body_and_limb):
     assert any("not closed" in w for w in result.report["warnings"])
 
 
+def write_triangle_off(path, vertices, triangles):
+    lines = ["OFF", f"{len(vertices)} {len(triangles)} 0"]
+    lines += [" ".join(repr(float(c)) for c in v) for v in vertices]
+    lines += ["3 " + " ".join(str(i) for i in t) for t in triangles]
+    path.write_text("\n".join(lines) + "\n")
+
+
 def test_a_fin_is_left_out_of_the_voxel_model_as_in_the_cli(shapes, body_and_limb):
     """A triangle standing on an edge of the body (a fin) keeps the mesh open
     as read; without it the mesh is closed, and both the module and the CLI
@@ -117,10 +124,7 @@ def test_a_fin_is_left_out_of_the_voxel_model_as_in_the_cli(shapes, body_and_lim
     assert result.face_labels[-1] == result.face_labels[0]  # the face it stands on
 
     path = shapes.directory / "body-limb-fin.off"
-    lines = ["OFF", f"{len(fin_vertices)} {len(triangles)} 0"]
-    lines += [" ".join(repr(float(c)) for c in v) for v in fin_vertices]
-    lines += ["3 " + " ".join(str(i) for i in t) for t in triangles]
-    path.write_text("\n".join(lines) + "\n")
+    write_triangle_off(path, fin_vertices, triangles)
     outdir, expected = cli_face_labels(shapes, path, 32)
     np.testing.assert_array_equal(result.face_labels, expected)
     report = json.loads((outdir / "report.json").read_text())
@@ -171,10 +175,7 @@ def test_a_small_hole_is_capped_in_the_voxel_model_as_in_the_cli(shapes):
     assert result.report["counts"]["object_voxels"] == closed.report["counts"]["object_voxels"]
 
     path = shapes.directory / "grid-box-hole.off"
-    lines = ["OFF", f"{len(vertices)} {len(with_hole)} 0"]
-    lines += [" ".join(repr(float(c)) for c in v) for v in vertices]
-    lines += ["3 " + " ".join(str(i) for i in t) for t in with_hole]
-    path.write_text("\n".join(lines) + "\n")
+    write_triangle_off(path, vertices, with_hole)
     outdir, expected = cli_face_labels(shapes, path, 32)
     np.testing.assert_array_equal(result.face_labels, expected)
     report = json.loads((outdir / "report.json").read_text())
