@@ -123,10 +123,14 @@ void checkSourceMesh(SegmentSource& source) {
     source.withoutFins = closedWithoutFins(*source.mesh);
     if (source.withoutFins) {
         source.meshDiagnostics = source.withoutFins->diagnostics;
-    } else {
-        source.withHolesCapped = closedWithHolesCapped(*source.mesh);
-        if (!source.withHolesCapped) return;
+    } else if ((source.withHolesCapped = closedWithHolesCapped(*source.mesh))) {
         source.meshDiagnostics = source.withHolesCapped->diagnostics;
+    } else if (auto both = closedWithoutFinsAndHoles(*source.mesh)) {
+        source.withoutFins = std::move(both->withoutFins);
+        source.withHolesCapped = std::move(both->capped);
+        source.meshDiagnostics = source.withHolesCapped->diagnostics;
+    } else {
+        return;
     }
     // A fin's own corners are used by the mesh as read, and the caps use
     // only border vertices: only the file's unused vertices are reported.
@@ -535,9 +539,12 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         result.thinParts = voxelised.thinParts;
         result.objectSources = std::move(voxelised.objectSources);
         std::vector<std::string> warnings;
-        if (source->withoutFins)
+        if (source->withoutFins && source->withHolesCapped)
+            warnings.push_back(finsAndHolesWarning(source->file.string(), *source->withoutFins,
+                                                   *source->withHolesCapped));
+        else if (source->withoutFins)
             warnings.push_back(finsWarning(source->file.string(), *source->withoutFins));
-        if (source->withHolesCapped)
+        else if (source->withHolesCapped)
             warnings.push_back(holesWarning(source->file.string(), *source->withHolesCapped));
         for (std::string& warning : meshWarnings(source->meshDiagnostics, source->file.string()))
             warnings.push_back(std::move(warning));

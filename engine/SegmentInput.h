@@ -30,6 +30,7 @@
 #include "engine/TimeBudget.h"
 #include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshFins.h"
+#include "io/mesh/MeshFinsAndHoles.h"
 #include "io/mesh/MeshGenus.h"
 #include "io/mesh/MeshHoles.h"
 #include "io/mesh/MeshIO.h"
@@ -59,19 +60,21 @@ struct SegmentSource {
     /// the input's grid (refineStep).
     std::optional<CubicGrid> cubicGrid;
     bool isMesh() const noexcept { return mesh.has_value(); }
-    /// The mesh the voxel model is made of: without its fins where it has
-    /// been found closed without them, with its holes capped where it has
-    /// been found closed so, else as read.
+    /// The mesh the voxel model is made of: with its holes capped where it
+    /// has been found closed so (after its fins were dropped, where both
+    /// rules were needed), without its fins where it has been found closed
+    /// without them, else as read.
     const TriangleMesh& voxelisedMesh() const {
-        if (withoutFins) return withoutFins->mesh;
-        return withHolesCapped ? withHolesCapped->mesh : *mesh;
+        if (withHolesCapped) return withHolesCapped->mesh;
+        return withoutFins ? withoutFins->mesh : *mesh;
     }
 };
 
 /// Checks source.mesh (checkMesh) into source.meshDiagnostics; a mesh that is
 /// open only through fins (closedWithoutFins) gets source.withoutFins, one
 /// open only through small holes (closedWithHolesCapped) gets
-/// source.withHolesCapped, and the diagnostics are then those of that mesh.
+/// source.withHolesCapped, one open through both (closedWithoutFinsAndHoles)
+/// gets both, and the diagnostics are then those of the mesh voxelised.
 void checkSourceMesh(SegmentSource& source);
 
 /// The input as the mask to segment.

@@ -142,6 +142,16 @@ for a, b, c in octahedron_faces:
     hole_faces += [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]
 write("obj", "hole.obj", "".join("v %g %g %g\n" % v for v in hole_vertices)
       + "".join("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in hole_faces[:-1]))
+# the same octahedron beside a small cup (a cube without its top, too open to cap): a fin and a
+# hole together (io/mesh/MeshFinsAndHoles.h)
+cup = [(2 + 0.1 * (c & 1), 0.1 * ((c >> 1) & 1), 0.1 * ((c >> 2) & 1)) for c in range(8)]
+cup_faces = [t for a, b, c, d in ((0, 2, 3, 1), (0, 1, 5, 4), (1, 3, 7, 5), (3, 2, 6, 7), (2, 0, 4, 6))
+             for t in ((a, b, c), (a, c, d))]
+cup_offset = len(hole_vertices)
+write("obj", "hole-cup.obj", "".join("v %g %g %g\n" % v for v in hole_vertices + cup)
+      + "".join("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in hole_faces[:-1])
+      + "".join("f %d %d %d\n" % (a + cup_offset + 1, b + cup_offset + 1, c + cup_offset + 1)
+                for a, b, c in cup_faces))
 write("obj", "slashes.obj",
       "o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 1\nvn 0 0 1\ng side\nusemtl red\ns off\n"
       "f 1/1/1 2/2/1 3/1/1 4/2/1\nf -4//1 -2//1 -1//1\nf 1/1 2/2 3/2\n")

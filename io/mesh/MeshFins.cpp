@@ -10,7 +10,7 @@
 
 namespace skelseg {
 
-std::vector<char> finTriangles(const TriangleMesh& mesh) {
+std::vector<std::uint32_t> openSheets(const TriangleMesh& mesh) {
     const std::size_t count = mesh.triangles.size();
     const std::vector<EdgeUse> uses = sortedEdgeUses(canonicalTriangles(mesh));
     DisjointSets sheets(count);
@@ -22,13 +22,28 @@ std::vector<char> finTriangles(const TriangleMesh& mesh) {
     std::vector<char> sheetIsOpen(count, 0);
     for (std::uint32_t t = 0; t < std::uint32_t(count); ++t)
         sheetIsOpen[sheets.find(t)] |= hasFreeEdge[t];
-    std::vector<char> fin(count, 0);
-    for (std::uint32_t t = 0; t < std::uint32_t(count); ++t) fin[t] = sheetIsOpen[sheets.find(t)];
+    // Numbered by first triangle, so that the numbers do not depend on how
+    // the union-find happened to pick its roots.
+    std::vector<std::uint32_t> numberOfRoot(count, kNotInOpenSheet), sheet(count, kNotInOpenSheet);
+    std::uint32_t next = 0;
+    for (std::uint32_t t = 0; t < std::uint32_t(count); ++t) {
+        const std::uint32_t root = std::uint32_t(sheets.find(t));
+        if (!sheetIsOpen[root]) continue;
+        if (numberOfRoot[root] == kNotInOpenSheet) numberOfRoot[root] = next++;
+        sheet[t] = numberOfRoot[root];
+    }
+    return sheet;
+}
+
+std::vector<char> finTriangles(const TriangleMesh& mesh) {
+    const std::vector<std::uint32_t> sheet = openSheets(mesh);
+    std::vector<char> fin(sheet.size(), 0);
+    for (std::size_t t = 0; t < sheet.size(); ++t) fin[t] = sheet[t] != kNotInOpenSheet;
     return fin;
 }
 
-std::optional<MeshWithoutFins> closedWithoutFins(const TriangleMesh& mesh) {
-    const std::vector<char> fin = finTriangles(mesh);
+std::optional<MeshWithoutFins> withoutTriangles(const TriangleMesh& mesh,
+                                                const std::vector<char>& fin) {
     double finArea = 0.0, area = 0.0;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const double triangle = triangleArea(mesh, t);
@@ -65,7 +80,12 @@ std::optional<MeshWithoutFins> closedWithoutFins(const TriangleMesh& mesh) {
     for (std::size_t face = 0; face < mesh.faceCount; ++face)
         result.finFaces += faceHasFin[face] && keptFace[face] == UINT32_MAX;
     result.diagnostics = checkMesh(result.mesh);
-    if (!result.diagnostics.closed || result.diagnostics.flat) return std::nullopt;
+    return result;
+}
+
+std::optional<MeshWithoutFins> closedWithoutFins(const TriangleMesh& mesh) {
+    std::optional<MeshWithoutFins> result = withoutTriangles(mesh, finTriangles(mesh));
+    if (!result || !result->diagnostics.closed || result->diagnostics.flat) return std::nullopt;
     return result;
 }
 

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +38,12 @@ constexpr double kMaxFinAreaShare = 0.01;
 /// the sheets too large.
 std::vector<char> finTriangles(const TriangleMesh& mesh);
 
+/// Per triangle: the number of its open sheet (sheets as for finTriangles,
+/// numbered 0, 1, ... in the order of their first triangles), or
+/// kNotInOpenSheet for the triangles of sheets without a free border.
+constexpr std::uint32_t kNotInOpenSheet = UINT32_MAX;
+std::vector<std::uint32_t> openSheets(const TriangleMesh& mesh);
+
 /// A mesh that is closed once its fins are dropped.
 struct MeshWithoutFins {
     /// The triangles that are not fins, with the input's vertices; faces
@@ -54,6 +61,14 @@ struct MeshWithoutFins {
 /// (checkMesh: every edge used an even number of times) and not flat, and the fins hold
 /// at most kMaxFinAreaShare of the area; std::nullopt otherwise.
 std::optional<MeshWithoutFins> closedWithoutFins(const TriangleMesh& mesh);
+
+/// The mesh without the triangles marked in `fin` (one entry per triangle),
+/// when some are marked, some are left, and the marked ones hold at most
+/// kMaxFinAreaShare of the area; std::nullopt otherwise. Its diagnostics
+/// are checkMesh()'s of what is left, closed or not: closedWithoutFins()
+/// is this with every open sheet marked, and the rest found closed.
+std::optional<MeshWithoutFins> withoutTriangles(const TriangleMesh& mesh,
+                                                const std::vector<char>& fin);
 
 /// "FILE: 2 faces lie on fins (...)": the warning for a mesh whose fins were
 /// dropped (closedWithoutFins), in place of its "not closed" and

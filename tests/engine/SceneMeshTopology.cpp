@@ -16,6 +16,7 @@
 #include "io/mesh/MeshGenus.h"
 #include "io/mesh/MeshVoxelizer.h"
 #include "kernels/VoxelGenus.h"
+#include "tests/support/MeshEdits.h"
 #include "tests/support/SceneSupport.h"
 #include "tests/support/ShapeMeshes.h"
 #include "tests/support/TempDir.h"
@@ -153,6 +154,33 @@ TEST(SceneMeshTopology, AMeshMissingAFaceSegmentsLikeTheClosedOne) {
     ASSERT_EQ(openRun.faceLabels.size() + 1, closedRun.faceLabels.size());
     EXPECT_TRUE(std::equal(openRun.faceLabels.begin(), openRun.faceLabels.end(),
                            closedRun.faceLabels.begin()));
+}
+
+TEST(SceneMeshTopology, AMeshMissingAFaceWithAnOpenCupBesideItSegmentsLikeTheClosedOne) {
+    // The same U with one triangle missing and, beside its base, a small cup
+    // (a box without its top, as an eyelid or a tongue is often modelled):
+    // neither the fin rule (the U's sheet is open too) nor the hole rule (the
+    // cup's opening is a fifth of it) takes this mesh alone, and the shell
+    // method filled the gap between the bars. With the cup dropped as a fin
+    // and the hole capped, the U is voxelised as the closed one.
+    const TriangleMesh closed = test::barsOnABase(10);
+    TriangleMesh open = closed;
+    open.triangles.pop_back();
+    open.triangleFace.pop_back();
+    --open.faceCount;
+    test::appendPiece(open, test::openCup({60.0, 0.0, 0.0}, 4.0));
+    const test::TempDir dir;
+    const SegmentedMesh closedRun = segmentMeshFile(dir, "closed", closed, 80);
+    const SegmentedMesh openRun = segmentMeshFile(dir, "open", open, 80);
+    EXPECT_EQ(openRun.report["input"]["mesh_fin_faces"], 10);
+    EXPECT_EQ(openRun.report["input"]["mesh_holes_capped"], 1);
+    EXPECT_EQ(openRun.report["input"]["mesh_closed"], true);
+    EXPECT_EQ(openRun.report["segment_count"], closedRun.report["segment_count"]);
+    EXPECT_EQ(openRun.report["counts"]["object_voxels"],
+              closedRun.report["counts"]["object_voxels"]);
+    ASSERT_EQ(openRun.faceLabels.size(), closedRun.faceLabels.size() - 1 + 10);
+    EXPECT_TRUE(std::equal(closedRun.faceLabels.begin(), closedRun.faceLabels.end() - 1,
+                           openRun.faceLabels.begin()));
 }
 
 TEST(SceneMeshTopology, AFinOnTheFigureLeavesItClosed) {

@@ -1,8 +1,8 @@
 // The mesh fuzz targets (FuzzOff, FuzzObj, FuzzStl, FuzzPly) share this body:
 // read, then check the invariants io/mesh/MeshIO.h promises for every mesh it
 // returns, and those of the mesh's checks and genus (io/mesh/MeshCheck.h,
-// io/mesh/MeshGenus.h, io/mesh/MeshFins.h, io/mesh/MeshHoles.h) on whatever
-// geometry the bytes make.
+// io/mesh/MeshGenus.h, io/mesh/MeshFins.h, io/mesh/MeshHoles.h,
+// io/mesh/MeshFinsAndHoles.h) on whatever geometry the bytes make.
 #pragma once
 
 #include <algorithm>
@@ -10,6 +10,7 @@
 
 #include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshFins.h"
+#include "io/mesh/MeshFinsAndHoles.h"
 #include "io/mesh/MeshGenus.h"
 #include "io/mesh/MeshHoles.h"
 #include "io/mesh/MeshIO.h"
@@ -68,6 +69,27 @@ inline void readMeshChecked(MeshFormat format, const std::uint8_t* data, std::si
                 !std::equal(mesh.triangles.begin(), mesh.triangles.end(),
                             whole.triangles.begin()) ||
                 !(capped->capAreaShare <= kMaxHoleCapAreaShare))
+                __builtin_trap();
+            for (std::size_t t = 0; t < whole.triangles.size(); ++t) {
+                if (whole.triangleFace[t] >= whole.faceCount) __builtin_trap();
+                for (std::uint32_t i : whole.triangles[t])
+                    if (i >= whole.vertices.size()) __builtin_trap();
+            }
+        }
+        // The two rules together: only where neither takes the mesh alone;
+        // the capped mesh is closed, holds the faces not dropped plus one per
+        // hole, and both shares are within their limits.
+        if (const auto both = closedWithoutFinsAndHoles(mesh)) {
+            const TriangleMesh& whole = both->capped.mesh;
+            const TriangleMesh& rest = both->withoutFins.mesh;
+            if (closedWithoutFins(mesh) || closedWithHolesCapped(mesh) ||
+                !checkMesh(whole).closed || both->capped.holes == 0 ||
+                both->withoutFins.finFaces == 0 ||
+                rest.faceCount + both->withoutFins.finFaces > mesh.faceCount ||
+                whole.faceCount != rest.faceCount + both->capped.holes ||
+                whole.triangles.size() <= rest.triangles.size() ||
+                !(both->withoutFins.finAreaShare <= kMaxFinAreaShare) ||
+                !(both->capped.capAreaShare <= kMaxHoleCapAreaShare))
                 __builtin_trap();
             for (std::size_t t = 0; t < whole.triangles.size(); ++t) {
                 if (whole.triangleFace[t] >= whole.faceCount) __builtin_trap();

@@ -182,6 +182,42 @@ def test_a_small_hole_is_capped_in_the_voxel_model_as_in_the_cli(shapes):
     assert report["input"]["mesh_holes_capped"] == 1
 
 
+def open_cup(low, side):
+    """A cube of side `side` at `low` without its top face: ten triangles
+    whose opening is a fifth of them, too large to cap (a fin)."""
+    vertices = [[low[0] + side * (c & 1), low[1] + side * ((c >> 1) & 1),
+                 low[2] + side * ((c >> 2) & 1)] for c in range(8)]
+    quads = [(0, 2, 3, 1), (0, 1, 5, 4), (1, 3, 7, 5), (3, 2, 6, 7), (2, 0, 4, 6)]
+    triangles = [t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))]
+    return np.array(vertices, dtype=float), np.array(triangles)
+
+
+def test_a_hole_and_an_open_cup_are_capped_and_dropped_as_in_the_cli(shapes):
+    """The box missing one triangle with a small cup beside it: neither rule
+    takes the mesh alone; together the cup is dropped as a fin and the hole
+    capped, and both the module and the CLI voxelise the closed box."""
+    vertices, triangles = grid_box(4)
+    cup_vertices, cup_triangles = open_cup((6.0, 1.0, 1.0), 0.3)
+    both_vertices = np.vstack([vertices, cup_vertices])
+    both = np.vstack([triangles[:-1], cup_triangles + len(vertices)])
+    with pytest.warns(skelseg.SkelsegWarning, match=r"^mesh: 10 faces lie on fins .* 1 hole"):
+        result = skelseg.segment_mesh(both_vertices, both, resolution=32)
+    assert result.report["input"]["mesh_fin_faces"] == 10
+    assert result.report["input"]["mesh_holes_capped"] == 1
+    assert result.report["input"]["mesh_closed"] is True
+    assert result.face_labels.shape == (len(both),)
+    closed = skelseg.segment_mesh(vertices, triangles, resolution=32)
+    assert result.report["counts"]["object_voxels"] == closed.report["counts"]["object_voxels"]
+
+    path = shapes.directory / "grid-box-hole-cup.off"
+    write_triangle_off(path, both_vertices, both)
+    outdir, expected = cli_face_labels(shapes, path, 32)
+    np.testing.assert_array_equal(result.face_labels, expected)
+    report = json.loads((outdir / "report.json").read_text())
+    assert report["input"]["mesh_fin_faces"] == 10
+    assert report["input"]["mesh_holes_capped"] == 1
+
+
 def psb_model(number):
     data = shared_data() / "psb"
     off = data / "off" / f"{number}.off"

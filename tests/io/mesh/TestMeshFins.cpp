@@ -82,6 +82,30 @@ TEST(MeshFins, ATriangleStandingOnAnEdgeIsDroppedAndTheRestIsClosed) {
     }
 }
 
+TEST(MeshFins, OpenSheetsAreNumberedInTheOrderOfTheirFirstTriangles) {
+    // Two fins on the cube, written before it and after it: the cube's
+    // sheet is closed, and each fin is its own open sheet.
+    TriangleMesh mesh;
+    mesh.vertices = {{5, 0, 0}, {6, 0, 0}, {5, 1, 0}};
+    mesh.triangles = {{0, 1, 2}};
+    mesh.triangleFace = {0};
+    mesh.faceCount = 1;
+    const TriangleMesh cube = unitCubeOfTwelveFaces();
+    const auto offset = std::uint32_t(mesh.vertices.size());
+    mesh.vertices.insert(mesh.vertices.end(), cube.vertices.begin(), cube.vertices.end());
+    for (const auto& t : cube.triangles) {
+        mesh.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+        mesh.triangleFace.push_back(std::uint32_t(mesh.faceCount++));
+    }
+    const CubeEdge edge = lowerFrontEdge(mesh);
+    addFinTriangle(mesh, edge.a, edge.b, {0.5, -0.05, -0.05});
+    const std::vector<std::uint32_t> sheets = openSheets(mesh);
+    ASSERT_EQ(sheets.size(), 14u);
+    EXPECT_EQ(sheets.front(), 0u);
+    EXPECT_EQ(sheets.back(), 1u);
+    for (std::size_t t = 1; t < 13; ++t) EXPECT_EQ(sheets[t], kNotInOpenSheet);
+}
+
 TEST(MeshFins, AFlapOfOnePolygonIsOneFinFaceAndTheOtherFacesAreRenumbered) {
     // The flap (a quad, two triangles) comes first in the file: the cube's
     // faces keep their order and are numbered from 0.

@@ -8,6 +8,7 @@
 
 #include "io/mesh/MeshCheck.h"
 #include "tests/support/CurledTube.h"
+#include "tests/support/MeshEdits.h"
 
 namespace skelseg {
 namespace {
@@ -25,24 +26,6 @@ double signedVolume(const TriangleMesh& mesh) {
     return volume;
 }
 
-/// `mesh` without the triangles `drop` says to drop, one face per triangle.
-template <typename Drop>
-TriangleMesh without(const TriangleMesh& mesh, Drop drop) {
-    TriangleMesh out;
-    out.vertices = mesh.vertices;
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-        if (drop(t)) continue;
-        out.triangles.push_back(mesh.triangles[t]);
-        out.triangleFace.push_back(std::uint32_t(out.faceCount++));
-    }
-    return out;
-}
-
-double centroidZ(const TriangleMesh& mesh, std::size_t t) {
-    const auto& c = mesh.triangles[t];
-    return (mesh.vertices[c[0]][2] + mesh.vertices[c[1]][2] + mesh.vertices[c[2]][2]) / 3.0;
-}
-
 TEST(MeshHoles, AClosedMeshHasNone) {
     EXPECT_FALSE(closedWithHolesCapped(test::sphereMesh({0, 0, 0}, 1.0)).has_value());
 }
@@ -51,8 +34,8 @@ TEST(MeshHoles, SmallHolesAreCappedFacingOutAndTheInputIsKept) {
     // Eye sockets: the fans round both poles of a sphere, 0.4% of its area
     // each, and one triangle of its side.
     const TriangleMesh sphere = test::sphereMesh({0, 0, 0}, 1.0);
-    const TriangleMesh open = without(sphere, [&](std::size_t t) {
-        return std::abs(centroidZ(sphere, t)) > 0.99 || t == sphere.triangles.size() / 2 + 23;
+    const TriangleMesh open = test::withoutTrianglesWhere(sphere, [&](std::size_t t) {
+        return std::abs(test::centroidZ(sphere, t)) > 0.99 || t == sphere.triangles.size() / 2 + 23;
     });
     ASSERT_FALSE(checkMesh(open).closed);
     const auto capped = closedWithHolesCapped(open);
@@ -76,8 +59,8 @@ TEST(MeshHoles, SmallHolesAreCappedFacingOutAndTheInputIsKept) {
 TEST(MeshHoles, AnOpenSheetIsNoMeshWithHoles) {
     // A hemisphere's cap would be half its area: a shell, not a hole.
     const TriangleMesh sphere = test::sphereMesh({0, 0, 0}, 1.0);
-    const TriangleMesh bowl =
-        without(sphere, [&](std::size_t t) { return centroidZ(sphere, t) > 0; });
+    const TriangleMesh bowl = test::withoutTrianglesWhere(
+        sphere, [&](std::size_t t) { return test::centroidZ(sphere, t) > 0; });
     EXPECT_FALSE(closedWithHolesCapped(bowl).has_value());
 }
 
@@ -86,17 +69,13 @@ TEST(MeshHoles, EveryPieceMustBeClosedButForSmallHoles) {
     // cap is a tiny share of the whole area but half its own piece's, so the
     // mesh keeps the shell method (an eyeball modelled as a half shell).
     const TriangleMesh big = test::sphereMesh({0, 0, 0}, 1.0);
-    TriangleMesh mesh = without(big, [&](std::size_t t) { return centroidZ(big, t) > 0.99; });
+    TriangleMesh mesh = test::withoutTrianglesWhere(
+        big, [&](std::size_t t) { return test::centroidZ(big, t) > 0.99; });
     ASSERT_TRUE(closedWithHolesCapped(mesh).has_value());
     const TriangleMesh small = test::sphereMesh({3, 0, 0}, 0.1);
-    const TriangleMesh bowl =
-        without(small, [&](std::size_t t) { return centroidZ(small, t) > 0; });
-    const auto offset = std::uint32_t(mesh.vertices.size());
-    mesh.vertices.insert(mesh.vertices.end(), bowl.vertices.begin(), bowl.vertices.end());
-    for (const auto& t : bowl.triangles) {
-        mesh.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
-        mesh.triangleFace.push_back(std::uint32_t(mesh.faceCount++));
-    }
+    const TriangleMesh bowl = test::withoutTrianglesWhere(
+        small, [&](std::size_t t) { return test::centroidZ(small, t) > 0; });
+    test::appendPiece(mesh, bowl);
     EXPECT_FALSE(closedWithHolesCapped(mesh).has_value());
 }
 
@@ -113,15 +92,15 @@ TEST(MeshHoles, HolesMeetingInAVertexAreNotCapped) {
         if (shared == 1) second = t;
     }
     ASSERT_NE(second, 0u);
-    const TriangleMesh open =
-        without(sphere, [&](std::size_t t) { return t == first || t == second; });
+    const TriangleMesh open = test::withoutTrianglesWhere(
+        sphere, [&](std::size_t t) { return t == first || t == second; });
     EXPECT_FALSE(closedWithHolesCapped(open).has_value());
 }
 
 TEST(MeshHoles, TheFaceOrderGivesTheSameCaps) {
     const TriangleMesh sphere = test::sphereMesh({0, 0, 0}, 1.0);
-    const TriangleMesh open =
-        without(sphere, [&](std::size_t t) { return std::abs(centroidZ(sphere, t)) > 0.99; });
+    const TriangleMesh open = test::withoutTrianglesWhere(
+        sphere, [&](std::size_t t) { return std::abs(test::centroidZ(sphere, t)) > 0.99; });
     TriangleMesh shuffled = open;
     std::mt19937 random(3);
     std::shuffle(shuffled.triangles.begin(), shuffled.triangles.end(), random);
@@ -140,8 +119,8 @@ TEST(MeshHoles, AnAreaBeyondADoubleGivesNoShare) {
     TriangleMesh sphere = test::sphereMesh({0, 0, 0}, 1.0);
     for (auto& v : sphere.vertices)
         for (double& c : v) c *= 1e160;
-    const TriangleMesh open =
-        without(sphere, [&](std::size_t t) { return centroidZ(sphere, t) > 0.99e160; });
+    const TriangleMesh open = test::withoutTrianglesWhere(
+        sphere, [&](std::size_t t) { return test::centroidZ(sphere, t) > 0.99e160; });
     EXPECT_FALSE(closedWithHolesCapped(open).has_value());
 }
 
