@@ -112,20 +112,30 @@ void makeVoxelsCubic(SegmentSource& source, const SegmentInputOptions& options, 
 }
 
 void checkSourceMesh(SegmentSource& source) {
+    source.flippedFacesTurned.reset();
     source.withoutFins.reset();
     source.withHolesCapped.reset();
     source.meshDiagnostics = checkMesh(*source.mesh);
+    // Turned first: a hole's border is chained along the windings of the
+    // faces round it, and a flipped face there would break the chain.
+    if (source.meshDiagnostics.misorientedEdges > 0) {
+        source.flippedFacesTurned = withFlippedFacesTurned(*source.mesh);
+        if (source.flippedFacesTurned)
+            source.meshDiagnostics = source.flippedFacesTurned->diagnostics;
+    }
+    const TriangleMesh& read =
+        source.flippedFacesTurned ? source.flippedFacesTurned->mesh : *source.mesh;
     // Only a mesh with a free border can have fins or holes; each search
     // costs a sort of its edges.
     const MeshDiagnostics& found = source.meshDiagnostics;
     if (found.closed || found.boundaryEdges == 0) return;
     const std::size_t unusedVertices = found.unusedVertices;
-    source.withoutFins = closedWithoutFins(*source.mesh);
+    source.withoutFins = closedWithoutFins(read);
     if (source.withoutFins) {
         source.meshDiagnostics = source.withoutFins->diagnostics;
-    } else if ((source.withHolesCapped = closedWithHolesCapped(*source.mesh))) {
+    } else if ((source.withHolesCapped = closedWithHolesCapped(read))) {
         source.meshDiagnostics = source.withHolesCapped->diagnostics;
-    } else if (auto both = closedWithoutFinsAndHoles(*source.mesh)) {
+    } else if (auto both = closedWithoutFinsAndHoles(read)) {
         source.withoutFins = std::move(both->withoutFins);
         source.withHolesCapped = std::move(both->capped);
         source.meshDiagnostics = source.withHolesCapped->diagnostics;
@@ -539,6 +549,9 @@ SegmentMask maskSegmentSource(std::shared_ptr<SegmentSource> source,
         result.thinParts = voxelised.thinParts;
         result.objectSources = std::move(voxelised.objectSources);
         std::vector<std::string> warnings;
+        if (source->flippedFacesTurned)
+            warnings.push_back(
+                flippedFacesWarning(source->file.string(), *source->flippedFacesTurned));
         if (source->withoutFins && source->withHolesCapped)
             warnings.push_back(finsAndHolesWarning(source->file.string(), *source->withoutFins,
                                                    *source->withHolesCapped));

@@ -28,6 +28,7 @@
 
 #include "engine/StageTimer.h"
 #include "engine/TimeBudget.h"
+#include "io/mesh/FlippedFaces.h"
 #include "io/mesh/MeshCheck.h"
 #include "io/mesh/MeshFins.h"
 #include "io/mesh/MeshFinsAndHoles.h"
@@ -46,6 +47,10 @@ namespace skelseg {
 struct SegmentSource {
     std::filesystem::path file;
     std::optional<TriangleMesh> mesh;  // mesh inputs, as read (every face is labelled)
+    /// Mesh inputs with flipped faces (io/mesh/FlippedFaces.h,
+    /// checkSourceMesh): the mesh with them turned, which the fin and hole
+    /// rules then read.
+    std::optional<MeshWithFlippedFacesTurned> flippedFacesTurned;
     /// Mesh inputs closed but for fins (io/mesh/MeshFins.h, checkSourceMesh):
     /// the mesh without them, which is voxelised and whose genus is counted.
     std::optional<MeshWithoutFins> withoutFins;
@@ -63,16 +68,18 @@ struct SegmentSource {
     /// The mesh the voxel model is made of: with its holes capped where it
     /// has been found closed so (after its fins were dropped, where both
     /// rules were needed), without its fins where it has been found closed
-    /// without them, else as read.
+    /// without them, else as read with its flipped faces turned, if any.
     const TriangleMesh& voxelisedMesh() const {
         if (withHolesCapped) return withHolesCapped->mesh;
-        return withoutFins ? withoutFins->mesh : *mesh;
+        if (withoutFins) return withoutFins->mesh;
+        return flippedFacesTurned ? flippedFacesTurned->mesh : *mesh;
     }
 };
 
-/// Checks source.mesh (checkMesh) into source.meshDiagnostics; a mesh that is
-/// open only through fins (closedWithoutFins) gets source.withoutFins, one
-/// open only through small holes (closedWithHolesCapped) gets
+/// Checks source.mesh (checkMesh) into source.meshDiagnostics; a mesh with
+/// flipped faces gets source.flippedFacesTurned (withFlippedFacesTurned),
+/// which the rules below then read; a mesh that is open only through fins (closedWithoutFins) gets
+/// source.withoutFins, one open only through small holes (closedWithHolesCapped) gets
 /// source.withHolesCapped, one open through both (closedWithoutFinsAndHoles)
 /// gets both, and the diagnostics are then those of the mesh voxelised.
 void checkSourceMesh(SegmentSource& source);

@@ -64,6 +64,8 @@ json segmentReport(const SegmentCommandOptions& options, const SegmentedShape& s
         context.input["mesh_pieces"] = source.meshDiagnostics.pieces;
         context.input["mesh_boundary_edges"] = source.meshDiagnostics.boundaryEdges;
         context.input["mesh_degenerate_faces"] = source.meshDiagnostics.degenerateFaces;
+        context.input["mesh_faces_turned"] =
+            source.flippedFacesTurned ? source.flippedFacesTurned->turnedFaces : 0;
         context.input["mesh_fin_faces"] = source.withoutFins ? source.withoutFins->finFaces : 0;
         context.input["mesh_holes_capped"] =
             source.withHolesCapped ? source.withHolesCapped->holes : 0;

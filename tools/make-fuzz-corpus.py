@@ -142,6 +142,11 @@ for a, b, c in octahedron_faces:
     hole_faces += [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]
 write("obj", "hole.obj", "".join("v %g %g %g\n" % v for v in hole_vertices)
       + "".join("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in hole_faces[:-1]))
+# the same octahedron closed, with the four triangles of one face wound the wrong way: flipped
+# faces (io/mesh/FlippedFaces.h)
+write("obj", "flipped.obj", "".join("v %g %g %g\n" % v for v in hole_vertices)
+      + "".join("f %d %d %d\n" % ((a + 1, c + 1, b + 1) if k < 4 else (a + 1, b + 1, c + 1))
+                for k, (a, b, c) in enumerate(hole_faces)))
 # the same octahedron beside a small cup (a cube without its top, too open to cap): a fin and a
 # hole together (io/mesh/MeshFinsAndHoles.h)
 cup = [(2 + 0.1 * (c & 1), 0.1 * ((c >> 1) & 1), 0.1 * ((c >> 2) & 1)) for c in range(8)]

@@ -89,13 +89,19 @@ std::optional<MeshWithoutFins> closedWithoutFins(const TriangleMesh& mesh) {
     return result;
 }
 
+std::string finFacesLie(const MeshWithoutFins& withoutFins) {
+    // Fin triangles of faces partly kept (finFaces counts whole faces only).
+    if (withoutFins.finFaces == 0) return "parts of faces lie";
+    return fmt::format("{} face{}", withoutFins.finFaces,
+                       withoutFins.finFaces == 1 ? " lies" : "s lie");
+}
+
 std::string finsWarning(const std::string& file, const MeshWithoutFins& withoutFins) {
-    const bool one = withoutFins.finFaces == 1;
     return fmt::format(
-        "{}: {} face{} on fins (open sheets standing on the surface or loose beside it; "
+        "{}: {} on fins (open sheets standing on the surface or loose beside it; "
         "{:.2g}% of its area): the mesh is closed without them, so they are left out of its "
         "voxel model and take the labels of the parts they touch",
-        file, withoutFins.finFaces, one ? " lies" : "s lie", 100.0 * withoutFins.finAreaShare);
+        file, finFacesLie(withoutFins), 100.0 * withoutFins.finAreaShare);
 }
 
 }  // namespace skelseg

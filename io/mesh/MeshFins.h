@@ -70,6 +70,10 @@ std::optional<MeshWithoutFins> closedWithoutFins(const TriangleMesh& mesh);
 std::optional<MeshWithoutFins> withoutTriangles(const TriangleMesh& mesh,
                                                 const std::vector<char>& fin);
 
+/// "2 faces lie", "1 face lies", or "parts of faces lie" where every face
+/// with a fin's triangle is partly kept: the start of a fins warning.
+std::string finFacesLie(const MeshWithoutFins& withoutFins);
+
 /// "FILE: 2 faces lie on fins (...)": the warning for a mesh whose fins were
 /// dropped (closedWithoutFins), in place of its "not closed" and
 /// "non-manifold" warnings.

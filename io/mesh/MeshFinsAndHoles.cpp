@@ -79,13 +79,13 @@ std::optional<MeshWithFinsDroppedAndHolesCapped> closedWithoutFinsAndHoles(
 
 std::string finsAndHolesWarning(const std::string& file, const MeshWithoutFins& withoutFins,
                                 const MeshWithHolesCapped& capped) {
-    const std::size_t fins = withoutFins.finFaces, holes = capped.holes;
+    const std::size_t holes = capped.holes;
     return fmt::format(
-        "{}: {} face{} on fins (open pieces whose openings are too large to cap; {:.2g}% of "
-        "its area) and the rest has {} hole{} (capped, {:.2g}% of its area): its voxel model "
-        "is made without the fins and with the hole{} capped, as for a closed mesh; every "
-        "face of the mesh is labelled, the fins' from the parts they touch",
-        file, fins, fins == 1 ? " lies" : "s lie", 100.0 * withoutFins.finAreaShare, holes,
+        "{}: {} on fins (open pieces whose openings are too large to cap; {:.2g}% of its "
+        "area) and the rest has {} hole{} (capped, {:.2g}% of its area): its voxel model is "
+        "made without the fins and with the hole{} capped, as for a closed mesh; every face "
+        "of the mesh is labelled, the fins' from the parts they touch",
+        file, finFacesLie(withoutFins), 100.0 * withoutFins.finAreaShare, holes,
         holes == 1 ? "" : "s", 100.0 * capped.capAreaShare, holes == 1 ? "" : "s");
 }
 

@@ -183,6 +183,38 @@ TEST(SceneMeshTopology, AMeshMissingAFaceWithAnOpenCupBesideItSegmentsLikeTheClo
                            openRun.faceLabels.begin()));
 }
 
+TEST(SceneMeshTopology, FlippedFacesAtTheHipAreTurnedAndTheFigureSegmentsAsWound) {
+    // The figure with the faces round its hand and hip wound the wrong way,
+    // as a hand edit can leave them: without a consistent outside there,
+    // the contact separation could not tell the gap between hand and hip
+    // from the solid. Turned back, the figure is the one wound right.
+    const TriangleMesh wound = test::figureMesh(true);
+    TriangleMesh flipped = wound;
+    std::size_t patch = 0;
+    for (auto& t : flipped.triangles) {
+        double x = 0.0, z = 0.0;
+        for (const std::uint32_t v : t) {
+            x += flipped.vertices[v][0] / 3.0;
+            z += flipped.vertices[v][2] / 3.0;
+        }
+        if (x > -40.0 || z < -50.0 || z > 0.0) continue;
+        std::swap(t[1], t[2]);
+        ++patch;
+    }
+    ASSERT_GT(patch, 100u);
+    const int resolution = thirdOfAVoxelGap(wound, true).resolution;
+    const test::TempDir dir;
+    const SegmentedMesh woundRun = segmentMeshFile(dir, "wound", wound, resolution);
+    const SegmentedMesh flippedRun = segmentMeshFile(dir, "flipped", flipped, resolution);
+    EXPECT_EQ(flippedRun.report["input"]["mesh_faces_turned"], patch);
+    EXPECT_EQ(woundRun.report["input"]["mesh_faces_turned"], 0);
+    EXPECT_EQ(flippedRun.report["input"]["voxel_genus"], 0);
+    EXPECT_EQ(flippedRun.report["counts"]["object_voxels"],
+              woundRun.report["counts"]["object_voxels"]);
+    EXPECT_EQ(flippedRun.report["segment_count"], woundRun.report["segment_count"]);
+    EXPECT_TRUE(flippedRun.faceLabels == woundRun.faceLabels);
+}
+
 TEST(SceneMeshTopology, AFinOnTheFigureLeavesItClosed) {
     // A stray triangle standing on an edge at the top of the head, as
     // exporters leave them: the mesh as read is open (two free edges) and

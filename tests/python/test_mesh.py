@@ -218,6 +218,29 @@ def test_a_hole_and_an_open_cup_are_capped_and_dropped_as_in_the_cli(shapes):
     assert report["input"]["mesh_holes_capped"] == 1
 
 
+def test_flipped_faces_are_turned_in_the_voxel_model_as_in_the_cli(shapes):
+    """A patch of the box wound the wrong way: the module and the CLI turn it,
+    say so, and voxelise the box as the one wound right."""
+    vertices, triangles = grid_box(4)
+    flipped = triangles.copy()
+    patch = np.arange(10, 16)
+    flipped[patch] = flipped[patch][:, [0, 2, 1]]
+    with pytest.warns(skelseg.SkelsegWarning, match=r"^mesh: 6 faces were wound against"):
+        result = skelseg.segment_mesh(vertices, flipped, resolution=32)
+    assert result.report["input"]["mesh_faces_turned"] == 6
+    assert not any("wound against each other" in w for w in result.report["warnings"])
+    wound = skelseg.segment_mesh(vertices, triangles, resolution=32)
+    assert wound.report["input"]["mesh_faces_turned"] == 0
+    np.testing.assert_array_equal(result.face_labels, wound.face_labels)
+
+    path = shapes.directory / "grid-box-flipped.off"
+    write_triangle_off(path, vertices, flipped)
+    outdir, expected = cli_face_labels(shapes, path, 32)
+    np.testing.assert_array_equal(result.face_labels, expected)
+    report = json.loads((outdir / "report.json").read_text())
+    assert report["input"]["mesh_faces_turned"] == 6
+
+
 def psb_model(number):
     data = shared_data() / "psb"
     off = data / "off" / f"{number}.off"

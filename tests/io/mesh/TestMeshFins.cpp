@@ -229,6 +229,11 @@ TEST(MeshFins, TheWarningCountsFacesInNumber) {
     MeshWithoutFins two = one;
     two.finFaces = 2;
     EXPECT_EQ(finsWarning("cat.obj", two).rfind("cat.obj: 2 faces lie on fins (", 0), 0u);
+    // Fin triangles of quads whose other triangle is kept (a fuzzed file):
+    // no whole face is a fin's, and the warning does not say "0 faces".
+    MeshWithoutFins partly = one;
+    partly.finFaces = 0;
+    EXPECT_EQ(finsWarning("cat.obj", partly).rfind("cat.obj: parts of faces lie on fins (", 0), 0u);
 }
 
 }  // namespace
