@@ -133,16 +133,22 @@ SegmentedMesh segmentMeshFile(const test::TempDir& dir, const std::string& name,
     return result;
 }
 
+/// `mesh` with a hole: its last face (one triangle) left out.
+TriangleMesh withoutItsLastFace(const TriangleMesh& mesh) {
+    TriangleMesh open = mesh;
+    open.triangles.pop_back();
+    open.triangleFace.pop_back();
+    --open.faceCount;
+    return open;
+}
+
 TEST(SceneMeshTopology, AMeshMissingAFaceSegmentsLikeTheClosedOne) {
     // The bars three voxels apart with one triangle missing: voxelised as an
     // open mesh, the shell method's closing filled the gap between them and
     // the U came out with more parts than the closed mesh gives. With the
     // hole capped, the mesh is voxelised as the closed one.
     const TriangleMesh closed = test::barsOnABase(10);
-    TriangleMesh open = closed;
-    open.triangles.pop_back();
-    open.triangleFace.pop_back();
-    --open.faceCount;
+    const TriangleMesh open = withoutItsLastFace(closed);
     const test::TempDir dir;
     const SegmentedMesh closedRun = segmentMeshFile(dir, "closed", closed, 80);
     const SegmentedMesh openRun = segmentMeshFile(dir, "open", open, 80);
@@ -164,10 +170,7 @@ TEST(SceneMeshTopology, AMeshMissingAFaceWithAnOpenCupBesideItSegmentsLikeTheClo
     // method filled the gap between the bars. With the cup dropped as a fin
     // and the hole capped, the U is voxelised as the closed one.
     const TriangleMesh closed = test::barsOnABase(10);
-    TriangleMesh open = closed;
-    open.triangles.pop_back();
-    open.triangleFace.pop_back();
-    --open.faceCount;
+    TriangleMesh open = withoutItsLastFace(closed);
     test::appendPiece(open, test::openCup({60.0, 0.0, 0.0}, 4.0));
     const test::TempDir dir;
     const SegmentedMesh closedRun = segmentMeshFile(dir, "closed", closed, 80);

@@ -106,6 +106,17 @@ def write_triangle_off(path, vertices, triangles):
     path.write_text("\n".join(lines) + "\n")
 
 
+def cli_report_with_the_same_labels(shapes, name, vertices, triangles, result):
+    """Writes the mesh as NAME.off, segments it with the CLI at 32, checks
+    that the CLI labels its faces as the module did, and gives the CLI's
+    report."""
+    path = shapes.directory / f"{name}.off"
+    write_triangle_off(path, vertices, triangles)
+    outdir, expected = cli_face_labels(shapes, path, 32)
+    np.testing.assert_array_equal(result.face_labels, expected)
+    return json.loads((outdir / "report.json").read_text())
+
+
 def test_a_fin_is_left_out_of_the_voxel_model_as_in_the_cli(shapes, body_and_limb):
     """A triangle standing on an edge of the body (a fin) keeps the mesh open
     as read; without it the mesh is closed, and both the module and the CLI
@@ -123,11 +134,8 @@ def test_a_fin_is_left_out_of_the_voxel_model_as_in_the_cli(shapes, body_and_lim
     assert result.face_labels.shape == (len(triangles),)
     assert result.face_labels[-1] == result.face_labels[0]  # the face it stands on
 
-    path = shapes.directory / "body-limb-fin.off"
-    write_triangle_off(path, fin_vertices, triangles)
-    outdir, expected = cli_face_labels(shapes, path, 32)
-    np.testing.assert_array_equal(result.face_labels, expected)
-    report = json.loads((outdir / "report.json").read_text())
+    report = cli_report_with_the_same_labels(shapes, "body-limb-fin", fin_vertices, triangles,
+                                             result)
     assert report["input"]["mesh_fin_faces"] == 1
 
 
@@ -174,11 +182,7 @@ def test_a_small_hole_is_capped_in_the_voxel_model_as_in_the_cli(shapes):
     assert closed.report["input"]["mesh_holes_capped"] == 0
     assert result.report["counts"]["object_voxels"] == closed.report["counts"]["object_voxels"]
 
-    path = shapes.directory / "grid-box-hole.off"
-    write_triangle_off(path, vertices, with_hole)
-    outdir, expected = cli_face_labels(shapes, path, 32)
-    np.testing.assert_array_equal(result.face_labels, expected)
-    report = json.loads((outdir / "report.json").read_text())
+    report = cli_report_with_the_same_labels(shapes, "grid-box-hole", vertices, with_hole, result)
     assert report["input"]["mesh_holes_capped"] == 1
 
 
@@ -209,11 +213,8 @@ def test_a_hole_and_an_open_cup_are_capped_and_dropped_as_in_the_cli(shapes):
     closed = skelseg.segment_mesh(vertices, triangles, resolution=32)
     assert result.report["counts"]["object_voxels"] == closed.report["counts"]["object_voxels"]
 
-    path = shapes.directory / "grid-box-hole-cup.off"
-    write_triangle_off(path, both_vertices, both)
-    outdir, expected = cli_face_labels(shapes, path, 32)
-    np.testing.assert_array_equal(result.face_labels, expected)
-    report = json.loads((outdir / "report.json").read_text())
+    report = cli_report_with_the_same_labels(shapes, "grid-box-hole-cup", both_vertices, both,
+                                             result)
     assert report["input"]["mesh_fin_faces"] == 10
     assert report["input"]["mesh_holes_capped"] == 1
 
@@ -233,11 +234,7 @@ def test_flipped_faces_are_turned_in_the_voxel_model_as_in_the_cli(shapes):
     assert wound.report["input"]["mesh_faces_turned"] == 0
     np.testing.assert_array_equal(result.face_labels, wound.face_labels)
 
-    path = shapes.directory / "grid-box-flipped.off"
-    write_triangle_off(path, vertices, flipped)
-    outdir, expected = cli_face_labels(shapes, path, 32)
-    np.testing.assert_array_equal(result.face_labels, expected)
-    report = json.loads((outdir / "report.json").read_text())
+    report = cli_report_with_the_same_labels(shapes, "grid-box-flipped", vertices, flipped, result)
     assert report["input"]["mesh_faces_turned"] == 6
 
 

@@ -70,6 +70,32 @@ TEST(MeshFinsAndHoles, AnOpenPieceWhoseHoleCanBeCappedIsCappedNotDropped) {
     EXPECT_EQ(checkMesh(both->capped.mesh).pieces, 2u);
 }
 
+TEST(MeshFinsAndHoles, ATriangleStandingOnTheBodyBesideAHoleIsAFin) {
+    // A stray triangle standing on an edge of the body (that edge is then
+    // used three times) and an eye socket: the fin is its own sheet, and
+    // the body's sheet is closed but for its hole.
+    TriangleMesh mesh = bodyWithAHole();
+    const std::size_t bodyTriangles = mesh.triangles.size();
+    std::size_t onTheEquator = 0;
+    while (std::abs(test::centroidZ(mesh, onTheEquator)) > 0.1) ++onTheEquator;
+    const auto edge = mesh.triangles[onTheEquator];
+    const auto& a = mesh.vertices[edge[0]];
+    const auto& b = mesh.vertices[edge[1]];
+    mesh.vertices.push_back(
+        {1.2 * (a[0] + b[0]) / 2, 1.2 * (a[1] + b[1]) / 2, 1.2 * (a[2] + b[2]) / 2});
+    mesh.triangles.push_back({edge[0], edge[1], std::uint32_t(mesh.vertices.size() - 1)});
+    mesh.triangleFace.push_back(std::uint32_t(mesh.faceCount++));
+    ASSERT_EQ(checkMesh(mesh).nonManifoldEdges, 1u);
+    ASSERT_FALSE(closedWithoutFins(mesh).has_value());
+    ASSERT_FALSE(closedWithHolesCapped(mesh).has_value());
+    const auto both = closedWithoutFinsAndHoles(mesh);
+    ASSERT_TRUE(both.has_value());
+    EXPECT_EQ(both->withoutFins.finFaces, 1u);
+    EXPECT_EQ(both->capped.holes, 1u);
+    EXPECT_TRUE(checkMesh(both->capped.mesh).closed);
+    EXPECT_EQ(checkMesh(both->capped.mesh).nonManifoldEdges, 0u);
+}
+
 TEST(MeshFinsAndHoles, OpenPiecesOverTheFinShareAreRefused) {
     // A shell of radius 0.3 holds about 4% of the area: it could be a part
     // (a wing modelled as one layer), so it must not vanish.
