@@ -17,6 +17,7 @@
 #include "tests/support/CurledTube.h"
 #include "tests/support/LargeGridShapes.h"
 #include "tests/support/MaskCounts.h"
+#include "tests/support/MeshEdits.h"
 
 namespace skelseg {
 namespace {
@@ -280,6 +281,39 @@ TEST(SegmentInput, AMeshRunEstimateCountsTheBoundaryItsSurfaceExposes) {
     EXPECT_EQ(meshRunMemory(grid, 1, false, 0), meshRunMemory(grid, 1, false, 1000));
     EXPECT_GT(meshRunMemory(grid, 1, false, meshBoundaryVoxels(plate, 2048)),
               meshRunMemory(grid, 1, false, 0) + std::uint64_t(1.2e9));
+}
+
+// Every other triangle along a hole's border wound the wrong way: the border
+// then runs both ways round the hole and cannot be chained into a loop, so
+// the hole rule alone refuses the mesh. Turned first, the hole is capped.
+TEST(SegmentInput, FlippedFacesAlongAHoleAreTurnedBeforeTheHoleIsCapped) {
+    const TriangleMesh sphere = test::sphereMesh({0, 0, 0}, 1.0);
+    TriangleMesh mesh = test::withoutTrianglesWhere(
+        sphere, [&](std::size_t t) { return test::centroidZ(sphere, t) > 0.99; });
+    const std::uint32_t firstRing = 1, ringSize = 32;  // sphereMesh's vertices after the pole
+    const auto onFirstRing = [&](std::uint32_t v) {
+        return v >= firstRing && v < firstRing + ringSize;
+    };
+    std::size_t flipped = 0;
+    for (auto& t : mesh.triangles)
+        if (onFirstRing(t[0]) && onFirstRing(t[1]) && t[0] % 2 == 0) {
+            std::swap(t[1], t[2]);
+            ++flipped;
+        }
+    ASSERT_EQ(flipped, ringSize / 2);
+    ASSERT_FALSE(closedWithHolesCapped(mesh).has_value());
+
+    SegmentSource source;
+    source.file = "sphere.off";
+    source.mesh = mesh;
+    checkSourceMesh(source);
+    ASSERT_TRUE(source.flippedFacesTurned.has_value());
+    EXPECT_EQ(source.flippedFacesTurned->turnedFaces, flipped);
+    ASSERT_TRUE(source.withHolesCapped.has_value());
+    EXPECT_EQ(source.withHolesCapped->holes, 1u);
+    EXPECT_TRUE(source.meshDiagnostics.closed);
+    EXPECT_EQ(source.meshDiagnostics.misorientedEdges, 0u);
+    EXPECT_EQ(&source.voxelisedMesh(), &source.withHolesCapped->mesh);
 }
 
 }  // namespace
