@@ -181,6 +181,7 @@ json resultReport(const SegmentationResult& result, const ResultReportContext& c
                            {"junction_voxels", obj.junctionVoxels},
                            {"handle_points", obj.handlePoints},
                            {"skeleton_bridges", obj.skeletonBridges},
+                           {"skeleton_bridges_along_object", obj.skeletonBridgesAlongObject},
                            {"cuts", obj.cutLoops.size()},
                            {"segments", obj.labels}});
         json before = json::array();

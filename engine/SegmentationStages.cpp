@@ -297,6 +297,7 @@ void recordSkeleton(ObjectState& state) {
     const std::vector<SkeletonPoint>& points = state.points;
     out.simplifiedSkeletonPoints = skeleton.nodeCount();
     out.skeletonBridges = skeleton.bridgeCount;
+    out.skeletonBridgesAlongObject = skeleton.bridgesAlongObject;
     std::vector<std::uint8_t> critical(skeleton.nodeCount(), 0);
     for (const CutCandidate& c : plan.candidates) critical[c.node] = 1;
     for (std::uint32_t n = 0; n < skeleton.nodeCount(); ++n) {

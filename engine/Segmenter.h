@@ -247,6 +247,7 @@ struct ObjectSegmentation {
     std::uint64_t junctionVoxels = 0;            // |J_tau|
     std::uint64_t handlePoints = 0;
     std::uint32_t skeletonBridges = 0;
+    std::uint32_t skeletonBridgesAlongObject = 0;
     std::vector<SkeletonVertex> skeleton;
     std::vector<std::array<std::uint32_t, 2>> skeletonEdges;
     std::vector<JunctionInfo> junctions;

@@ -4,11 +4,13 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <map>
 #include <tuple>
 
 #include "kernels/DisjointSets.h"
 #include "kernels/SkeletonGraphSearch.h"
+#include "kernels/VoxelRuns.h"
 
 namespace skelseg {
 
@@ -157,10 +159,150 @@ std::vector<std::array<std::uint32_t, 2>> joinGroupsThroughObject(
 
 namespace {
 
-/// Joins the parts of g that `joined` still keeps apart (see
-/// joinGroupsThroughObject).
-void bridgeThroughObject(SkeletonGraph& g, const std::vector<std::uint32_t>& part,
-                         DisjointSets& joined, const MaskVolume& inside) {
+/// The voxels of a mask numbered in voxel order through its x-runs, so that
+/// a flood over the object holds its state per object voxel, not per voxel
+/// of the box (a bird with spread wings fills 4% of its box).
+class ObjectVoxelIndex {
+public:
+    explicit ObjectVoxelIndex(const MaskVolume& inside)
+        : mRuns(objectRuns(inside, /*threaded=*/false)) {
+        mFirst.reserve(mRuns.runs.size() + 1);
+        mRowOfRun.reserve(mRuns.runs.size());
+        std::uint32_t voxels = 0;
+        for (std::size_t r = 0; r < mRuns.rowCount(); ++r)
+            for (std::uint32_t k = mRuns.rowStart[r]; k < mRuns.rowStart[r + 1]; ++k) {
+                mFirst.push_back(voxels);
+                mRowOfRun.push_back(std::uint32_t(r));
+                voxels += std::uint32_t(mRuns.runs[k].x1 - mRuns.runs[k].x0 + 1);
+            }
+        mFirst.push_back(voxels);
+    }
+
+    std::uint32_t voxelCount() const noexcept { return mFirst.back(); }
+
+    /// The number of voxel (x, y, z), or kNoJunction where it is outside
+    /// the grid or the object.
+    std::uint32_t indexOf(int x, int y, int z) const noexcept {
+        const Dims& d = mRuns.dims;
+        if (x < 0 || y < 0 || z < 0 || x >= d.x || y >= d.y || z >= d.z) return kNoJunction;
+        const std::size_t r = mRuns.rowOf(y, z);
+        const auto first = mRuns.runs.begin() + mRuns.rowStart[r];
+        const auto last = mRuns.runs.begin() + mRuns.rowStart[r + 1];
+        // The run starting last at or before x.
+        const auto after = std::upper_bound(
+            first, last, x, [](int value, const VoxelRun& run) { return value < run.x0; });
+        if (after == first || std::prev(after)->x1 < x) return kNoJunction;
+        const std::size_t k = std::size_t(std::prev(after) - mRuns.runs.begin());
+        return mFirst[k] + std::uint32_t(x - mRuns.runs[k].x0);
+    }
+
+    Coord coordOf(std::uint32_t index) const noexcept {
+        const std::size_t k =
+            std::size_t(std::upper_bound(mFirst.begin(), mFirst.end(), index) - mFirst.begin()) - 1;
+        const std::uint32_t row = mRowOfRun[k];
+        return {mRuns.runs[k].x0 + int(index - mFirst[k]), int(row % std::uint32_t(mRuns.dims.y)),
+                int(row / std::uint32_t(mRuns.dims.y))};
+    }
+
+private:
+    VoxelRuns mRuns;
+    std::vector<std::uint32_t> mFirst;     // per run, the number of its first voxel; then the count
+    std::vector<std::uint32_t> mRowOfRun;  // per run, its row
+};
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 2>> joinGroupsAlongObject(
+    const std::vector<Coord>& coord, const std::vector<std::uint32_t>& group, std::uint32_t groups,
+    const MaskVolume& inside) {
+    std::vector<std::array<std::uint32_t, 2>> bridges;
+    const std::uint32_t n = std::uint32_t(coord.size());
+    if (groups <= 1 || n == 0) return bridges;
+    const ObjectVoxelIndex voxels(inside);
+    // The flood's state per object voxel: the node it came from and its
+    // steps; the queue holds object voxels in the order reached.
+    std::vector<std::uint32_t> from(voxels.voxelCount(), kNoJunction);
+    std::vector<std::uint32_t> steps(voxels.voxelCount(), 0);
+    std::vector<std::uint32_t> queue;
+    for (std::uint32_t a = 0; a < n; ++a) {
+        const std::uint32_t v = voxels.indexOf(coord[a].x, coord[a].y, coord[a].z);
+        if (v == kNoJunction || from[v] != kNoJunction) continue;
+        from[v] = a;
+        queue.push_back(v);
+    }
+    // Shortest candidate per pair of groups (lower group first); std::map
+    // keeps the order deterministic.
+    std::map<std::pair<std::uint32_t, std::uint32_t>,
+             std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>>
+        best;
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+        const std::uint32_t v = queue[head];
+        const Coord c = voxels.coordOf(v);
+        const std::array<std::array<int, 3>, 6> offsets{
+            {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}}};
+        for (const auto& o : offsets) {
+            const std::uint32_t w = voxels.indexOf(c.x + o[0], c.y + o[1], c.z + o[2]);
+            if (w == kNoJunction) continue;
+            if (from[w] == kNoJunction) {
+                from[w] = from[v];
+                steps[w] = steps[v] + 1;
+                queue.push_back(w);
+                continue;
+            }
+            const std::uint32_t a = from[v], b = from[w];
+            if (group[a] == group[b]) continue;
+            const bool aLow = group[a] < group[b];
+            const auto key =
+                aLow ? std::make_pair(group[a], group[b]) : std::make_pair(group[b], group[a]);
+            const auto candidate =
+                std::make_tuple(steps[v] + steps[w] + 1, aLow ? a : b, aLow ? b : a);
+            auto it = best.find(key);
+            if (it == best.end() || candidate < it->second) best[key] = candidate;
+        }
+    }
+    std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> order;
+    for (const auto& entry : best) order.push_back(entry.second);
+    std::sort(order.begin(), order.end());
+    DisjointSets groupsJoined(groups);
+    for (const auto& [length, a, b] : order) {
+        if (groupsJoined.find(group[a]) == groupsJoined.find(group[b])) continue;
+        groupsJoined.unite(group[a], group[b]);
+        bridges.push_back({std::min(a, b), std::max(a, b)});
+    }
+    return bridges;
+}
+
+namespace {
+
+/// Whether the nodes `members` of g reach across at least the width of the
+/// part around them (the diagonal of their box at least twice loopRadius of
+/// their median rho_S): a limb's skeleton broken at a bend does, a lone
+/// point or a knot of C_tau does not.
+bool reachesAcrossItsPart(const SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                          const std::vector<std::uint32_t>& members) {
+    std::array<int, 3> low{INT32_MAX, INT32_MAX, INT32_MAX}, high{INT32_MIN, INT32_MIN, INT32_MIN};
+    std::vector<float> rhoS;
+    for (const std::uint32_t n : members) {
+        const Coord& c = g.coord[n];
+        low = {std::min(low[0], c.x), std::min(low[1], c.y), std::min(low[2], c.z)};
+        high = {std::max(high[0], c.x), std::max(high[1], c.y), std::max(high[2], c.z)};
+        rhoS.push_back(points[g.point[n]].rhoS);
+    }
+    std::nth_element(rhoS.begin(), rhoS.begin() + rhoS.size() / 2, rhoS.end());
+    double diagonal2 = 0.0;
+    for (int k = 0; k < 3; ++k) diagonal2 += double(high[k] - low[k]) * double(high[k] - low[k]);
+    const double width = 2.0 * loopRadius(double(rhoS[rhoS.size() / 2]));
+    return diagonal2 >= width * width;
+}
+
+/// Joins the parts of g that `joined` still keeps apart: by straight
+/// segments through the object (joinGroupsThroughObject), then those still
+/// apart along it (joinGroupsAlongObject): the largest of those from all
+/// its nodes, and the others that reach across their part
+/// (reachesAcrossItsPart) from their base.
+void bridgeThroughObject(SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
+                         const std::vector<std::uint32_t>& part, DisjointSets& joined,
+                         const MaskVolume& inside) {
     const std::uint32_t n = g.nodeCount();
     std::vector<std::uint32_t> group(n);
     std::map<std::uint32_t, std::uint32_t> groupIndex;
@@ -168,10 +310,53 @@ void bridgeThroughObject(SkeletonGraph& g, const std::vector<std::uint32_t>& par
         const std::uint32_t root = joined.find(part[i]);
         group[i] = groupIndex.emplace(root, std::uint32_t(groupIndex.size())).first->second;
     }
-    for (const auto& edge :
-         joinGroupsThroughObject(g.coord, group, std::uint32_t(groupIndex.size()), inside)) {
+    const std::uint32_t groups = std::uint32_t(groupIndex.size());
+    DisjointSets groupsJoined(groups);
+    std::uint32_t apart = groups;
+    for (const auto& edge : joinGroupsThroughObject(g.coord, group, groups, inside)) {
         g.edges.push_back(edge);
         ++g.bridgeCount;
+        groupsJoined.unite(group[edge[0]], group[edge[1]]);
+        --apart;
+    }
+    if (apart <= 1) return;
+    std::vector<std::vector<std::uint32_t>> members(groups);
+    for (std::uint32_t i = 0; i < n; ++i) members[groupsJoined.find(group[i])].push_back(i);
+    // The largest part (most nodes) takes part whatever its shape: a
+    // compact knot of the body's skeleton still receives the limbs.
+    std::size_t largest = 0;
+    for (std::size_t k = 1; k < members.size(); ++k)
+        if (members[k].size() > members[largest].size()) largest = k;
+    std::vector<Coord> coord;
+    std::vector<std::uint32_t> node, stillApart;
+    std::uint32_t stillApartCount = 0;
+    for (std::size_t k = 0; k < members.size(); ++k) {
+        const std::vector<std::uint32_t>& piece = members[k];
+        if (piece.empty() || (k != largest && !reachesAcrossItsPart(g, points, piece))) continue;
+        // A limb's piece is joined at its base, the node whose loop cuts
+        // off the most (rho_C grows from a limb's tip to its base), so
+        // that its path does not leave from the tip through a contact the
+        // voxeliser kept (a bird's claws touching its tail).
+        std::uint32_t base = kNoJunction;
+        if (k != largest)
+            for (const std::uint32_t i : piece) {
+                const double rhoC = points[g.point[i]].rhoC;
+                if (std::isfinite(rhoC) &&
+                    (base == kNoJunction || rhoC > points[g.point[base]].rhoC))
+                    base = i;
+            }
+        for (const std::uint32_t i : piece) {
+            if (base != kNoJunction && i != base) continue;
+            coord.push_back(g.coord[i]);
+            node.push_back(i);
+            stillApart.push_back(stillApartCount);
+        }
+        ++stillApartCount;
+    }
+    for (const auto& [a, b] : joinGroupsAlongObject(coord, stillApart, stillApartCount, inside)) {
+        g.edges.push_back({std::min(node[a], node[b]), std::max(node[a], node[b])});
+        ++g.bridgeCount;
+        ++g.bridgesAlongObject;
     }
 }
 
@@ -240,7 +425,7 @@ bool bridgeSkeletonParts(SkeletonGraph& g, const std::vector<SkeletonPoint>& poi
         g.edges.push_back({std::min(n, m), std::max(n, m)});
         ++g.bridgeCount;
     }
-    if (apart > 1 && options.inside) bridgeThroughObject(g, part, joined, *options.inside);
+    if (apart > 1 && options.inside) bridgeThroughObject(g, points, part, joined, *options.inside);
     return g.bridgeCount != bridgesBefore;
 }
 

@@ -19,8 +19,9 @@ namespace skelseg {
 /// radius of the parts around both ends (loopRadius of rho_S) where that is
 /// larger, shortest first and one per pair of parts (a spanning forest); then,
 /// if `options.inside` is given, parts still apart are joined through the
-/// object. g's adjacency must be built and is not updated: returns whether an
-/// edge was added, so the caller rebuilds it.
+/// object by straight segments, and those still apart after that along the
+/// object (joinGroupsAlongObject). g's adjacency must be built and is not updated: returns whether
+/// an edge was added, so the caller rebuilds it.
 bool bridgeSkeletonParts(SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                          const SkeletonGraphOptions& options);
 
@@ -33,6 +34,20 @@ bool bridgeSkeletonParts(SkeletonGraph& g, const std::vector<SkeletonPoint>& poi
 /// nodes, sampled every half voxel, stays in `inside`. Returns the bridges
 /// (i < j) in the order taken.
 std::vector<std::array<std::uint32_t, 2>> joinGroupsThroughObject(
+    const std::vector<Coord>& coord, const std::vector<std::uint32_t>& group, std::uint32_t groups,
+    const MaskVolume& inside);
+
+/// The last join of bridgeSkeletonParts, for groups that no straight segment
+/// inside the object joins (a folded limb's skeleton, broken at the bend,
+/// sees its body only across the gap the voxeliser kept): a breadth-first
+/// flood through the 6-connected voxels of `inside` from every node at once,
+/// in node order, gives each voxel it reaches the node it came from; where
+/// voxels of two groups' floods touch, the pair of nodes is a candidate of
+/// length (steps from one node) + (steps from the other) + 1. Candidates are
+/// taken shortest first (then by the lower group's node, then the other),
+/// one per pair of groups still apart (a spanning forest). Nodes outside
+/// `inside` seed nothing. Returns the bridges (i < j) in the order taken.
+std::vector<std::array<std::uint32_t, 2>> joinGroupsAlongObject(
     const std::vector<Coord>& coord, const std::vector<std::uint32_t>& group, std::uint32_t groups,
     const MaskVolume& inside);
 

@@ -53,6 +53,8 @@ struct SkeletonGraph {
     /// Undirected edges (i < j), for output.
     std::vector<std::array<std::uint32_t, 2>> edges;
     std::uint32_t bridgeCount = 0;
+    /// Of those, the bridges joined along the object (joinGroupsAlongObject).
+    std::uint32_t bridgesAlongObject = 0;
     std::vector<SkeletonJunction> junctions;
     /// Junction whose region holds each node, or kNoJunction.
     std::vector<std::uint32_t> junctionOf;

@@ -1,7 +1,9 @@
 // Scene: a figure whose hand rests on its hip with a gap of a third of a
 // voxel, written as a mesh, keeps the mesh's topology in the voxel model and
 // segments like the same figure with the hand held away, like itself with
-// its faces in another order, and like itself with a fin on its head.
+// its faces in another order, and like itself with a fin on its head; one
+// whose leg is folded under its body, pressed there with the same gap,
+// segments like the leg hanging free.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -67,6 +69,24 @@ TEST(SceneMeshTopology, HandOnHipKeepsGenusAndParts) {
     EXPECT_EQ(test::degreeSequence(touchingAdjacency, count),
               test::degreeSequence(awayAdjacency, count));
     EXPECT_GE(count, 6);  // body, head, two arms, two legs at least
+}
+
+TEST(SceneMeshTopology, ALegFoldedUnderTheBodyIsCutLikeTheLegHangingFree) {
+    const TriangleMesh folded = test::figureWithLegMesh(true);
+    const TriangleMesh hanging = test::figureWithLegMesh(false);
+    ASSERT_EQ(meshTopology(folded).genus, 0);
+    ASSERT_EQ(meshTopology(folded).closedPieces, 1u);
+    const MeshVoxelization kept = voxelizeMeshWithContacts(folded, thirdOfAVoxelGap(folded, true));
+    EXPECT_GE(kept.contacts.contacts, 1u);
+    EXPECT_EQ(voxelTopology(kept.mask).genus, 0);
+    const MaskVolume apart = voxelizeMesh(hanging, thirdOfAVoxelGap(hanging, true));
+    const SegmentationResult foldedResult = segmentVolume(kept.mask, {});
+    const SegmentationResult hangingResult = segmentVolume(apart, {});
+    const int count = int(hangingResult.segments.size());
+    EXPECT_GE(count, 6);  // body, head, two arms, two legs at least
+    EXPECT_EQ(int(foldedResult.segments.size()), count);
+    EXPECT_EQ(test::degreeSequence(test::segmentAdjacency(foldedResult.labels), count),
+              test::degreeSequence(test::segmentAdjacency(hangingResult.labels), count));
 }
 
 TEST(SceneMeshTopology, BarsTouchingOverWholeOpenVdbLeavesSegmentLikeBarsApart) {

@@ -425,6 +425,7 @@ TEST(SkeletonGraph, PieceLeftFloatingIsJoinedThroughTheObject) {
         options.inside = &object;
         const SkeletonGraph g = buildSkeletonGraph(points, dims, options);
         EXPECT_EQ(g.bridgeCount, 1u) << "scale " << scale;
+        EXPECT_EQ(g.bridgesAlongObject, 0u) << "scale " << scale;
         EXPECT_EQ(g.pieceCount, 1u) << "scale " << scale;
         const std::uint32_t a = nodeOf(g, points, endA), b = nodeOf(g, points, startB);
         EXPECT_NE(std::find(g.edges.begin(), g.edges.end(),
@@ -436,6 +437,47 @@ TEST(SkeletonGraph, PieceLeftFloatingIsJoinedThroughTheObject) {
         for (int y = 0; y < dims.y; ++y) object(18, y, 1) = 0;
         EXPECT_EQ(buildSkeletonGraph(points, dims, options).pieceCount, 2u) << "scale " << scale;
     }
+}
+
+TEST(SkeletonGraph, PieceOfAFoldedLimbIsJoinedAlongTheObjectAndALonePointIsNot) {
+    // A comb of three bars joined at x >= 40, background between the bars:
+    // the body's skeleton (rho_S 30) in the first, a limb's piece (rho_S 6,
+    // radius 1.9, 12 voxels long) in the second, a lone point of C_tau (a
+    // hoof's tip) in the third. No straight segment inside the object joins
+    // any two; paths along it through the base do. The limb's piece is
+    // joined at its base, the end whose loop cuts off most, although its
+    // tip lies nearer the comb's base (a claw touching the body); the lone
+    // point spans less than its part's width and is left apart.
+    const Dims dims{48, 21, 3};
+    MaskVolume object(dims, 0);
+    for (int y = 1; y < 20; ++y)
+        for (int x = 1; x < dims.x - 1; ++x)
+            if (y <= 4 || (y >= 8 && y <= 11) || y >= 15 || x >= 40) object(x, y, 1) = 1;
+    SkeletonPointSet set(dims);
+    const std::vector<std::uint32_t> body = set.chain({2, 2, 1}, {1, 0, 0}, 36, 30.0f);
+    const std::vector<std::uint32_t> limb = set.chain({4, 10, 1}, {1, 0, 0}, 12, 6.0f);
+    for (std::size_t i = 0; i < limb.size(); ++i)
+        set.point(limb[i]).rhoC = 1000.0 + double(limb.size() - i);
+    const std::uint32_t lone = set.add({30, 17, 1}, 6.0f);
+    const std::vector<SkeletonPoint> points = set.points();
+    SkeletonGraphOptions options;
+    options.inside = &object;
+    const SkeletonGraph g = buildSkeletonGraph(points, dims, options);
+    EXPECT_EQ(g.bridgeCount, 1u);
+    EXPECT_EQ(g.bridgesAlongObject, 1u);
+    EXPECT_EQ(g.pieceCount, 2u);  // body and limb joined; the lone point apart
+    // The bridge joins the body's end nearest the comb's base to the limb's
+    // base.
+    const std::uint32_t a = nodeOf(g, points, body.back()), b = nodeOf(g, points, limb.front());
+    EXPECT_NE(std::find(g.edges.begin(), g.edges.end(),
+                        std::array<std::uint32_t, 2>{std::min(a, b), std::max(a, b)}),
+              g.edges.end());
+    const std::uint32_t l = nodeOf(g, points, lone);
+    EXPECT_EQ(g.offset[l + 1], g.offset[l]);
+    // Without the base, nothing joins them.
+    for (int y = 0; y < dims.y; ++y)
+        for (int x = 40; x < dims.x; ++x) object(x, y, 1) = 0;
+    EXPECT_EQ(buildSkeletonGraph(points, dims, options).bridgeCount, 0u);
 }
 
 TEST(SkeletonGraph, OneBridgePerPairOfParts) {

@@ -59,8 +59,10 @@ Shape figureWithHand(bool handOnHip) {
     return s;
 }
 
-TriangleMesh figureMesh(bool handOnHip) {
-    const Shape shape = figureWithHand(handOnHip);
+namespace {
+
+/// meshOfShape over the bounding box of `shape`, one voxel wider.
+TriangleMesh meshOverItsBounds(const Shape& shape) {
     const auto bounds = shape.bounds();
     std::array<int, 3> lo{}, hi{};
     for (std::size_t c = 0; c < 3; ++c) {
@@ -68,6 +70,35 @@ TriangleMesh figureMesh(bool handOnHip) {
         hi[c] = int(std::ceil(bounds[1][c])) + 1;
     }
     return meshOfShape(shape, lo, hi);
+}
+
+}  // namespace
+
+TriangleMesh figureMesh(bool handOnHip) {
+    return meshOverItsBounds(figureWithHand(handOnHip));
+}
+
+TriangleMesh figureWithLegMesh(bool legFolded) {
+    Shape s;
+    s.box({0, 0, 0}, {45.5, 30.5, 72.5}, 9.0);
+    s.capsule({0, 0, 60}, {0, 0, 95}, 12);
+    s.sphere({0, 0, 122}, 30);
+    s.capsule({-22, 0, -60}, {-32, 0, -200}, 17);
+    for (double sign : {-1.0, 1.0}) {
+        s.capsule({sign * 36, 0, 50}, {sign * 88, 0, 5}, 13.5);
+        s.capsule({sign * 88, 0, 5}, {sign * 110, 0, -35}, 13.5);
+        s.box({sign * 114.5, 0, -45}, {6, 9, 12});
+    }
+    if (legFolded) {
+        // The thigh's top face at z = -73.5 leaves the layer z = -73 empty
+        // under the body's bottom face (z = -72.5) but at the hip.
+        s.box({22, -22, -86.5}, {13, 42, 13});
+        s.capsule({22, 12, -60}, {22, 12, -86.5}, 11);
+        s.capsule({22, -56, -86.5}, {26, -62, -200}, 13);
+    } else {
+        s.capsule({22, 0, -60}, {32, 0, -200}, 17);
+    }
+    return meshOverItsBounds(s);
 }
 
 TriangleMesh barsOnABase(int gap) {

@@ -30,6 +30,14 @@ Shape figureWithHand(bool handOnHip);
 /// meshOfShape over the bounding box of figureWithHand.
 TriangleMesh figureMesh(bool handOnHip);
 
+/// figureWithHand (hand held away) whose left leg is folded: its thigh, a
+/// flat box fused to the body only at the hip, lies forward under the body
+/// with a gap of exactly one fine voxel between its top face and the body's
+/// bottom face, and its shin hangs from the knee in front of the body (a
+/// horse's hind leg drawn up under its belly). legFolded false: the leg
+/// hangs from the hip as the other one does.
+TriangleMesh figureWithLegMesh(bool legFolded);
+
 /// Two square bars (60 x 225 x 61 fine voxels) standing on one base,
 /// facing each other across `gap` empty fine-voxel layers (the first at
 /// x = 0) over their whole height and depth: a U, 240 tall along y. At
