@@ -297,9 +297,8 @@ bool reachesAcrossItsPart(const SkeletonGraph& g, const std::vector<SkeletonPoin
 
 /// Joins the parts of g that `joined` still keeps apart: by straight
 /// segments through the object (joinGroupsThroughObject), then those still
-/// apart along it (joinGroupsAlongObject): the largest of those from all
-/// its nodes, and the others that reach across their part
-/// (reachesAcrossItsPart) from their base.
+/// apart along it (joinGroupsAlongObject): the largest of those and the
+/// others that reach across their part (reachesAcrossItsPart).
 void bridgeThroughObject(SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                          const std::vector<std::uint32_t>& part, DisjointSets& joined,
                          const MaskVolume& inside) {
@@ -333,20 +332,7 @@ void bridgeThroughObject(SkeletonGraph& g, const std::vector<SkeletonPoint>& poi
     for (std::size_t k = 0; k < members.size(); ++k) {
         const std::vector<std::uint32_t>& piece = members[k];
         if (piece.empty() || (k != largest && !reachesAcrossItsPart(g, points, piece))) continue;
-        // A limb's piece is joined at its base, the node whose loop cuts
-        // off the most (rho_C grows from a limb's tip to its base), so
-        // that its path does not leave from the tip through a contact the
-        // voxeliser kept (a bird's claws touching its tail).
-        std::uint32_t base = kNoJunction;
-        if (k != largest)
-            for (const std::uint32_t i : piece) {
-                const double rhoC = points[g.point[i]].rhoC;
-                if (std::isfinite(rhoC) &&
-                    (base == kNoJunction || rhoC > points[g.point[base]].rhoC))
-                    base = i;
-            }
         for (const std::uint32_t i : piece) {
-            if (base != kNoJunction && i != base) continue;
             coord.push_back(g.coord[i]);
             node.push_back(i);
             stillApart.push_back(stillApartCount);

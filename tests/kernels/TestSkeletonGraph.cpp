@@ -441,13 +441,12 @@ TEST(SkeletonGraph, PieceLeftFloatingIsJoinedThroughTheObject) {
 
 TEST(SkeletonGraph, PieceOfAFoldedLimbIsJoinedAlongTheObjectAndALonePointIsNot) {
     // A comb of three bars joined at x >= 40, background between the bars:
-    // the body's skeleton (rho_S 30) in the first, a limb's piece (rho_S 6,
-    // radius 1.9, 12 voxels long) in the second, a lone point of C_tau (a
-    // hoof's tip) in the third. No straight segment inside the object joins
-    // any two; paths along it through the base do. The limb's piece is
-    // joined at its base, the end whose loop cuts off most, although its
-    // tip lies nearer the comb's base (a claw touching the body); the lone
-    // point spans less than its part's width and is left apart.
+    // the body's skeleton (rho_S 30) in the first, a folded limb's piece
+    // (rho_S 6, radius 1.9, 12 voxels long) in the second, a lone point of
+    // C_tau (a hoof's tip) in the third. No straight segment inside the
+    // object joins any two; paths along it through the base do. The limb's
+    // piece is joined; the lone point spans less than its part's width and
+    // is left apart.
     const Dims dims{48, 21, 3};
     MaskVolume object(dims, 0);
     for (int y = 1; y < 20; ++y)
@@ -456,8 +455,6 @@ TEST(SkeletonGraph, PieceOfAFoldedLimbIsJoinedAlongTheObjectAndALonePointIsNot) 
     SkeletonPointSet set(dims);
     const std::vector<std::uint32_t> body = set.chain({2, 2, 1}, {1, 0, 0}, 36, 30.0f);
     const std::vector<std::uint32_t> limb = set.chain({4, 10, 1}, {1, 0, 0}, 12, 6.0f);
-    for (std::size_t i = 0; i < limb.size(); ++i)
-        set.point(limb[i]).rhoC = 1000.0 + double(limb.size() - i);
     const std::uint32_t lone = set.add({30, 17, 1}, 6.0f);
     const std::vector<SkeletonPoint> points = set.points();
     SkeletonGraphOptions options;
@@ -466,9 +463,8 @@ TEST(SkeletonGraph, PieceOfAFoldedLimbIsJoinedAlongTheObjectAndALonePointIsNot) 
     EXPECT_EQ(g.bridgeCount, 1u);
     EXPECT_EQ(g.bridgesAlongObject, 1u);
     EXPECT_EQ(g.pieceCount, 2u);  // body and limb joined; the lone point apart
-    // The bridge joins the body's end nearest the comb's base to the limb's
-    // base.
-    const std::uint32_t a = nodeOf(g, points, body.back()), b = nodeOf(g, points, limb.front());
+    // The bridge joins the two ends nearest the comb's base.
+    const std::uint32_t a = nodeOf(g, points, body.back()), b = nodeOf(g, points, limb.back());
     EXPECT_NE(std::find(g.edges.begin(), g.edges.end(),
                         std::array<std::uint32_t, 2>{std::min(a, b), std::max(a, b)}),
               g.edges.end());
