@@ -164,8 +164,8 @@ namespace {
 /// of the box (a bird with spread wings fills 4% of its box).
 class ObjectVoxelIndex {
 public:
-    explicit ObjectVoxelIndex(const MaskVolume& inside)
-        : mRuns(objectRuns(inside, /*threaded=*/false)) {
+    ObjectVoxelIndex(const MaskVolume& inside, Interrupter& interrupter)
+        : mRuns(objectRuns(inside, /*threaded=*/false, interrupter)) {
         mFirst.reserve(mRuns.runs.size() + 1);
         mRowOfRun.reserve(mRuns.runs.size());
         std::uint32_t voxels = 0;
@@ -214,11 +214,11 @@ private:
 
 std::vector<std::array<std::uint32_t, 2>> joinGroupsAlongObject(
     const std::vector<Coord>& coord, const std::vector<std::uint32_t>& group, std::uint32_t groups,
-    const MaskVolume& inside) {
+    const MaskVolume& inside, Interrupter& interrupter) {
     std::vector<std::array<std::uint32_t, 2>> bridges;
     const std::uint32_t n = std::uint32_t(coord.size());
     if (groups <= 1 || n == 0) return bridges;
-    const ObjectVoxelIndex voxels(inside);
+    const ObjectVoxelIndex voxels(inside, interrupter);
     // The flood's state per object voxel: the node it came from and its
     // steps; the queue holds object voxels in the order reached.
     std::vector<std::uint32_t> from(voxels.voxelCount(), kNoJunction);
@@ -236,6 +236,8 @@ std::vector<std::array<std::uint32_t, 2>> joinGroupsAlongObject(
              std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>>
         best;
     for (std::size_t head = 0; head < queue.size(); ++head) {
+        if ((head & 0xFFFFu) == 0)
+            throwIfInterrupted(interrupter, double(head) / double(voxels.voxelCount()));
         const std::uint32_t v = queue[head];
         const Coord c = voxels.coordOf(v);
         const std::array<std::array<int, 3>, 6> offsets{
@@ -301,7 +303,7 @@ bool reachesAcrossItsPart(const SkeletonGraph& g, const std::vector<SkeletonPoin
 /// others that reach across their part (reachesAcrossItsPart).
 void bridgeThroughObject(SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
                          const std::vector<std::uint32_t>& part, DisjointSets& joined,
-                         const MaskVolume& inside) {
+                         const MaskVolume& inside, Interrupter& interrupter) {
     const std::uint32_t n = g.nodeCount();
     std::vector<std::uint32_t> group(n);
     std::map<std::uint32_t, std::uint32_t> groupIndex;
@@ -339,7 +341,8 @@ void bridgeThroughObject(SkeletonGraph& g, const std::vector<SkeletonPoint>& poi
         }
         ++stillApartCount;
     }
-    for (const auto& [a, b] : joinGroupsAlongObject(coord, stillApart, stillApartCount, inside)) {
+    for (const auto& [a, b] :
+         joinGroupsAlongObject(coord, stillApart, stillApartCount, inside, interrupter)) {
         g.edges.push_back({std::min(node[a], node[b]), std::max(node[a], node[b])});
         ++g.bridgeCount;
         ++g.bridgesAlongObject;
@@ -349,7 +352,7 @@ void bridgeThroughObject(SkeletonGraph& g, const std::vector<SkeletonPoint>& poi
 }  // namespace
 
 bool bridgeSkeletonParts(SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
-                         const SkeletonGraphOptions& options) {
+                         const SkeletonGraphOptions& options, Interrupter& interrupter) {
     std::vector<std::uint32_t> part;
     const std::uint32_t parts = labelComponents(
         g, [](std::uint32_t) { return true; }, part);
@@ -411,7 +414,8 @@ bool bridgeSkeletonParts(SkeletonGraph& g, const std::vector<SkeletonPoint>& poi
         g.edges.push_back({std::min(n, m), std::max(n, m)});
         ++g.bridgeCount;
     }
-    if (apart > 1 && options.inside) bridgeThroughObject(g, points, part, joined, *options.inside);
+    if (apart > 1 && options.inside)
+        bridgeThroughObject(g, points, part, joined, *options.inside, interrupter);
     return g.bridgeCount != bridgesBefore;
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "kernels/SkeletonGraph.h"
+#include "kernels/base/Interrupter.h"
 
 namespace skelseg {
 
@@ -22,8 +23,11 @@ namespace skelseg {
 /// object by straight segments, and those still apart after that along the
 /// object (joinGroupsAlongObject). g's adjacency must be built and is not updated: returns whether
 /// an edge was added, so the caller rebuilds it.
+/// @throw InterruptedError when asked to stop (polled by the flood of
+/// joinGroupsAlongObject).
 bool bridgeSkeletonParts(SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
-                         const SkeletonGraphOptions& options);
+                         const SkeletonGraphOptions& options,
+                         Interrupter& interrupter = nullInterrupter());
 
 /// The join through the object of bridgeSkeletonParts: nodes at `coord`,
 /// each in one of `groups` groups (`group`, ids below `groups`). For every
@@ -47,8 +51,9 @@ std::vector<std::array<std::uint32_t, 2>> joinGroupsThroughObject(
 /// taken shortest first (then by the lower group's node, then the other),
 /// one per pair of groups still apart (a spanning forest). Nodes outside
 /// `inside` seed nothing. Returns the bridges (i < j) in the order taken.
+/// @throw InterruptedError when asked to stop (polled every 65,536 voxels).
 std::vector<std::array<std::uint32_t, 2>> joinGroupsAlongObject(
     const std::vector<Coord>& coord, const std::vector<std::uint32_t>& group, std::uint32_t groups,
-    const MaskVolume& inside);
+    const MaskVolume& inside, Interrupter& interrupter = nullInterrupter());
 
 }  // namespace skelseg

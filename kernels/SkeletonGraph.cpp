@@ -187,7 +187,7 @@ SkeletonGraph buildSkeletonGraph(const std::vector<SkeletonPoint>& points, const
     buildAdjacency(g);
 
     // Noise breaks the skeleton into parts; close ones are bridged.
-    if (bridgeSkeletonParts(g, points, options)) buildAdjacency(g);
+    if (bridgeSkeletonParts(g, points, options, interrupter)) buildAdjacency(g);
 
     // Forks: where three or more branches of C_tau meet but no point's path
     // set goes round three parts (docs/algorithm.md §6, "Forks").

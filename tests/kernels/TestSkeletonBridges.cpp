@@ -8,6 +8,7 @@
 
 #include "kernels/DisjointSets.h"
 #include "tests/kernels/KernelTestSupport.h"
+#include "tests/support/StopAtOnce.h"
 
 namespace skelseg {
 namespace {
@@ -175,6 +176,19 @@ TEST(SkeletonBridges, AFoldedLimbIsJoinedAlongTheObjectWhereNoStraightSegmentSta
     EXPECT_TRUE(joinGroupsAlongObject(coord, {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
                                       1, inside)
                     .empty());
+}
+
+TEST(SkeletonBridges, JoiningAlongTheObjectStopsWhenAsked) {
+    // Two pieces at the poles of a ball of 113,000 voxels, joined by a flood
+    // that polls every 65,536 voxels: a stop at any poll throws.
+    const Dims dims{60, 60, 60};
+    const MaskVolume inside = test::ballMask(dims, {30.0, 30.0, 30.0}, 30.0);
+    const std::vector<Coord> coord = {{30, 30, 2}, {30, 30, 3}, {30, 30, 57}, {30, 30, 58}};
+    const std::vector<std::uint32_t> group = {0, 0, 1, 1};
+    ASSERT_EQ(joinGroupsAlongObject(coord, group, 2, inside).size(), 1u);
+    const std::int64_t polls = test::expectAStopAtAnyPollThrows(
+        [&](Interrupter& stop) { joinGroupsAlongObject(coord, group, 2, inside, stop); });
+    EXPECT_GE(polls, 2);
 }
 
 TEST(SkeletonBridges, JoiningAlongTheObjectSpansTheGroupsAtTheLeastLength) {
