@@ -21,8 +21,8 @@ namespace skelseg {
 /// larger, shortest first and one per pair of parts (a spanning forest); then,
 /// if `options.inside` is given, parts still apart are joined through the
 /// object by straight segments, and those still apart after that along the
-/// object (joinGroupsAlongObject). g's adjacency must be built and is not updated: returns whether
-/// an edge was added, so the caller rebuilds it.
+/// object (joinGroupsAlongObject). g's adjacency must be built and is not
+/// updated: returns whether an edge was added, so the caller rebuilds it.
 /// @throw InterruptedError when asked to stop (polled by the flood of
 /// joinGroupsAlongObject).
 bool bridgeSkeletonParts(SkeletonGraph& g, const std::vector<SkeletonPoint>& points,
